@@ -1,0 +1,226 @@
+// A validated contact m δ'' + α√(mk) δ^((p−1)/2) δ' + k δ^p = 0, δ(0) = 0, δ'(0) = v0, with the
+// derived constants of MATH.md §1 and the calibrations of §3 (overlap end) and §4 (force end).
+//
+// The damping is stored as the pair (z, μ) = (α_eff, 1 − z²) with μ formed where it is exact:
+// from e, μ = π²/(π² + ln²e) (no cancellation as e → 0); from z, μ = (1 − z)(1 + z) (one rounding,
+// 1 − z is exact near z = 1). Everything downstream reads μ, never 1 − z².
+#pragma once
+
+#include "pldamp/analytic/special.hpp"
+#include "pldamp/analytic/validate.hpp"
+
+#include <boost/math/constants/constants.hpp>
+#include <boost/math/tools/roots.hpp>
+
+#include <cmath>
+#include <cstdint>
+#include <utility>
+
+namespace pldamp::analytic {
+
+enum class ContactEnd { overlap, force };
+
+// Damping as the LSD sees it: z = α_eff and μ = 1 − z², kept separately for accuracy.
+template <SupportedReal Real>
+struct Damping {
+  Real z;
+  Real mu;
+};
+
+// ---- Calibration at the overlap end (MATH.md §3) -------------------------------------------
+
+// From ln e (≤ 0): ξ_L = −ln e / √(π² + ln²e), μ = π² / (π² + ln²e).
+template <SupportedReal Real>
+Damping<Real> damping_from_log_e(const Real& log_e) {
+  using std::sqrt;
+  const Real pi = boost::math::constants::pi<Real>();
+  const Real d2 = pi * pi + log_e * log_e;
+  return {-log_e / sqrt(d2), pi * pi / d2};
+}
+
+template <SupportedReal Real>
+Damping<Real> damping_from_e(const Real& e) {
+  using std::log;
+  require_finite("e", e);
+  require(e > 0 && e <= 1, "e must be in (0, 1]", e);
+  return damping_from_log_e(Real(log(e)));
+}
+
+// For e = 1 − ε with ε tiny, ln e = log1p(−ε) keeps the digits that 1 − ε would lose.
+template <SupportedReal Real>
+Damping<Real> damping_from_one_minus_e(const Real& one_minus_e) {
+  using std::log1p;
+  require_finite("1 - e", one_minus_e);
+  require(one_minus_e >= 0 && one_minus_e < 1, "1 - e must be in [0, 1)", one_minus_e);
+  return damping_from_log_e(Real(log1p(-one_minus_e)));
+}
+
+template <SupportedReal Real>
+Damping<Real> damping_from_alpha_eff(const Real& z) {
+  require_finite("alpha_eff", z);
+  require(z >= 0, "alpha_eff must be >= 0", z);
+  return {z, (1 - z) * (1 + z)};
+}
+
+// ln e = −π z/√μ for z < 1; −∞ (no return in finite time) for z ≥ 1.
+template <SupportedReal Real>
+Real log_restitution(const Damping<Real>& d) {
+  using std::sqrt;
+  if (d.mu <= 0) {
+    return -std::numeric_limits<Real>::infinity();
+  }
+  return -boost::math::constants::pi<Real>() * d.z / sqrt(d.mu);
+}
+
+template <SupportedReal Real>
+Real restitution(const Damping<Real>& d) {
+  using std::exp;
+  return d.mu <= 0 ? Real(0) : Real(exp(log_restitution(d)));
+}
+
+// f(p) = √(2(p+1)): α = f(p)·α_eff.
+template <SupportedReal Real>
+Real alpha_per_alpha_eff(const Real& p) {
+  using std::sqrt;
+  return sqrt(2 * (p + 1));
+}
+
+// ---- Peak and force-capped end (MATH.md §3 "Peak", §4) ---------------------------------------
+
+// G = z Ω0 s_peak = atan_rf(μ/z²) (MATH.md §3), analytic through z = 1; 0 at z = 0.
+template <SupportedReal Real>
+Real peak_exponent(const Damping<Real>& d) {
+  return d.z == 0 ? Real(0) : atan_rf(Real(d.mu / (d.z * d.z)));
+}
+
+// σ_peak = Ω0 s_peak: atan2(√μ, z)/√μ while μ > ¼ (finite as z → 0, where G/z is 0/0), G/z beyond.
+template <SupportedReal Real>
+Real peak_phase(const Damping<Real>& d) {
+  using std::atan2;
+  using std::sqrt;
+  if (d.mu > Real(1) / 4) {
+    const Real root_mu = sqrt(d.mu);
+    return atan2(root_mu, d.z) / root_mu;
+  }
+  return peak_exponent(d) / d.z;
+}
+
+// The capped contact ends where the total force, ∝ x''(s), first vanishes after the peak (§4):
+// tan(√μσ_c) = 2z√μ/(2z² − 1), i.e. cos(√μσ_c) = 2z² − 1 = cos(2 acos z). With cos θ_p = z,
+// sin θ_p = √μ at the peak angle θ_p = √μ σ_peak this is exactly
+//     σ_c = 2 σ_peak,
+// and the exit speed x'(s_c)/v0 = e^(−2G) [cos 2θ_p − (z/√μ) sin 2θ_p] = −e^(−2G) (z² + μ), so
+//     e_cap = e^(−2G) = (x_max/L)²,
+// for every z (the overdamped case follows by continuation to cosh/sinh). This is MATH.md §4's
+// e_cap in a form without cancellation; the tests check it against §4's angle formulas.
+template <SupportedReal Real>
+Real capped_cut_phase(const Damping<Real>& d) {
+  return 2 * peak_phase(d);
+}
+
+template <SupportedReal Real>
+Real capped_restitution(const Damping<Real>& d) {
+  using std::exp;
+  return exp(-2 * peak_exponent(d));
+}
+
+// Numeric inverse of the monotone e_cap(z) = e^(−2G(z)): TOMS 748 on G(z) = −½ ln e_cap,
+// bracketed by doubling z (G grows like ln z when overdamped).
+template <SupportedReal Real>
+Damping<Real> damping_from_e_cap(const Real& e_cap) {
+  using std::log;
+  require_finite("e", e_cap);
+  require(e_cap > 0 && e_cap <= 1, "e must be in (0, 1]", e_cap);
+  if (e_cap == 1) {
+    return {Real(0), Real(1)};
+  }
+  const Real target = -log(e_cap) / 2;
+  auto residual = [&](const Real& z) { return peak_exponent(damping_from_alpha_eff(z)) - target; };
+  Real lo(0);
+  Real hi(1);
+  while (residual(hi) < 0) {
+    lo = hi;
+    hi *= 2;
+  }
+  boost::math::tools::eps_tolerance<Real> converged(std::numeric_limits<Real>::digits - 2);
+  std::uintmax_t max_iterations = 400;
+  const auto [a, b] =
+      boost::math::tools::toms748_solve(residual, lo, hi, converged, max_iterations);
+  return damping_from_alpha_eff(Real((a + b) / 2));
+}
+
+// ---- The contact -----------------------------------------------------------------------------
+
+template <SupportedReal Real>
+class Contact {
+public:
+  static Contact from_alpha(const Real& p, const Real& alpha, const Real& v0,
+                            const Real& m = Real(1), const Real& k = Real(1)) {
+    check_p(p);
+    require_finite("alpha", alpha);
+    require(alpha >= 0, "alpha must be >= 0", alpha);
+    return Contact(p, damping_from_alpha_eff(Real(alpha / alpha_per_alpha_eff(p))), v0, m, k);
+  }
+  static Contact from_alpha_eff(const Real& p, const Real& z, const Real& v0,
+                                const Real& m = Real(1), const Real& k = Real(1)) {
+    check_p(p);
+    return Contact(p, damping_from_alpha_eff(z), v0, m, k);
+  }
+  // e is the restitution the contact really gives under `end`: at the overlap end the closed-form
+  // inverse of §3, at the force end the numeric inverse of e_cap (§4).
+  static Contact from_e(const Real& p, const Real& e, const Real& v0, const Real& m = Real(1),
+                        const Real& k = Real(1), ContactEnd end = ContactEnd::overlap) {
+    check_p(p);
+    return Contact(p, end == ContactEnd::overlap ? damping_from_e(e) : damping_from_e_cap(e), v0, m,
+                   k);
+  }
+  static Contact from_damping(const Real& p, const Damping<Real>& d, const Real& v0,
+                              const Real& m = Real(1), const Real& k = Real(1)) {
+    check_p(p);
+    return Contact(p, d, v0, m, k);
+  }
+
+  const Real& p() const { return p_; }
+  const Real& m() const { return m_; }
+  const Real& k() const { return k_; }
+  const Real& v0() const { return v0_; }
+  const Damping<Real>& damping() const { return damping_; }
+  const Real& alpha_eff() const { return damping_.z; } // z
+  const Real& mu() const { return damping_.mu; }       // 1 − z²
+  Real alpha() const { return damping_.z * alpha_per_alpha_eff(p_); }
+  const Real& q() const { return q_; }           // 2/(p+1)
+  Real nu() const { return q_ - 1; }             // exponent of dt/ds = A q x^(q−1)
+  const Real& A() const { return A_; }           // ((p+1)/2)^(1/(p+1))
+  const Real& omega0() const { return omega0_; } // √(k/m)
+  const Real& L() const { return L_; }           // v0/Ω0
+  const Real& log_L() const { return log_L_; }
+  Real ke0() const { return m_ * v0_ * v0_ / 2; }
+
+private:
+  Contact(const Real& p, const Damping<Real>& d, const Real& v0, const Real& m, const Real& k)
+      : p_(p), m_(m), k_(k), v0_(v0), damping_(d) {
+    using std::log;
+    using std::pow;
+    using std::sqrt;
+    require_positive("v0", v0);
+    require_positive("m", m);
+    require_positive("k", k);
+    q_ = 2 / (p + 1);
+    A_ = pow((p + 1) / 2, 1 / (p + 1));
+    omega0_ = sqrt(k / m);
+    L_ = v0 * sqrt(m / k);
+    // Powers of L are taken as exp(a·ln L), so that L^q·e^(−qG) and the like never form an
+    // intermediate that leaves the range of the type for extreme v0, m, k (MATH.md §8).
+    log_L_ = log(L_);
+  }
+  static void check_p(const Real& p) {
+    require_finite("p", p);
+    require(p >= 1, "p must be >= 1", p);
+  }
+
+  Real p_, m_, k_, v0_;
+  Damping<Real> damping_;
+  Real q_, A_, omega0_, L_, log_L_;
+};
+
+} // namespace pldamp::analytic

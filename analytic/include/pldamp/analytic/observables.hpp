@@ -1,0 +1,217 @@
+// The closed-form observables of MATH.md §3 (e, δ_max, F_max, t_peak, energies, τ, τ0, τ/τ0),
+// §4 (e_cap and the cut time t_c) and §6 (the seed's Δt_crit and the tangent-stiffness bound),
+// singly or as a bundle that computes only what is asked.
+//
+// G and σ_peak are in contact.hpp, beside e_cap = e^(−2G) which they also give. Powers of L go
+// through ln L so nothing over- or underflows before the final exp.
+#pragma once
+
+#include "pldamp/analytic/contact.hpp"
+#include "pldamp/analytic/time.hpp"
+
+#include <boost/math/special_functions/expm1.hpp>
+
+#include <cmath>
+#include <limits>
+#include <optional>
+
+namespace pldamp::analytic {
+
+// ---- single observables ---------------------------------------------------------------------
+
+template <SupportedReal Real>
+Real restitution(const Contact<Real>& c) {
+  return restitution(c.damping());
+}
+
+template <SupportedReal Real>
+Real log_delta_max(const Contact<Real>& c) {
+  using std::log;
+  return log(c.A()) + c.q() * (c.log_L() - peak_exponent(c.damping()));
+}
+
+template <SupportedReal Real>
+Real delta_max(const Contact<Real>& c) {
+  using std::exp;
+  return c.A() * exp(c.q() * (c.log_L() - peak_exponent(c.damping())));
+}
+
+// Elastic force k δ^p, largest at δ_max.
+template <SupportedReal Real>
+Real force_max(const Contact<Real>& c) {
+  using std::exp;
+  return c.k() * exp(c.p() * log_delta_max(c));
+}
+
+// ln of the time scale T = A q L^ν / Ω0 with t = T·I(σ) (time.hpp).
+template <SupportedReal Real>
+Real log_time_scale(const Contact<Real>& c) {
+  using std::log;
+  return log(c.A() * c.q() / c.omega0()) + c.nu() * c.log_L();
+}
+
+template <SupportedReal Real>
+Real t_peak(const Contact<Real>& c) {
+  using std::exp;
+  const ScaledTime<Real> scaled(c.damping(), c.q());
+  return exp(log_time_scale(c)) * scaled(peak_phase(c.damping()));
+}
+
+// E_load = KE0 (1 − e^(−2G)), by expm1 so it keeps its digits as z → 0.
+template <SupportedReal Real>
+Real energy_load(const Contact<Real>& c) {
+  return -c.ke0() * boost::math::expm1(Real(-2 * peak_exponent(c.damping())));
+}
+
+// E_unload = KE0 (e^(−2G) − e²) = −KE0 e^(−2G) expm1(2(G + ln e)), where
+// G + ln e = −z·atan2(√μ, −z)/√μ (the unloading phase angle, no cancellation as z → 0);
+// KE0 e^(−2G) when z ≥ 1 (all remaining energy, as t → ∞).
+template <SupportedReal Real>
+Real energy_unload(const Contact<Real>& c) {
+  using std::atan2;
+  using std::exp;
+  using std::sqrt;
+  const Damping<Real>& d = c.damping();
+  const Real remaining = c.ke0() * exp(-2 * peak_exponent(d));
+  if (d.mu <= 0) {
+    return remaining;
+  }
+  const Real root_mu = sqrt(d.mu);
+  const Real g_plus_log_e = -d.z * atan2(root_mu, -d.z) / root_mu;
+  return -remaining * boost::math::expm1(Real(2 * g_plus_log_e));
+}
+
+// τ in closed form (MATH.md §3); +∞ for z ≥ 1.
+template <SupportedReal Real>
+Real contact_duration(const Contact<Real>& c) {
+  using std::exp;
+  if (c.mu() <= 0) {
+    return std::numeric_limits<Real>::infinity();
+  }
+  return exp(log_time_scale(c) + log_scaled_duration(c.damping(), c.q()));
+}
+
+// τ0 = (2A/((p+1)Ω0)) L^(q−1) B(1/(p+1), ½), with B from log Γ.
+template <SupportedReal Real>
+Real undamped_duration(const Contact<Real>& c) {
+  using std::exp;
+  using std::log;
+  const Real half_q = c.q() / 2;
+  const Real log_beta = log_gamma(half_q) + log(boost::math::constants::pi<Real>()) / 2 -
+                        log_gamma(Real(half_q + Real(1) / 2));
+  return exp(log_time_scale(c) + log_beta);
+}
+
+template <SupportedReal Real>
+Real duration_ratio(const Contact<Real>& c) {
+  using std::exp;
+  return exp(log_duration_ratio(c.damping(), c.q()));
+}
+
+template <SupportedReal Real>
+Real capped_restitution(const Contact<Real>& c) {
+  return capped_restitution(c.damping());
+}
+
+// I(σ_c) for the cut at σ_c = 2σ_peak. Near the end of an underdamped contact dt/ds is infinite,
+// so there the cut's distance to the end, σ_end − 2σ_peak = 2·atan2(z, √μ)/√μ, is formed directly
+// rather than by subtracting (at z = 0 it is exactly 0 and t_c = τ).
+template <SupportedReal Real>
+Real scaled_cut_time(const Damping<Real>& d, const ScaledTime<Real>& scaled) {
+  using std::atan2;
+  using std::sqrt;
+  if (d.mu > Real(1) / 4) {
+    const Real root_mu = sqrt(d.mu);
+    return scaled.before_end(Real(2 * atan2(d.z, root_mu) / root_mu));
+  }
+  return scaled(capped_cut_phase(d));
+}
+
+// t_c = T·I(σ_c): the time at which the total force of a capped contact reaches zero.
+template <SupportedReal Real>
+Real cut_time(const Contact<Real>& c) {
+  using std::exp;
+  const ScaledTime<Real> scaled(c.damping(), c.q());
+  return exp(log_time_scale(c)) * scaled_cut_time(c.damping(), scaled);
+}
+
+// The seed's Δt_crit = (4/(p+1)) A Ω0⁻¹ L^(−(p−1)/(p+1)) = 2T (MATH.md §6).
+template <SupportedReal Real>
+Real dt_crit_seed(const Contact<Real>& c) {
+  using std::exp;
+  return 2 * exp(log_time_scale(c));
+}
+
+// Central-difference bound with the tangent stiffness at the undamped peak δ0 = A L^q:
+// 2 / (Ω0 √(p δ0^(p−1))) (MATH.md §6).
+template <SupportedReal Real>
+Real dt_crit_tangent(const Contact<Real>& c) {
+  using std::exp;
+  using std::log;
+  const Real log_delta0 = log(c.A()) + c.q() * c.log_L();
+  return 2 / c.omega0() * exp(-(log(c.p()) + (c.p() - 1) * log_delta0) / 2);
+}
+
+// ---- the bundle -----------------------------------------------------------------------------
+
+enum Want : unsigned {
+  want_e = 1u << 0,
+  want_delta_max = 1u << 1,
+  want_t_peak = 1u << 2,
+  want_tau = 1u << 3, // τ, τ0, τ/τ0
+  want_energy = 1u << 4,
+  want_force_max = 1u << 5,
+  want_dt_crit = 1u << 6, // seed and tangent bounds
+  want_capped = 1u << 7,  // e_cap, t_cut
+  want_all = (1u << 8) - 1,
+};
+
+template <SupportedReal Real>
+struct Observables {
+  std::optional<Real> e, log_e, delta_max, force_max, t_peak, tau, tau0, tau_ratio, energy_load,
+      energy_unload, dt_crit, dt_tangent, e_cap, t_cut;
+};
+
+// Computes exactly the observables in `want`; the rest stay empty.
+template <SupportedReal Real>
+Observables<Real> observables(const Contact<Real>& c, unsigned want = want_all) {
+  using std::exp;
+  Observables<Real> out;
+  if (want & want_e) {
+    out.log_e = log_restitution(c.damping());
+    out.e = restitution(c.damping());
+  }
+  if (want & want_delta_max) {
+    out.delta_max = delta_max(c);
+  }
+  if (want & want_force_max) {
+    out.force_max = force_max(c);
+  }
+  if (want & (want_t_peak | want_capped)) {
+    const ScaledTime<Real> scaled(c.damping(), c.q());
+    const Real scale = exp(log_time_scale(c));
+    if (want & want_t_peak) {
+      out.t_peak = scale * scaled(peak_phase(c.damping()));
+    }
+    if (want & want_capped) {
+      out.e_cap = capped_restitution(c.damping());
+      out.t_cut = scale * scaled_cut_time(c.damping(), scaled);
+    }
+  }
+  if (want & want_tau) {
+    out.tau = contact_duration(c);
+    out.tau0 = undamped_duration(c);
+    out.tau_ratio = duration_ratio(c);
+  }
+  if (want & want_energy) {
+    out.energy_load = energy_load(c);
+    out.energy_unload = energy_unload(c);
+  }
+  if (want & want_dt_crit) {
+    out.dt_crit = dt_crit_seed(c);
+    out.dt_tangent = dt_crit_tangent(c);
+  }
+  return out;
+}
+
+} // namespace pldamp::analytic

@@ -1,0 +1,204 @@
+// Physical time along the LSD solution (MATH.md §3 "Time-domain solution", §2).
+//
+// In σ = Ω0 s and ξ = x/L = e^(−zσ) σ sinc_rf(μσ²), t(s) = (A q L^ν / Ω0) · I(σ) with
+//     I(σ) = ∫₀^σ ξ(σ')^ν dσ',   ν = q − 1 ∈ (−1, 0].
+// ξ vanishes like σ at σ = 0 and, when underdamped, like (σ_end − σ) at σ_end = π/√μ, so ξ^ν has
+// integrable endpoint singularities there. I is summed over pieces of width ≤ h:
+//   - the piece touching σ = 0 by Gauss–Jacobi with weight σ^ν (the rest is analytic),
+//   - interior pieces by Gauss–Legendre,
+//   - within one piece of σ_end, by Gauss–Jacobi with weight (σ_end − σ)^ν, using
+//     sin(√μσ) = sin(√μ(σ_end−σ)); at σ_end itself, I_end in closed form.
+// h keeps every piece's nearest singularity (the other endpoint zero of ξ; the complex zeros
+// ±iπ/√−μ of sinh when overdamped) at least one piece-width away, i.e. a Bernstein ellipse ρ ≥ 4
+// for which quadrature_order() points suffice, and the factor e^(−νzσ) varies by at most e^½ per
+// piece. For underdamped t_peak (σ_peak ≤ π/2 /√μ) that is one or two pieces: 15 evaluations in
+// double for 1e−16.
+//
+// The closed form (MATH.md §3, "Contact duration"), with c = −ν z/√μ and a = (1+q)/2:
+//     I_end = μ^(−q/2) · π e^(cπ/2) Γ(q) / (2^ν |Γ(a + ic/2)|²),
+// evaluated in logarithms because it overflows near z = 1.
+#pragma once
+
+#include "pldamp/analytic/contact.hpp"
+#include "pldamp/analytic/quadrature.hpp"
+#include "pldamp/analytic/special.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+namespace pldamp::analytic {
+
+// ln I_end for z < 1 (+∞ for z ≥ 1: no return in finite time).
+template <SupportedReal Real>
+Real log_scaled_duration(const Damping<Real>& d, const Real& q) {
+  using std::log;
+  using std::sqrt;
+  if (d.mu <= 0) {
+    return std::numeric_limits<Real>::infinity();
+  }
+  const Real pi = boost::math::constants::pi<Real>();
+  const Real nu = q - 1;
+  const Real c = -nu * d.z / sqrt(d.mu);
+  const Real a = (1 + q) / 2;
+  return -q * log(d.mu) / 2 + log(pi) + c * pi / 2 + log_gamma(q) -
+         nu * boost::math::constants::ln_two<Real>() - 2 * log_abs_gamma(a, Real(c / 2));
+}
+
+// ln(τ/τ0) = −(q/2) ln μ + cπ/2 + 2(ln Γ(a) − ln|Γ(a + ic/2)|)  (MATH.md §3).
+template <SupportedReal Real>
+Real log_duration_ratio(const Damping<Real>& d, const Real& q) {
+  using std::log;
+  using std::sqrt;
+  if (d.mu <= 0) {
+    return std::numeric_limits<Real>::infinity();
+  }
+  const Real nu = q - 1;
+  const Real c = -nu * d.z / sqrt(d.mu);
+  const Real a = (1 + q) / 2;
+  return -q * log(d.mu) / 2 + c * boost::math::constants::pi<Real>() / 2 +
+         2 * (log_gamma(a) - log_abs_gamma(a, Real(c / 2)));
+}
+
+template <SupportedReal Real>
+class ScaledTime {
+public:
+  ScaledTime(const Damping<Real>& d, const Real& q) : d_(d), q_(q), nu_(q - 1) {
+    using std::abs;
+    using std::min;
+    using std::sqrt;
+    const Real pi = boost::math::constants::pi<Real>();
+    sigma_end_ = d.mu > 0 ? Real(pi / sqrt(d.mu)) : std::numeric_limits<Real>::infinity();
+    // Piece width: 2 (ρ = 4 for a singularity one width beyond a piece touching the other
+    // end, when underdamped with σ_end ≥ π); 1/√|μ| keeps the overdamped zeros of sinh at
+    // ±iπ/√−μ beyond ρ = 4; 1/(|ν|(1+z)) bounds the growth of e^(−νzσ) per piece.
+    h_ = Real(2);
+    if (d.mu < 0) {
+      h_ = min(h_, Real(1 / sqrt(-d.mu)));
+    }
+    const Real rate = abs(nu_) * (1 + d.z);
+    if (rate * h_ > 1) {
+      h_ = 1 / rate;
+    }
+  }
+
+  const Real& sigma_end() const { return sigma_end_; }
+
+  // ξ(σ) = x/L.
+  Real xi(const Real& sigma) const {
+    using std::exp;
+    return exp(-d_.z * sigma) * sigma * sinc_rf(Real(d_.mu * sigma * sigma));
+  }
+  // dI/dσ = ξ^ν.
+  Real integrand(const Real& sigma) const {
+    using std::pow;
+    return nu_ == 0 ? Real(1) : Real(pow(xi(sigma), nu_));
+  }
+
+  Real total() const {
+    using std::exp;
+    return exp(log_scaled_duration(d_, q_));
+  }
+
+  // I(σ), 0 ≤ σ ≤ σ_end.
+  Real operator()(const Real& sigma) const {
+    if (nu_ == 0) {
+      return sigma; // p = 1: dt/ds = 1
+    }
+    if (sigma <= 0) {
+      return Real(0);
+    }
+    if (sigma_end_ - sigma < h_) {
+      return before_end(Real(sigma_end_ - sigma));
+    }
+    return from_start(sigma);
+  }
+
+  // I(σ_end − ρ) for an underdamped contact, given the distance ρ ≥ 0 to the end directly (a
+  // rounding of σ near σ_end would cost digits: dI/dσ is infinite there).
+  Real before_end(const Real& rho) const {
+    if (nu_ == 0) {
+      return sigma_end_ - rho;
+    }
+    if (rho <= 0) {
+      return total();
+    }
+    if (rho >= h_) {
+      return from_start(Real(sigma_end_ - rho));
+    }
+    // Within the last piece [σ_end − h, σ_end]. Sums always run forward from 0 (the integrand
+    // grows steeply towards the end, so I_end minus a tail would cancel); the remainder is
+    // ∫_ρ^h in ρ' = σ_end − σ', by Gauss–Legendre while the singularity at ρ' = 0 is at least half
+    // the interval away, else as a difference of two end-weighted pieces (ρ < h/3, so the smaller
+    // is at most 3^−(ν+1) of the larger: under one digit lost).
+    const Real base = sigma_end_ - h_;
+    const Real head = from_start(base);
+    if (2 * rho >= h_ - rho) {
+      return head + panels(base, Real(sigma_end_ - rho));
+    }
+    return head + tail(h_) - tail(rho);
+  }
+
+private:
+  Real from_start(const Real& sigma) const {
+    const Real first = sigma < h_ ? sigma : h_;
+    return left_piece(first) + panels(first, sigma);
+  }
+
+  // Σ over a Jacobi rule on [0, b] of b^(ν+1)·(1+t)^ν-weighted f(σ = b(1+t)/2) / 2^(ν+1).
+  template <class Smooth>
+  Real jacobi_piece(const Real& b, Smooth smooth) const {
+    using std::pow;
+    const JacobiRule<Real>& rule = jacobi_rule(nu_);
+    Real sum(0);
+    for (std::size_t i = 0; i < rule.nodes.size(); ++i) {
+      sum += rule.weights[i] * smooth(b * (1 + rule.nodes[i]) / 2);
+    }
+    return pow(b / 2, nu_ + 1) * sum;
+  }
+
+  // ∫₀^b ξ^ν with the weight σ^ν taken exactly: ξ^ν = σ^ν (e^(−zσ) sinc_rf(μσ²))^ν.
+  Real left_piece(const Real& b) const {
+    using std::exp;
+    using std::pow;
+    return jacobi_piece(b, [&](const Real& sigma) {
+      return Real(pow(exp(-d_.z * sigma) * sinc_rf(Real(d_.mu * sigma * sigma)), nu_));
+    });
+  }
+
+  // ∫ over the last ρ ≤ h before σ_end of ξ^ν; with ρ' = σ_end − σ, ξ = e^(−zσ) ρ' sinc_rf(μρ'²).
+  Real tail(const Real& rho) const {
+    using std::exp;
+    using std::pow;
+    return jacobi_piece(rho, [&](const Real& r) {
+      return Real(pow(exp(-d_.z * (sigma_end_ - r)) * sinc_rf(Real(d_.mu * r * r)), nu_));
+    });
+  }
+
+  // ∫_a^b ξ^ν by Gauss–Legendre on ⌈(b − a)/h⌉ equal panels.
+  Real panels(const Real& a, const Real& b) const {
+    using std::ceil;
+    if (!(b > a)) {
+      return Real(0);
+    }
+    const JacobiRule<Real>& rule = jacobi_rule(Real(0));
+    const Real count_real = ceil((b - a) / h_);
+    const long count = static_cast<long>(count_real);
+    const Real width = (b - a) / count_real;
+    Real total_sum(0);
+    for (long j = 0; j < count; ++j) {
+      const Real mid = a + width * (Real(j) + Real(1) / 2);
+      Real sum(0);
+      for (std::size_t i = 0; i < rule.nodes.size(); ++i) {
+        sum += rule.weights[i] * integrand(Real(mid + width * rule.nodes[i] / 2));
+      }
+      total_sum += sum * width / 2;
+    }
+    return total_sum;
+  }
+
+  Damping<Real> d_;
+  Real q_, nu_, sigma_end_, h_;
+};
+
+} // namespace pldamp::analytic

@@ -1,0 +1,12 @@
+// The `pldamp` command line (DESIGN.md "CLI contract"), callable in-process so tests can check
+// outputs and exit codes: 0 success, 2 bad input (one line "error: <what> (got <value>)" on
+// `err`), 3 an internal failure (a non-finite result where a finite one was due).
+#pragma once
+
+#include <ostream>
+
+namespace pldamp::harness {
+
+int run_cli(int argc, const char* const* argv, std::ostream& out, std::ostream& err);
+
+} // namespace pldamp::harness

@@ -1,0 +1,108 @@
+#include "pldamp/harness/cli.hpp"
+
+#include "commands.hpp"
+#include "format.hpp"
+
+#include <CLI/CLI.hpp>
+
+#include <string>
+#include <vector>
+
+namespace pldamp::harness {
+namespace {
+
+void add_contact_options(CLI::App& command, ContactArgs& a, bool calibrate_only) {
+  command.add_option("--p", a.p, "force-law exponent, p >= 1")->required();
+  command.add_option("--e", a.e, "coefficient of restitution in (0, 1] under --end");
+  command.add_option("--end", a.end, "contact end: overlap (delta = 0) or force (F = 0)");
+  command.add_option("--precision", a.precision, "double | long | quad | 50");
+  command.add_flag("--json", a.json, "one JSON object instead of key/value lines");
+  if (calibrate_only) {
+    return;
+  }
+  command.add_option("--alpha", a.alpha, "damping coefficient alpha >= 0");
+  command.add_option("--alpha-eff", a.alpha_eff, "effective damping ratio alpha_eff >= 0");
+  command.add_option("--v0", a.v0, "impact velocity > 0")->required();
+  command.add_option("--m", a.m, "reduced mass > 0 (default 1)");
+  command.add_option("--k", a.k, "stiffness > 0 (default 1)");
+}
+
+// CLI11's own errors, rewritten to the contract's one line "<what> (got <value>)".
+std::string describe(const CLI::ParseError& e, const CLI::App& app,
+                     const std::vector<std::string>& arguments) {
+  const std::string what = e.what();
+  if (dynamic_cast<const CLI::ExtrasError*>(&e) != nullptr) {
+    std::string extras;
+    for (const CLI::App* level = &app; level != nullptr;) {
+      for (const std::string& extra : level->remaining()) {
+        extras += (extras.empty() ? "" : " ") + extra;
+      }
+      const auto subs = level->get_subcommands();
+      level = subs.empty() ? nullptr : subs.front();
+    }
+    return "unknown argument (got " + (extras.empty() ? what : extras) + ")";
+  }
+  if (dynamic_cast<const CLI::RequiredError*>(&e) != nullptr) {
+    return what + " (got nothing)";
+  }
+  return what + " (got " + CLI::detail::join(arguments, " ") + ")";
+}
+
+} // namespace
+
+int run_cli(int argc, const char* const* argv, std::ostream& out, std::ostream& err) {
+  CLI::App app{"pldamp: closed forms and validation harness for the power-law damped contact "
+               "oscillator m d'' + alpha sqrt(mk) d^((p-1)/2) d' + k d^p = 0"};
+  app.require_subcommand(1);
+
+  ContactArgs calibrate_args;
+  CLI::App* calibrate = app.add_subcommand("calibrate", "alpha for a target restitution e");
+  add_contact_options(*calibrate, calibrate_args, true);
+
+  ContactArgs observables_args;
+  CLI::App* observables = app.add_subcommand("observables", "every closed-form observable");
+  add_contact_options(*observables, observables_args, false);
+
+  std::string showcase_precision = "double";
+  CLI::App* showcase =
+      app.add_subcommand("showcase", "observables for p = 1 ... 3 at e = 0.5, one overdamped case");
+  showcase->add_option("--precision", showcase_precision, "double | long | quad | 50");
+
+  const std::vector<std::string> arguments(argv + 1, argv + argc);
+  try {
+    if (!arguments.empty() && arguments.front().rfind('-', 0) != 0 &&
+        arguments.front() != "calibrate" && arguments.front() != "observables" &&
+        arguments.front() != "showcase") {
+      throw InputError("unknown command, expected calibrate|observables|showcase (got " +
+                       arguments.front() + ")");
+    }
+    try {
+      app.parse(argc, argv);
+    } catch (const CLI::CallForHelp&) {
+      const auto parsed = app.get_subcommands();
+      out << (parsed.empty() ? app.help() : parsed.front()->help());
+      return 0;
+    } catch (const CLI::CallForAllHelp&) {
+      out << app.help("", CLI::AppFormatMode::All);
+      return 0;
+    } catch (const CLI::ParseError& e) {
+      throw InputError(describe(e, app, arguments));
+    }
+    if (calibrate->parsed()) {
+      run_calibrate(calibrate_args, out);
+    } else if (observables->parsed()) {
+      run_observables(observables_args, out);
+    } else if (showcase->parsed()) {
+      run_showcase(showcase_precision, out);
+    }
+  } catch (const InternalError& e) {
+    err << "error: internal: " << e.what() << "\n";
+    return 3;
+  } catch (const std::invalid_argument& e) { // InputError and the library's validation
+    err << "error: " << e.what() << "\n";
+    return 2;
+  }
+  return 0;
+}
+
+} // namespace pldamp::harness
