@@ -25,6 +25,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstddef>
 #include <limits>
 
 namespace pldamp::analytic {
@@ -83,6 +84,8 @@ public:
   }
 
   const Real& sigma_end() const { return sigma_end_; }
+  // Integrand evaluations made by the quadratures of this object so far (cost accounting).
+  std::size_t evaluations() const { return evaluations_; }
 
   // ξ(σ) = x/L.
   Real xi(const Real& sigma) const {
@@ -150,6 +153,7 @@ private:
   Real jacobi_piece(const Real& b, Smooth smooth) const {
     using std::pow;
     const JacobiRule<Real>& rule = jacobi_rule(nu_);
+    evaluations_ += rule.nodes.size();
     Real sum(0);
     for (std::size_t i = 0; i < rule.nodes.size(); ++i) {
       sum += rule.weights[i] * smooth(b * (1 + rule.nodes[i]) / 2);
@@ -160,9 +164,9 @@ private:
   // ∫₀^b ξ^ν with the weight σ^ν taken exactly: ξ^ν = σ^ν (e^(−zσ) sinc_rf(μσ²))^ν.
   Real left_piece(const Real& b) const {
     using std::exp;
-    using std::pow;
+    using std::log;
     return jacobi_piece(b, [&](const Real& sigma) {
-      return Real(pow(exp(-d_.z * sigma) * sinc_rf(Real(d_.mu * sigma * sigma)), nu_));
+      return Real(exp(nu_ * (log(sinc_rf(Real(d_.mu * sigma * sigma))) - d_.z * sigma)));
     });
   }
 
@@ -185,6 +189,7 @@ private:
     const Real count_real = ceil((b - a) / h_);
     const long count = static_cast<long>(count_real);
     const Real width = (b - a) / count_real;
+    evaluations_ += rule.nodes.size() * static_cast<std::size_t>(count);
     Real total_sum(0);
     for (long j = 0; j < count; ++j) {
       const Real mid = a + width * (Real(j) + Real(1) / 2);
@@ -199,6 +204,7 @@ private:
 
   Damping<Real> d_;
   Real q_, nu_, sigma_end_, h_;
+  mutable std::size_t evaluations_ = 0;
 };
 
 } // namespace pldamp::analytic

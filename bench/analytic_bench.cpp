@@ -1,0 +1,82 @@
+// Speed of the closed forms (issue targets, double: e, α(e), δ_max ≤ 50 ns; τ ≤ 300 ns; the bundle
+// e, δ_max, t_peak, τ, energies ≤ 2 µs; float128 bundle ≤ 300 µs).
+// Run: build/bench/analytic_bench
+#include "pldamp/analytic.hpp"
+
+#include <benchmark/benchmark.h>
+
+namespace {
+
+using namespace pldamp;
+using namespace pldamp::analytic;
+
+template <SupportedReal Real>
+Contact<Real> hertz() {
+  return Contact<Real>::from_e(Real(3) / 2, Real(1) / 2, Real(2), Real(1) / 100, Real(7000000000));
+}
+
+void restitution_double(benchmark::State& state) {
+  const auto c = hertz<double>();
+  for (auto _ : state) {
+    benchmark::DoNotOptimize(restitution(c));
+  }
+}
+BENCHMARK(restitution_double);
+
+void alpha_from_e_double(benchmark::State& state) {
+  double e = 0.5;
+  for (auto _ : state) {
+    benchmark::DoNotOptimize(e);
+    benchmark::DoNotOptimize(damping_from_e(e).z * alpha_per_alpha_eff(1.5));
+  }
+}
+BENCHMARK(alpha_from_e_double);
+
+void delta_max_double(benchmark::State& state) {
+  const auto c = hertz<double>();
+  for (auto _ : state) {
+    benchmark::DoNotOptimize(delta_max(c));
+  }
+}
+BENCHMARK(delta_max_double);
+
+void tau_double(benchmark::State& state) {
+  const auto c = hertz<double>();
+  for (auto _ : state) {
+    benchmark::DoNotOptimize(contact_duration(c));
+  }
+}
+BENCHMARK(tau_double);
+
+void t_peak_double(benchmark::State& state) {
+  const auto c = hertz<double>();
+  for (auto _ : state) {
+    benchmark::DoNotOptimize(t_peak(c));
+  }
+}
+BENCHMARK(t_peak_double);
+
+constexpr unsigned bundle = want_e | want_delta_max | want_t_peak | want_tau | want_energy;
+
+template <SupportedReal Real>
+void bundle_of(benchmark::State& state) {
+  const auto c = hertz<Real>();
+  for (auto _ : state) {
+    benchmark::DoNotOptimize(observables(c, bundle));
+  }
+}
+BENCHMARK(bundle_of<double>)->Name("bundle_double");
+#if PLDAMP_WITH_QUAD
+BENCHMARK(bundle_of<quad>)->Name("bundle_quad")->Unit(benchmark::kMicrosecond);
+#endif
+BENCHMARK(bundle_of<bin50>)->Name("bundle_bin50")->Unit(benchmark::kMicrosecond);
+
+// Building a contact (validation, A, Ω0, ln L) is paid once per cell.
+void contact_from_e_double(benchmark::State& state) {
+  for (auto _ : state) {
+    benchmark::DoNotOptimize(hertz<double>());
+  }
+}
+BENCHMARK(contact_from_e_double);
+
+} // namespace

@@ -1,0 +1,157 @@
+// Validation messages, the calibrations of MATH.md §3 and §4, and their identities.
+#include "support.hpp"
+
+#include <string>
+
+namespace pldamp::analytic {
+namespace {
+
+using pldamp::testing::eps;
+using pldamp::testing::relative_error;
+
+template <class Real>
+class ContactTest : public ::testing::Test {};
+TYPED_TEST_SUITE(ContactTest, pldamp::testing::AllReals);
+
+template <class Call>
+std::string message_of(Call call) {
+  try {
+    call();
+  } catch (const std::invalid_argument& error) {
+    return error.what();
+  }
+  return "no exception";
+}
+
+TYPED_TEST(ContactTest, BadInputNamesTheParameterAndValue) {
+  using Real = TypeParam;
+  using C = Contact<Real>;
+  const Real one(1);
+  const Real nan = std::numeric_limits<Real>::quiet_NaN();
+  const Real inf = std::numeric_limits<Real>::infinity();
+  EXPECT_EQ(message_of([&] { C::from_e(Real(1) / 2, one / 2, one); }), "p must be >= 1 (got 0.5)");
+  EXPECT_EQ(message_of([&] { C::from_e(nan, one / 2, one); }), "p must be finite (got nan)");
+  EXPECT_EQ(message_of([&] { C::from_e(one, Real(0), one); }), "e must be in (0, 1] (got 0)");
+  EXPECT_EQ(message_of([&] { C::from_e(one, Real(2), one); }), "e must be in (0, 1] (got 2)");
+  EXPECT_EQ(message_of([&] { C::from_e(one, one / 2, Real(-1)); }), "v0 must be > 0 (got -1)");
+  EXPECT_EQ(message_of([&] { C::from_e(one, one / 2, one, nan); }), "m must be finite (got nan)");
+  EXPECT_EQ(message_of([&] { C::from_e(one, one / 2, one, one, inf); }),
+            "k must be finite (got inf)");
+  EXPECT_EQ(message_of([&] { C::from_e(one, one / 2, one, one, Real(0)); }),
+            "k must be > 0 (got 0)");
+  EXPECT_EQ(message_of([&] { C::from_alpha(one, Real(-1), one); }), "alpha must be >= 0 (got -1)");
+  EXPECT_EQ(message_of([&] { C::from_alpha_eff(one, nan, one); }),
+            "alpha_eff must be finite (got nan)");
+  EXPECT_EQ(message_of([&] { C::from_e(one, Real(0), one, one, one, ContactEnd::force); }),
+            "e must be in (0, 1] (got 0)");
+}
+
+// ξ_L = −ln e/√(π² + ln²e); α = √(2(p+1)) ξ_L, which for p = 3/2 is Antypov–Elliott's √5 ξ_L.
+TYPED_TEST(ContactTest, CalibrationIsTheUniversalFormula) {
+  using Real = TypeParam;
+  using std::log;
+  using std::sqrt;
+  const Real pi = boost::math::constants::pi<Real>();
+  for (const Real& e : {Real(999) / 1000, Real(9) / 10, Real(1) / 2, Real(1) / 10, Real(1) / 1000}) {
+    const Real xi = -log(e) / sqrt(pi * pi + log(e) * log(e));
+    const Real hertz = Contact<Real>::from_e(Real(3) / 2, e, Real(1)).alpha();
+    EXPECT_LE(relative_error(hertz, Real(sqrt(Real(5)) * xi)), 8 * eps<Real>()) << e;
+    for (const Real& p : {Real(1), Real(2), Real(7)}) {
+      const Real alpha = Contact<Real>::from_e(p, e, Real(1)).alpha();
+      EXPECT_LE(relative_error(alpha, Real(sqrt(2 * (p + 1)) * xi)), 8 * eps<Real>()) << e;
+    }
+  }
+  EXPECT_EQ(Contact<Real>::from_e(Real(2), Real(1), Real(1)).alpha(), Real(0));
+}
+
+// e → α → e. The condition number of e(z) is |ln e|·(1/μ): bounds scale with it.
+TYPED_TEST(ContactTest, RestitutionRoundTripsThroughAlpha) {
+  using Real = TypeParam;
+  using std::log;
+  for (const Real& e : {Real(999) / 1000, Real(9) / 10, Real(1) / 2, Real(1) / 10, Real(1) / 100,
+                       Real(1) / 1000}) {
+    for (const Real& p : {Real(1), Real(3) / 2, Real(3)}) {
+      const Contact<Real> from_e = Contact<Real>::from_e(p, e, Real(1));
+      const Contact<Real> from_alpha = Contact<Real>::from_alpha(p, from_e.alpha(), Real(1));
+      const double condition = 1 + static_cast<double>(-log(e) / from_e.mu());
+      EXPECT_LE(relative_error(restitution(from_alpha.damping()), e), 8 * eps<Real>() * condition)
+          << "e " << e << " p " << p;
+      EXPECT_LE(relative_error(restitution(from_e.damping()), e), 16 * eps<Real>());
+    }
+  }
+}
+
+TYPED_TEST(ContactTest, NoReturnAtOrBeyondCriticalDamping) {
+  using Real = TypeParam;
+  for (const Real& z : {Real(1), Real(3) / 2, Real(10)}) {
+    EXPECT_EQ(restitution(damping_from_alpha_eff(z)), Real(0));
+    EXPECT_GT(capped_restitution(damping_from_alpha_eff(z)), Real(0));
+  }
+}
+
+// MATH.md §4's angle formulas, evaluated directly, against e_cap = e^(−2G) (contact.hpp).
+TYPED_TEST(ContactTest, CappedRestitutionMatchesTheAngleForm) {
+  using Real = TypeParam;
+  using std::abs;
+  using std::atan;
+  using std::atanh;
+  using std::cos;
+  using std::cosh;
+  using std::exp;
+  using std::sin;
+  using std::sinh;
+  using std::sqrt;
+  const Real pi = boost::math::constants::pi<Real>();
+  for (const Real& z : {Real(1) / 10, Real(1) / 2, Real(7) / 10, Real(9) / 10, Real(3) / 2,
+                       Real(3)}) {
+    Real expected;
+    if (z < 1) {
+      const Real r = sqrt(1 - z * z);
+      const Real theta = 2 * z * z < 1 ? pi - atan(2 * z * r / (1 - 2 * z * z))
+                                       : atan(2 * z * r / (2 * z * z - 1));
+      expected = exp(-z * theta / r) * abs(cos(theta) - z / r * sin(theta));
+    } else {
+      const Real g = sqrt(z * z - 1);
+      const Real u = atanh(2 * z * g / (2 * z * z - 1));
+      expected = exp(-z * u / g) * abs(cosh(u) - z / g * sinh(u));
+    }
+    // The angle form cancels for large z (its two terms grow like z²): the bound does too.
+    EXPECT_LE(relative_error(capped_restitution(damping_from_alpha_eff(z)), expected),
+              64 * eps<Real>() * static_cast<double>(1 + z * z))
+        << "z = " << z;
+  }
+  EXPECT_LE(relative_error(capped_restitution(damping_from_alpha_eff(Real(1))), exp(Real(-2))),
+            4 * eps<Real>());
+}
+
+// MATH.md §4's table: z from e = 0.1/0.3/0.5/0.7/0.9 and z = 1.5, to 5 digits.
+TEST(CappedTable, MatchesMath) {
+  const std::pair<double, double> table[] = {
+      {0.1, 0.25273}, {0.3, 0.39714}, {0.5, 0.55028}, {0.7, 0.71820}, {0.9, 0.90203}};
+  for (const auto& [e, e_cap] : table) {
+    EXPECT_NEAR(capped_restitution(damping_from_e(e)), e_cap, 0.5e-5) << "e = " << e;
+  }
+  EXPECT_NEAR(capped_restitution(damping_from_alpha_eff(1.5)), 0.075588, 0.5e-6);
+}
+
+TYPED_TEST(ContactTest, CappedCalibrationInvertsMonotonically) {
+  using Real = TypeParam;
+  Real previous_z(-1);
+  for (const Real& target : {Real(1), Real(9) / 10, Real(55) / 100, Real(1) / 5, Real(135) / 1000,
+                            Real(1) / 20, Real(1) / 1000}) {
+    const Damping<Real> d = damping_from_e_cap(target);
+    // z is found to 4 ulps; e_cap = e^(−2G) amplifies that by about |ln e_cap|.
+    using std::log;
+    EXPECT_LE(relative_error(capped_restitution(d), target),
+              32 * eps<Real>() * (1 + static_cast<double>(-log(target))))
+        << target;
+    EXPECT_GT(d.z, previous_z) << target;
+    previous_z = d.z;
+  }
+  const Contact<Real> hertz =
+      Contact<Real>::from_e(Real(3) / 2, Real(1) / 2, Real(1), Real(1), Real(1), ContactEnd::force);
+  EXPECT_LE(relative_error(capped_restitution(hertz), Real(1) / 2), 16 * eps<Real>());
+}
+
+} // namespace
+} // namespace pldamp::analytic

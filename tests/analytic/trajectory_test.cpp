@@ -1,0 +1,126 @@
+// The parametric time-domain solution: the p = 1 textbook δ(t), force balance of the physical
+// equation along it, t(s) inverted by δ(t), and its ends.
+#include "support.hpp"
+
+#include <cmath>
+
+namespace pldamp::analytic {
+namespace {
+
+using pldamp::testing::eps;
+using pldamp::testing::relative_error;
+
+template <class Real>
+class TrajectoryTest : public ::testing::Test {};
+TYPED_TEST_SUITE(TrajectoryTest, pldamp::testing::FastReals);
+
+// δ(t) = (v0/Ω1) e^(−ξΩ0 t) sin(Ω1 t) for the linear spring-dashpot.
+TYPED_TEST(TrajectoryTest, LinearCaseIsTheTextbook) {
+  using Real = TypeParam;
+  using std::exp;
+  using std::sin;
+  using std::sqrt;
+  const Real xi = Real(3) / 10, v0(2), m(3), k(7);
+  const Contact<Real> c = Contact<Real>::from_alpha_eff(Real(1), xi, v0, m, k);
+  const Trajectory<Real> path(c);
+  const Real omega0 = sqrt(k / m);
+  const Real omega1 = omega0 * sqrt(1 - xi * xi);
+  const Real tau = contact_duration(c);
+  for (const Real& fraction : {Real(1) / 10, Real(1) / 2, Real(9) / 10}) {
+    const Real t = fraction * tau;
+    const auto at = path.at_time(t);
+    EXPECT_LE(relative_error(at.delta, Real(v0 / omega1 * exp(-xi * omega0 * t) * sin(omega1 * t))),
+              64 * eps<Real>());
+  }
+}
+
+// m dv/dt = −(k δ^p + α√(mk) δ^((p−1)/2) v) along the parametric solution, with
+// dv/dt = x''(s) / (dt/ds) and dt/ds = A q x^(q−1): the solution obeys the physical equation.
+TYPED_TEST(TrajectoryTest, ObeysThePhysicalEquation) {
+  using Real = TypeParam;
+  using std::pow;
+  for (const Real& p : {Real(3) / 2, Real(5) / 2, Real(6)}) {
+    for (const Real& z : {Real(1) / 5, Real(1), Real(2)}) {
+      const Contact<Real> c = Contact<Real>::from_alpha_eff(p, z, Real(2), Real(3), Real(7));
+      const Trajectory<Real> path(c);
+      for (const Real& s : {Real(1) / 10, Real(1) / 2, Real(1)}) {
+        const auto at = path.at_parameter(s);
+        const Real dt_ds = c.A() * c.q() * pow(path.x(s), c.q() - 1);
+        const Real inertia = c.m() * path.x_ddot(s) / dt_ds;
+        // Measured against the size of the forces: the sum crosses zero at the cut.
+        using std::abs;
+        EXPECT_LE(abs(inertia + at.force_elastic + at.force_damping),
+                  Real(256 * eps<Real>()) * (abs(at.force_elastic) + abs(at.force_damping)))
+            << "p " << p << " z " << z << " s " << s;
+      }
+    }
+  }
+}
+
+TYPED_TEST(TrajectoryTest, TimeInvertsAndEndsAtTau) {
+  using Real = TypeParam;
+  using std::abs;
+  for (const Real& p : {Real(3) / 2, Real(4)}) {
+    for (const Real& z : {Real(3) / 10, Real(3) / 2}) {
+      const Contact<Real> c = Contact<Real>::from_alpha_eff(p, z, Real(1) / 3, Real(1) / 5, Real(9));
+      const Trajectory<Real> path(c);
+      for (const Real& s : {path.s_peak() / 7, path.s_peak(), 3 * path.s_peak()}) {
+        if (!(s < path.s_end())) {
+          continue;
+        }
+        const Real t = path.time_at_parameter(s);
+        const auto at = path.at_time(t);
+        EXPECT_LE(relative_error(at.s, s), 1024 * eps<Real>()) << "p " << p << " z " << z;
+        EXPECT_TRUE(at.in_contact);
+      }
+      const auto peak = path.at_time(t_peak(c));
+      EXPECT_LE(relative_error(peak.delta, delta_max(c)), 64 * eps<Real>());
+      EXPECT_LE(abs(peak.v), 1e6 * eps<Real>() * c.v0());
+    }
+  }
+  const Contact<Real> c = Contact<Real>::from_e(Real(2), Real(1) / 2, Real(1));
+  const Trajectory<Real> path(c);
+  EXPECT_LE(relative_error(path.time_at_parameter(path.s_end()), contact_duration(c)),
+            16 * eps<Real>());
+  const auto after = path.at_time(2 * contact_duration(c));
+  EXPECT_FALSE(after.in_contact);
+  EXPECT_EQ(after.delta, Real(0));
+  EXPECT_LE(relative_error(after.v, Real(-c.v0() / 2)), 16 * eps<Real>());
+}
+
+TYPED_TEST(TrajectoryTest, PhasePortraitRunsFromImpactToExit) {
+  using Real = TypeParam;
+  using std::abs;
+  const Contact<Real> c = Contact<Real>::from_e(Real(3) / 2, Real(3) / 10, Real(2));
+  const auto portrait = Trajectory<Real>(c).phase_portrait(101);
+  ASSERT_EQ(portrait.size(), 101u);
+  EXPECT_EQ(portrait.front().delta, Real(0));
+  EXPECT_EQ(portrait.front().v, c.v0());
+  EXPECT_LE(abs(portrait.back().delta), 1e4 * eps<Real>());
+  EXPECT_LE(relative_error(portrait.back().v, Real(-restitution(c) * c.v0())), 1e3 * eps<Real>());
+  Real largest(0);
+  for (const auto& point : portrait) {
+    largest = point.delta > largest ? point.delta : largest;
+  }
+  EXPECT_LE(largest, delta_max(c));
+  EXPECT_GE(largest, delta_max(c) * Real(99) / 100);
+}
+
+// Overdamped: δ decays monotonically after the peak and never leaves contact.
+TEST(Overdamped, DecaysWithoutExit) {
+  const Contact<double> c = Contact<double>::from_alpha_eff(2.5, 1.5, 1.0);
+  const Trajectory<double> path(c);
+  EXPECT_TRUE(std::isinf(path.s_end()));
+  double previous = delta_max(c);
+  for (double t = t_peak(c); t < 40 * t_peak(c); t *= 1.7) {
+    const auto at = path.at_time(t);
+    EXPECT_TRUE(at.in_contact);
+    EXPECT_LE(at.delta, previous * (1 + 1e-12));
+    EXPECT_LE(at.v, 1e-12);
+    previous = at.delta;
+  }
+  EXPECT_THROW(path.at_time(-1.0), std::invalid_argument);
+}
+
+} // namespace
+} // namespace pldamp::analytic
