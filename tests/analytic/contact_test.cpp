@@ -52,7 +52,8 @@ TYPED_TEST(ContactTest, CalibrationIsTheUniversalFormula) {
   using std::log;
   using std::sqrt;
   const Real pi = boost::math::constants::pi<Real>();
-  for (const Real& e : {Real(999) / 1000, Real(9) / 10, Real(1) / 2, Real(1) / 10, Real(1) / 1000}) {
+  for (const Real& e :
+       {Real(999) / 1000, Real(9) / 10, Real(1) / 2, Real(1) / 10, Real(1) / 1000}) {
     const Real xi = -log(e) / sqrt(pi * pi + log(e) * log(e));
     const Real hertz = Contact<Real>::from_e(Real(3) / 2, e, Real(1)).alpha();
     EXPECT_LE(relative_error(hertz, Real(sqrt(Real(5)) * xi)), 8 * eps<Real>()) << e;
@@ -68,8 +69,8 @@ TYPED_TEST(ContactTest, CalibrationIsTheUniversalFormula) {
 TYPED_TEST(ContactTest, RestitutionRoundTripsThroughAlpha) {
   using Real = TypeParam;
   using std::log;
-  for (const Real& e : {Real(999) / 1000, Real(9) / 10, Real(1) / 2, Real(1) / 10, Real(1) / 100,
-                       Real(1) / 1000}) {
+  for (const Real& e :
+       {Real(999) / 1000, Real(9) / 10, Real(1) / 2, Real(1) / 10, Real(1) / 100, Real(1) / 1000}) {
     for (const Real& p : {Real(1), Real(3) / 2, Real(3)}) {
       const Contact<Real> from_e = Contact<Real>::from_e(p, e, Real(1));
       const Contact<Real> from_alpha = Contact<Real>::from_alpha(p, from_e.alpha(), Real(1));
@@ -102,8 +103,8 @@ TYPED_TEST(ContactTest, CappedRestitutionMatchesTheAngleForm) {
   using std::sinh;
   using std::sqrt;
   const Real pi = boost::math::constants::pi<Real>();
-  for (const Real& z : {Real(1) / 10, Real(1) / 2, Real(7) / 10, Real(9) / 10, Real(3) / 2,
-                       Real(3)}) {
+  for (const Real& z :
+       {Real(1) / 10, Real(1) / 2, Real(7) / 10, Real(9) / 10, Real(3) / 2, Real(3)}) {
     Real expected;
     if (z < 1) {
       const Real r = sqrt(1 - z * z);
@@ -138,7 +139,7 @@ TYPED_TEST(ContactTest, CappedCalibrationInvertsMonotonically) {
   using Real = TypeParam;
   Real previous_z(-1);
   for (const Real& target : {Real(1), Real(9) / 10, Real(55) / 100, Real(1) / 5, Real(135) / 1000,
-                            Real(1) / 20, Real(1) / 1000}) {
+                             Real(1) / 20, Real(1) / 1000}) {
     const Damping<Real> d = damping_from_e_cap(target);
     // z is found to 4 ulps; e_cap = e^(−2G) amplifies that by about |ln e_cap|.
     using std::log;

@@ -86,8 +86,8 @@ TYPED_TEST(ObservablesTest, MatchReferenceTable) {
 // with z = 1 ± 1e−3, 1e−6, 1e−9, and v0, m, k from 1e−6 to 1e9.
 TEST(QuadVersusBin50, AgreeTo1e32) {
   const std::vector<double> ps{1, 1.1, 1.5, 2.7, 6.3, 10};
-  const std::vector<double> zs{0,           0.3,      0.8,      0.999,    1 - 1e-6, 1 - 1e-9, 1,
-                               1 + 1e-9,    1 + 1e-6, 1 + 1e-3, 2.5,      10};
+  const std::vector<double> zs{0, 0.3,      0.8,      0.999,    1 - 1e-6, 1 - 1e-9,
+                               1, 1 + 1e-9, 1 + 1e-6, 1 + 1e-3, 2.5,      10};
   const double scales[][3] = {{1, 1, 1}, {1e-6, 1e9, 1e-6}, {1e9, 1e-6, 1e9}, {1e-6, 1e-6, 1e-6}};
   for (double p : ps) {
     for (double z : zs) {
@@ -97,7 +97,7 @@ TEST(QuadVersusBin50, AgreeTo1e32) {
         const auto wide = pldamp::testing::as_map(observables(Contact<bin50>::from_alpha_eff(
             bin50(p), bin50(z), bin50(s[0]), bin50(s[1]), bin50(s[2]))));
         for (const auto& [name, want] : wide) {
- expect_matches(fast.at(name), *want, z, name,
+          expect_matches(fast.at(name), *want, z, name,
                          name + " p=" + std::to_string(p) + " z=" + to_string_full(z));
         }
       }
@@ -160,9 +160,9 @@ TYPED_TEST(ObservablesTest, ScalingWithImpactVelocity) {
     EXPECT_EQ(restitution(c), restitution(unit));
     EXPECT_LE(relative_error(delta_max(c), Real(delta_max(unit) * pow(v0, c.q()))),
               64 * eps<Real>());
-    EXPECT_LE(relative_error(contact_duration(c),
-                             Real(contact_duration(unit) * pow(v0, c.q() - 1))),
-              64 * eps<Real>());
+    EXPECT_LE(
+        relative_error(contact_duration(c), Real(contact_duration(unit) * pow(v0, c.q() - 1))),
+        64 * eps<Real>());
     EXPECT_LE(relative_error(t_peak(c), Real(t_peak(unit) * pow(v0, c.q() - 1))), 64 * eps<Real>());
   }
 }
@@ -190,7 +190,8 @@ TYPED_TEST(ObservablesTest, CriticalTimeSteps) {
   EXPECT_NEAR(static_cast<double>(dt_crit_seed(hertz)), 1.749, 5e-4);
   EXPECT_NEAR(static_cast<double>(dt_crit_tangent(hertz)), 1.597, 5e-4);
   for (const Real& p : {Real(1), Real(2), Real(6)}) {
-    const Contact<Real> c = Contact<Real>::from_alpha_eff(p, Real(1) / 5, Real(3), Real(2), Real(7));
+    const Contact<Real> c =
+        Contact<Real>::from_alpha_eff(p, Real(1) / 5, Real(3), Real(2), Real(7));
     const Real beta = boost::math::beta(Real(1) / (p + 1), Real(1) / 2);
     EXPECT_LE(relative_error(Real(dt_crit_seed(c) / undamped_duration(c)), Real(2 / beta)),
               64 * eps<Real>());
@@ -218,11 +219,14 @@ TEST(IndependentQuadrature, DurationAndPeakTime) {
         const Real s = theta < pi / 2 ? std::sin(theta) : std::sin(complement);
         return std::exp(cc * theta) * std::pow(s, nu);
       };
-      EXPECT_LE(relative_error(contact_duration(c), scale * integrator.integrate(integrand, 0.0, pi)),
-                1e-13)
+      EXPECT_LE(
+          relative_error(contact_duration(c), scale * integrator.integrate(integrand, 0.0, pi)),
+          1e-13)
           << "p " << p << " z " << z;
       const Real theta_peak = std::atan2(root_mu, z);
-      auto rising = [&](Real theta) { return std::exp(cc * theta) * std::pow(std::sin(theta), nu); };
+      auto rising = [&](Real theta) {
+        return std::exp(cc * theta) * std::pow(std::sin(theta), nu);
+      };
       EXPECT_LE(relative_error(t_peak(c), scale * integrator.integrate(rising, 0.0, theta_peak)),
                 1e-13)
           << "p " << p << " z " << z;
@@ -253,8 +257,8 @@ TEST(Domain, NoNaNAnywhere) {
   for (double p = 1; p <= 10; p += 0.5) {
     for (double z = 0; z <= 10; z += z < 0.9 ? 0.1 : (z < 1.1 ? 0.01 : 0.5)) {
       for (double v0 : {1e-6, 1.0, 1e9}) {
-        const auto x = pldamp::testing::as_map(observables(
-            Contact<double>::from_alpha_eff(p, z, v0, 1e-3, 1e6), want_all));
+        const auto x = pldamp::testing::as_map(
+            observables(Contact<double>::from_alpha_eff(p, z, v0, 1e-3, 1e6), want_all));
         for (const auto& [name, value] : x) {
           ASSERT_TRUE(value.has_value()) << name;
           EXPECT_FALSE(std::isnan(*value)) << name << " p " << p << " z " << z << " v0 " << v0;

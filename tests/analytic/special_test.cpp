@@ -41,7 +41,7 @@ TYPED_TEST(SpecialTest, LogGammaMatchesBoost) {
   using Real = TypeParam;
   using std::abs;
   for (const Real& x : {Real(1) / 10, Real(1) / 2, Real(9) / 10, Real(3) / 2, Real(37) / 10,
-                       Real(12), Real(2) / 11}) {
+                        Real(12), Real(2) / 11}) {
     const Real expected = boost::math::lgamma(x);
     EXPECT_LE(abs(log_gamma(x) - expected), Real(256 * eps<Real>()) * (1 + abs(expected)))
         << "x = " << x;

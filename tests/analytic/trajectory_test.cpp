@@ -62,7 +62,8 @@ TYPED_TEST(TrajectoryTest, TimeInvertsAndEndsAtTau) {
   using std::abs;
   for (const Real& p : {Real(3) / 2, Real(4)}) {
     for (const Real& z : {Real(3) / 10, Real(3) / 2}) {
-      const Contact<Real> c = Contact<Real>::from_alpha_eff(p, z, Real(1) / 3, Real(1) / 5, Real(9));
+      const Contact<Real> c =
+          Contact<Real>::from_alpha_eff(p, z, Real(1) / 3, Real(1) / 5, Real(9));
       const Trajectory<Real> path(c);
       for (const Real& s : {path.s_peak() / 7, path.s_peak(), 3 * path.s_peak()}) {
         if (!(s < path.s_end())) {

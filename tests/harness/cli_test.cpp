@@ -30,8 +30,8 @@ CliRun run(std::vector<std::string> args) {
 }
 
 TEST(Cli, ObservablesJsonCarriesTheContractKeys) {
-  const CliRun r = run({"observables", "--p", "1.5", "--e", "0.5", "--v0", "2", "--m", "0.01", "--k",
-                     "7e9", "--json"});
+  const CliRun r = run({"observables", "--p", "1.5", "--e", "0.5", "--v0", "2", "--m", "0.01",
+                        "--k", "7e9", "--json"});
   ASSERT_EQ(r.code, 0) << r.err;
   const auto json = nlohmann::json::parse(r.out);
   for (const char* key : {"p", "m", "k", "v0", "alpha", "alpha_eff", "e", "delta_max", "t_peak",
@@ -46,8 +46,8 @@ TEST(Cli, ObservablesJsonCarriesTheContractKeys) {
 
 #if PLDAMP_WITH_QUAD
 TEST(Cli, QuadPrintsThirtySixDigits) {
-  const CliRun r = run({"observables", "--p", "1.5", "--e", "0.5", "--v0", "2", "--precision", "quad",
-                     "--json"});
+  const CliRun r = run(
+      {"observables", "--p", "1.5", "--e", "0.5", "--v0", "2", "--precision", "quad", "--json"});
   ASSERT_EQ(r.code, 0) << r.err;
   const std::string key = "\"tau\": ";
   const auto at = r.out.find(key);
@@ -66,8 +66,8 @@ TEST(Cli, QuadPrintsThirtySixDigits) {
 #endif
 
 TEST(Cli, OverdampedTauIsNullAndForceEndAddsTheCut) {
-  const CliRun r =
-      run({"observables", "--p", "2", "--alpha-eff", "1.5", "--v0", "1", "--end", "force", "--json"});
+  const CliRun r = run(
+      {"observables", "--p", "2", "--alpha-eff", "1.5", "--v0", "1", "--end", "force", "--json"});
   ASSERT_EQ(r.code, 0) << r.err;
   const auto json = nlohmann::json::parse(r.out);
   EXPECT_TRUE(json["tau"].is_null());
@@ -113,7 +113,8 @@ TEST(Cli, BadInputIsOneLineAndExitTwo) {
       {{"observables", "--p", "2", "--e", "1.5", "--v0", "1"}, "e must be in (0, 1] (got 1.5)"},
       {{"observables", "--p", "2", "--e", "0", "--v0", "1"}, "e must be in (0, 1] (got 0)"},
       {{"observables", "--p", "2", "--e", "0.5", "--v0", "0"}, "v0 must be > 0 (got 0)"},
-      {{"observables", "--p", "2", "--e", "0.5", "--v0", "1", "--m", "-3"}, "m must be > 0 (got -3)"},
+      {{"observables", "--p", "2", "--e", "0.5", "--v0", "1", "--m", "-3"},
+       "m must be > 0 (got -3)"},
       {{"observables", "--p", "2", "--e", "0.5", "--v0", "1", "--k", "inf"},
        "k must be finite (got inf)"},
       {{"observables", "--p", "nan", "--e", "0.5", "--v0", "1"}, "p must be finite (got nan)"},
@@ -137,8 +138,8 @@ TEST(Cli, BadInputIsOneLineAndExitTwo) {
     EXPECT_TRUE(r.out.empty());
   }
   for (const char* precision : {"long", "quad", "50"}) {
-    const CliRun r = run({"observables", "--p", "0.5", "--e", "0.5", "--v0", "1", "--precision",
-                       precision});
+    const CliRun r =
+        run({"observables", "--p", "0.5", "--e", "0.5", "--v0", "1", "--precision", precision});
     EXPECT_EQ(r.code, 2);
     EXPECT_EQ(r.err, "error: p must be >= 1 (got 0.5)\n") << precision;
   }

@@ -1,0 +1,59 @@
+#!/usr/bin/env bash
+# The one entry point of the README's Quick start and of CI.
+#   scripts/run.sh main   install what is missing, build, run the main job (the showcase)
+#   scripts/run.sh test   install what is missing, build with -Werror and run every test, rebuild
+#                         and rerun them under ASan+UBSan, check the reference table regenerates
+#                         bit for bit and that the sources are clang-formatted
+set -euo pipefail
+cd "$(dirname "$0")/.."
+
+# Debian 12 packages; README "Dependencies" says why each is here.
+packages=(cmake make g++ libboost-dev libcli11-dev libfmt-dev nlohmann-json3-dev libgtest-dev
+  libbenchmark-dev clang-format)
+
+install_missing() {
+  local missing=() p
+  for p in "${packages[@]}"; do
+    dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
+  done
+  if ((${#missing[@]})); then
+    local sudo=""
+    [[ $(id -u) -eq 0 ]] || sudo=sudo
+    echo "installing: ${missing[*]}" >&2
+    $sudo apt-get update -qq
+    DEBIAN_FRONTEND=noninteractive $sudo apt-get install -y -qq "${missing[@]}" >/dev/null
+  fi
+}
+
+build() { # build DIR [cmake options...]
+  local dir=$1
+  shift
+  cmake -S . -B "$dir" -DCMAKE_BUILD_TYPE=Release "$@" >/dev/null
+  cmake --build "$dir" -j "$(nproc)"
+}
+
+case "${1:-}" in
+main)
+  install_missing
+  build build >/dev/null
+  build/harness/pldamp showcase
+  ;;
+test)
+  install_missing
+  build build -DPLDAMP_WERROR=ON
+  ctest --test-dir build -j "$(nproc)" --output-on-failure
+  echo "== reference table regenerates bit for bit"
+  build/data/pldamp-generate-reference build/analytic.csv
+  cmp build/analytic.csv data/reference/analytic.csv
+  echo "== clang-format"
+  git ls-files '*.cpp' '*.hpp' | xargs clang-format --dry-run -Werror
+  echo "== tests under AddressSanitizer + UndefinedBehaviorSanitizer"
+  build build-sanitize -DPLDAMP_WERROR=ON -DPLDAMP_SANITIZE=ON -DPLDAMP_BUILD_BENCHMARKS=OFF \
+    -DCMAKE_BUILD_TYPE=RelWithDebInfo
+  ctest --test-dir build-sanitize -j "$(nproc)" --output-on-failure
+  ;;
+*)
+  echo "usage: scripts/run.sh main|test" >&2
+  exit 2
+  ;;
+esac
