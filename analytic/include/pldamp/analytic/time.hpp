@@ -10,9 +10,9 @@
 //     sin(√μσ) = sin(√μ(σ_end−σ)); at σ_end itself, I_end in closed form.
 // h keeps every piece's nearest singularity (the other endpoint zero of ξ; the complex zeros
 // ±iπ/√−μ of sinh when overdamped) at least one piece-width away, i.e. a Bernstein ellipse ρ ≥ 4
-// for which quadrature_order() points suffice, and the factor e^(−νzσ) varies by at most e^½ per
+// for which quadrature_order() points suffice, and the factor e^(−νzσ) varies by at most e per
 // piece. For underdamped t_peak (σ_peak ≤ π/2 /√μ) that is one or two pieces: 15 evaluations in
-// double for 1e−16.
+// double, whose truncation error is below the rounding of the result.
 //
 // The closed form (MATH.md §3, "Contact duration"), with c = −ν z/√μ and a = (1+q)/2:
 //     I_end = μ^(−q/2) · π e^(cπ/2) Γ(q) / (2^ν |Γ(a + ic/2)|²),
