@@ -7,23 +7,27 @@
 // Nodes: Newton on P_n^(0,β) from the three-term recurrence (A&S 22.7.1) and its derivative
 // (A&S 22.8.1), started at the asymptotic zeros θ_i = π(i − ¼)/(n + (β+1)/2). Weights are
 // ∝ 1/((1 − t²) P_n'(t)²) (A&S 25.4.33), normalised to the exact zeroth moment 2^(β+1)/(β+1).
-// Rules are built once per (type, β, n) and cached per thread.
+// The recurrence loses up to ~80 ulps in the weights, so rules are built in a wider type
+// (cpp_bin_float_50, or 100 digits for cpp_bin_float_50 itself) and rounded once. They are built
+// once per (type, β, n) and cached per thread.
 #pragma once
 
 #include "pldamp/analytic/real_types.hpp"
 
 #include <boost/math/constants/constants.hpp>
+#include <boost/multiprecision/cpp_bin_float.hpp>
 
 #include <cmath>
 #include <limits>
 #include <map>
 #include <stdexcept>
+#include <type_traits>
 #include <utility>
 #include <vector>
 
 namespace pldamp::analytic {
 
-template <SupportedReal Real>
+template <class Real> // a SupportedReal, or the wider type a rule is built in
 struct JacobiRule {
   std::vector<Real> nodes;   // in (−1, 1), decreasing
   std::vector<Real> weights; // positive, Σ = 2^(β+1)/(β+1)
@@ -39,8 +43,13 @@ constexpr int quadrature_order() {
 
 namespace detail {
 
-// P_n^(0,β)(t) and P_{n−1}^(0,β)(t).
+// The type a rule for Real is built in: at least 50 digits, wider than Real.
 template <SupportedReal Real>
+using RuleBuildType = std::conditional_t<std::is_same_v<Real, bin50>,
+                                         boost::multiprecision::cpp_bin_float_100, bin50>;
+
+// P_n^(0,β)(t) and P_{n−1}^(0,β)(t).
+template <class Real>
 std::pair<Real, Real> jacobi_pair(int n, const Real& beta, const Real& t) {
   Real previous(1);
   Real current = ((beta + 2) * t - beta) / 2;
@@ -56,14 +65,14 @@ std::pair<Real, Real> jacobi_pair(int n, const Real& beta, const Real& t) {
 }
 
 // d/dt P_n from (2n+β)(1 − t²) P_n' = n[−β − (2n+β)t] P_n + 2n(n+β) P_{n−1}.
-template <SupportedReal Real>
+template <class Real>
 Real jacobi_derivative(int n, const Real& beta, const Real& t, const Real& pn, const Real& pn1) {
   const Real s = Real(2 * n) + beta;
   return (Real(n) * (-beta - s * t) * pn + 2 * Real(n) * (Real(n) + beta) * pn1) /
          (s * (1 - t * t));
 }
 
-template <SupportedReal Real>
+template <class Real>
 JacobiRule<Real> build_jacobi_rule(int n, const Real& beta) {
   using std::abs;
   using std::cos;
@@ -111,7 +120,14 @@ const JacobiRule<Real>& jacobi_rule(const Real& beta, int n = quadrature_order<R
   const auto key = std::make_pair(n, beta);
   auto found = cache.find(key);
   if (found == cache.end()) {
-    found = cache.emplace(key, detail::build_jacobi_rule(n, beta)).first;
+    using Wide = detail::RuleBuildType<Real>;
+    const JacobiRule<Wide> wide = detail::build_jacobi_rule(n, Wide(beta));
+    JacobiRule<Real> rule;
+    for (std::size_t i = 0; i < wide.nodes.size(); ++i) {
+      rule.nodes.push_back(wide.nodes[i].template convert_to<Real>());
+      rule.weights.push_back(wide.weights[i].template convert_to<Real>());
+    }
+    found = cache.emplace(key, std::move(rule)).first;
   }
   return found->second;
 }

@@ -6,10 +6,10 @@
 // These carry the LSD solution through critical damping without dividing by √μ (MATH.md §2, §3):
 // with w = μ·σ², σ·sinc_rf(w) = sin(√μσ)/√μ stays exact as μ → 0 from either side.
 //
-// log_abs_gamma(x, y) = ln|Γ(x + iy)| for x > 0 (MATH.md §3, the closed-form τ): shift x upward by
-// the recurrence |Γ(w)| = |Γ(w + N)| / Π|w + j| until |w| exceeds the Stirling radius of the type,
-// then sum the Stirling series with Bernoulli numbers (Boost.Math bernoulli_b2n) until the terms
-// drop below ε or start to grow (it is asymptotic).
+// log_abs_gamma(x, y) = ln|Γ(x + iy)| for x > 0 (MATH.md §3, the closed-form τ) = ln Γ(x) plus
+// log_abs_gamma_ratio(x, y): the recurrence |Γ(w)| = |Γ(w + N)| / Π|w + j| shifts x past the
+// Stirling radius of the type, then the Stirling series with Bernoulli numbers (Boost.Math
+// bernoulli_b2n) is summed, both as differences against the real axis (see below).
 #pragma once
 
 #include "pldamp/analytic/real_types.hpp"
@@ -21,6 +21,7 @@
 #include <cmath>
 #include <limits>
 #include <type_traits>
+#include <vector>
 
 namespace pldamp::analytic {
 
@@ -102,65 +103,104 @@ Real stirling_radius() {
   return Real(std::numeric_limits<Real>::digits) * ln_two<Real>() / two_pi<Real>() + 1;
 }
 
+// B_2k / (2k(2k−1)), k = 1, 2, …: Stirling's coefficients, computed once per type. For |w| ≥
+// stirling_radius the terms decrease until k ≈ π|w| and reach ε well before, so π·radius + 4
+// coefficients always suffice. (A table, because bernoulli_b2n costs ~17 ns a call in double.)
 template <SupportedReal Real>
-Real log_abs_gamma(const Real& x, const Real& y) {
+const std::vector<Real>& stirling_coefficients() {
+  static const std::vector<Real> table = [] {
+    const int count = static_cast<int>(boost::math::constants::pi<double>() *
+                                       static_cast<double>(stirling_radius<Real>())) +
+                      4;
+    std::vector<Real> coefficients;
+    for (int k = 1; k <= count; ++k) {
+      coefficients.push_back(boost::math::bernoulli_b2n<Real>(k) / Real((2 * k) * (2 * k - 1)));
+    }
+    return coefficients;
+  }();
+  return table;
+}
+
+// ln|Γ(x + iy) / Γ(x)|, x > 0, formed without either Γ: both logs can be ~40 while their
+// difference is small, and subtracting them would cost digits. With u = x + N ≥ stirling_radius,
+//   ln|Γ(x+iy)/Γ(x)| = Stirling(u + iy) − Stirling(u) − ½ ln Π_{j<N} (1 + y²/(x+j)²),
+//   Stirling(u + iy) − Stirling(u) = (u − ½)·½ log1p(y²/u²) − y·atan2(y, u)
+//                                    + Σ_k B_2k/(2k(2k−1)) · (Re (u+iy)^−(2k−1) − u^−(2k−1)),
+// where the −w and ½ ln 2π terms of Stirling's series cancel exactly. Every piece is of the size
+// of the result, or a product of factors ≥ 1.
+template <SupportedReal Real>
+Real log_abs_gamma_ratio(const Real& x, const Real& y) {
   using std::abs;
   using std::atan2;
   using std::log;
+  using std::log1p;
   using std::sqrt;
+  if (y == 0) {
+    return Real(0);
+  }
   const Real y2 = y * y;
   const Real r_min = stirling_radius<Real>();
-  const Real r_min2 = r_min * r_min;
-
-  // Recurrence: ln|Γ(x+iy)| = ln|Γ(u+iy)| − ½ ln Π_{j<N} ((x+j)² + y²), u = x + N. The product is
-  // bounded by (r_min² + 1)^N with N ≤ r_min, far inside the range of every type.
+  // Π (1 + δ_j), δ_j = y²/(x+j)², carried as its excess over 1 (excess' = excess + δ + excess·δ,
+  // all terms ≥ 0) so that a tiny y is not rounded away by 1 + δ; moved into a log sum whenever
+  // it grows past 1/ε (no overflow for any y).
+  const Real flush = 1 / std::numeric_limits<Real>::epsilon();
   Real u = x;
-  Real shift_product(1);
-  while (u * u + y2 < r_min2) {
-    shift_product *= u * u + y2;
+  Real excess(0);
+  Real log_product(0);
+  while (u < r_min) {
+    const Real delta = y2 / (u * u);
+    excess += delta + excess * delta;
+    if (excess > flush) {
+      log_product += log1p(excess);
+      excess = 0;
+    }
     u += 1;
   }
+  log_product += log1p(excess);
 
-  // Stirling at w = u + iy, real part:
-  //   Re[(w − ½) ln w − w + ½ ln 2π] = (u − ½) ln r − y·arg w − u + ½ ln 2π.
-  const Real r2 = u * u + y2;
-  const Real arg_w = atan2(y, u);
-  Real result = (u - Real(1) / 2) * log(r2) / 2 - y * arg_w - u +
-                log(boost::math::constants::two_pi<Real>()) / 2;
+  Real result = (u - Real(1) / 2) * log1p(y2 / (u * u)) / 2 - y * atan2(y, u);
 
-  // Σ_k B_2k / (2k(2k−1)) · Re(w^−(2k−1)), with w^−1 = (u − iy)/r² advanced by w^−2 each term.
-  // Convergence is judged on the modulus |B_2k| / (2k(2k−1) |w|^(2k−1)): the real part alone can
-  // pass near zero for one k and would stop the series early.
+  // Series: Σ_k B_2k/(2k(2k−1)) · u^−m · Re D_m with m = 2k − 1, t = y/u and
+  // D_m = (1 + it)^−m − 1 = (w^−m − u^−m)·u^m. Subtracting the powers would cancel when y ≪ u;
+  // instead D runs its own recurrence, D_{m+2} = D_m·Q + (Q − 1), Q = (1 + it)^−2, with
+  // Q − 1 = (t² − 2it)·Q and D_1 = −(t² + it)/(1 + t²): no step subtracts nearly equal numbers.
+  // Convergence is judged on the bound |D_m| ≤ min(2, m|t|), since Re D_m can pass near zero.
   const Real eps = std::numeric_limits<Real>::epsilon();
-  Real power_re = u / r2;
-  Real power_im = -y / r2;
-  const Real step_re = (u * u - y2) / (r2 * r2);
-  const Real step_im = -2 * u * y / (r2 * r2);
-  const Real inverse_r2 = 1 / r2;
-  Real inverse_modulus = sqrt(inverse_r2); // |w|^−(2k−1)
+  const Real t = y / u;
+  const Real t2 = t * t;
+  const Real one_plus_t2 = 1 + t2;
+  const Real q_re = (1 - t2) / (one_plus_t2 * one_plus_t2);
+  const Real q_im = -2 * t / (one_plus_t2 * one_plus_t2);
+  const Real qm1_re = t2 * q_re + 2 * t * q_im;
+  const Real qm1_im = t2 * q_im - 2 * t * q_re;
+  Real d_re = -t2 / one_plus_t2;
+  Real d_im = -t / one_plus_t2;
+  const Real inverse_u2 = 1 / (u * u);
+  Real real_power = 1 / u; // u^−m
   Real previous = std::numeric_limits<Real>::infinity();
-  for (int k = 1; k < 200; ++k) {
-    const Real coefficient = boost::math::bernoulli_b2n<Real>(k) / Real((2 * k) * (2 * k - 1));
-    const Real bound = abs(coefficient) * inverse_modulus;
+  const std::vector<Real>& coefficients = stirling_coefficients<Real>();
+  for (int k = 1; k <= static_cast<int>(coefficients.size()); ++k) {
+    const Real& coefficient = coefficients[k - 1];
+    const Real bound = abs(coefficient) * real_power;
     if (bound >= previous) {
       break; // asymptotic series: stop at its smallest term
     }
-    result += coefficient * power_re;
-    if (bound <= eps * abs(result)) {
+    result += coefficient * real_power * d_re;
+    const Real spread = Real(2 * k - 1) * abs(t);
+    if (bound * (spread < 2 ? spread : Real(2)) <= eps * abs(result)) {
       break;
     }
     previous = bound;
-    inverse_modulus *= inverse_r2;
-    const Real next_re = power_re * step_re - power_im * step_im;
-    power_im = power_re * step_im + power_im * step_re;
-    power_re = next_re;
+    real_power *= inverse_u2;
+    const Real next_re = d_re * q_re - d_im * q_im + qm1_re;
+    d_im = d_re * q_im + d_im * q_re + qm1_im;
+    d_re = next_re;
   }
-  return result - log(shift_product) / 2;
+  return result - log_product / 2;
 }
 
-// ln Γ(x), x > 0: the C library's lgamma for the built-in types, Boost.Math's for the others. Both
-// are accurate to a few ulps, better than the shifted Stirling sum above, whose recurrence
-// subtracts logs of size ~40 (a few bits) and is needed only off the real axis.
+// ln Γ(x), x > 0: the C library's lgamma for the built-in types, Boost.Math's for the others;
+// both are accurate to a few ulps.
 template <SupportedReal Real>
 Real log_gamma(const Real& x) {
   if constexpr (std::is_floating_point_v<Real>) {
@@ -168,6 +208,11 @@ Real log_gamma(const Real& x) {
   } else {
     return boost::math::lgamma(x);
   }
+}
+
+template <SupportedReal Real>
+Real log_abs_gamma(const Real& x, const Real& y) {
+  return log_gamma(x) + log_abs_gamma_ratio(x, y);
 }
 
 } // namespace pldamp::analytic

@@ -43,7 +43,8 @@ Real log_scaled_duration(const Damping<Real>& d, const Real& q) {
   const Real c = -nu * d.z / sqrt(d.mu);
   const Real a = (1 + q) / 2;
   return -q * log(d.mu) / 2 + log(pi) + c * pi / 2 + log_gamma(q) -
-         nu * boost::math::constants::ln_two<Real>() - 2 * log_abs_gamma(a, Real(c / 2));
+         nu * boost::math::constants::ln_two<Real>() -
+         2 * (log_gamma(a) + log_abs_gamma_ratio(a, Real(c / 2)));
 }
 
 // ln(τ/τ0) = −(q/2) ln μ + cπ/2 + 2(ln Γ(a) − ln|Γ(a + ic/2)|)  (MATH.md §3).
@@ -57,8 +58,8 @@ Real log_duration_ratio(const Damping<Real>& d, const Real& q) {
   const Real nu = q - 1;
   const Real c = -nu * d.z / sqrt(d.mu);
   const Real a = (1 + q) / 2;
-  return -q * log(d.mu) / 2 + c * boost::math::constants::pi<Real>() / 2 +
-         2 * (log_gamma(a) - log_abs_gamma(a, Real(c / 2)));
+  return -q * log(d.mu) / 2 + c * boost::math::constants::pi<Real>() / 2 -
+         2 * log_abs_gamma_ratio(a, Real(c / 2));
 }
 
 template <SupportedReal Real>
