@@ -71,6 +71,19 @@ BENCHMARK(bundle_of<quad>)->Name("bundle_quad")->Unit(benchmark::kMicrosecond);
 #endif
 BENCHMARK(bundle_of<bin50>)->Name("bundle_bin50")->Unit(benchmark::kMicrosecond);
 
+// Near z = 1 the exponent of τ is summed in a wider type (observables.hpp): what that costs.
+template <SupportedReal Real>
+void bundle_near_critical(benchmark::State& state) {
+  const auto c = Contact<Real>::from_alpha_eff(Real(3) / 2, Real(999) / 1000, Real(2));
+  for (auto _ : state) {
+    benchmark::DoNotOptimize(observables(c, bundle));
+  }
+}
+BENCHMARK(bundle_near_critical<double>)->Name("bundle_double_z0.999");
+#if PLDAMP_WITH_QUAD
+BENCHMARK(bundle_near_critical<quad>)->Name("bundle_quad_z0.999")->Unit(benchmark::kMicrosecond);
+#endif
+
 // Building a contact (validation, A, Ω0, ln L) is paid once per cell.
 void contact_from_e_double(benchmark::State& state) {
   for (auto _ : state) {

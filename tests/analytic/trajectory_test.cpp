@@ -125,3 +125,36 @@ TEST(Overdamped, DecaysWithoutExit) {
 
 } // namespace
 } // namespace pldamp::analytic
+
+#if PLDAMP_WITH_QUAD
+namespace pldamp::analytic {
+namespace {
+
+// Every float128 result is checked against cpp_bin_float_50: δ(t), v(t) across loading,
+// unloading and an overdamped decay. Newton stops within a few ulps of s, where δ(s) is flat at
+// the peak and steep near the ends, so the bound carries a small multiple.
+TEST(TrajectoryQuadVersusBin50, StatesAgree) {
+  for (const double p : {1.5, 3.0, 7.0}) {
+    for (const double z : {0.2, 0.9, 1.5}) {
+      const auto fast = Contact<quad>::from_alpha_eff(quad(p), quad(z), quad(2), quad(3), quad(5));
+      const auto wide =
+          Contact<bin50>::from_alpha_eff(bin50(p), bin50(z), bin50(2), bin50(3), bin50(5));
+      const Trajectory<quad> fast_path(fast);
+      const Trajectory<bin50> wide_path(wide);
+      const quad span = z < 1 ? contact_duration(fast) : 10 * t_peak(fast);
+      for (const int percent : {5, 30, 60, 95}) {
+        const quad t = span * percent / 100;
+        const auto a = fast_path.at_time(t);
+        const auto b = wide_path.at_time(bin50(t));
+        EXPECT_LE(pldamp::testing::relative_error(a.delta, b.delta), 1e-31)
+            << "p " << p << " z " << z << " at " << percent << "%";
+        EXPECT_LE(pldamp::testing::relative_error(a.v, b.v), 1e-31)
+            << "p " << p << " z " << z << " at " << percent << "%";
+      }
+    }
+  }
+}
+
+} // namespace
+} // namespace pldamp::analytic
+#endif

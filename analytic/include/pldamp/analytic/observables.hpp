@@ -14,6 +14,7 @@
 #include <cmath>
 #include <limits>
 #include <optional>
+#include <type_traits>
 
 namespace pldamp::analytic {
 
@@ -81,12 +82,68 @@ Real energy_unload(const Contact<Real>& c) {
   return -remaining * boost::math::expm1(Real(2 * g_plus_log_e));
 }
 
+namespace detail {
+
+// Near z = 1, ln τ and ln(τ/τ0) grow like π c with c = (1 − q) z/√μ, and one ulp of a logarithm
+// of size 50 is already 1e−14 of τ in double (1e−32 in float128). Once c > 5/2 (an exponent above
+// about 8) they are therefore summed in a wider type: long double for double (x87: 11 more bits),
+// cpp_bin_float_50 for float128. long double and cpp_bin_float_50 meet their bounds as they are.
+template <SupportedReal Real>
+struct DurationWidening {
+  using type = Real;
+};
+template <>
+struct DurationWidening<double> {
+  using type =
+      std::conditional_t<(std::numeric_limits<long double>::digits > 53), long double, double>;
+};
+#if PLDAMP_WITH_QUAD
+template <>
+struct DurationWidening<quad> {
+  using type = bin50;
+};
+#endif
+
+template <SupportedReal Real>
+using DurationWide = typename DurationWidening<Real>::type;
+
+template <SupportedReal Real>
+bool widen_duration_exponent(const Contact<Real>& c) {
+  using std::sqrt;
+  return !std::is_same_v<DurationWide<Real>, Real> &&
+         -c.nu() * c.alpha_eff() > Real(5) / 2 * sqrt(c.mu());
+}
+
+// The same contact in the wider type, from the exact inputs.
+template <SupportedReal Real>
+Contact<DurationWide<Real>> widened(const Contact<Real>& c) {
+  using W = DurationWide<Real>;
+  return Contact<W>::from_damping(W(c.p()), Damping<W>{W(c.alpha_eff()), W(c.mu())}, W(c.v0()),
+                                  W(c.m()), W(c.k()));
+}
+
+template <SupportedReal Real, class Wide>
+Real narrowed(const Wide& value) {
+  if constexpr (std::is_floating_point_v<Wide>) {
+    return static_cast<Real>(value);
+  } else {
+    return value.template convert_to<Real>();
+  }
+}
+
+} // namespace detail
+
 // τ in closed form (MATH.md §3); +∞ for z ≥ 1.
 template <SupportedReal Real>
 Real contact_duration(const Contact<Real>& c) {
   using std::exp;
   if (c.mu() <= 0) {
     return std::numeric_limits<Real>::infinity();
+  }
+  if constexpr (!std::is_same_v<detail::DurationWide<Real>, Real>) {
+    if (detail::widen_duration_exponent(c)) {
+      return detail::narrowed<Real>(contact_duration(detail::widened(c)));
+    }
   }
   return exp(log_time_scale(c) + log_scaled_duration(c.damping(), c.q()));
 }
@@ -105,6 +162,11 @@ Real undamped_duration(const Contact<Real>& c) {
 template <SupportedReal Real>
 Real duration_ratio(const Contact<Real>& c) {
   using std::exp;
+  if constexpr (!std::is_same_v<detail::DurationWide<Real>, Real>) {
+    if (c.mu() > 0 && detail::widen_duration_exponent(c)) {
+      return detail::narrowed<Real>(duration_ratio(detail::widened(c)));
+    }
+  }
   return exp(log_duration_ratio(c.damping(), c.q()));
 }
 
@@ -199,9 +261,20 @@ Observables<Real> observables(const Contact<Real>& c, unsigned want = want_all) 
     }
   }
   if (want & want_tau) {
-    out.tau = contact_duration(c);
     out.tau0 = undamped_duration(c);
-    out.tau_ratio = duration_ratio(c);
+    bool done = false;
+    if constexpr (!std::is_same_v<detail::DurationWide<Real>, Real>) {
+      if (c.mu() > 0 && detail::widen_duration_exponent(c)) {
+        const auto wide = detail::widened(c); // built once for both
+        out.tau = detail::narrowed<Real>(contact_duration(wide));
+        out.tau_ratio = detail::narrowed<Real>(duration_ratio(wide));
+        done = true;
+      }
+    }
+    if (!done) {
+      out.tau = contact_duration(c);
+      out.tau_ratio = duration_ratio(c);
+    }
   }
   if (want & want_energy) {
     out.energy_load = energy_load(c);

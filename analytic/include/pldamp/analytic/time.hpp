@@ -98,6 +98,18 @@ public:
     using std::pow;
     return nu_ == 0 ? Real(1) : Real(pow(xi(sigma), nu_));
   }
+  // ξ(σ_end − ρ) from the distance ρ to the end of an underdamped contact, exact for small ρ:
+  // sin(√μσ)/√μ = ρ sinc_rf(μρ²).
+  Real xi_before_end(const Real& rho) const {
+    using std::exp;
+    return exp(-d_.z * (sigma_end_ - rho)) * rho * sinc_rf(Real(d_.mu * rho * rho));
+  }
+  Real integrand_before_end(const Real& rho) const {
+    using std::pow;
+    return nu_ == 0 ? Real(1) : Real(pow(xi_before_end(rho), nu_));
+  }
+  // Width of the quadrature pieces; within one width of σ_end, positions are best given as ρ.
+  const Real& piece_width() const { return h_; }
 
   Real total() const {
     using std::exp;

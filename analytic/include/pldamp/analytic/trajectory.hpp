@@ -79,17 +79,29 @@ public:
     const Real target = t / time_scale_;
     Real hi = scaled_.sigma_end();
     Real i_hi;
+    std::uintmax_t iterations = 200;
+    const int digits = std::numeric_limits<Real>::digits - 2;
     if (hi < std::numeric_limits<Real>::infinity()) {
       i_hi = scaled_.total();
       if (target >= i_hi) {
-        TrajectoryPoint<Real> exit = point(s_end(), t);
-        exit.delta = 0;
-        exit.force_elastic = 0;
-        exit.force_damping = 0;
-        exit.v = -restitution(c_.damping()) * c_.v0();
-        exit.in_contact = false;
-        return exit;
+        return exit_point(t);
       }
+      // In the last piece, solve for the distance ρ to the end: δ ∝ ρ^q there, and a σ near
+      // σ_end would keep only the absolute precision of σ_end.
+      const Real last = scaled_.piece_width() < hi / 2 ? scaled_.piece_width() : Real(hi / 2);
+      const Real i_last = scaled_.before_end(last);
+      if (target > i_last) {
+        auto residual = [&](const Real& rho) {
+          return std::make_pair(Real(scaled_.before_end(rho) - target),
+                                Real(-scaled_.integrand_before_end(rho)));
+        };
+        const Real guess = last * (i_hi - target) / (i_hi - i_last);
+        const Real rho = boost::math::tools::newton_raphson_iterate(residual, guess, Real(0), last,
+                                                                    digits, iterations);
+        return point_before_end(rho, t);
+      }
+      hi -= last;
+      i_hi = i_last;
     } else {
       hi = peak_phase(c_.damping());
       while ((i_hi = scaled_(hi)) < target) {
@@ -99,10 +111,9 @@ public:
     auto residual = [&](const Real& sigma) {
       return std::make_pair(Real(scaled_(sigma) - target), scaled_.integrand(sigma));
     };
-    std::uintmax_t iterations = 200;
     const Real guess = hi * target / i_hi;
-    const Real sigma = boost::math::tools::newton_raphson_iterate(
-        residual, guess, Real(0), hi, std::numeric_limits<Real>::digits - 2, iterations);
+    const Real sigma = boost::math::tools::newton_raphson_iterate(residual, guess, Real(0), hi,
+                                                                  digits, iterations);
     return point(Real(sigma / c_.omega0()), t);
   }
 
@@ -145,11 +156,34 @@ private:
   const Real& mu() const { return c_.mu(); }
 
   TrajectoryPoint<Real> point(const Real& s, const Real& t) const {
+    const Real sigma = c_.omega0() * s;
+    const Real w = mu() * sigma * sigma;
+    return assemble(s, t, scaled_.xi(sigma), cos_rf(w), Real(sigma * sinc_rf(w)));
+  }
+
+  // The state at σ = σ_end − ρ, from ρ: cos(√μσ) = −cos(√μρ), sin(√μσ)/√μ = ρ sinc_rf(μρ²).
+  TrajectoryPoint<Real> point_before_end(const Real& rho, const Real& t) const {
+    const Real w = mu() * rho * rho;
+    return assemble(Real((scaled_.sigma_end() - rho) / c_.omega0()), t, scaled_.xi_before_end(rho),
+                    Real(-cos_rf(w)), Real(rho * sinc_rf(w)));
+  }
+
+  TrajectoryPoint<Real> exit_point(const Real& t) const {
+    return {s_end(), t,       Real(0), Real(-restitution(c_.damping()) * c_.v0()),
+            Real(0), Real(0), false};
+  }
+
+  // From ξ = x/L and the regime-free cos and sine parts at σ = Ω0 s:
+  // v = x' = v0 e^(−zσ)(C − z·S̃), δ = A (L ξ)^q, forces from δ and v.
+  TrajectoryPoint<Real> assemble(const Real& s, const Real& t, const Real& xi, const Real& cos_part,
+                                 const Real& sine_part) const {
     using std::exp;
     using std::log;
     using std::sqrt;
-    const Real xi = scaled_.xi(c_.omega0() * s);
-    TrajectoryPoint<Real> out{s, t, Real(0), x_dot(s), Real(0), Real(0), true};
+    const Real sigma = c_.omega0() * s;
+    TrajectoryPoint<Real> out{
+        s,       t,       Real(0), Real(c_.v0() * exp(-z() * sigma) * (cos_part - z() * sine_part)),
+        Real(0), Real(0), true};
     if (xi > 0) {
       const Real log_delta = log(c_.A()) + c_.q() * (c_.log_L() + log(xi));
       out.delta = exp(log_delta);
