@@ -107,20 +107,43 @@ TYPED_TEST(TrajectoryTest, PhasePortraitRunsFromImpactToExit) {
   EXPECT_GE(largest, delta_max(c) * Real(99) / 100);
 }
 
-// Overdamped: δ decays monotonically after the peak and never leaves contact.
-TEST(Overdamped, DecaysWithoutExit) {
-  const Contact<double> c = Contact<double>::from_alpha_eff(2.5, 1.5, 1.0);
-  const Trajectory<double> path(c);
-  EXPECT_TRUE(std::isinf(path.s_end()));
-  double previous = delta_max(c);
-  for (double t = t_peak(c); t < 40 * t_peak(c); t *= 1.7) {
-    const auto at = path.at_time(t);
-    EXPECT_TRUE(at.in_contact);
-    EXPECT_LE(at.delta, previous * (1 + 1e-12));
-    EXPECT_LE(at.v, 1e-12);
-    previous = at.delta;
+// The regime-free forms are smooth through z = 1 (MATH.md §2): G, x, x', x'' on either side of
+// critical damping differ from their values at z = 1 by O(|z − 1|), with no 0/0 at z = 1.
+TYPED_TEST(TrajectoryTest, SmoothThroughCriticalDamping) {
+  using Real = TypeParam;
+  using std::abs;
+  const Real step = 1000 * std::numeric_limits<Real>::epsilon();
+  const Real p = Real(5) / 2;
+  const Trajectory<Real> at_one(Contact<Real>::from_alpha_eff(p, Real(1), Real(1)));
+  const Real g_one = peak_exponent(damping_from_alpha_eff(Real(1)));
+  EXPECT_EQ(g_one, Real(1)); // G(1) = 1 exactly (MATH.md §3)
+  for (const Real& z : {Real(1 - step), Real(1 + step)}) {
+    EXPECT_LE(abs(peak_exponent(damping_from_alpha_eff(z)) - g_one), 2 * step);
+    const Trajectory<Real> near(Contact<Real>::from_alpha_eff(p, z, Real(1)));
+    for (const Real& s : {Real(1) / 2, Real(2), Real(5)}) {
+      EXPECT_LE(abs(near.x(s) - at_one.x(s)), 8 * step * (1 + s * s));
+      EXPECT_LE(abs(near.x_dot(s) - at_one.x_dot(s)), 8 * step * (1 + s * s));
+      EXPECT_LE(abs(near.x_ddot(s) - at_one.x_ddot(s)), 8 * step * (1 + s * s));
+    }
   }
-  EXPECT_THROW(path.at_time(-1.0), std::invalid_argument);
+}
+
+// Overdamped and critical: δ decays monotonically after the peak and never leaves contact.
+TEST(Overdamped, DecaysWithoutExit) {
+  for (const double z : {1.0, 1.5}) {
+    const Contact<double> c = Contact<double>::from_alpha_eff(2.5, z, 1.0);
+    const Trajectory<double> path(c);
+    EXPECT_TRUE(std::isinf(path.s_end()));
+    double previous = delta_max(c);
+    for (double t = t_peak(c); t < 40 * t_peak(c); t *= 1.7) {
+      const auto at = path.at_time(t);
+      EXPECT_TRUE(at.in_contact);
+      EXPECT_LE(at.delta, previous * (1 + 1e-12));
+      EXPECT_LE(at.v, 1e-12);
+      previous = at.delta;
+    }
+    EXPECT_THROW(path.at_time(-1.0), std::invalid_argument);
+  }
 }
 
 } // namespace
