@@ -14,7 +14,9 @@
 #include <cmath>
 #include <limits>
 #include <optional>
+#include <tuple>
 #include <type_traits>
+#include <utility>
 
 namespace pldamp::analytic {
 
@@ -114,14 +116,6 @@ bool widen_duration_exponent(const Contact<Real>& c) {
          -c.nu() * c.alpha_eff() > Real(5) / 2 * sqrt(c.mu());
 }
 
-// The same contact in the wider type, from the exact inputs.
-template <SupportedReal Real>
-Contact<DurationWide<Real>> widened(const Contact<Real>& c) {
-  using W = DurationWide<Real>;
-  return Contact<W>::from_damping(W(c.p()), Damping<W>{W(c.alpha_eff()), W(c.mu())}, W(c.v0()),
-                                  W(c.m()), W(c.k()));
-}
-
 template <SupportedReal Real, class Wide>
 Real narrowed(const Wide& value) {
   if constexpr (std::is_floating_point_v<Wide>) {
@@ -131,43 +125,51 @@ Real narrowed(const Wide& value) {
   }
 }
 
-} // namespace detail
-
-// τ in closed form (MATH.md §3); +∞ for z ≥ 1.
+// (τ, τ/τ0) from ln τ0 and one ln(τ/τ0), which is summed in the wider type when it is large (it
+// needs no Γ but the ratio of special.hpp, cheap in any type); +∞ for z ≥ 1.
 template <SupportedReal Real>
-Real contact_duration(const Contact<Real>& c) {
+std::pair<Real, Real> duration_and_ratio(const Contact<Real>& c, const Real& log_tau0) {
   using std::exp;
   if (c.mu() <= 0) {
-    return std::numeric_limits<Real>::infinity();
+    const Real inf = std::numeric_limits<Real>::infinity();
+    return {inf, inf};
   }
-  if constexpr (!std::is_same_v<detail::DurationWide<Real>, Real>) {
-    if (detail::widen_duration_exponent(c)) {
-      return detail::narrowed<Real>(contact_duration(detail::widened(c)));
+  if constexpr (!std::is_same_v<DurationWide<Real>, Real>) {
+    if (widen_duration_exponent(c)) {
+      using W = DurationWide<Real>;
+      const W log_ratio =
+          log_duration_ratio(Damping<W>{W(c.alpha_eff()), W(c.mu())}, W(2 / (W(c.p()) + 1)));
+      return {narrowed<Real>(exp(W(log_tau0) + log_ratio)), narrowed<Real>(exp(log_ratio))};
     }
   }
-  return exp(log_time_scale(c) + log_scaled_duration(c.damping(), c.q()));
+  const Real log_ratio = log_duration_ratio(c.damping(), c.q());
+  return {exp(log_tau0 + log_ratio), exp(log_ratio)};
 }
 
-// τ0 = (2A/((p+1)Ω0)) L^(q−1) B(1/(p+1), ½), with B from log Γ.
+} // namespace detail
+
+// ln τ0 = ln T + ln B(q/2, ½).
+template <SupportedReal Real>
+Real log_undamped_duration(const Contact<Real>& c) {
+  return log_time_scale(c) + log_undamped_scaled_duration(c.q());
+}
+
+// τ0 = (2A/((p+1)Ω0)) L^(q−1) B(1/(p+1), ½).
 template <SupportedReal Real>
 Real undamped_duration(const Contact<Real>& c) {
   using std::exp;
-  using std::log;
-  const Real half_q = c.q() / 2;
-  const Real log_beta = log_gamma(half_q) + log(boost::math::constants::pi<Real>()) / 2 -
-                        log_gamma(Real(half_q + Real(1) / 2));
-  return exp(log_time_scale(c) + log_beta);
+  return exp(log_undamped_duration(c));
+}
+
+// τ in closed form (MATH.md §3), as τ0·(τ/τ0); +∞ for z ≥ 1.
+template <SupportedReal Real>
+Real contact_duration(const Contact<Real>& c) {
+  return detail::duration_and_ratio(c, log_undamped_duration(c)).first;
 }
 
 template <SupportedReal Real>
 Real duration_ratio(const Contact<Real>& c) {
-  using std::exp;
-  if constexpr (!std::is_same_v<detail::DurationWide<Real>, Real>) {
-    if (c.mu() > 0 && detail::widen_duration_exponent(c)) {
-      return detail::narrowed<Real>(duration_ratio(detail::widened(c)));
-    }
-  }
-  return exp(log_duration_ratio(c.damping(), c.q()));
+  return detail::duration_and_ratio(c, Real(0)).second;
 }
 
 template <SupportedReal Real>
@@ -261,20 +263,9 @@ Observables<Real> observables(const Contact<Real>& c, unsigned want = want_all) 
     }
   }
   if (want & want_tau) {
-    out.tau0 = undamped_duration(c);
-    bool done = false;
-    if constexpr (!std::is_same_v<detail::DurationWide<Real>, Real>) {
-      if (c.mu() > 0 && detail::widen_duration_exponent(c)) {
-        const auto wide = detail::widened(c); // built once for both
-        out.tau = detail::narrowed<Real>(contact_duration(wide));
-        out.tau_ratio = detail::narrowed<Real>(duration_ratio(wide));
-        done = true;
-      }
-    }
-    if (!done) {
-      out.tau = contact_duration(c);
-      out.tau_ratio = duration_ratio(c);
-    }
+    const Real log_tau0 = log_undamped_duration(c);
+    out.tau0 = exp(log_tau0);
+    std::tie(out.tau, out.tau_ratio) = detail::duration_and_ratio(c, log_tau0);
   }
   if (want & want_energy) {
     out.energy_load = energy_load(c);

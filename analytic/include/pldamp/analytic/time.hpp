@@ -30,24 +30,8 @@
 
 namespace pldamp::analytic {
 
-// ln I_end for z < 1 (+∞ for z ≥ 1: no return in finite time).
-template <SupportedReal Real>
-Real log_scaled_duration(const Damping<Real>& d, const Real& q) {
-  using std::log;
-  using std::sqrt;
-  if (d.mu <= 0) {
-    return std::numeric_limits<Real>::infinity();
-  }
-  const Real pi = boost::math::constants::pi<Real>();
-  const Real nu = q - 1;
-  const Real c = -nu * d.z / sqrt(d.mu);
-  const Real a = (1 + q) / 2;
-  return -q * log(d.mu) / 2 + log(pi) + c * pi / 2 + log_gamma(q) -
-         nu * boost::math::constants::ln_two<Real>() -
-         2 * (log_gamma(a) + log_abs_gamma_ratio(a, Real(c / 2)));
-}
-
-// ln(τ/τ0) = −(q/2) ln μ + cπ/2 + 2(ln Γ(a) − ln|Γ(a + ic/2)|)  (MATH.md §3).
+// ln(τ/τ0) = −(q/2) ln μ + cπ/2 − 2 ln|Γ(a + ic/2)/Γ(a)|  (MATH.md §3); +∞ for z ≥ 1. This is
+// the part of ln τ that grows like πc as z → 1.
 template <SupportedReal Real>
 Real log_duration_ratio(const Damping<Real>& d, const Real& q) {
   using std::log;
@@ -60,6 +44,21 @@ Real log_duration_ratio(const Damping<Real>& d, const Real& q) {
   const Real a = (1 + q) / 2;
   return -q * log(d.mu) / 2 + c * boost::math::constants::pi<Real>() / 2 -
          2 * log_abs_gamma_ratio(a, Real(c / 2));
+}
+
+// ln B(q/2, ½) = ln Γ(q/2) + ½ ln π − ln Γ((1+q)/2): the undamped I_end, τ0 in units of T.
+template <SupportedReal Real>
+Real log_undamped_scaled_duration(const Real& q) {
+  using std::log;
+  return log_gamma(Real(q / 2)) + log(boost::math::constants::pi<Real>()) / 2 -
+         log_gamma(Real((1 + q) / 2));
+}
+
+// ln I_end = ln B(q/2, ½) + ln(τ/τ0); by Legendre's duplication formula this is the closed form
+// above, ln[μ^(−q/2) π e^(cπ/2) Γ(q) / (2^ν |Γ(a + ic/2)|²)].
+template <SupportedReal Real>
+Real log_scaled_duration(const Damping<Real>& d, const Real& q) {
+  return log_undamped_scaled_duration(q) + log_duration_ratio(d, q);
 }
 
 template <SupportedReal Real>
