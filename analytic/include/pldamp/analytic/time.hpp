@@ -110,6 +110,7 @@ public:
   // Width of the quadrature pieces; within one width of σ_end, positions are best given as ρ.
   const Real& piece_width() const { return h_; }
 
+  // I_end = I(σ_end), in closed form (+∞ when z ≥ 1).
   Real total() const {
     using std::exp;
     return exp(log_scaled_duration(d_, q_));
