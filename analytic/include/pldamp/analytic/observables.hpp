@@ -112,8 +112,7 @@ using DurationWide = typename DurationWidening<Real>::type;
 template <SupportedReal Real>
 bool widen_duration_exponent(const Contact<Real>& c) {
   using std::sqrt;
-  return !std::is_same_v<DurationWide<Real>, Real> &&
-         -c.nu() * c.alpha_eff() > Real(5) / 2 * sqrt(c.mu());
+  return -c.nu() * c.alpha_eff() > Real(5) / 2 * sqrt(c.mu());
 }
 
 template <SupportedReal Real, class Wide>

@@ -132,9 +132,7 @@ template <SupportedReal Real>
 Real log_abs_gamma_ratio(const Real& x, const Real& y) {
   using std::abs;
   using std::atan2;
-  using std::log;
   using std::log1p;
-  using std::sqrt;
   if (y == 0) {
     return Real(0);
   }

@@ -158,14 +158,14 @@ private:
   TrajectoryPoint<Real> point(const Real& s, const Real& t) const {
     const Real sigma = c_.omega0() * s;
     const Real w = mu() * sigma * sigma;
-    return assemble(s, t, scaled_.xi(sigma), cos_rf(w), Real(sigma * sinc_rf(w)));
+    return assemble(s, sigma, t, cos_rf(w), Real(sigma * sinc_rf(w)));
   }
 
   // The state at σ = σ_end − ρ, from ρ: cos(√μσ) = −cos(√μρ), sin(√μσ)/√μ = ρ sinc_rf(μρ²).
   TrajectoryPoint<Real> point_before_end(const Real& rho, const Real& t) const {
+    const Real sigma = scaled_.sigma_end() - rho;
     const Real w = mu() * rho * rho;
-    return assemble(Real((scaled_.sigma_end() - rho) / c_.omega0()), t, scaled_.xi_before_end(rho),
-                    Real(-cos_rf(w)), Real(rho * sinc_rf(w)));
+    return assemble(Real(sigma / c_.omega0()), sigma, t, Real(-cos_rf(w)), Real(rho * sinc_rf(w)));
   }
 
   TrajectoryPoint<Real> exit_point(const Real& t) const {
@@ -173,16 +173,17 @@ private:
             Real(0), Real(0), false};
   }
 
-  // From ξ = x/L and the regime-free cos and sine parts at σ = Ω0 s:
-  // v = x' = v0 e^(−zσ)(C − z·S̃), δ = A (L ξ)^q, forces from δ and v.
-  TrajectoryPoint<Real> assemble(const Real& s, const Real& t, const Real& xi, const Real& cos_part,
-                                 const Real& sine_part) const {
+  // From the regime-free cos and sine parts C, S̃ = Ω0 S at σ = Ω0 s:
+  // ξ = x/L = e^(−zσ) S̃, v = x' = v0 e^(−zσ)(C − z S̃), δ = A (L ξ)^q, forces from δ and v.
+  TrajectoryPoint<Real> assemble(const Real& s, const Real& sigma, const Real& t,
+                                 const Real& cos_part, const Real& sine_part) const {
     using std::exp;
     using std::log;
     using std::sqrt;
-    const Real sigma = c_.omega0() * s;
+    const Real decay = exp(-z() * sigma);
+    const Real xi = decay * sine_part;
     TrajectoryPoint<Real> out{
-        s,       t,       Real(0), Real(c_.v0() * exp(-z() * sigma) * (cos_part - z() * sine_part)),
+        s,       t,       Real(0), Real(c_.v0() * decay * (cos_part - z() * sine_part)),
         Real(0), Real(0), true};
     if (xi > 0) {
       const Real log_delta = log(c_.A()) + c_.q() * (c_.log_L() + log(xi));
