@@ -6,7 +6,7 @@
 // an internal error (exit 3), so a bug can't pass as a number.
 #pragma once
 
-#include "pldamp/analytic/real_types.hpp"
+#include "pldamp/core/real_types.hpp"
 
 #include <charconv>
 #include <cmath>

@@ -7,7 +7,7 @@
 #pragma once
 
 #include "pldamp/analytic/special.hpp"
-#include "pldamp/analytic/validate.hpp"
+#include "pldamp/core/validate.hpp"
 
 #include <boost/math/constants/constants.hpp>
 #include <boost/math/tools/roots.hpp>

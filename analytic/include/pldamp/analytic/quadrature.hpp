@@ -12,7 +12,7 @@
 // once per (type, β, n) and cached per thread.
 #pragma once
 
-#include "pldamp/analytic/real_types.hpp"
+#include "pldamp/core/real_types.hpp"
 
 #include <boost/math/constants/constants.hpp>
 #include <boost/multiprecision/cpp_bin_float.hpp>

@@ -12,7 +12,7 @@
 // bernoulli_b2n) is summed, both as differences against the real axis (see below).
 #pragma once
 
-#include "pldamp/analytic/real_types.hpp"
+#include "pldamp/core/real_types.hpp"
 
 #include <boost/math/constants/constants.hpp>
 #include <boost/math/special_functions/bernoulli.hpp>

@@ -4,7 +4,7 @@
 // after "error: " and exits 2.
 #pragma once
 
-#include "pldamp/analytic/real_types.hpp"
+#include "pldamp/core/real_types.hpp"
 
 #include <cmath>
 #include <iomanip>
@@ -12,7 +12,7 @@
 #include <stdexcept>
 #include <string>
 
-namespace pldamp::analytic {
+namespace pldamp {
 
 template <SupportedReal Real>
 std::string to_string_full(const Real& value) {
@@ -45,4 +45,4 @@ void require_positive(const std::string& name, const Real& value) {
   require(value > 0, name + " must be > 0", value);
 }
 
-} // namespace pldamp::analytic
+} // namespace pldamp
