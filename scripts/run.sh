@@ -8,7 +8,7 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 
 # Debian 12 packages; README "Dependencies" says why each is here.
-packages=(cmake make g++ libboost-dev libcli11-dev libfmt-dev nlohmann-json3-dev libgtest-dev
+packages=(cmake make g++ libboost-dev libsundials-dev libcli11-dev libfmt-dev nlohmann-json3-dev libgtest-dev
   libbenchmark-dev clang-format)
 
 install_missing() {

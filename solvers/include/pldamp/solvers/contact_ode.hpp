@@ -1,0 +1,160 @@
+// The physical equation of MATH.md §1 as a first-order system, for every solver in solvers/:
+//
+//     δ' = v,   v' = −(c |δ|^a v + k sgn(δ) |δ|^p) / m,   W' = c |δ|^a v²
+//
+// with c = α √(m k), a = (p − 1)/2 and W the work done by the dashpot (the dissipated energy,
+// integrated so that energy splits are measured rather than assumed).
+//
+// Extension to δ < 0. An integrator steps across the exit before it finds it, so the right-hand
+// side must exist there. Using |δ| in the dashpot and sgn(δ)|δ|^p in the spring makes the extension
+// analytic whenever the power law is (p = 1 is the linear oscillator, p = 5 a polynomial), so error
+// control is not fooled by a kink that the model itself does not have. Events use the unextended
+// meaning: they are located on the contact side.
+//
+// Natural scales (from the undamped energy balance k δ_u^(p+1)/(p+1) = m v0²/2 only; no solution
+// of the damped equation is used): δ_u, v0, m v0²/2 and time δ_u/v0. They set default absolute
+// tolerances, the default horizon and verlet's default step.
+#pragma once
+
+#include "pldamp/solvers/problem.hpp"
+
+#include <array>
+#include <cmath>
+
+namespace pldamp::solvers {
+
+template <SupportedReal Real>
+class ContactOde {
+public:
+  explicit ContactOde(const Problem<Real>& problem)
+      : p_(problem.p), m_(problem.m), k_(problem.k), v0_(problem.v0),
+        c_(problem.alpha * sqrt_of(problem.m * problem.k)), a_((problem.p - 1) / 2) {
+    problem.validate();
+    using std::exp;
+    using std::log;
+    // δ_u = ((p+1) m v0² / (2k))^(1/(p+1)) through logs: m, k, v0 may be 1e-9 ... 1e12.
+    delta_scale_ = exp((log((p_ + 1) / 2) + log(m_) - log(k_) + 2 * log(v0_)) / (p_ + 1));
+  }
+
+  Real p() const { return p_; }
+  Real m() const { return m_; }
+  Real k() const { return k_; }
+  Real v0() const { return v0_; }
+  Real damping_coefficient() const { return c_; }
+
+  Real delta_scale() const { return delta_scale_; }
+  Real time_scale() const { return delta_scale_ / v0_; }
+  Real energy_scale() const { return m_ * v0_ * v0_ / 2; }
+
+  // |δ|^a, the dashpot's overlap factor; 1 for p = 1 (0^0 = 1 is the linear dashpot).
+  Real dashpot_factor(const Real& delta) const {
+    using std::abs;
+    using std::pow;
+    return pow(abs(delta), a_);
+  }
+
+  // (δ', v', W') at (δ, v); `with_work` false leaves W' = 0 (W is then not wanted).
+  std::array<Real, 3> rhs(const Real& delta, const Real& v, bool with_work) const {
+    using std::abs;
+    const Real d_a = dashpot_factor(delta);
+    const Real spring = k_ * d_a * d_a * delta; // k sgn(δ)|δ|^p, as 2a + 1 = p
+    const Real dashpot = c_ * d_a;
+    return {v, -(dashpot * v + spring) / m_, with_work ? dashpot * v * v : Real(0)};
+  }
+
+  // Total normal force F = k δ^p + c δ^a v (positive = repulsive).
+  Real force(const Real& delta, const Real& v) const {
+    const Real d_a = dashpot_factor(delta);
+    return d_a * (k_ * d_a * delta + c_ * v);
+  }
+
+  // F / δ^a = k sgn(δ)|δ|^((p+1)/2) + c v: the sign of the force for δ > 0 without the factor
+  // δ^a that vanishes at contact. It is c v0 > 0 at t = 0 (0 if α = 0), so the force-cut event
+  // never fires at the start, and at δ = 0 it equals c v < 0 while unloading, so the cut is
+  // never later than the overlap exit.
+  Real force_sign(const Real& delta, const Real& v) const {
+    using std::abs;
+    return k_ * dashpot_factor(delta) * delta + c_ * v;
+  }
+
+  // Dissipated-work-free mechanical energy ½ m v² + k |δ|^(p+1)/(p+1).
+  Real mechanical_energy(const Real& delta, const Real& v) const {
+    const Real d_a = dashpot_factor(delta);
+    return m_ * v * v / 2 + k_ * d_a * d_a * delta * delta / (p_ + 1);
+  }
+
+  // ∂(δ', v', W')/∂(δ, v, W), row-major. For 1 < p < 3, ∂|δ|^a/∂δ = a|δ|^(a−1) is infinite at
+  // δ = 0, where every contact starts and ends. Implicit methods use this matrix only inside a
+  // (modified) Newton iteration, which converges with any matrix close enough to the true one at
+  // the iterates; the singular factor is therefore evaluated at max(|δ|, delta_floor), finite
+  // everywhere and exact above the floor. Below it the error h·|∂f/∂δ − J| ≤ h c a δ^(a−1)|v|/m
+  // stays small because the steps that start there are short (h ~ δ/v0, so h δ^(a−1) ~ δ^a/v0).
+  std::array<std::array<Real, 3>, 3> jacobian(const Real& delta, const Real& v, bool with_work,
+                                              const Real& delta_floor) const {
+    using std::abs;
+    using std::max;
+    using std::pow;
+    const Real d_a = dashpot_factor(delta);
+    const Real floored = max(abs(delta), delta_floor);
+    const Real sign = delta < 0 ? Real(-1) : Real(1);
+    const Real d_da = a_ == 0 ? Real(0) : sign * a_ * pow(floored, a_ - 1); // ∂|δ|^a/∂δ
+    const Real spring_slope = k_ * p_ * d_a * d_a; // ∂(k sgn δ|δ|^p)/∂δ
+    const Real w = with_work ? Real(1) : Real(0);
+    return {{{Real(0), Real(1), Real(0)},
+             {-(c_ * v * d_da + spring_slope) / m_, -c_ * d_a / m_, Real(0)},
+             {w * c_ * v * v * d_da, w * 2 * c_ * d_a * v, Real(0)}}};
+  }
+
+  // The last stretch of a contact from a small overlap δ1 > 0 moving out (v1 < 0) to δ = 0, by a
+  // local series of the physical equation with δ as the independent variable. With u = −v > 0:
+  //     du/dδ = (c/m) δ^a − (k/m) δ^p / u,   dt/dδ = −1/u,   dW/dδ = −c δ^a u.
+  // Integrating from 0, with b = a + 1 = (p+1)/2 and u_e the exit speed,
+  //     u(s) = u_e + (c/m) s^b/b − (k/m) s^(p+1)/((p+1) u_e) + ...
+  // and one Picard iteration around u1 = u(δ1) gives
+  //     u_e = u1 − (c/m) δ1^b/b + (k/m)[δ1^(p+1)/((p+1) u1) + (c/m) δ1^(p+1+b)/((p+1)(p+1+b) u1²)]
+  //     Δt  = (δ1/u_e)[1 − (c/m) δ1^b/(b(b+1) u_e) + ((c/m)²/b² + (k/m)/(p+1)) δ1^(p+1)/((p+2)
+  //     u_e²)] ΔW  = c[u_e δ1^b/b + (c/m) δ1^(2b)/(2b²) − (k/m) δ1^(p+1+b)/((p+1)(p+1+b) u_e)]
+  // (1/u and s^a u expanded in powers of s^b and s^(p+1), integrated term by term; 2b = p + 1).
+  // The expansion parameters are ε_c = (c/m) δ1^b / u1 and ε_k = (k/m) δ1^(p+1) / u1²
+  // (exit_series_parameter); the first neglected terms are O(ε³) relative. For p = 1 without a
+  // spring, Δt is the series of ln(1 + cδ1/(m u_e)). The series needs no step across the branch
+  // point at δ = 0.
+  Real exit_series_parameter(const Real& delta1, const Real& v1) const {
+    using std::max;
+    using std::pow;
+    const Real d_b = pow(delta1, a_ + 1);
+    return max(c_ * d_b / (m_ * -v1), k_ * d_b * d_b / (m_ * v1 * v1));
+  }
+
+  struct ExitStretch {
+    Real duration, exit_velocity, work;
+  };
+  ExitStretch exit_stretch(const Real& delta1, const Real& v1) const {
+    using std::pow;
+    const Real b = a_ + 1;
+    const Real u1 = -v1;
+    const Real cm = c_ / m_, km = k_ / m_;
+    const Real d_b = pow(delta1, b);
+    const Real d_p1 = d_b * d_b; // δ1^(p+1) = δ1^(2b)
+    const Real ue =
+        u1 - cm * d_b / b +
+        km * (d_p1 / ((p_ + 1) * u1) + cm * d_p1 * d_b / ((p_ + 1) * (p_ + 1 + b) * u1 * u1));
+    const Real duration = delta1 / ue *
+                          (1 - cm * d_b / (b * (b + 1) * ue) +
+                           (cm * cm / (b * b) + km / (p_ + 1)) * d_p1 / ((p_ + 2) * ue * ue));
+    const Real work = c_ * (ue * d_b / b + cm * d_p1 / (2 * b * b) -
+                            km * d_p1 * d_b / ((p_ + 1) * (p_ + 1 + b) * ue));
+    return {duration, -ue, work};
+  }
+
+private:
+  static Real sqrt_of(const Real& x) {
+    using std::sqrt;
+    return sqrt(x);
+  }
+
+  Real p_, m_, k_, v0_, c_, a_;
+  Real delta_scale_;
+};
+
+} // namespace pldamp::solvers

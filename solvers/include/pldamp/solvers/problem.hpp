@@ -1,0 +1,143 @@
+// The solver interface (DESIGN.md "Solver interface"): what to integrate (Problem), what to compute
+// and how (Options), what came out (Result). Every solver in the registry takes and returns these.
+//
+// The equation is MATH.md §1 in physical time,
+//     m δ'' + α √(m k) δ^((p−1)/2) δ' + k δ^p = 0,   δ(0) = 0, δ'(0) = v0,
+// and nothing in solvers/ knows its closed-form solution: the values here are measured.
+#pragma once
+
+#include "pldamp/core/real_types.hpp"
+#include "pldamp/core/validate.hpp"
+
+#include <cmath>
+#include <optional>
+#include <string_view>
+#include <vector>
+
+namespace pldamp::solvers {
+
+// Physical parameters. `alpha` is the dimensionless damping coefficient of MATH.md §1; the harness
+// turns a target e or α_eff into it.
+template <SupportedReal Real>
+struct Problem {
+  Real p, m, k, v0, alpha;
+
+  void validate() const {
+    require_finite("p", p);
+    require(p >= 1, "p must be >= 1", p);
+    require_positive("m", m);
+    require_positive("k", k);
+    require_positive("v0", v0);
+    require_finite("alpha", alpha);
+    require(alpha >= 0, "alpha must be >= 0", alpha);
+  }
+};
+
+// How a contact ends (MATH.md §4): when the overlap returns to 0, or, as force-capped DEM codes
+// do, when the total normal force k δ^p + α√(mk) δ^((p−1)/2) δ' first reaches 0 while unloading.
+enum class End { overlap, force };
+
+// Observables a run is asked for (a bit set). Peak quantities alone let a run stop at the peak;
+// energy adds the dissipated work as a third state.
+enum Want : unsigned {
+  want_e = 1u << 0,
+  want_delta_max = 1u << 1,
+  want_t_peak = 1u << 2,
+  want_tau = 1u << 3,
+  want_energy = 1u << 4,
+  want_all = (1u << 5) - 1,
+};
+
+template <SupportedReal Real>
+struct Options {
+  Real rtol = Real(1) / 100000000;
+  // Absolute tolerance applied literally to every state, in physical units, as ode45 does. When
+  // absent each state gets rtol times its natural scale (undamped δ_max, v0, m v0²/2), so a
+  // contact in metres (δ ~ 1e-5) is solved as accurately as one in units of 1.
+  std::optional<Real> atol;
+  unsigned want = want_all;
+  End end = End::overlap;
+  // Where a contact that has not ended is given up as `no_exit` (critical and overdamped contacts
+  // return only as t → ∞). Default: 1000 natural time units δ_u/v0, about 300 undamped contact
+  // durations, where an overdamped overlap has decayed by more than 40 orders of magnitude.
+  std::optional<Real> horizon;
+  // Times at which to record (t, δ, v); only those inside the contact are recorded.
+  std::vector<Real> sample_times;
+  // A fixed step instead of error control: arkode-* (for convergence-order tests) and verlet.
+  std::optional<Real> fixed_step;
+  // verlet without fixed_step: Δt = (π δ_u / v0) / steps_per_contact; π δ_u/v0 is the undamped
+  // contact duration for p = 1 and within 20% of it for 1 ≤ p ≤ 5.
+  int steps_per_contact = 50;
+  long max_steps = 1000000;
+
+  void validate() const {
+    require_positive("rtol", rtol);
+    require(rtol < 1, "rtol must be < 1", rtol);
+    if (atol) {
+      require_positive("atol", *atol);
+    }
+    if (horizon) {
+      require_positive("horizon", *horizon);
+    }
+    if (fixed_step) {
+      require_positive("dt", *fixed_step);
+    }
+    require(steps_per_contact >= 1, "steps per contact must be >= 1", Real(steps_per_contact));
+    require(max_steps >= 1, "max steps must be >= 1", Real(max_steps));
+    require(want != 0 && (want & ~unsigned(want_all)) == 0, "want must name an observable",
+            Real(want));
+    for (const Real& t : sample_times) {
+      require_finite("sample time", t);
+      require(t >= 0, "sample time must be >= 0", t);
+    }
+  }
+};
+
+enum class Outcome {
+  exited,     // the contact ended: everything wanted is filled
+  peak,       // stopped at the peak, as asked (only peak quantities were wanted)
+  no_exit,    // the horizon came first (critical or overdamped): e = 0, τ = ∞, loading measured
+  step_limit, // max_steps came first: whatever was reached is filled
+};
+
+constexpr std::string_view outcome_name(Outcome outcome) {
+  switch (outcome) {
+  case Outcome::exited:
+    return "exited";
+  case Outcome::peak:
+    return "peak";
+  case Outcome::no_exit:
+    return "no_exit";
+  case Outcome::step_limit:
+    break;
+  }
+  return "step_limit";
+}
+
+enum class EventKind { peak, exit };
+
+template <SupportedReal Real>
+struct Event {
+  EventKind kind;
+  Real t;
+};
+
+template <SupportedReal Real>
+struct Sample {
+  Real t, delta, v;
+};
+
+// Only what was wanted (and reached) is filled. Under End::force, e and tau are the capped
+// restitution and the cut time.
+template <SupportedReal Real>
+struct Result {
+  Outcome outcome = Outcome::step_limit;
+  std::optional<Real> e, delta_max, t_peak, tau, energy_load, energy_unload;
+  long steps = 0;
+  long rhs_evals = 0; // every right-hand-side evaluation, Jacobian difference quotients included
+  double wall_seconds = 0;
+  std::vector<Event<Real>> events; // in time order; the peak and the exit each at most once
+  std::vector<Sample<Real>> samples;
+};
+
+} // namespace pldamp::solvers

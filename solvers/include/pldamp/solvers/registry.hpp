@@ -1,0 +1,30 @@
+// The solver registry: names (the CLI's `--solver` and the scenes' `name`) mapped to integrators
+// of the physical equation, all behind Problem / Options / Result (problem.hpp).
+#pragma once
+
+#include "pldamp/solvers/problem.hpp"
+
+#include <span>
+#include <string>
+#include <string_view>
+
+namespace pldamp::solvers {
+
+struct SolverInfo {
+  std::string_view name;
+  std::string_view method;
+  bool adaptive; // false: fixed step (rtol and atol are ignored)
+};
+
+// Every registered solver, in a stable order.
+std::span<const SolverInfo> registry();
+
+// "cvode-bdf|cvode-adams|...", for messages and help.
+std::string solver_names();
+
+// Integrates `problem` with the named solver. Throws std::invalid_argument for an unknown name or
+// invalid problem/options, std::runtime_error when the integrator itself fails.
+Result<double> solve(std::string_view name, const Problem<double>& problem,
+                     const Options<double>& options);
+
+} // namespace pldamp::solvers

@@ -1,0 +1,205 @@
+#include "collision.hpp"
+
+#include <boost/math/tools/toms748_solve.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+namespace pldamp::solvers::detail {
+
+Collision::Collision(const Problem<double>& problem, const Options<double>& options)
+    : ode_(problem), options_(options),
+      horizon_(options.horizon.value_or(1000 * ode_.time_scale())),
+      sample_times_(options.sample_times) {
+  options_.validate();
+  std::sort(sample_times_.begin(), sample_times_.end());
+}
+
+State Collision::absolute_tolerances() const {
+  if (options_.atol) {
+    return {*options_.atol, *options_.atol, *options_.atol};
+  }
+  // v and W are held to 1e-3 of their natural scales: the exit speed e v0 and the dissipated
+  // (1 − e²) KE0 are measured relative to themselves, down to e = 0.01 and e = 0.999 (v crosses 0
+  // only at the peak, with slope −kδ^p/m ≠ 0, and W only at the start: the floor costs a few
+  // steps there). δ's scale is δ_u: τ is its root, where its slope is e v0.
+  const double rtol = options_.rtol;
+  return {rtol * ode_.delta_scale(), rtol * ode_.v0() / 1000, rtol * ode_.energy_scale() / 1000};
+}
+
+double Collision::jacobian_floor() const {
+  // 1e-3 δ_u: the Newton iterations of a step leaving δ = 0 start from the step's start, where the
+  // true ∂|δ|^a/∂δ is infinite, and must reach stage overlaps ~ v0 h. A floor at √ε δ_u (the
+  // exact derivative almost everywhere) made arkode-dirk's fixed-step Newton fail in 44 of 72
+  // runs (p = 1.25 ... 2.5, e = 0.9 ... 0.01, Δt = 0.2 ... 0.005); 1e-3 δ_u in none.
+  return 1e-3 * ode_.delta_scale();
+}
+
+double Collision::event_value(EventKind kind, const State& y) const {
+  if (kind == EventKind::peak) {
+    return y[1];
+  }
+  return options_.end == End::overlap ? y[0] : ode_.force_sign(y[0], y[1]);
+}
+
+bool Collision::pending(EventKind kind) const {
+  return kind == EventKind::peak ? !peak_found_ : peak_found_ && !exit_found_;
+}
+
+bool Collision::record(EventKind kind, double t, const State& y) {
+  events_.push_back({kind, t});
+  if (kind == EventKind::peak) {
+    peak_found_ = true;
+    t_peak_ = t;
+    delta_max_ = y[0];
+    work_peak_ = y[2];
+    // Peak quantities alone: nothing after the peak is needed.
+    return (options_.want & (want_e | want_tau | want_energy)) == 0;
+  }
+  const State atol = absolute_tolerances();
+  if (std::abs(y[1]) <= 10 * (atol[1] + atol[0] / ode_.time_scale())) {
+    // An "exit" at a speed within the tolerances (of v, and of δ per time unit) is an overdamped
+    // overlap that decayed into the integration noise and crossed 0 there: not a return the
+    // solver can tell from none. (So e below ~10 rtol reads as no exit.)
+    return false;
+  }
+  exit_found_ = true;
+  tau_ = t;
+  exit_speed_ = std::abs(y[1]);
+  work_exit_ = y[2];
+  return true;
+}
+
+Result<double> Collision::finish(Outcome outcome, long steps) {
+  Result<double> r;
+  r.outcome = outcome;
+  const unsigned want = options_.want;
+  if (peak_found_) {
+    if (want & want_delta_max) {
+      r.delta_max = delta_max_;
+    }
+    if (want & want_t_peak) {
+      r.t_peak = t_peak_;
+    }
+    if (want & want_energy) {
+      r.energy_load = work_peak_;
+    }
+  }
+  if (exit_found_) {
+    if (want & want_e) {
+      r.e = exit_speed_ / ode_.v0();
+    }
+    if (want & want_tau) {
+      r.tau = tau_;
+    }
+    if (want & want_energy) {
+      r.energy_unload = work_exit_ - work_peak_;
+    }
+  } else if (outcome == Outcome::no_exit) {
+    // No return before the horizon: the body never leaves (e = 0, τ = ∞); the unloading work is
+    // left unset, as it has not been measured to the end.
+    if (want & want_e) {
+      r.e = 0.0;
+    }
+    if (want & want_tau) {
+      r.tau = std::numeric_limits<double>::infinity();
+    }
+  }
+  r.steps = steps;
+  r.rhs_evals = rhs_evals_;
+  r.events = std::move(events_);
+  r.samples = std::move(samples_);
+  r.wall_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
+  return r;
+}
+
+namespace {
+
+// The graded approach to the exit for methods blind to its branch point. A step of size h ending
+// at distance d before a singularity (τ − t)^b errs by ~ (h/d)^(q+1) |binom(b, q+1)| d^b for a
+// method of order q; |binom(b, q+1)| ~ 1e-3 for b ~ 1...2, q = 8. Steps of at most κ times the
+// time left, κ = (1e3 rtol)^(1/(q+1)), so keep each step's error near rtol · d^b, and the
+// distances fall geometrically: ~ ln(δ/δ_end)/κ steps (about 30 at rtol 1e-10, q = 8).
+struct ExitApproach {
+  double kappa = 0;         // 0: the method's own error control sees the exit
+  double series_switch = 0; // the exit series takes over once its parameter is below this
+
+  ExitApproach(const OneStepMethod& method, const Collision& collision) {
+    const int order = method.graded_exit_order();
+    const Options<double>& options = collision.options();
+    if (order > 0 && options.end == End::overlap) {
+      kappa = std::min(0.5, std::pow(1e3 * options.rtol, 1.0 / (order + 1)));
+      // The series errs by O(ε³) (contact_ode.hpp): ε ≤ (rtol/10)^(1/3).
+      series_switch = std::cbrt(options.rtol / 10);
+    }
+  }
+  bool active() const { return kappa > 0; }
+};
+
+} // namespace
+
+Result<double> run_one_step_method(OneStepMethod& method, Collision& collision) {
+  State y = collision.initial_state();
+  double t = 0;
+  collision.sample_through(t, [&](double) { return y; });
+  const double horizon = collision.horizon();
+  const long max_steps = collision.options().max_steps;
+  const ExitApproach approach(method, collision);
+  while (method.steps() < max_steps) {
+    const bool unloading = !collision.pending(EventKind::peak) && y[1] < 0 && y[0] > 0;
+    if (approach.active() && unloading) {
+      method.limit_next_step(approach.kappa * y[0] / -y[1]);
+    }
+    double t_from = t;
+    State y_from = y;
+    t = method.step(horizon, y);
+    for (const EventKind kind : {EventKind::peak, EventKind::exit}) {
+      if (!collision.pending(kind)) {
+        continue;
+      }
+      const double g_from = collision.event_value(kind, y_from);
+      const double g_to = collision.event_value(kind, y);
+      if (!(g_from > 0 && g_to <= 0)) {
+        continue;
+      }
+      double t_event = t;
+      if (g_to < 0) {
+        // 50 bits of the event time: its error then adds ~1e-15 relative to any observable.
+        auto g = [&](double s) { return collision.event_value(kind, method.state_at(s)); };
+        std::uintmax_t iterations = 100;
+        const auto [lo, hi] = boost::math::tools::toms748_solve(
+            g, t_from, t, g_from, g_to, boost::math::tools::eps_tolerance<double>(50), iterations);
+        t_event = lo + (hi - lo) / 2;
+      }
+      const State y_event = t_event == t ? y : method.state_at(t_event);
+      collision.sample_through(t_event, [&](double s) { return method.state_at(s); });
+      if (collision.record(kind, t_event, y_event)) {
+        return collision.finish(kind == EventKind::peak ? Outcome::peak : Outcome::exited,
+                                method.steps());
+      }
+      t_from = t_event;
+      y_from = y_event;
+    }
+    collision.sample_through(t, [&](double s) { return method.state_at(s); });
+    if (approach.active() && collision.pending(EventKind::exit) && y[1] < 0 && y[0] > 0 &&
+        collision.ode().exit_series_parameter(y[0], y[1]) <= approach.series_switch) {
+      const auto stretch = collision.ode().exit_stretch(y[0], y[1]);
+      const double t_exit = t + stretch.duration;
+      const State y_exit{0, stretch.exit_velocity,
+                         y[2] + (collision.with_work() ? stretch.work : 0)};
+      collision.sample_through(t_exit, [&](double s) { // linear across this short stretch
+        const double f = (s - t) / stretch.duration;
+        return State{y[0] * (1 - f), y[1] + f * (y_exit[1] - y[1]), y[2] + f * (y_exit[2] - y[2])};
+      });
+      collision.record(EventKind::exit, t_exit, y_exit);
+      return collision.finish(Outcome::exited, method.steps());
+    }
+    if (t >= horizon) {
+      return collision.finish(Outcome::no_exit, method.steps());
+    }
+  }
+  return collision.finish(Outcome::step_limit, method.steps());
+}
+
+} // namespace pldamp::solvers::detail

@@ -1,0 +1,96 @@
+// What every solver shares: the bookkeeping of one collision (events -> Result), the right-hand
+// side with its evaluation counter, and the loop that drives any one-step method with dense output
+// and finds events on it.
+#pragma once
+
+#include "pldamp/solvers/contact_ode.hpp"
+#include "pldamp/solvers/problem.hpp"
+
+#include <array>
+#include <chrono>
+#include <cstddef>
+#include <vector>
+
+namespace pldamp::solvers::detail {
+
+using State = std::array<double, 3>; // δ, v, W (W frozen at 0 when energy is not wanted)
+
+class Collision {
+public:
+  Collision(const Problem<double>& problem, const Options<double>& options);
+
+  const ContactOde<double>& ode() const { return ode_; }
+  const Options<double>& options() const { return options_; }
+  bool with_work() const { return (options_.want & want_energy) != 0; }
+  double horizon() const { return horizon_; }
+  State initial_state() const { return {0, ode_.v0(), 0}; }
+  // Per-state absolute tolerances: literal `atol` for all, or rtol times each natural scale.
+  State absolute_tolerances() const;
+  // The δ-floor below which implicit methods' Jacobians are frozen (contact_ode.hpp).
+  double jacobian_floor() const;
+
+  // Counts one evaluation.
+  State rhs(const State& y) {
+    ++rhs_evals_;
+    const auto f = ode_.rhs(y[0], y[1], with_work());
+    return {f[0], f[1], f[2]};
+  }
+  long& rhs_evals() { return rhs_evals_; }
+
+  // Event functions, positive before the event and falling through 0 at it: v for the peak; δ or
+  // the sign of the total force (MATH.md §4) for the exit.
+  double event_value(EventKind kind, const State& y) const;
+  // An event still to be found: the peak until found; the exit once the peak is behind.
+  bool pending(EventKind kind) const;
+  // Records an event; returns true when the run is complete.
+  bool record(EventKind kind, double t, const State& y);
+
+  // Records the requested samples with times up to t (inclusive), in order.
+  template <class StateAt>
+  void sample_through(double t, StateAt&& state_at) {
+    while (next_sample_ < sample_times_.size() && sample_times_[next_sample_] <= t) {
+      const double ts = sample_times_[next_sample_++];
+      const State y = state_at(ts);
+      samples_.push_back({ts, y[0], y[1]});
+    }
+  }
+
+  Result<double> finish(Outcome outcome, long steps);
+
+private:
+  ContactOde<double> ode_;
+  Options<double> options_;
+  double horizon_;
+  long rhs_evals_ = 0;
+  std::vector<double> sample_times_; // sorted
+  std::size_t next_sample_ = 0;
+  std::vector<Sample<double>> samples_;
+  std::vector<Event<double>> events_;
+  bool peak_found_ = false, exit_found_ = false;
+  double t_peak_ = 0, delta_max_ = 0, work_peak_ = 0;
+  double tau_ = 0, exit_speed_ = 0, work_exit_ = 0;
+  std::chrono::steady_clock::time_point start_ = std::chrono::steady_clock::now();
+};
+
+// A one-step method that can evaluate its solution anywhere in its last step [t_prev, t] to its
+// own order of accuracy (a dense output, or the method's step repeated with a shorter h).
+class OneStepMethod {
+public:
+  virtual ~OneStepMethod() = default;
+  // Takes one accepted step, not beyond t_stop; returns the new time and leaves the state in y.
+  virtual double step(double t_stop, State& y) = 0;
+  virtual State state_at(double t) = 0;
+  virtual long steps() const = 0;
+  // Fehlberg pairs estimate their error from the stages at c = 0 and c = 1 only (b − b̂ vanishes
+  // elsewhere) and so accept steps that straddle the branch point at the exit: at rtol 1e-10
+  // their e was off by 1e-5 at p = 1.5. Such a method returns its order here; the driver then
+  // caps its steps near the exit and ends the contact with the exit series (contact_ode.hpp).
+  virtual int graded_exit_order() const { return 0; }
+  virtual void limit_next_step(double /*h_max*/) {}
+};
+
+// Steps until the collision is complete, the horizon or the step limit. Each step's events are
+// bracketed by a sign change of their event function and located by TOMS 748 on state_at.
+Result<double> run_one_step_method(OneStepMethod& method, Collision& collision);
+
+} // namespace pldamp::solvers::detail

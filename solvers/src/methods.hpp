@@ -1,0 +1,20 @@
+// The solvers behind the registry (registry.cpp maps names to these).
+#pragma once
+
+#include "pldamp/solvers/problem.hpp"
+
+namespace pldamp::solvers::detail {
+
+enum class CvodeMethod { bdf, adams };
+enum class ArkodeMethod { dormand_prince_5, fehlberg_8, esdirk_5 };
+enum class OdeintMethod { fehlberg_78, bulirsch_stoer };
+
+Result<double> solve_cvode(CvodeMethod method, const Problem<double>& problem,
+                           const Options<double>& options);
+Result<double> solve_arkode(ArkodeMethod method, const Problem<double>& problem,
+                            const Options<double>& options);
+Result<double> solve_odeint(OdeintMethod method, const Problem<double>& problem,
+                            const Options<double>& options);
+Result<double> solve_verlet(const Problem<double>& problem, const Options<double>& options);
+
+} // namespace pldamp::solvers::detail

@@ -1,0 +1,136 @@
+// SUNDIALS objects in move-only RAII owners, and one helper that turns return codes into
+// exceptions (DESIGN.md convention 7). A solver keeps one workspace per thread and re-initialises
+// it per collision: creating a context, vectors and a linear solver costs more than a whole
+// collision at moderate tolerance.
+#pragma once
+
+#include <nvector/nvector_serial.h>
+#include <sundials/sundials_context.h>
+#include <sundials/sundials_linearsolver.h>
+#include <sundials/sundials_matrix.h>
+#include <sunlinsol/sunlinsol_dense.h>
+#include <sunmatrix/sunmatrix_dense.h>
+
+#include <memory>
+#include <stdexcept>
+#include <string>
+#include <type_traits>
+
+#include "collision.hpp"
+
+namespace pldamp::solvers::detail::sundials {
+
+// Throws unless a SUNDIALS call succeeded (negative codes are failures).
+inline void check(int flag, const char* call) {
+  if (flag < 0) {
+    throw std::runtime_error(std::string(call) + " failed with SUNDIALS code " +
+                             std::to_string(flag));
+  }
+}
+
+template <class Pointer>
+Pointer check_created(Pointer object, const char* call) {
+  if (object == nullptr) {
+    throw std::runtime_error(std::string(call) + " returned null");
+  }
+  return object;
+}
+
+struct ContextFree {
+  void operator()(SUNContext context) const noexcept { SUNContext_Free(&context); }
+};
+struct VectorFree {
+  void operator()(N_Vector vector) const noexcept { N_VDestroy(vector); }
+};
+struct MatrixFree {
+  void operator()(SUNMatrix matrix) const noexcept { SUNMatDestroy(matrix); }
+};
+struct LinearSolverFree {
+  void operator()(SUNLinearSolver solver) const noexcept { SUNLinSolFree(solver); }
+};
+
+using Context = std::unique_ptr<std::remove_pointer_t<SUNContext>, ContextFree>;
+using Vector = std::unique_ptr<std::remove_pointer_t<N_Vector>, VectorFree>;
+using Matrix = std::unique_ptr<std::remove_pointer_t<SUNMatrix>, MatrixFree>;
+using LinearSolver = std::unique_ptr<std::remove_pointer_t<SUNLinearSolver>, LinearSolverFree>;
+
+// An integrator's memory block (void* in SUNDIALS), freed by its own Free(void**).
+template <void (*free_memory)(void**)>
+struct MemoryFree {
+  void operator()(void* memory) const noexcept { free_memory(&memory); }
+};
+template <void (*free_memory)(void**)>
+using Memory = std::unique_ptr<void, MemoryFree<free_memory>>;
+
+inline Context make_context() {
+  SUNContext context = nullptr;
+  check(SUNContext_Create(nullptr, &context), "SUNContext_Create");
+  return Context(context);
+}
+
+// A zeroed vector of the three states.
+inline Vector make_vector(SUNContext context) {
+  Vector vector(check_created(N_VNew_Serial(3, context), "N_VNew_Serial"));
+  N_VConst(0, vector.get());
+  return vector;
+}
+
+inline State to_state(N_Vector y) {
+  const double* data = N_VGetArrayPointer(y);
+  return {data[0], data[1], data[2]};
+}
+
+inline void assign(N_Vector y, const State& state) {
+  double* data = N_VGetArrayPointer(y);
+  for (int i = 0; i < 3; ++i) {
+    data[i] = state[static_cast<std::size_t>(i)];
+  }
+}
+
+// The right-hand side as SUNDIALS calls it; user data is the Collision.
+inline int rhs(double /*t*/, N_Vector y, N_Vector ydot, void* user_data) {
+  assign(ydot, static_cast<Collision*>(user_data)->rhs(to_state(y)));
+  return 0;
+}
+
+// The Jacobian of contact_ode.hpp (floored at δ = 0 where it is singular), into a dense matrix.
+inline int jacobian(double /*t*/, N_Vector y, N_Vector /*fy*/, SUNMatrix J, void* user_data,
+                    N_Vector, N_Vector, N_Vector) {
+  const Collision& collision = *static_cast<Collision*>(user_data);
+  const State state = to_state(y);
+  const auto jac = collision.ode().jacobian(state[0], state[1], collision.with_work(),
+                                            collision.jacobian_floor());
+  for (sunindextype i = 0; i < 3; ++i) {
+    for (sunindextype j = 0; j < 3; ++j) {
+      SM_ELEMENT_D(J, i, j) = jac[static_cast<std::size_t>(i)][static_cast<std::size_t>(j)];
+    }
+  }
+  return 0;
+}
+
+// SUNDIALS reports through a handler; keep the last message for the exception instead of letting
+// the library print to stderr.
+struct LastMessage {
+  std::string text;
+
+  static void keep(int /*code*/, const char* /*module*/, const char* function, char* message,
+                   void* self) {
+    static_cast<LastMessage*>(self)->text = std::string(function) + ": " + message;
+  }
+  void check(int flag, const char* call) const {
+    if (flag < 0) {
+      throw std::runtime_error(std::string(call) + " failed: " + text);
+    }
+  }
+};
+
+// A dense 3×3 Newton solver: the matrix and its LU solver.
+struct DenseNewton {
+  Matrix matrix;
+  LinearSolver solver;
+  DenseNewton(N_Vector y, SUNContext context)
+      : matrix(check_created(SUNDenseMatrix(3, 3, context), "SUNDenseMatrix")),
+        solver(check_created(SUNLinSol_Dense(y, matrix.get(), context), "SUNLinSol_Dense")) {}
+};
+
+} // namespace pldamp::solvers::detail::sundials
