@@ -3,6 +3,8 @@
 #include "commands.hpp"
 #include "format.hpp"
 
+#include "pldamp/solvers/registry.hpp"
+
 #include <CLI/CLI.hpp>
 
 #include <string>
@@ -63,6 +65,24 @@ int run_cli(int argc, const char* const* argv, std::ostream& out, std::ostream& 
   CLI::App* observables = app.add_subcommand("observables", "every closed-form observable");
   add_contact_options(*observables, observables_args, false);
 
+  SolveArgs solve_args;
+  CLI::App* solve = app.add_subcommand(
+      "solve", "integrate one collision with a registered solver: " + solvers::solver_names());
+  add_contact_options(*solve, solve_args.contact, false);
+  solve->add_option("--solver", solve_args.solver, "registered solver name")->required();
+  solve->add_option("--rtol", solve_args.rtol, "relative tolerance (default 1e-8)");
+  solve->add_option("--atol", solve_args.atol,
+                    "absolute tolerance for every state, literal (default: rtol x natural scale)");
+  solve->add_option("--want", solve_args.want, "comma list of e,delta_max,t_peak,tau,energy");
+  solve->add_option("--dt", solve_args.dt, "fixed step (verlet; arkode-* without error control)");
+  solve->add_option("--steps-per-contact", solve_args.steps_per_contact,
+                    "verlet without --dt: steps per contact time estimate (default 50)");
+  solve->add_option("--horizon", solve_args.horizon,
+                    "time at which a contact that has not ended is reported no_exit");
+  solve->add_option("--sample-times", solve_args.sample_times, "comma list of times to sample")
+      ->delimiter(',');
+  solve->add_option("--max-steps", solve_args.max_steps, "step limit (default 1e6)");
+
   std::string showcase_precision = "double";
   CLI::App* showcase =
       app.add_subcommand("showcase", "observables for p = 1 ... 3 at e = 0.5, one overdamped case");
@@ -72,8 +92,8 @@ int run_cli(int argc, const char* const* argv, std::ostream& out, std::ostream& 
   try {
     if (!arguments.empty() && arguments.front().rfind('-', 0) != 0 &&
         arguments.front() != "calibrate" && arguments.front() != "observables" &&
-        arguments.front() != "showcase") {
-      throw InputError("unknown command, expected calibrate|observables|showcase (got " +
+        arguments.front() != "solve" && arguments.front() != "showcase") {
+      throw InputError("unknown command, expected calibrate|observables|solve|showcase (got " +
                        arguments.front() + ")");
     }
     try {
@@ -92,6 +112,8 @@ int run_cli(int argc, const char* const* argv, std::ostream& out, std::ostream& 
       run_calibrate(calibrate_args, out);
     } else if (observables->parsed()) {
       run_observables(observables_args, out);
+    } else if (solve->parsed()) {
+      run_solve(solve_args, out);
     } else if (showcase->parsed()) {
       run_showcase(showcase_precision, out);
     }
@@ -101,6 +123,9 @@ int run_cli(int argc, const char* const* argv, std::ostream& out, std::ostream& 
   } catch (const std::invalid_argument& e) { // InputError and the library's validation
     err << "error: " << e.what() << "\n";
     return 2;
+  } catch (const std::runtime_error& e) { // an integrator that failed
+    err << "error: internal: " << e.what() << "\n";
+    return 3;
   }
   return 0;
 }

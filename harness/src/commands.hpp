@@ -4,6 +4,7 @@
 #include <optional>
 #include <ostream>
 #include <string>
+#include <vector>
 
 namespace pldamp::harness {
 
@@ -17,8 +18,21 @@ struct ContactArgs {
   bool json = false;
 };
 
+// `pldamp solve`: the contact options plus the solver's.
+struct SolveArgs {
+  ContactArgs contact;
+  std::string solver;
+  std::string rtol = "1e-8";
+  std::optional<std::string> atol, dt, horizon;
+  std::string want = "e,delta_max,t_peak,tau,energy";
+  std::vector<std::string> sample_times;
+  int steps_per_contact = 50;
+  long max_steps = 1000000;
+};
+
 void run_calibrate(const ContactArgs& args, std::ostream& out);
 void run_observables(const ContactArgs& args, std::ostream& out);
 void run_showcase(const std::string& precision, std::ostream& out);
+void run_solve(const SolveArgs& args, std::ostream& out);
 
 } // namespace pldamp::harness

@@ -1,5 +1,4 @@
-#include "commands.hpp"
-#include "format.hpp"
+#include "contact_args.hpp"
 
 #include "pldamp/analytic.hpp"
 
@@ -8,80 +7,6 @@
 #include <sstream>
 
 namespace pldamp::harness {
-namespace {
-
-using analytic::ContactEnd;
-
-// Calls body.template operator()<Real>() for the precision named by the user.
-template <class Body>
-void with_precision(const std::string& name, Body&& body) {
-  if (name == "double") {
-    body.template operator()<double>();
-  } else if (name == "long") {
-    body.template operator()<long double>();
-#if PLDAMP_WITH_QUAD
-  } else if (name == "quad") {
-    body.template operator()<quad>();
-#endif
-  } else if (name == "50") {
-    body.template operator()<bin50>();
-  } else {
-    throw InputError("unknown precision, expected double|long|quad|50 (got " + name + ")");
-  }
-}
-
-ContactEnd parse_end(const std::string& end) {
-  if (end == "overlap") {
-    return ContactEnd::overlap;
-  }
-  if (end == "force") {
-    return ContactEnd::force;
-  }
-  throw InputError("unknown contact end, expected overlap|force (got " + end + ")");
-}
-
-template <SupportedReal Real>
-analytic::Contact<Real> make_contact(const ContactArgs& a) {
-  const int given = int(a.e.has_value()) + int(a.alpha.has_value()) + int(a.alpha_eff.has_value());
-  if (given != 1) {
-    throw InputError("give exactly one of --e, --alpha, --alpha-eff (got " + std::to_string(given) +
-                     ")");
-  }
-  const Real p = parse_real<Real>("--p", a.p);
-  const Real v0 = parse_real<Real>("--v0", a.v0);
-  const Real m = parse_real<Real>("--m", a.m);
-  const Real k = parse_real<Real>("--k", a.k);
-  if (a.e) {
-    return analytic::Contact<Real>::from_e(p, parse_real<Real>("--e", *a.e), v0, m, k,
-                                           parse_end(a.end));
-  }
-  if (a.alpha) {
-    return analytic::Contact<Real>::from_alpha(p, parse_real<Real>("--alpha", *a.alpha), v0, m, k);
-  }
-  return analytic::Contact<Real>::from_alpha_eff(p, parse_real<Real>("--alpha-eff", *a.alpha_eff),
-                                                 v0, m, k);
-}
-
-void emit(const JsonObject& object, bool json, std::ostream& out) {
-  out << (json ? object.json() + "\n" : object.text());
-}
-
-// The physical parameters and damping of a contact, the head of every analytic answer.
-template <SupportedReal Real>
-JsonObject describe(const analytic::Contact<Real>& c, const ContactArgs& a) {
-  JsonObject o;
-  o.string("precision", std::string(precision_name<Real>()));
-  o.string("end", a.end);
-  o.number("p", c.p());
-  o.number("m", c.m());
-  o.number("k", c.k());
-  o.number("v0", c.v0());
-  o.number("alpha", c.alpha());
-  o.number("alpha_eff", c.alpha_eff());
-  return o;
-}
-
-} // namespace
 
 void run_calibrate(const ContactArgs& args, std::ostream& out) {
   if (!args.e) {

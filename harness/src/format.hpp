@@ -7,13 +7,11 @@
 #pragma once
 
 #include "pldamp/core/real_types.hpp"
+#include "pldamp/core/validate.hpp"
 
-#include <charconv>
 #include <cmath>
 #include <cstdlib>
-#include <iomanip>
 #include <optional>
-#include <sstream>
 #include <stdexcept>
 #include <string>
 #include <utility>
@@ -33,23 +31,11 @@ struct InternalError : std::runtime_error {
 
 template <SupportedReal Real>
 std::string format_number(const Real& value) {
-  using std::isinf;
   using std::isnan;
   if (isnan(value)) {
     throw InternalError("a result evaluated to NaN");
   }
-  if (isinf(value)) {
-    return value > 0 ? "inf" : "-inf";
-  }
-  if constexpr (std::is_floating_point_v<Real>) {
-    char buffer[64];
-    const auto result = std::to_chars(buffer, buffer + sizeof buffer, value);
-    return std::string(buffer, result.ptr);
-  } else {
-    std::ostringstream out;
-    out << std::setprecision(round_trip_digits<Real>()) << value;
-    return out.str();
-  }
+  return to_string_full(value); // "inf" for infinities; JsonObject writes them as null
 }
 
 // Parses the whole of `text` as a Real, rounding once into the target type (so "0.1" is the
@@ -86,6 +72,13 @@ public:
     if (value) {
       number(key, *value);
     }
+  }
+  void integer(const std::string& key, long value) {
+    fields_.emplace_back(key, std::to_string(value));
+  }
+  // A value already written as JSON (an array, say).
+  void raw(const std::string& key, const std::string& json_value) {
+    fields_.emplace_back(key, json_value);
   }
   void string(const std::string& key, const std::string& value) {
     fields_.emplace_back(key, "\"" + value + "\""); // values are identifiers: nothing to escape

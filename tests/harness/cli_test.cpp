@@ -102,6 +102,54 @@ TEST(Cli, TextOutputAndShowcase) {
   EXPECT_EQ(run({"--help"}).code, 0);
 }
 
+TEST(Cli, SolveReportsTheMeasuredObservablesAndTheWork) {
+  const CliRun r = run({"solve", "--solver", "cvode-bdf", "--p", "1.5", "--e", "0.5", "--v0", "1",
+                        "--rtol", "1e-10", "--atol", "1e-13", "--want", "e,tau", "--json"});
+  ASSERT_EQ(r.code, 0) << r.err;
+  const auto json = nlohmann::json::parse(r.out);
+  for (const char* key : {"p", "m", "k", "v0", "alpha", "alpha_eff", "e", "tau", "solver", "rtol",
+                          "atol", "steps", "rhs_evals", "wall_seconds", "outcome"}) {
+    EXPECT_TRUE(json.contains(key)) << key;
+  }
+  for (const char* key : {"delta_max", "t_peak", "energy_load", "samples"}) { // not wanted
+    EXPECT_FALSE(json.contains(key)) << key;
+  }
+  EXPECT_EQ(json["outcome"], "exited");
+  EXPECT_EQ(json["solver"], "cvode-bdf");
+  EXPECT_NEAR(json["e"].get<double>(), 0.5, 1e-7);
+  const auto c = analytic::Contact<double>::from_e(1.5, 0.5, 1);
+  EXPECT_NEAR(json["tau"].get<double>(), analytic::contact_duration(c), 1e-7);
+  EXPECT_GT(json["rhs_evals"].get<long>(), json["steps"].get<long>());
+}
+
+TEST(Cli, SolveForceEndOverdampedAndSamples) {
+  const CliRun capped = run({"solve", "--solver", "arkode-dp5", "--p", "2.5", "--alpha-eff", "0.7",
+                             "--v0", "1", "--end", "force", "--rtol", "1e-10", "--json"});
+  ASSERT_EQ(capped.code, 0) << capped.err;
+  const auto a = nlohmann::json::parse(capped.out);
+  EXPECT_NEAR(a["e_cap"].get<double>(),
+              analytic::capped_restitution(analytic::damping_from_alpha_eff(0.7)), 1e-8);
+  EXPECT_TRUE(a.contains("t_cut") && !a.contains("e"));
+
+  const CliRun over = run({"solve", "--solver", "odeint-bs", "--p", "1.5", "--alpha-eff", "1.5",
+                           "--v0", "1", "--json"});
+  ASSERT_EQ(over.code, 0) << over.err;
+  const auto b = nlohmann::json::parse(over.out);
+  EXPECT_EQ(b["outcome"], "no_exit");
+  EXPECT_EQ(b["e"].get<double>(), 0.0);
+  EXPECT_TRUE(b["tau"].is_null());
+
+  const CliRun sampled = run({"solve", "--solver", "verlet", "--p", "1", "--e", "0.5", "--v0", "1",
+                              "--dt", "1e-3", "--sample-times", "0,0.5,1", "--json"});
+  ASSERT_EQ(sampled.code, 0) << sampled.err;
+  const auto samples = nlohmann::json::parse(sampled.out)["samples"];
+  ASSERT_EQ(samples.size(), 3u);
+  EXPECT_EQ(samples[0][1].get<double>(), 0.0);
+  EXPECT_EQ(samples[0][2].get<double>(), 1.0);
+  const analytic::Trajectory<double> exact(analytic::Contact<double>::from_e(1.0, 0.5, 1.0));
+  EXPECT_NEAR(samples[2][1].get<double>(), exact.at_time(1.0).delta, 1e-6);
+}
+
 struct BadInput {
   std::vector<std::string> args;
   std::string message;
@@ -129,7 +177,32 @@ TEST(Cli, BadInputIsOneLineAndExitTwo) {
        "give exactly one of --e, --alpha, --alpha-eff (got 0)"},
       {{"calibrate", "--p", "2", "--e", "0.5", "--end", "sideways"},
        "unknown contact end, expected overlap|force (got sideways)"},
-      {{"launch"}, "unknown command, expected calibrate|observables|showcase (got launch)"},
+      {{"launch"}, "unknown command, expected calibrate|observables|solve|showcase (got launch)"},
+      {{"solve", "--solver", "ode45", "--p", "1.5", "--e", "0.5", "--v0", "1"},
+       "unknown solver, expected cvode-bdf|cvode-adams|arkode-dp5|arkode-erk8|arkode-dirk|"
+       "odeint-rkf78|odeint-bs|verlet (got ode45)"},
+      {{"solve", "--p", "1.5", "--e", "0.5", "--v0", "1"}, "--solver is required (got nothing)"},
+      {{"solve", "--solver", "cvode-bdf", "--p", "1.5", "--e", "0.5", "--v0", "1", "--rtol", "0"},
+       "rtol must be > 0 (got 0)"},
+      {{"solve", "--solver", "cvode-bdf", "--p", "1.5", "--e", "0.5", "--v0", "1", "--rtol", "-1"},
+       "rtol must be > 0 (got -1)"},
+      {{"solve", "--solver", "cvode-bdf", "--p", "1.5", "--e", "0.5", "--v0", "1", "--rtol", "2"},
+       "rtol must be < 1 (got 2)"},
+      {{"solve", "--solver", "cvode-bdf", "--p", "1.5", "--e", "0.5", "--v0", "1", "--atol", "0"},
+       "atol must be > 0 (got 0)"},
+      {{"solve", "--solver", "verlet", "--p", "1.5", "--e", "0.5", "--v0", "1", "--dt", "-1e-3"},
+       "dt must be > 0 (got -0.001)"},
+      {{"solve", "--solver", "cvode-bdf", "--p", "1.5", "--e", "0.5", "--v0", "1", "--want",
+        "e,speed"},
+       "unknown observable in --want, expected e|delta_max|t_peak|tau|energy|all (got speed)"},
+      {{"solve", "--solver", "cvode-bdf", "--p", "1.5", "--e", "0.5", "--v0", "1", "--sample-times",
+        "1,-2"},
+       "sample time must be >= 0 (got -2)"},
+      {{"solve", "--solver", "cvode-bdf", "--p", "0.9", "--e", "0.5", "--v0", "1"},
+       "p must be >= 1 (got 0.9)"},
+      {{"solve", "--solver", "cvode-bdf", "--p", "1.5", "--e", "0.5", "--v0", "1", "--precision",
+        "quad"},
+       "the registered solvers run in double precision (got quad)"},
   };
   for (const BadInput& c : cases) {
     const CliRun r = run(c.args);

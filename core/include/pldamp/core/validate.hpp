@@ -6,11 +6,13 @@
 
 #include "pldamp/core/real_types.hpp"
 
+#include <charconv>
 #include <cmath>
 #include <iomanip>
 #include <sstream>
 #include <stdexcept>
 #include <string>
+#include <type_traits>
 
 namespace pldamp {
 
@@ -20,9 +22,15 @@ std::string to_string_full(const Real& value) {
   if (isnan(value)) {
     return "nan";
   }
-  std::ostringstream out;
-  out << std::setprecision(round_trip_digits<Real>()) << value;
-  return out.str();
+  if constexpr (std::is_floating_point_v<Real>) { // shortest round trip: 0.9, not
+                                                  // 0.90000000000000002
+    char buffer[64];
+    return std::string(buffer, std::to_chars(buffer, buffer + sizeof buffer, value).ptr);
+  } else {
+    std::ostringstream out;
+    out << std::setprecision(round_trip_digits<Real>()) << value;
+    return out.str();
+  }
 }
 
 // Throws "<what> (got <value>)" unless `ok`.
