@@ -52,8 +52,9 @@ template <SupportedReal Real>
 struct Options {
   Real rtol = Real(1) / 100000000;
   // Absolute tolerance applied literally to every state, in physical units, as ode45 does. When
-  // absent each state gets rtol times its natural scale (undamped δ_max, v0, m v0²/2), so a
-  // contact in metres (δ ~ 1e-5) is solved as accurately as one in units of 1.
+  // absent each state gets rtol times its natural scale (δ: the undamped δ_max; v: 1e-3 v0; W:
+  // the dashpot's work scale; see Collision::absolute_tolerances), so a contact in metres
+  // (δ ~ 1e-5) is solved as accurately as one in units of 1.
   std::optional<Real> atol;
   unsigned want = want_all;
   End end = End::overlap;
