@@ -82,9 +82,12 @@ Result<double> solve_cvode(CvodeMethod method, const Problem<double>& problem,
     return to_state(w.y.get());
   };
   collision.sample_through(0, [&](double) { return collision.initial_state(); });
+  // Without samples, CVODE runs from root to root in one call (CV_NORMAL); with them, one step
+  // per call, so that each step's samples come off its interpolant.
+  const int mode = options.sample_times.empty() ? CV_NORMAL : CV_ONE_STEP;
   for (;;) {
     double t = 0;
-    const int flag = CVode(cvode, collision.horizon(), w.y.get(), &t, CV_ONE_STEP);
+    const int flag = CVode(cvode, collision.horizon(), w.y.get(), &t, mode);
     if (flag == CV_TOO_MUCH_WORK || steps() >= options.max_steps) {
       return collision.finish(Outcome::step_limit, steps());
     }
@@ -101,7 +104,7 @@ Result<double> solve_cvode(CvodeMethod method, const Problem<double>& problem,
                                   steps());
         }
       }
-    } else if (flag == CV_TSTOP_RETURN) {
+    } else if (flag == CV_TSTOP_RETURN || (mode == CV_NORMAL && flag == CV_SUCCESS)) {
       return collision.finish(Outcome::no_exit, steps());
     }
   }

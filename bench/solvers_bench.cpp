@@ -1,0 +1,100 @@
+// One collision (p = 1.5, e = 0.5, v0 = m = k = 1, every observable) per registered solver at
+// rtol 1e-6 and 1e-10 (verlet: 50 and 1000 steps per contact). Counters: rhs_evals and steps per
+// collision, the worst relative error of e, δ_max, t_peak, τ and the energies against the closed
+// forms, and x_analytic, the time as a multiple of the analytic layer's bundle of the same
+// observables (measured here, in double).
+#include "pldamp/analytic.hpp"
+#include "pldamp/solvers/registry.hpp"
+
+#include <benchmark/benchmark.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <string>
+
+namespace {
+
+using pldamp::analytic::Contact;
+namespace solvers = pldamp::solvers;
+
+const Contact<double>& contact() {
+  static const Contact<double> c = Contact<double>::from_e(1.5, 0.5, 1.0);
+  return c;
+}
+
+// Seconds per analytic bundle (e, δ_max, t_peak, τ, energies), the best of 5 batches.
+double analytic_bundle_seconds() {
+  static const double seconds = [] {
+    using namespace pldamp::analytic;
+    constexpr unsigned bundle = want_e | want_delta_max | want_t_peak | want_tau | want_energy;
+    double best = INFINITY;
+    for (int batch = 0; batch < 5; ++batch) {
+      const auto start = std::chrono::steady_clock::now();
+      for (int i = 0; i < 2000; ++i) {
+        benchmark::DoNotOptimize(observables(contact(), bundle));
+      }
+      const std::chrono::duration<double> took = std::chrono::steady_clock::now() - start;
+      best = std::min(best, took.count() / 2000);
+    }
+    return best;
+  }();
+  return seconds;
+}
+
+double worst_error(const solvers::Result<double>& r) {
+  const auto x = pldamp::analytic::observables(contact());
+  double worst = 0;
+  auto check = [&](const std::optional<double>& got, const std::optional<double>& want) {
+    worst = std::max(worst, std::abs(*got - *want) / std::abs(*want));
+  };
+  check(r.e, x.e);
+  check(r.delta_max, x.delta_max);
+  check(r.t_peak, x.t_peak);
+  check(r.tau, x.tau);
+  check(r.energy_load, x.energy_load);
+  check(r.energy_unload, x.energy_unload);
+  return worst;
+}
+
+void collision(benchmark::State& state, const std::string& name, double rtol, int steps) {
+  const Contact<double>& c = contact();
+  const solvers::Problem<double> problem{c.p(), c.m(), c.k(), c.v0(), c.alpha()};
+  solvers::Options<double> options;
+  options.rtol = rtol;
+  options.steps_per_contact = steps;
+  solvers::Result<double> r;
+  const auto start = std::chrono::steady_clock::now();
+  for (auto _ : state) {
+    r = solvers::solve(name, problem, options);
+    benchmark::DoNotOptimize(r);
+  }
+  const std::chrono::duration<double> took = std::chrono::steady_clock::now() - start;
+  state.counters["rhs_evals"] = double(r.rhs_evals);
+  state.counters["steps"] = double(r.steps);
+  state.counters["error"] = worst_error(r);
+  state.counters["x_analytic"] =
+      took.count() / double(state.iterations()) / analytic_bundle_seconds();
+}
+
+const int registered = [] {
+  for (const solvers::SolverInfo& info : solvers::registry()) {
+    const std::string name(info.name);
+    if (info.adaptive) {
+      for (const double rtol : {1e-6, 1e-10}) {
+        benchmark::RegisterBenchmark((name + "/rtol:" + (rtol > 1e-8 ? "1e-6" : "1e-10")).c_str(),
+                                     collision, name, rtol, 50)
+            ->Unit(benchmark::kMicrosecond);
+      }
+    } else {
+      for (const int steps : {50, 1000}) {
+        benchmark::RegisterBenchmark((name + "/steps:" + std::to_string(steps)).c_str(), collision,
+                                     name, 1e-6, steps)
+            ->Unit(benchmark::kMicrosecond);
+      }
+    }
+  }
+  return 0;
+}();
+
+} // namespace
