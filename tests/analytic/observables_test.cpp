@@ -72,8 +72,7 @@ TYPED_TEST(ObservablesTest, MatchReferenceTable) {
     const auto got = pldamp::testing::as_map(observables(row.template contact<Real>()));
     for (const auto& [name, want] : row.expected) {
       const std::string where = name + " at p=" + std::to_string(row.p) + " " + row.input + "=" +
-                                pldamp::to_string_full(row.value) +
-                                " v0=" + std::to_string(row.v0);
+                                pldamp::to_string_full(row.value) + " v0=" + std::to_string(row.v0);
       expect_matches(got.at(name), want, row.z(), where);
     }
   }
