@@ -56,8 +56,8 @@ bool Collision::pending(EventKind kind) const {
 }
 
 bool Collision::record(EventKind kind, double t, const State& y) {
-  events_.push_back({kind, t});
   if (kind == EventKind::peak) {
+    events_.push_back({kind, t});
     peak_found_ = true;
     t_peak_ = t;
     delta_max_ = y[0];
@@ -72,6 +72,7 @@ bool Collision::record(EventKind kind, double t, const State& y) {
     // solver can tell from none. (So e below ~10 rtol reads as no exit.)
     return false;
   }
+  events_.push_back({kind, t});
   exit_found_ = true;
   tau_ = t;
   exit_speed_ = std::abs(y[1]);
