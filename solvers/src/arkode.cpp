@@ -64,6 +64,16 @@ ButcherTable explicit_table(ArkodeMethod method) {
   return with_fsal_stage(fehlberg.get());
 }
 
+// Stages up to the last one with a nonzero weight: an appended FSAL stage (weight 0) only serves
+// the next step and is not evaluated when a step is repeated.
+std::size_t weighted_stages(ARKodeButcherTable table) {
+  std::size_t n = static_cast<std::size_t>(table->stages);
+  while (n > 1 && table->b[n - 1] == 0) {
+    --n;
+  }
+  return n;
+}
+
 // Settings shared by both steppers, given their Set* functions (ERKStep and ARKStep mirror each
 // other's API).
 template <class Api>
@@ -105,8 +115,7 @@ public:
       : table_(explicit_table(method)),
         memory_(check_created(ERKStepCreate(sundials::rhs, 0, y_.get(), context_.get()),
                               "ERKStepCreate")),
-        stages_(static_cast<std::size_t>(table_->stages)),
-        fehlberg_(method == ArkodeMethod::fehlberg_8) {
+        stages_(weighted_stages(table_.get())), fehlberg_(method == ArkodeMethod::fehlberg_8) {
     check(ERKStepSetErrHandlerFn(memory_.get(), LastMessage::keep, &last_), "SetErrHandlerFn");
     check(ERKStepSetTable(memory_.get(), table_.get()), "ERKStepSetTable");
   }
