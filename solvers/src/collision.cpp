@@ -66,10 +66,12 @@ bool Collision::record(EventKind kind, double t, const State& y) {
     return (options_.want & (want_e | want_tau | want_energy)) == 0;
   }
   const State atol = absolute_tolerances();
-  if (std::abs(y[1]) <= 10 * (atol[1] + atol[0] / ode_.time_scale())) {
+  const double noise = std::min(10 * (atol[1] + atol[0] / ode_.time_scale()), ode_.v0() / 1000);
+  if (std::abs(y[1]) <= noise) {
     // An "exit" at a speed within the tolerances (of v, and of δ per time unit) is an overdamped
     // overlap that decayed into the integration noise and crossed 0 there: not a return the
-    // solver can tell from none. (So e below ~10 rtol reads as no exit.)
+    // solver can tell from none (so e below ~10 rtol reads as no exit). Capped at 1e-3 v0 so that
+    // a loose tolerance does not hide a real return.
     return false;
   }
   events_.push_back({kind, t});

@@ -151,6 +151,18 @@ TEST_P(EverySolver, OverdampedContactsDoNotExitAndMeasureTheLoading) {
   }
 }
 
+TEST_P(EverySolver, LooseTolerancesStillReturn) {
+  // The tolerance-noise rule for overdamped "exits" must not swallow a real one.
+  const auto c = Contact<double>::from_e(1.5, 0.5, 1.0);
+  for (double rtol : {1e-2, 0.5}) {
+    Options<double> options;
+    options.rtol = rtol;
+    const Result<double> r = solve(GetParam(), problem_of(c), options);
+    EXPECT_EQ(r.outcome, Outcome::exited) << rtol;
+    EXPECT_LT(rel(*r.e, 0.5), rtol < 0.1 ? 0.05 : 1.0) << rtol;
+  }
+}
+
 TEST_P(EverySolver, DissipatedWorkBalancesTheMechanicalEnergy) {
   const auto c = Contact<double>::from_e(2.5, 0.4, 3.0, 2.0, 5.0);
   const Problem<double> problem = problem_of(c);
