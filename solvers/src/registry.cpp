@@ -12,6 +12,12 @@ using detail::ArkodeMethod;
 using detail::CvodeMethod;
 using detail::OdeintMethod;
 
+// A solver family's entry point with its method fixed.
+template <auto solve_family, auto method>
+Result<double> with_method(const Problem<double>& problem, const Options<double>& options) {
+  return solve_family(method, problem, options);
+}
+
 struct Entry {
   SolverInfo info;
   Result<double> (*solve)(const Problem<double>&, const Options<double>&);
@@ -19,33 +25,19 @@ struct Entry {
 
 constexpr std::array entries{
     Entry{{"cvode-bdf", "SUNDIALS CVODE, BDF orders 1-5, Newton with analytic Jacobian", true},
-          [](const Problem<double>& p, const Options<double>& o) {
-            return detail::solve_cvode(CvodeMethod::bdf, p, o);
-          }},
+          with_method<detail::solve_cvode, CvodeMethod::bdf>},
     Entry{{"cvode-adams", "SUNDIALS CVODE, Adams-Moulton orders 1-12, Newton", true},
-          [](const Problem<double>& p, const Options<double>& o) {
-            return detail::solve_cvode(CvodeMethod::adams, p, o);
-          }},
+          with_method<detail::solve_cvode, CvodeMethod::adams>},
     Entry{{"arkode-dp5", "SUNDIALS ARKODE ERKStep, Dormand-Prince 5(4) (ode45)", true},
-          [](const Problem<double>& p, const Options<double>& o) {
-            return detail::solve_arkode(ArkodeMethod::dormand_prince_5, p, o);
-          }},
+          with_method<detail::solve_arkode, ArkodeMethod::dormand_prince_5>},
     Entry{{"arkode-erk8", "SUNDIALS ARKODE ERKStep, Fehlberg 8(7), FSAL-corrected table", true},
-          [](const Problem<double>& p, const Options<double>& o) {
-            return detail::solve_arkode(ArkodeMethod::fehlberg_8, p, o);
-          }},
+          with_method<detail::solve_arkode, ArkodeMethod::fehlberg_8>},
     Entry{{"arkode-dirk", "SUNDIALS ARKODE ARKStep, Kvaerno ESDIRK 7(4)5, Newton", true},
-          [](const Problem<double>& p, const Options<double>& o) {
-            return detail::solve_arkode(ArkodeMethod::esdirk_5, p, o);
-          }},
+          with_method<detail::solve_arkode, ArkodeMethod::esdirk_5>},
     Entry{{"odeint-rkf78", "Boost.Odeint controlled Runge-Kutta-Fehlberg 7(8)", true},
-          [](const Problem<double>& p, const Options<double>& o) {
-            return detail::solve_odeint(OdeintMethod::fehlberg_78, p, o);
-          }},
+          with_method<detail::solve_odeint, OdeintMethod::fehlberg_78>},
     Entry{{"odeint-bs", "Boost.Odeint Bulirsch-Stoer with dense output", true},
-          [](const Problem<double>& p, const Options<double>& o) {
-            return detail::solve_odeint(OdeintMethod::bulirsch_stoer, p, o);
-          }},
+          with_method<detail::solve_odeint, OdeintMethod::bulirsch_stoer>},
     Entry{{"verlet", "velocity Verlet, fixed step, as DEM codes step a contact", false},
           detail::solve_verlet},
 };
