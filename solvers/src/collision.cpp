@@ -204,8 +204,8 @@ Result<double> run_one_step_method(OneStepMethod& method, Collision& collision) 
         const double f = (s - t) / stretch.duration;
         return State{y[0] * (1 - f), y[1] + f * (y_exit[1] - y[1]), y[2] + f * (y_exit[2] - y[2])};
       });
-      collision.record(EventKind::exit, t_exit, y_exit);
-      return collision.finish(Outcome::exited, method.steps());
+      const bool exited = collision.record(EventKind::exit, t_exit, y_exit); // not if noise
+      return collision.finish(exited ? Outcome::exited : Outcome::no_exit, method.steps());
     }
     if (t >= horizon) {
       return collision.finish(Outcome::no_exit, method.steps());

@@ -82,8 +82,8 @@ Result<double> solve_verlet(const Problem<double>& problem, const Options<double
     }
     collision.sample_through(t, between);
     if (contact_lost) {
-      collision.record(EventKind::exit, t, y);
-      return collision.finish(Outcome::exited, steps);
+      const bool exited = collision.record(EventKind::exit, t, y); // not if tolerance noise
+      return collision.finish(exited ? Outcome::exited : Outcome::no_exit, steps);
     }
     if (t >= collision.horizon()) {
       return collision.finish(Outcome::no_exit, steps);
