@@ -26,8 +26,8 @@ struct SolveArgs {
   std::optional<std::string> atol, dt, horizon;
   std::string want = "e,delta_max,t_peak,tau,energy";
   std::vector<std::string> sample_times;
-  int steps_per_contact = 50;
-  long max_steps = 1000000;
+  std::string steps_per_contact = "50";
+  std::string max_steps = "1000000";
 };
 
 void run_calibrate(const ContactArgs& args, std::ostream& out);

@@ -70,16 +70,24 @@ void run_solve(const SolveArgs& args, std::ostream& out) {
   options.want = parse_want(args.want);
   const bool capped = parse_end(args.contact.end) == ContactEnd::force;
   options.end = capped ? solvers::End::force : solvers::End::overlap;
-  options.steps_per_contact = args.steps_per_contact;
-  options.max_steps = args.max_steps;
+  const long steps_per_contact = parse_integer("--steps-per-contact", args.steps_per_contact);
+  if (steps_per_contact < 1 || steps_per_contact > 1000000000) {
+    throw InputError("--steps-per-contact must be in [1, 1e9] (got " + args.steps_per_contact +
+                     ")");
+  }
+  options.steps_per_contact = int(steps_per_contact);
+  options.max_steps = parse_integer("--max-steps", args.max_steps);
 
   const solvers::Result<double> r = solvers::solve(args.solver, problem, options);
 
   JsonObject o = describe(contact, args.contact);
   o.string("solver", args.solver);
-  o.number("rtol", options.rtol);
-  o.number("atol", options.atol);
-  o.number("dt", options.fixed_step);
+  if (r.fixed_step) { // what a fixed-step run used instead of tolerances
+    o.number("dt", r.fixed_step);
+  } else {
+    o.number("rtol", options.rtol);
+    o.number("atol", options.atol);
+  }
   o.string("outcome", std::string(solvers::outcome_name(r.outcome)));
   o.number(capped ? "e_cap" : "e", r.e);
   o.number("delta_max", r.delta_max);

@@ -9,6 +9,7 @@
 #include "pldamp/core/real_types.hpp"
 #include "pldamp/core/validate.hpp"
 
+#include <charconv>
 #include <cmath>
 #include <cstdlib>
 #include <optional>
@@ -58,6 +59,16 @@ Real parse_real(const std::string& option, const std::string& text) {
       throw InputError(what + " (got " + text + ")");
     }
   }
+}
+
+// Parses the whole of `text` as a decimal integer.
+inline long parse_integer(const std::string& option, const std::string& text) {
+  long value = 0;
+  const auto [end, error] = std::from_chars(text.data(), text.data() + text.size(), value);
+  if (text.empty() || error != std::errc() || end != text.data() + text.size()) {
+    throw InputError(option + " is not an integer (got " + text + ")");
+  }
+  return value;
 }
 
 // An object whose keys keep their insertion order; values are pre-formatted JSON.

@@ -117,6 +117,7 @@ Result<double> Collision::finish(Outcome outcome, long steps) {
       r.tau = std::numeric_limits<double>::infinity();
     }
   }
+  r.fixed_step = options_.fixed_step;
   r.steps = steps;
   r.rhs_evals = rhs_evals_;
   r.events = std::move(events_);

@@ -37,10 +37,12 @@ State interpolate(double theta, double h, const State& y0, const State& y1) {
 } // namespace
 
 Result<double> solve_verlet(const Problem<double>& problem, const Options<double>& options) {
-  Collision collision(problem, options);
-  const double dt =
-      options.fixed_step.value_or(boost::math::constants::pi<double>() *
-                                  collision.ode().time_scale() / options.steps_per_contact);
+  Options<double> stepped = options; // the step is reported in the result
+  stepped.fixed_step = options.fixed_step.value_or(boost::math::constants::pi<double>() *
+                                                   ContactOde<double>(problem).time_scale() /
+                                                   options.steps_per_contact);
+  Collision collision(problem, stepped);
+  const double dt = *stepped.fixed_step;
   const bool force_end = options.end == End::force;
   State y = collision.initial_state();
   double a = collision.rhs(y)[1];

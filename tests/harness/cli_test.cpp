@@ -142,6 +142,8 @@ TEST(Cli, SolveForceEndOverdampedAndSamples) {
   const CliRun sampled = run({"solve", "--solver", "verlet", "--p", "1", "--e", "0.5", "--v0", "1",
                               "--dt", "1e-3", "--sample-times", "0,0.5,1", "--json"});
   ASSERT_EQ(sampled.code, 0) << sampled.err;
+  EXPECT_EQ(nlohmann::json::parse(sampled.out)["dt"].get<double>(), 1e-3);
+  EXPECT_FALSE(nlohmann::json::parse(sampled.out).contains("rtol")); // a fixed step has none
   const auto samples = nlohmann::json::parse(sampled.out)["samples"];
   ASSERT_EQ(samples.size(), 3u);
   EXPECT_EQ(samples[0][1].get<double>(), 0.0);
@@ -198,6 +200,18 @@ TEST(Cli, BadInputIsOneLineAndExitTwo) {
       {{"solve", "--solver", "cvode-bdf", "--p", "1.5", "--e", "0.5", "--v0", "1", "--sample-times",
         "1,-2"},
        "sample time must be >= 0 (got -2)"},
+      {{"solve", "--solver", "verlet", "--p", "1.5", "--e", "0.5", "--v0", "1",
+        "--steps-per-contact", "abc"},
+       "--steps-per-contact is not an integer (got abc)"},
+      {{"solve", "--solver", "verlet", "--p", "1.5", "--e", "0.5", "--v0", "1",
+        "--steps-per-contact", "0"},
+       "--steps-per-contact must be in [1, 1e9] (got 0)"},
+      {{"solve", "--solver", "cvode-bdf", "--p", "1.5", "--e", "0.5", "--v0", "1", "--max-steps",
+        "-3"},
+       "max steps must be >= 1 (got -3)"},
+      {{"solve", "--solver", "cvode-bdf", "--p", "1.5", "--e", "0.5", "--v0", "1", "--horizon",
+        "0"},
+       "horizon must be > 0 (got 0)"},
       {{"solve", "--solver", "cvode-bdf", "--p", "0.9", "--e", "0.5", "--v0", "1"},
        "p must be >= 1 (got 0.9)"},
       {{"solve", "--solver", "cvode-bdf", "--p", "1.5", "--e", "0.5", "--v0", "1", "--precision",

@@ -280,6 +280,7 @@ TEST(FixedStep, VerletDefaultsToFiftyStepsPerContactTimeScale) {
   const Result<double> r = solve("verlet", problem_of(c), Options<double>{});
   // p = 1: the contact lasts π/Ω1 = π/(Ω0 √μ), a little over the π/Ω0 the step is based on.
   EXPECT_NEAR(double(r.steps), 50 / std::sqrt(c.mu()), 1.5);
+  EXPECT_DOUBLE_EQ(*r.fixed_step, M_PI / 50); // π δ_u/v0 / 50 with δ_u/v0 = 1/Ω0 = 1
   EXPECT_EQ(r.rhs_evals, r.steps + 1);
   EXPECT_LT(rel(*r.e, 0.5), 0.05);
 }

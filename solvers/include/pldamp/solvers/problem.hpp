@@ -134,6 +134,7 @@ template <SupportedReal Real>
 struct Result {
   Outcome outcome = Outcome::step_limit;
   std::optional<Real> e, delta_max, t_peak, tau, energy_load, energy_unload;
+  std::optional<Real> fixed_step; // the step of a fixed-step run (verlet, or Options::fixed_step)
   long steps = 0;
   long rhs_evals = 0; // every right-hand-side evaluation, Jacobian difference quotients included
   double wall_seconds = 0;
