@@ -6,14 +6,14 @@
 // integrated so that energy splits are measured rather than assumed).
 //
 // Extension to δ < 0. An integrator steps across the exit before it finds it, so the right-hand
-// side must exist there. Using |δ| in the dashpot and sgn(δ)|δ|^p in the spring makes the extension
-// analytic whenever the power law is (p = 1 is the linear oscillator, p = 5 a polynomial), so error
-// control is not fooled by a kink that the model itself does not have. Events use the unextended
-// meaning: they are located on the contact side.
+// side must exist there. |δ|^a in the dashpot and sgn(δ)|δ|^p in the spring make the extension
+// analytic for p = 1 (the linear oscillator) and p = 5 (δ⁵ and δ² are polynomials), so error
+// control is not fooled there by a kink the model does not have; for other p the power law is not
+// analytic at δ = 0 anyway. Events are located on the contact side.
 //
 // Natural scales (from the undamped energy balance k δ_u^(p+1)/(p+1) = m v0²/2 only; no solution
-// of the damped equation is used): δ_u, v0, m v0²/2 and time δ_u/v0. They set default absolute
-// tolerances, the default horizon and verlet's default step.
+// of the damped equation is used): δ_u, v0, KE0 = m v0²/2 and time δ_u/v0. They set the default
+// absolute tolerances (Collision::absolute_tolerances), the default horizon and verlet's step.
 #pragma once
 
 #include "pldamp/solvers/problem.hpp"
@@ -55,25 +55,18 @@ public:
 
   // (δ', v', W') at (δ, v); `with_work` false leaves W' = 0 (W is then not wanted).
   std::array<Real, 3> rhs(const Real& delta, const Real& v, bool with_work) const {
-    using std::abs;
     const Real d_a = dashpot_factor(delta);
     const Real spring = k_ * d_a * d_a * delta; // k sgn(δ)|δ|^p, as 2a + 1 = p
     const Real dashpot = c_ * d_a;
     return {v, -(dashpot * v + spring) / m_, with_work ? dashpot * v * v : Real(0)};
   }
 
-  // Total normal force F = k δ^p + c δ^a v (positive = repulsive).
-  Real force(const Real& delta, const Real& v) const {
-    const Real d_a = dashpot_factor(delta);
-    return d_a * (k_ * d_a * delta + c_ * v);
-  }
-
+  // With F = k δ^p + c δ^a v the total normal force (positive = repulsive),
   // F / δ^a = k sgn(δ)|δ|^((p+1)/2) + c v: the sign of the force for δ > 0 without the factor
   // δ^a that vanishes at contact. It is c v0 > 0 at t = 0 (0 if α = 0), so the force-cut event
   // never fires at the start, and at δ = 0 it equals c v < 0 while unloading, so the cut is
   // never later than the overlap exit.
   Real force_sign(const Real& delta, const Real& v) const {
-    using std::abs;
     return k_ * dashpot_factor(delta) * delta + c_ * v;
   }
 
