@@ -4,7 +4,8 @@
 // - arkode-dp5: Dormand–Prince 5(4), the method of MATLAB's ode45 that the seed used.
 // - arkode-erk8: Fehlberg 8(7), 13 stages. Debian's SUNDIALS 6.4.1 treats any table whose last
 //   node is c = 1 as first-same-as-last and reuses that stage as the next step's first, which is
-//   wrong for this table (its last stage is not at y_{n+1}); it then runs at a low order. We pass
+//   wrong for this table (its last stage is not at y_{n+1}): measured here, Fehlberg then runs at
+//   order ~7 instead of 8, and ARKODE_VERNER_8_5_6 at 3 instead of 6. We pass
 //   the table with one stage appended that *is* FSAL: node 1, A-row = b, weight 0. The step is
 //   unchanged, the reused derivative is now f(t_{n+1}, y_{n+1}), and the fixed-step order test
 //   (tests/solvers) guards it.

@@ -256,13 +256,17 @@ double observed_order(const std::string& solver, double p, unsigned want, double
 }
 
 TEST(FixedStep, EachRungeKuttaTableShowsItsOrder) {
-  // Measured: 5.3, 9.2 (the smooth contact's e converges a little faster than the nominal 8) and
-  // 4.9. The FSAL bug would show as about 3 for the 8th-order table.
+  // Measured in e: 5.3, 9.2 (this smooth contact's e converges a little faster than the nominal
+  // 8; δ_max shows 8.2) and 4.9. Fehlberg's table without the appended FSAL stage runs at 6.9 in
+  // e and 7.2 in δ_max from 20 to 40 steps (at 10 to 20 steps it still looks like 8), so the
+  // guard is taken there.
   const double dp5 = observed_order("arkode-dp5", 5, want_e, 80);
-  const double erk8 = observed_order("arkode-erk8", 5, want_e, 10);
+  const double erk8 = observed_order("arkode-erk8", 5, want_e, 20);
+  const double erk8_peak = observed_order("arkode-erk8", 5, want_delta_max, 20);
   const double dirk = observed_order("arkode-dirk", 5, want_e, 40);
   EXPECT_TRUE(dp5 > 4.7 && dp5 < 6.0) << dp5;
-  EXPECT_TRUE(erk8 > 7.7 && erk8 < 9.6) << erk8;
+  EXPECT_TRUE(erk8 > 7.7 && erk8 < 9.8) << erk8;
+  EXPECT_TRUE(erk8_peak > 7.7 && erk8_peak < 9.0) << erk8_peak;
   EXPECT_TRUE(dirk > 4.7 && dirk < 6.0) << dirk;
 }
 
