@@ -5,10 +5,9 @@
 // - arkode-erk8: Fehlberg 8(7), 13 stages. Debian's SUNDIALS 6.4.1 treats any table whose last
 //   node is c = 1 as first-same-as-last and reuses that stage as the next step's first, which is
 //   wrong for this table (its last stage is not at y_{n+1}): measured here, Fehlberg then runs at
-//   order ~7 instead of 8, and ARKODE_VERNER_8_5_6 at 3 instead of 6. We pass
-//   the table with one stage appended that *is* FSAL: node 1, A-row = b, weight 0. The step is
-//   unchanged, the reused derivative is now f(t_{n+1}, y_{n+1}), and the fixed-step order test
-//   (tests/solvers) guards it.
+//   order ~7 instead of 8, and ARKODE_VERNER_8_5_6 at 3 instead of 6. We pass the table with one
+//   stage appended that *is* FSAL: node 1, A-row = b, weight 0. The step is unchanged, the reused
+//   derivative is now f(t_{n+1}, y_{n+1}), and the fixed-step order test (tests/solvers) guards it.
 // - arkode-dirk: Kværnø's ESDIRK 7(4)5, L-stable, order 5, Newton on a dense 3x3 system with the
 //   floored analytic Jacobian (contact_ode.hpp), for heavy damping. (The order-4 SDIRK 5(3)4 needed
 //   ~1000 steps at rtol 1e-10 and missed 1e-7 in e = 0.1; this one takes ~300 and meets it.)
