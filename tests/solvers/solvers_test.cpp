@@ -298,6 +298,18 @@ TEST(FixedStep, VerletIsSecondOrderInThePeakOverlap) {
   }
 }
 
+TEST(FixedStep, VerletAtTheSeedsCriticalStepGainsEnergy) {
+  // MATH.md §6 (ii): the seed's Δt_crit is about half the contact, and velocity Verlet run at it
+  // returns the body faster than it came (e ≈ 3 undamped, Hertz).
+  const auto c = Contact<double>::from_alpha(1.5, 0.0, 1.0);
+  Options<double> options;
+  options.fixed_step = analytic::dt_crit_seed(c);
+  const Result<double> r = solve("verlet", problem_of(c), options);
+  EXPECT_EQ(r.steps, 2);
+  EXPECT_GT(*r.e, 2.5);
+  EXPECT_LT(*r.e, 3.5);
+}
+
 TEST(FixedStep, VerletDefaultsToFiftyStepsPerContactTimeScale) {
   const auto c = Contact<double>::from_e(1.0, 0.5, 1.0);
   const Result<double> r = solve("verlet", problem_of(c), Options<double>{});
