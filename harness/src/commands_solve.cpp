@@ -97,6 +97,9 @@ void run_solve(const SolveArgs& args, std::ostream& out) {
   o.number("energy_unload", r.energy_unload);
   o.integer("steps", r.steps);
   o.integer("rhs_evals", r.rhs_evals);
+  if (r.jacobian_evals > 0) {
+    o.integer("jacobian_evals", r.jacobian_evals);
+  }
   o.number("wall_seconds", r.wall_seconds);
   if (!options.sample_times.empty()) {
     o.raw("samples", samples_json(r.samples));

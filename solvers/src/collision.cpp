@@ -120,6 +120,7 @@ Result<double> Collision::finish(Outcome outcome, long steps) {
   r.fixed_step = options_.fixed_step;
   r.steps = steps;
   r.rhs_evals = rhs_evals_;
+  r.jacobian_evals = jacobian_evals_;
   r.events = std::move(events_);
   r.samples = std::move(samples_);
   r.wall_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();

@@ -35,7 +35,11 @@ public:
     const auto f = ode_.rhs(y[0], y[1], with_work());
     return {f[0], f[1], f[2]};
   }
-  long& rhs_evals() { return rhs_evals_; }
+  // Counts one evaluation (an implicit method's Newton matrix; about one rhs in cost).
+  std::array<std::array<double, 3>, 3> jacobian(const State& y) {
+    ++jacobian_evals_;
+    return ode_.jacobian(y[0], y[1], with_work(), jacobian_floor());
+  }
 
   // Event functions, positive before the event and falling through 0 at it: v for the peak; δ or
   // the sign of the total force (MATH.md §4) for the exit.
@@ -61,7 +65,7 @@ private:
   ContactOde<double> ode_;
   Options<double> options_;
   double horizon_;
-  long rhs_evals_ = 0;
+  long rhs_evals_ = 0, jacobian_evals_ = 0;
   std::vector<double> sample_times_; // sorted
   std::size_t next_sample_ = 0;
   std::vector<Sample<double>> samples_;

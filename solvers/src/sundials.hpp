@@ -96,10 +96,7 @@ inline int rhs(double /*t*/, N_Vector y, N_Vector ydot, void* user_data) {
 // The Jacobian of contact_ode.hpp (floored at δ = 0 where it is singular), into a dense matrix.
 inline int jacobian(double /*t*/, N_Vector y, N_Vector /*fy*/, SUNMatrix J, void* user_data,
                     N_Vector, N_Vector, N_Vector) {
-  const Collision& collision = *static_cast<Collision*>(user_data);
-  const State state = to_state(y);
-  const auto jac = collision.ode().jacobian(state[0], state[1], collision.with_work(),
-                                            collision.jacobian_floor());
+  const auto jac = static_cast<Collision*>(user_data)->jacobian(to_state(y));
   for (sunindextype i = 0; i < 3; ++i) {
     for (sunindextype j = 0; j < 3; ++j) {
       SM_ELEMENT_D(J, i, j) = jac[static_cast<std::size_t>(i)][static_cast<std::size_t>(j)];

@@ -448,6 +448,17 @@ TEST(Registry, ResultsDoNotDependOnThePreviousCall) {
   }
 }
 
+TEST(Registry, WorkCountsJacobiansOfTheImplicitMethodsOnly) {
+  const auto c = Contact<double>::from_e(1.5, 0.5, 1.0);
+  for (const SolverInfo& info : registry()) {
+    const Result<double> r = solve(info.name, problem_of(c), Options<double>{});
+    const std::string name(info.name);
+    const bool implicit = name.rfind("cvode", 0) == 0 || name == "arkode-dirk";
+    EXPECT_EQ(r.jacobian_evals > 0, implicit) << name;
+    EXPECT_GT(r.rhs_evals, r.steps) << name; // at least one evaluation per step, plus the start
+  }
+}
+
 TEST(StepLimit, IsAnOutcomeNotAnError) {
   const auto c = Contact<double>::from_e(1.5, 0.5, 1.0);
   Options<double> options;

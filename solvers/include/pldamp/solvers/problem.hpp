@@ -137,6 +137,7 @@ struct Result {
   std::optional<Real> fixed_step; // the step of a fixed-step run (verlet, or Options::fixed_step)
   long steps = 0;
   long rhs_evals = 0; // every right-hand-side evaluation, Jacobian difference quotients included
+  long jacobian_evals = 0; // analytic Jacobians of the implicit methods (each ~ one rhs)
   double wall_seconds = 0;
   std::vector<Event<Real>> events; // in time order; the peak and the exit each at most once
   std::vector<Sample<Real>> samples;
