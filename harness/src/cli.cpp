@@ -66,10 +66,13 @@ int run_cli(int argc, const char* const* argv, std::ostream& out, std::ostream& 
   add_contact_options(*observables, observables_args, false);
 
   SolveArgs solve_args;
-  CLI::App* solve = app.add_subcommand(
-      "solve", "integrate one collision with a registered solver: " + solvers::solver_names());
+  CLI::App* solve = app.add_subcommand("solve", "integrate one collision with a registered solver");
   add_contact_options(*solve, solve_args.contact, false);
-  solve->add_option("--solver", solve_args.solver, "registered solver name")->required();
+  std::string solver_help = "registered solver:";
+  for (const solvers::SolverInfo& info : solvers::registry()) {
+    solver_help += "\n  " + std::string(info.name) + ": " + std::string(info.method);
+  }
+  solve->add_option("--solver", solve_args.solver, solver_help)->required();
   solve->add_option("--rtol", solve_args.rtol, "relative tolerance (default 1e-8)");
   solve->add_option("--atol", solve_args.atol,
                     "absolute tolerance for every state, literal (default: rtol x natural scale)");

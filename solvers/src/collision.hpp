@@ -32,8 +32,7 @@ public:
   // Counts one evaluation.
   State rhs(const State& y) {
     ++rhs_evals_;
-    const auto f = ode_.rhs(y[0], y[1], with_work());
-    return {f[0], f[1], f[2]};
+    return ode_.rhs(y[0], y[1], with_work());
   }
   // Counts one evaluation (an implicit method's Newton matrix; about one rhs in cost).
   std::array<std::array<double, 3>, 3> jacobian(const State& y) {

@@ -36,6 +36,10 @@ struct ScaledSystem {
   State physical(const State& u) const {
     return {u[0] * scale[0], u[1] * scale[1], u[2] * scale[2]};
   }
+  State initial() const {
+    const State y0 = collision->initial_state();
+    return {y0[0] / scale[0], y0[1] / scale[1], y0[2] / scale[2]};
+  }
   void operator()(const State& u, State& dudt, double /*t*/) const {
     const State f = collision->rhs(physical(u));
     for (std::size_t i = 0; i < 3; ++i) {
@@ -44,15 +48,15 @@ struct ScaledSystem {
   }
 };
 
+double absolute_tolerance(const Collision& collision) {
+  return collision.options().atol.value_or(collision.options().rtol);
+}
+
 // Scales that turn Odeint's one atol into the per-state ones: u_i = y_i / (atol_i / atol).
 ScaledSystem scaled_system(Collision& collision) {
   const State atol = collision.absolute_tolerances();
-  const double common = collision.options().atol.value_or(collision.options().rtol);
+  const double common = absolute_tolerance(collision);
   return {&collision, {atol[0] / common, atol[1] / common, atol[2] / common}};
-}
-
-double absolute_tolerance(const Collision& collision) {
-  return collision.options().atol.value_or(collision.options().rtol);
 }
 
 // A first trial step. RKF78's error estimate cannot see the branch point at contact (see
@@ -61,21 +65,13 @@ double first_step(const Collision& collision) {
   return collision.ode().time_scale() * 1e-6;
 }
 
-State unscaled(const ScaledSystem& system, const State& u) {
-  return system.physical(u);
-}
-
 class Fehlberg78 final : public OneStepMethod {
 public:
   explicit Fehlberg78(Collision& collision)
       : system_(scaled_system(collision)),
         controlled_(Controlled::error_checker_type(absolute_tolerance(collision),
                                                    collision.options().rtol, 1, 0)),
-        dt_(first_step(collision)) {
-    const State y0 = collision.initial_state();
-    for (std::size_t i = 0; i < 3; ++i) {
-      u_[i] = y0[i] / system_.scale[i];
-    }
+        dt_(first_step(collision)), u_(system_.initial()) {
     system_(u_, dudt_, t_);
   }
 
@@ -91,14 +87,14 @@ public:
     }
     ++steps_;
     system_(u_, dudt_, t_); // the next step's first stage, also the start of its dense output
-    y = unscaled(system_, u_);
+    y = system_.physical(u_);
     return t_;
   }
 
   State state_at(double t) override {
     State u{};
     controlled_.stepper().do_step(system_, u_start_, dudt_start_, t_start_, u, t - t_start_);
-    return unscaled(system_, u);
+    return system_.physical(u);
   }
 
   long steps() const override { return steps_; }
@@ -120,12 +116,7 @@ public:
   explicit BulirschStoer(Collision& collision)
       : system_(scaled_system(collision)),
         stepper_(absolute_tolerance(collision), collision.options().rtol, 1, 0, 0, true) {
-    State u0{};
-    const State y0 = collision.initial_state();
-    for (std::size_t i = 0; i < 3; ++i) {
-      u0[i] = y0[i] / system_.scale[i];
-    }
-    stepper_.initialize(u0, 0.0, first_step(collision));
+    stepper_.initialize(system_.initial(), 0.0, first_step(collision));
   }
 
   // Odeint's dense-output steppers choose their own step; the driver treats a step ending past
@@ -133,14 +124,14 @@ public:
   double step(double /*t_stop*/, State& y) override {
     stepper_.do_step(system_);
     ++steps_;
-    y = unscaled(system_, stepper_.current_state());
+    y = system_.physical(stepper_.current_state());
     return stepper_.current_time();
   }
 
   State state_at(double t) override {
     State u{};
     stepper_.calc_state(t, u);
-    return unscaled(system_, u);
+    return system_.physical(u);
   }
 
   long steps() const override { return steps_; }
