@@ -8,7 +8,8 @@
 
 namespace pldamp::solvers::detail {
 
-Collision::Collision(const Problem<double>& problem, const Options<double>& options)
+template <SupportedReal Real>
+BasicCollision<Real>::BasicCollision(const Problem<Real>& problem, const Options<Real>& options)
     : ode_(problem), options_(options),
       horizon_(options.horizon.value_or(1000 * ode_.time_scale())),
       sample_times_(options.sample_times) {
@@ -16,7 +17,8 @@ Collision::Collision(const Problem<double>& problem, const Options<double>& opti
   std::sort(sample_times_.begin(), sample_times_.end());
 }
 
-State Collision::absolute_tolerances() const {
+template <SupportedReal Real>
+StateOf<Real> BasicCollision<Real>::absolute_tolerances() const {
   if (options_.atol) {
     return {*options_.atol, *options_.atol, *options_.atol};
   }
@@ -28,34 +30,39 @@ State Collision::absolute_tolerances() const {
   // - W: the dashpot's work scale c δ_u^a v0 · δ_u (its force at δ_u, v0 over δ_u), at least
   //   1e-3 KE0: the dissipated (1 − e²) KE0 is small when e → 1, and so is c. Holding W to
   //   1e-3 KE0 instead cost 60% more CVODE steps for the same budget.
-  const double rtol = options_.rtol;
-  const double delta_u = ode_.delta_scale();
-  const double dashpot_work =
+  using std::max;
+  const Real rtol = options_.rtol;
+  const Real delta_u = ode_.delta_scale();
+  const Real dashpot_work =
       ode_.damping_coefficient() * ode_.dashpot_factor(delta_u) * delta_u * ode_.v0();
   return {rtol * delta_u, rtol * ode_.v0() / 1000,
-          rtol * std::max(dashpot_work, ode_.energy_scale() / 1000)};
+          rtol * max(dashpot_work, ode_.energy_scale() / 1000)};
 }
 
-double Collision::jacobian_floor() const {
+template <SupportedReal Real>
+Real BasicCollision<Real>::jacobian_floor() const {
   // 1e-3 δ_u: the Newton iterations of a step leaving δ = 0 start from the step's start, where the
   // true ∂|δ|^a/∂δ is infinite, and must reach stage overlaps ~ v0 h. A floor at √ε δ_u (the
   // exact derivative almost everywhere) made arkode-dirk's fixed-step Newton fail in 44 of 72
   // runs (p = 1.25 ... 2.5, e = 0.9 ... 0.01, Δt = 0.2 ... 0.005); 1e-3 δ_u in none.
-  return 1e-3 * ode_.delta_scale();
+  return ode_.delta_scale() / 1000;
 }
 
-double Collision::event_value(EventKind kind, const State& y) const {
+template <SupportedReal Real>
+Real BasicCollision<Real>::event_value(EventKind kind, const State& y) const {
   if (kind == EventKind::peak) {
     return y[1];
   }
   return options_.end == End::overlap ? y[0] : ode_.force_sign(y[0], y[1]);
 }
 
-bool Collision::pending(EventKind kind) const {
+template <SupportedReal Real>
+bool BasicCollision<Real>::pending(EventKind kind) const {
   return kind == EventKind::peak ? !peak_found_ : peak_found_ && !exit_found_;
 }
 
-bool Collision::record(EventKind kind, double t, const State& y) {
+template <SupportedReal Real>
+bool BasicCollision<Real>::record(EventKind kind, const Real& t, const State& y) {
   if (kind == EventKind::peak) {
     events_.push_back({kind, t});
     peak_found_ = true;
@@ -66,8 +73,10 @@ bool Collision::record(EventKind kind, double t, const State& y) {
     return (options_.want & (want_e | want_tau | want_energy)) == 0;
   }
   const State atol = absolute_tolerances();
-  const double noise = std::min(10 * (atol[1] + atol[0] / ode_.time_scale()), ode_.v0() / 1000);
-  if (std::abs(y[1]) <= noise) {
+  using std::abs;
+  using std::min;
+  const Real noise = min(10 * (atol[1] + atol[0] / ode_.time_scale()), ode_.v0() / 1000);
+  if (abs(y[1]) <= noise) {
     // An "exit" at a speed within the tolerances (of v, and of δ per time unit) is an overdamped
     // overlap that decayed into the integration noise and crossed 0 there: not a return the
     // solver can tell from none (so e below ~10 rtol reads as no exit). Capped at 1e-3 v0 so that
@@ -77,13 +86,14 @@ bool Collision::record(EventKind kind, double t, const State& y) {
   events_.push_back({kind, t});
   exit_found_ = true;
   tau_ = t;
-  exit_speed_ = std::abs(y[1]);
+  exit_speed_ = abs(y[1]);
   work_exit_ = y[2];
   return true;
 }
 
-Result<double> Collision::finish(Outcome outcome, long steps) {
-  Result<double> r;
+template <SupportedReal Real>
+Result<Real> BasicCollision<Real>::finish(Outcome outcome, long steps) {
+  Result<Real> r;
   r.outcome = outcome;
   const unsigned want = options_.want;
   if (peak_found_) {
@@ -111,10 +121,10 @@ Result<double> Collision::finish(Outcome outcome, long steps) {
     // No return before the horizon: the body never leaves (e = 0, τ = ∞); the unloading work is
     // left unset, as it has not been measured to the end.
     if (want & want_e) {
-      r.e = 0.0;
+      r.e = Real(0);
     }
     if (want & want_tau) {
-      r.tau = std::numeric_limits<double>::infinity();
+      r.tau = std::numeric_limits<Real>::infinity();
     }
   }
   r.fixed_step = options_.fixed_step;
@@ -126,6 +136,13 @@ Result<double> Collision::finish(Outcome outcome, long steps) {
   r.wall_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
   return r;
 }
+
+template class BasicCollision<double>;
+template class BasicCollision<long double>;
+#if PLDAMP_WITH_QUAD
+template class BasicCollision<quad>;
+#endif
+template class BasicCollision<bin50>;
 
 namespace {
 

@@ -3,6 +3,7 @@
 // and finds events on it.
 #pragma once
 
+#include "pldamp/core/real_types.hpp"
 #include "pldamp/solvers/contact_ode.hpp"
 #include "pldamp/solvers/problem.hpp"
 
@@ -13,21 +14,28 @@
 
 namespace pldamp::solvers::detail {
 
-using State = std::array<double, 3>; // δ, v, W (W frozen at 0 when energy is not wanted)
+template <SupportedReal Real>
+using StateOf = std::array<Real, 3>; // δ, v, W (W frozen at 0 when energy is not wanted)
+using State = StateOf<double>;
 
-class Collision {
+// One collision's bookkeeping in physical units, in any precision (the Taylor reference runs in
+// quad; the other solvers use Collision, the double one).
+template <SupportedReal Real>
+class BasicCollision {
 public:
-  Collision(const Problem<double>& problem, const Options<double>& options);
+  using State = StateOf<Real>;
 
-  const ContactOde<double>& ode() const { return ode_; }
-  const Options<double>& options() const { return options_; }
+  BasicCollision(const Problem<Real>& problem, const Options<Real>& options);
+
+  const ContactOde<Real>& ode() const { return ode_; }
+  const Options<Real>& options() const { return options_; }
   bool with_work() const { return (options_.want & want_energy) != 0; }
-  double horizon() const { return horizon_; }
-  State initial_state() const { return {0, ode_.v0(), 0}; }
+  Real horizon() const { return horizon_; }
+  State initial_state() const { return {Real(0), ode_.v0(), Real(0)}; }
   // Per-state absolute tolerances: literal `atol` for all, or rtol times each natural scale.
   State absolute_tolerances() const;
   // The δ-floor below which implicit methods' Jacobians are frozen (contact_ode.hpp).
-  double jacobian_floor() const;
+  Real jacobian_floor() const;
 
   // Counts one evaluation.
   State rhs(const State& y) {
@@ -35,45 +43,49 @@ public:
     return ode_.rhs(y[0], y[1], with_work());
   }
   // Counts one evaluation (an implicit method's Newton matrix; about one rhs in cost).
-  std::array<std::array<double, 3>, 3> jacobian(const State& y) {
+  std::array<State, 3> jacobian(const State& y) {
     ++jacobian_evals_;
     return ode_.jacobian(y[0], y[1], with_work(), jacobian_floor());
   }
+  // Counts work done outside rhs() (the Taylor recurrences, in rhs-evaluation units).
+  void count_rhs_evals(long n) { rhs_evals_ += n; }
 
   // Event functions, positive before the event and falling through 0 at it: v for the peak; δ or
   // the sign of the total force (MATH.md §4) for the exit.
-  double event_value(EventKind kind, const State& y) const;
+  Real event_value(EventKind kind, const State& y) const;
   // An event still to be found: the peak until found; the exit once the peak is behind.
   bool pending(EventKind kind) const;
   // Records an event; returns true when the run is complete.
-  bool record(EventKind kind, double t, const State& y);
+  bool record(EventKind kind, const Real& t, const State& y);
 
   // Records the requested samples with times up to t (inclusive), in order.
   template <class StateAt>
-  void sample_through(double t, StateAt&& state_at) {
+  void sample_through(const Real& t, StateAt&& state_at) {
     while (next_sample_ < sample_times_.size() && sample_times_[next_sample_] <= t) {
-      const double ts = sample_times_[next_sample_++];
+      const Real ts = sample_times_[next_sample_++];
       const State y = state_at(ts);
       samples_.push_back({ts, y[0], y[1]});
     }
   }
 
-  Result<double> finish(Outcome outcome, long steps);
+  Result<Real> finish(Outcome outcome, long steps);
 
 private:
-  ContactOde<double> ode_;
-  Options<double> options_;
-  double horizon_;
+  ContactOde<Real> ode_;
+  Options<Real> options_;
+  Real horizon_;
   long rhs_evals_ = 0, jacobian_evals_ = 0;
-  std::vector<double> sample_times_; // sorted
+  std::vector<Real> sample_times_; // sorted
   std::size_t next_sample_ = 0;
-  std::vector<Sample<double>> samples_;
-  std::vector<Event<double>> events_;
+  std::vector<Sample<Real>> samples_;
+  std::vector<Event<Real>> events_;
   bool peak_found_ = false, exit_found_ = false;
-  double t_peak_ = 0, delta_max_ = 0, work_peak_ = 0;
-  double tau_ = 0, exit_speed_ = 0, work_exit_ = 0;
+  Real t_peak_ = 0, delta_max_ = 0, work_peak_ = 0;
+  Real tau_ = 0, exit_speed_ = 0, work_exit_ = 0;
   std::chrono::steady_clock::time_point start_ = std::chrono::steady_clock::now();
 };
+
+using Collision = BasicCollision<double>;
 
 // A one-step method that can evaluate its solution anywhere in its last step [t_prev, t] to its
 // own order of accuracy (a dense output, or the method's step repeated with a shorter h).
