@@ -16,5 +16,8 @@ Result<double> solve_arkode(ArkodeMethod method, const Problem<double>& problem,
 Result<double> solve_odeint(OdeintMethod method, const Problem<double>& problem,
                             const Options<double>& options);
 Result<double> solve_verlet(const Problem<double>& problem, const Options<double>& options);
+// Instantiated for every SupportedReal.
+template <SupportedReal Real>
+Result<Real> solve_taylor(const Problem<Real>& problem, const Options<Real>& options);
 
 } // namespace pldamp::solvers::detail

@@ -248,6 +248,9 @@ TEST_P(EverySolver, PhysicalUnitsNeedNoAbsoluteTolerance) {
   Options<double> options;
   options.rtol = 1e-10;
   EXPECT_LT(worst_error(solve(GetParam(), problem_of(c), options), c), 1e-7);
+  if (GetParam() == "taylor") {
+    return; // its error control is relative to each state and takes no atol (taylor.cpp)
+  }
   options.atol = 1e-3;
   EXPECT_GT(worst_error(solve(GetParam(), problem_of(c), options), c), 1e-7);
 }
@@ -388,7 +391,7 @@ TEST(ContactOde, ExitSeriesCompletesTheAnalyticTrajectory) {
 TEST(Registry, ListsEverySolverOnceAndRejectsUnknownNames) {
   const std::vector<std::string> expected{"cvode-bdf",   "cvode-adams", "arkode-dp5",
                                           "arkode-erk8", "arkode-dirk", "odeint-rkf78",
-                                          "odeint-bs",   "verlet"};
+                                          "odeint-bs",   "taylor",      "verlet"};
   std::vector<std::string> names;
   for (const SolverInfo& info : registry()) {
     names.emplace_back(info.name);
@@ -401,8 +404,23 @@ TEST(Registry, ListsEverySolverOnceAndRejectsUnknownNames) {
   } catch (const std::invalid_argument& e) {
     EXPECT_EQ(std::string(e.what()),
               "unknown solver, expected cvode-bdf|cvode-adams|arkode-dp5|arkode-erk8|"
-              "arkode-dirk|odeint-rkf78|odeint-bs|verlet (got ode45)");
+              "arkode-dirk|odeint-rkf78|odeint-bs|taylor|verlet (got ode45)");
   }
+  for (const SolverInfo& info : registry()) {
+    EXPECT_EQ(info.any_precision, info.name == "taylor") << info.name;
+  }
+}
+
+TEST(Registry, OnlyTaylorRunsInOtherPrecisions) {
+  const Problem<long double> problem{1.5L, 1, 1, 1, 0.5L};
+  try {
+    solve("cvode-bdf", problem, Options<long double>{});
+    FAIL() << "no exception";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_EQ(std::string(e.what()),
+              "solver cvode-bdf runs in double only (taylor runs in any precision); got long");
+  }
+  EXPECT_EQ(solve("taylor", problem, Options<long double>{}).outcome, Outcome::exited);
 }
 
 TEST(Validation, BadProblemsAndOptionsNameTheParameter) {

@@ -54,7 +54,8 @@ struct Options {
   // Absolute tolerance applied literally to every state, in physical units, as ode45 does. When
   // absent each state gets rtol times its natural scale (δ: the undamped δ_max; v: 1e-3 v0; W:
   // the dashpot's work scale; see Collision::absolute_tolerances), so a contact in metres
-  // (δ ~ 1e-5) is solved as accurately as one in units of 1.
+  // (δ ~ 1e-5) is solved as accurately as one in units of 1. taylor controls the error relative
+  // to each state and ignores atol.
   std::optional<Real> atol;
   unsigned want = want_all;
   End end = End::overlap;

@@ -4,6 +4,7 @@
 
 #include "pldamp/solvers/problem.hpp"
 
+#include <concepts>
 #include <span>
 #include <string>
 #include <string_view>
@@ -13,7 +14,8 @@ namespace pldamp::solvers {
 struct SolverInfo {
   std::string_view name;
   std::string_view method;
-  bool adaptive; // false: fixed step (rtol and atol are ignored)
+  bool adaptive;      // false: fixed step (rtol and atol are ignored)
+  bool any_precision; // runs in every SupportedReal, not only double
 };
 
 // Every registered solver, in a stable order.
@@ -26,5 +28,12 @@ std::string solver_names();
 // invalid problem/options, std::runtime_error when the integrator itself fails.
 Result<double> solve(std::string_view name, const Problem<double>& problem,
                      const Options<double>& options);
+
+// The same in another precision, for the solvers marked any_precision (taylor); any other name
+// throws std::invalid_argument. Instantiated for long double, float128 and cpp_bin_float_50.
+template <SupportedReal Real>
+requires(!std::same_as<Real, double>) Result<Real> solve(std::string_view name,
+                                                         const Problem<Real>& problem,
+                                                         const Options<Real>& options);
 
 } // namespace pldamp::solvers

@@ -1,0 +1,208 @@
+// Taylor arithmetic (the automatic-differentiation recurrences) and the local series of the contact
+// equation where the overlap vanishes: the entry (t = 0) and the exit (t = τ) of a contact, where
+// δ^((p−1)/2) has a branch point (MATH.md §8) that no Taylor step in t can start from or cross.
+//
+// The taylor solver integrates the physical equation in the units of its own energy balance,
+// δ_u (k δ_u^(p+1)/(p+1) = m v0²/2), T = δ_u / v0 and KE0 = m v0²/2 (MATH.md §7). Only units
+// change, not variables: time stays the independent variable and δ the overlap. There
+//     δ'' + γ δ^a δ' + κ δ^p = 0,   a = (p−1)/2,  b = a + 1 = (p+1)/2,  κ = b,  γ = α √b,   (1)
+// with δ(0) = 0, δ'(0) = 1, and the dissipated work W' = 2γ δ^a δ'² (in units of KE0).
+//
+// The series. Near a point s = 0 where δ = 0 and dδ/ds = u > 0 (forward time at the entry, with γ
+// as in (1); backward time s = τ − t at the exit, where the time-reversed equation has −γ), put
+//     δ = u s Y(x),   x = u^a s^b,   Y(x) = Σ_j c_j x^j,   c_0 = 1.
+// Then, with d/ds (s x^j) = (1 + j b) x^j and E = Y^a,
+//     dδ/ds = u Z(x),                                   Z = Σ c_j (1 + j b) x^j,
+//     d²δ/ds² = (u / s) Σ c_j j b (1 + j b) x^j,
+//     δ^a dδ/ds = u^(a+1) s^a E Z = (u / s) x E Z,      δ^p = u^p s^p E² Y = (u / s) x² E² Y,
+// and (1) divided by u / s, power by power of x, is the recurrence
+//     c_j j b (1 + j b) = −γ (E Z)_{j−1} − κ (E² Y)_{j−2}.                                   (2)
+// The coefficients depend on (p, γ) only; u enters through x alone. E = Y^a follows by the power
+// recurrence below. The work from s = 0 is ∫ 2γ δ^a (dδ/ds)² ds = 2γ u² ∫ u^a s^a E Z² ds, and
+// since ∫_0^s u^a σ^a x(σ)^j dσ = x^(j+1) / (b (j + 1)),
+//     W(s) = 2γ u² Σ_j M_j x^(j+1) / (b (j + 1)),   M = E Z².                               (3)
+// For p = 1 (a = 0, b = 1) the series is the ordinary Taylor series in s; for odd p it is one in
+// s^b with b integer; otherwise it resolves the branch point exactly.
+#pragma once
+
+#include "polynomial.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstddef>
+#include <optional>
+#include <span>
+#include <vector>
+
+namespace pldamp::solvers::detail {
+
+// (f g)_n = Σ_{j=0}^{n} f_j g_{n−j}: the n-th Taylor coefficient of a product.
+template <class Real>
+Real product_coefficient(const std::vector<Real>& f, const std::vector<Real>& g, std::size_t n) {
+  Real sum = f[0] * g[n];
+  for (std::size_t j = 1; j <= n; ++j) {
+    sum += f[j] * g[n - j];
+  }
+  return sum;
+}
+
+// The n-th (n ≥ 1) Taylor coefficient of u = f^a for constant a, from u_0 ... u_{n−1}: u = f^a
+// gives f u' = a f' u, whose coefficient of order n − 1 solves to
+//     u_n = (1 / (n f_0)) Σ_{j=0}^{n−1} (a (n − j) − j) f_{n−j} u_j.
+// It divides by f_0: the expansion point must not be a zero of f (the branch point).
+template <class Real>
+Real power_coefficient(const std::vector<Real>& f, const std::vector<Real>& u, const Real& a,
+                       std::size_t n) {
+  Real sum = Real(0);
+  for (std::size_t j = 0; j < n; ++j) {
+    sum += (a * Real(n - j) - Real(j)) * f[n - j] * u[j];
+  }
+  return sum / (Real(n) * f[0]);
+}
+
+template <class Real>
+class ContactPointSeries {
+public:
+  // The series of (1) with damping `gamma` (γ at the entry, −γ at the exit) to x^terms, its work
+  // (3) with the physical `dissipation` 2γ (if `with_work`), and its reach: the largest x at which
+  // the terms left out stay below `tolerance` relative.
+  ContactPointSeries(const Real& p, const Real& gamma, const Real& dissipation,
+                     const Real& tolerance, int terms, bool with_work)
+      : a_((p - 1) / 2), b_((p + 1) / 2), dissipation_(dissipation) {
+    const std::size_t n = static_cast<std::size_t>(terms) + 1;
+    // E = Y^a, E Z, Y^p = E² Y (its own power recurrence: one pass instead of two products) and
+    // M = (E Z) Z.
+    std::vector<Real> c(n), e(n), ez(n), yp(n), z(n), m(n);
+    const Real& kappa = b_;
+    c[0] = e[0] = yp[0] = Real(1);
+    for (std::size_t j = 0; j < n; ++j) {
+      if (j > 0) {
+        const Real jb = Real(j) * b_;
+        Real rhs = -gamma * ez[j - 1];
+        if (j >= 2) {
+          rhs -= kappa * yp[j - 2];
+        }
+        c[j] = rhs / (jb * (1 + jb)); // (2)
+        e[j] = power_coefficient(c, e, a_, j);
+        yp[j] = power_coefficient(c, yp, p, j);
+      }
+      z[j] = c[j] * (1 + Real(j) * b_);
+      ez[j] = product_coefficient(e, z, j);
+      if (with_work) {
+        m[j] = product_coefficient(ez, z, j);
+      }
+    }
+    y_ = std::move(c);
+    z_ = std::move(z);
+    // (3) as a polynomial in x: w_{j+1} = M_j / (b (j + 1)); zero without work.
+    w_.assign(n + 1, Real(0));
+    for (std::size_t j = 0; j < n; ++j) {
+      w_[j + 1] = m[j] / (b_ * Real(j + 1));
+    }
+    reach_ = reach_of(tolerance);
+  }
+
+  Real a() const { return a_; }
+  Real b() const { return b_; }
+  // The series is used for x = u^a s^b ≤ reach() only.
+  Real reach() const { return reach_; }
+  Real x_of(const Real& u, const Real& s) const {
+    using std::pow;
+    return pow(u, a_) * pow(s, b_);
+  }
+  // The s at which x reaches `x` for speed u.
+  Real s_of(const Real& u, const Real& x) const {
+    using std::pow;
+    return pow(x / pow(u, a_), 1 / b_);
+  }
+
+  struct Point {
+    Real delta, rate, work; // δ, dδ/ds and the work done since s = 0
+  };
+  Point at(const Real& u, const Real& s) const {
+    const Real x = x_of(u, s);
+    return {u * s * horner<Real>(y_, x), u * horner<Real>(z_, x),
+            dissipation_ * u * u * horner<Real>(w_, x)};
+  }
+  // The first x in (0, x_max] at which dδ/ds has fallen to `fraction` of u, if any (the entry
+  // stops there, well before the peak; for odd p the series converges everywhere and would
+  // otherwise run past the peak and round the whole contact).
+  std::optional<Real> rate_falls_to(const Real& fraction, const Real& x_max) const {
+    std::vector<Real> shifted = z_;
+    shifted[0] -= fraction;
+    return first_sign_change<Real>(shifted, x_max);
+  }
+
+  // The contact point behind a state near it: the speed u at δ = 0 and the distance s to it, such
+  // that δ(s) = delta and dδ/ds = rate. Newton's method on the two equations
+  //     F1 = u s Y(x) − δ,   F2 = u Z(x) − rate,   x = u^a s^b   (∂x/∂u = a x/u, ∂x/∂s = b x/s)
+  // from u = rate, s = δ / rate (the straight line), converging quadratically. None if it does not
+  // converge to a point inside the reach: then the state is not near a return to δ = 0 (an
+  // overdamped overlap decaying for ever, or still too far from the exit).
+  struct Contact {
+    Real u, s;
+  };
+  std::optional<Contact> locate(const Real& delta, const Real& rate) const {
+    using std::abs;
+    if (!(delta > 0 && rate > 0)) {
+      return std::nullopt;
+    }
+    const Real eps = std::numeric_limits<Real>::epsilon();
+    Real u = rate, s = delta / rate;
+    for (int iteration = 0; iteration < 40; ++iteration) {
+      const Real x = x_of(u, s);
+      if (!(x <= reach_)) {
+        return std::nullopt;
+      }
+      Real y, dy, z, dz;
+      horner_with_derivative<Real>(y_, x, y, dy);
+      horner_with_derivative<Real>(z_, x, z, dz);
+      const Real f1 = u * s * y - delta, f2 = u * z - rate;
+      const Real j11 = s * (y + a_ * x * dy), j12 = u * z;
+      const Real j21 = z + a_ * x * dz, j22 = u * b_ * x * dz / s;
+      const Real det = j11 * j22 - j12 * j21;
+      const Real du = (f2 * j12 - f1 * j22) / det, ds = (f1 * j21 - f2 * j11) / det;
+      u += du;
+      s += ds;
+      if (!(u > 0 && s > 0)) {
+        return std::nullopt;
+      }
+      if (abs(du) <= 4 * eps * u && abs(ds) <= 4 * eps * s) {
+        if (!(x_of(u, s) <= reach_)) {
+          return std::nullopt;
+        }
+        return Contact{u, s};
+      }
+    }
+    return std::nullopt;
+  }
+
+private:
+  // The coefficients of a series with radius R in x grow like R^-j; an estimate of 1/R is the
+  // largest |c_j|^(1/j) over the upper half of the terms (the lower ones still carry the
+  // function's own scale). The terms left out at x = r R add up to ~ r^(J+1) / (1 − r), so
+  // r = (tolerance / 4)^(1/(J+1)) keeps them below the tolerance. With J = twice the Taylor
+  // order (1 − ½ ln tolerance), r ≈ e^-1: the series covers a third of its radius.
+  Real reach_of(const Real& tolerance) const {
+    using std::abs;
+    using std::pow;
+    const std::size_t terms = y_.size() - 1;
+    Real inverse_radius = Real(0);
+    for (std::size_t j = (terms + 1) / 2; j <= terms; ++j) {
+      for (const std::vector<Real>* coefficients : {&y_, &z_}) {
+        const Real magnitude = abs((*coefficients)[j]);
+        if (magnitude > 0) {
+          inverse_radius = std::max(inverse_radius, Real(pow(magnitude, 1 / Real(j))));
+        }
+      }
+    }
+    const Real r = pow(tolerance / 4, 1 / Real(terms + 1));
+    return inverse_radius > 0 ? r / inverse_radius : std::numeric_limits<Real>::max();
+  }
+
+  Real a_, b_, dissipation_;
+  std::vector<Real> y_, z_, w_; // δ / (u s), dδ/ds / u, W / (2γ u²) as polynomials in x
+  Real reach_;
+};
+
+} // namespace pldamp::solvers::detail

@@ -1,0 +1,172 @@
+// Polynomials given by their coefficients c_0 ... c_n (a Taylor step, a local series): evaluation,
+// and the first sign change in an interval by Descartes' rule of signs with bisection (the
+// Vincent–Collins–Akritas method, as heyoka isolates events on its Taylor polynomials), polished
+// by Boost's TOMS 748 to full precision. Any SupportedReal.
+#pragma once
+
+#include <boost/math/tools/toms748_solve.hpp>
+
+#include <cmath>
+#include <cstddef>
+#include <cstdint>
+#include <limits>
+#include <optional>
+#include <span>
+#include <vector>
+
+namespace pldamp::solvers::detail {
+
+// Σ c_i x^i by Horner's rule.
+template <class Real>
+Real horner(std::span<const Real> c, const Real& x) {
+  Real sum = c.back();
+  for (std::size_t i = c.size() - 1; i-- > 0;) {
+    sum = sum * x + c[i];
+  }
+  return sum;
+}
+
+// Σ c_i x^i and its derivative, by Horner's rule.
+template <class Real>
+void horner_with_derivative(std::span<const Real> c, const Real& x, Real& value, Real& slope) {
+  value = c.back();
+  slope = Real(0);
+  for (std::size_t i = c.size() - 1; i-- > 0;) {
+    slope = slope * x + value;
+    value = value * x + c[i];
+  }
+}
+
+namespace polynomial_detail {
+
+// a(x) -> a(x + 1) in place: n(n+1)/2 additions (repeated synthetic division).
+template <class Real>
+void shift_by_one(std::vector<Real>& a) {
+  const std::size_t n = a.size() - 1;
+  for (std::size_t i = 0; i < n; ++i) {
+    for (std::size_t j = n; j-- > i;) {
+      a[j] += a[j + 1];
+    }
+  }
+}
+
+// Descartes' bound on the roots of a in (0, 1): the sign variations of the coefficients of
+// (x + 1)^n a(1 / (x + 1)), which maps (0, 1) onto (0, ∞). It is exact when it is 0 or 1, and
+// otherwise exceeds the root count by an even number.
+template <class Real>
+int roots_bound_01(const std::vector<Real>& a) {
+  std::vector<Real> b(a.rbegin(), a.rend());
+  shift_by_one(b);
+  int variations = 0;
+  int last_sign = 0;
+  for (const Real& coefficient : b) {
+    const int sign = coefficient > 0 ? 1 : (coefficient < 0 ? -1 : 0);
+    if (sign != 0) {
+      variations += (last_sign != 0 && sign != last_sign) ? 1 : 0;
+      last_sign = sign;
+    }
+  }
+  return variations;
+}
+
+// No root in [0, 1] when |a_0| > Σ_{i≥1} |a_i| (a cheap exclusion that settles almost every step
+// far from an event in O(n)).
+template <class Real>
+bool excludes_roots_01(const std::vector<Real>& a) {
+  using std::abs;
+  Real rest = Real(0);
+  for (std::size_t i = 1; i < a.size(); ++i) {
+    rest += abs(a[i]);
+  }
+  return abs(a[0]) > rest;
+}
+
+} // namespace polynomial_detail
+
+// The first t in (0, h] where the polynomial Σ c_i t^i changes sign (a crossing, not a touch), or
+// none. Intervals are halved until Descartes' rule isolates a single root (a(x) on [lo, lo + w]
+// becomes a(lo + w x) on [0, 1]: the left half scales coefficient i by 2^-i, the right half is
+// the left shifted by one) or excludes all; the isolated root is then polished by TOMS 748 on
+// the original polynomial to all but 2 bits.
+template <class Real>
+std::optional<Real> first_sign_change(std::span<const Real> c, const Real& h) {
+  using polynomial_detail::excludes_roots_01;
+  using polynomial_detail::roots_bound_01;
+  using polynomial_detail::shift_by_one;
+
+  auto value_at = [&](const Real& t) { return horner(c, t); };
+  auto polish = [&](const Real& lo, const Real& hi) -> std::optional<Real> {
+    const Real f_lo = value_at(lo), f_hi = value_at(hi);
+    if (f_hi == 0) {
+      return hi;
+    }
+    if ((f_lo > 0) == (f_hi > 0) || f_lo == 0) {
+      return std::nullopt; // an even number of crossings, or a root at the left end (not new)
+    }
+    std::uintmax_t iterations = 200;
+    const auto bracket = boost::math::tools::toms748_solve(
+        value_at, lo, hi, f_lo, f_hi,
+        boost::math::tools::eps_tolerance<Real>(std::numeric_limits<Real>::digits - 2), iterations);
+    return bracket.first + (bracket.second - bracket.first) / 2;
+  };
+
+  // The exclusion test first, without a copy: it settles almost every step.
+  {
+    using std::abs;
+    Real rest = Real(0), power = h;
+    for (std::size_t i = 1; i < c.size(); ++i, power *= h) {
+      rest += abs(c[i]) * power;
+    }
+    if (abs(c[0]) > rest) {
+      return std::nullopt;
+    }
+  }
+  // a(x) = p(h x) on [0, 1].
+  std::vector<Real> a(c.begin(), c.end());
+  Real power = Real(1);
+  for (Real& coefficient : a) {
+    coefficient *= power;
+    power *= h;
+  }
+  // Depth-first, left half first, so that the first root is found first. 2^-60 of h is below the
+  // resolution of double; deeper ties (multiple roots) are settled by the signs at the ends.
+  struct Interval {
+    std::vector<Real> coefficients;
+    Real lo, width;
+    int depth;
+  };
+  std::vector<Interval> stack;
+  stack.push_back({std::move(a), Real(0), Real(1), 0});
+  while (!stack.empty()) {
+    Interval piece = std::move(stack.back());
+    stack.pop_back();
+    if (excludes_roots_01(piece.coefficients)) {
+      continue;
+    }
+    const int bound = roots_bound_01(piece.coefficients);
+    if (bound == 0) {
+      continue;
+    }
+    const Real lo = h * piece.lo, hi = h * (piece.lo + piece.width);
+    if (bound == 1 || piece.depth == 60) {
+      if (const auto root = polish(lo, hi)) {
+        return root;
+      }
+      continue;
+    }
+    std::vector<Real> left = std::move(piece.coefficients);
+    Real scale = Real(1);
+    for (Real& coefficient : left) {
+      coefficient *= scale;
+      scale /= 2;
+    }
+    std::vector<Real> right = left;
+    shift_by_one(right);
+    const Real half = piece.width / 2;
+    stack.push_back({std::move(right), piece.lo + half, half, piece.depth + 1});
+    stack.push_back({std::move(left), piece.lo, half, piece.depth + 1});
+  }
+  return std::nullopt;
+}
+
+} // namespace pldamp::solvers::detail

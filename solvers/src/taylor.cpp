@@ -1,0 +1,310 @@
+// taylor: an adaptive Taylor-series integrator of the physical equation, in any precision (double,
+// long double, float128, cpp_bin_float_50); the harness's numerical reference.
+//
+// The equation is (1) of contact_series.hpp: MATH.md §1 in the units δ_u, T = δ_u/v0, KE0 of its
+// own energy balance, state (δ, v, W), time the independent variable. Nothing here uses the
+// paper's map or a closed form.
+//
+// A step from (δ, v, W) at t computes the Taylor coefficients of the solution to order N by the
+// automatic-differentiation recurrences (contact_series.hpp):
+//     u = δ^a (power),  q = u δ = δ^b,  f = u q = δ^p,  g = u v = δ^a v,  P = g v = δ^a v²,
+//     δ_{n+1} = v_n / (n+1),   v_{n+1} = −(γ g_n + κ f_n) / (n+1),   W_{n+1} = 2γ P_n / (n+1),
+// O(N²) operations per step. Order and step follow Jorba & Zou (2005), as heyoka does:
+// - N = ⌈1 − ½ ln ε⌉ for the tolerance ε (rtol): the cost per unit time, ~N² / h with h ~ ρ e^−2,
+//   is least there when the step keeps the truncation error at ε.
+// - ρ, the radius of convergence, is estimated from the last two coefficients of each state,
+//   relative to its scale s: ρ = min (s / |x_n|)^(1/n), n ∈ {N−1, N} (two orders, as one can
+//   vanish by accident). Relative (s = |δ| for δ; see step_size for v and W), so that the exit
+//   speed e v0 is measured to ε relative even for e = 1e-3. atol is not used: no state needs an
+//   absolute floor, physical units included.
+// - h = ρ e^−2 e^(−0.7/(N−1)). With |x_n| ~ ρ^−n the first term left out is then ~ e^(−2N) ~ ε,
+//   and the sum of all of them stays below ε; e^(−0.7/(N−1)) is Jorba & Zou's correction for the
+//   estimate of ρ from two coefficients only.
+//
+// The branch points at δ = 0. The radius of convergence at t is at most the distance to the entry
+// (t) or to the exit (τ − t), so the steps would shrink geometrically at both ends and no step
+// can start at δ = 0, where the power recurrence divides by δ. Both ends are therefore left to
+// the series of contact_series.hpp, in the variable x ~ t^b that resolves the branch point:
+// - entry: the series with u = 1 gives the state at t1 = x1^(1/b), x1 the series' reach (its
+//   truncation below ε), and before the loading has lost half the impact speed (v ≥ ½), so that
+//   the peak is found by the steps.
+// - exit: after each step while unloading, the time-reversed series is tried: Newton finds the
+//   exit speed u and the time s to the exit from the step's (δ, v); it answers when x = u^a s^b
+//   lies within its reach. Then τ = t + s, e = u and the remaining work W(s) are exact to ε.
+//   No step approaches δ = 0 (a step that would cross it is halved).
+//
+// Events. The peak (v = 0) and, with the force end, the cut (k δ^b + c v = 0, MATH.md §4; here
+// κ q + γ v, whose coefficients the recurrences give) are located on each step's polynomial:
+// Descartes' rule with bisection isolates the first crossing, TOMS 748 polishes it
+// (polynomial.hpp). The state at an event is the polynomial's value.
+//
+// Work: rhs_evals counts the orders of the recurrences computed (N per step, plus the terms of
+// the two series); order n costs about n products, so this undercounts the arithmetic of
+// high orders: compare wall time across methods.
+#include "collision.hpp"
+#include "contact_series.hpp"
+#include "methods.hpp"
+#include "polynomial.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <optional>
+#include <span>
+#include <vector>
+
+namespace pldamp::solvers::detail {
+namespace {
+
+template <SupportedReal Real>
+class TaylorContact {
+public:
+  using Scaled = StateOf<Real>; // (δ, v, W) in units δ_u, v0, KE0
+
+  TaylorContact(const Problem<Real>& problem, const Options<Real>& options)
+      : collision_(problem, options), order_(order_for(options.rtol)), p_(problem.p),
+        a_((problem.p - 1) / 2), kappa_((problem.p + 1) / 2), gamma_(gamma_of(problem)),
+        entry_(problem.p, gamma_, 2 * gamma_, options.rtol, series_terms(),
+               (options.want & want_energy) != 0) {
+    using std::exp;
+    const std::size_t n = static_cast<std::size_t>(order_) + 1;
+    for (std::vector<Real>* series : {&d_, &v_, &w_, &u_, &q_, &f_, &g_, &power_, &cut_}) {
+      series->assign(n, Real(0));
+    }
+    inverse_.assign(n, Real(0));
+    for (std::size_t i = 1; i < n; ++i) {
+      inverse_[i] = 1 / Real(i);
+    }
+    safety_ = exp(Real(-2) - Real(7) / 10 / Real(order_ - 1));
+    const ContactOde<Real>& ode = collision_.ode();
+    time_unit_ = ode.time_scale();
+    units_ = {ode.delta_scale(), ode.v0(), ode.energy_scale()};
+    horizon_ = collision_.horizon() / time_unit_;
+    collision_.count_rhs_evals(series_terms());
+  }
+
+  Result<Real> run();
+
+private:
+  static int order_for(const Real& tolerance) {
+    using std::ceil;
+    using std::log;
+    return std::max(2, static_cast<int>(ceil(1 - log(static_cast<double>(tolerance)) / 2)));
+  }
+  static Real gamma_of(const Problem<Real>& problem) {
+    using std::sqrt;
+    return problem.alpha * sqrt((problem.p + 1) / 2);
+  }
+
+  // Terms of the contact-point series: twice the order, so that their reach is ~1/e of their
+  // radius (contact_series.hpp) and they cover much of the contact in one evaluation.
+  int series_terms() const { return 2 * order_; }
+  // The exit series, built when a run first needs it (never for peak-only or force-end runs).
+  const ContactPointSeries<Real>& exit_series() {
+    if (!exit_) {
+      exit_.emplace(p_, -gamma_, 2 * gamma_, collision_.options().rtol, series_terms(),
+                    with_work());
+      collision_.count_rhs_evals(series_terms());
+    }
+    return *exit_;
+  }
+  bool with_work() const { return collision_.with_work(); }
+  bool force_end() const { return collision_.options().end == End::force; }
+  std::span<const Real> span_of(const std::vector<Real>& series) const { return series; }
+
+  StateOf<Real> physical(const Scaled& y) const {
+    return {units_[0] * y[0], units_[1] * y[1], units_[2] * y[2]};
+  }
+  template <class ScaledAt>
+  void sample_through(const Real& t, ScaledAt&& scaled_at) {
+    collision_.sample_through(time_unit_ * t, [&](const Real& physical_t) {
+      return physical(scaled_at(physical_t / time_unit_));
+    });
+  }
+  // Records an event at scaled time t; true when the run is complete.
+  bool record(EventKind kind, const Real& t, const Scaled& y) {
+    return collision_.record(kind, time_unit_ * t, physical(y));
+  }
+
+  void compute_coefficients(const Scaled& y);
+  Real step_size() const;
+  Scaled state_at(const Real& theta) const {
+    return {horner(span_of(d_), theta), horner(span_of(v_), theta),
+            with_work() ? horner(span_of(w_), theta) : Real(0)};
+  }
+  // y(t + h) = y + Σ_{n≥1} c_n h^n, the sum compensated (Kahan; TwoSum): the rounding error of
+  // y + increment is kept in `carry_` and added back at the next step, so a step costs ~ε of its
+  // increment rather than ~ε of the state. Where the increments are small against the state, in
+  // the slow creep before the exit of a heavily damped contact, the rounding errors of the steps
+  // add up to a shift of the exit time, and the relative error of δ grows as δ → 0: with plain
+  // sums e = 1e-3 erred by 37ε in double at p = 2.5.
+  void advance(Scaled& y, const Real& h) {
+    for (std::size_t i = 0; i < 3; ++i) {
+      const std::vector<Real>& c = i == 0 ? d_ : (i == 1 ? v_ : w_);
+      Real increment = c[static_cast<std::size_t>(order_)];
+      for (std::size_t n = static_cast<std::size_t>(order_) - 1; n > 0; --n) {
+        increment = increment * h + c[n];
+      }
+      increment = increment * h + carry_[i];
+      const Real sum = y[i] + increment;
+      const Real y_part = sum - increment;
+      carry_[i] = (y[i] - y_part) + (increment - (sum - y_part));
+      y[i] = sum;
+    }
+  }
+  Scaled entry_state(const Real& t) const {
+    const auto point = entry_.at(Real(1), t);
+    return {point.delta, point.rate, point.work};
+  }
+
+  BasicCollision<Real> collision_;
+  int order_;
+  Real p_, a_, kappa_, gamma_;
+  ContactPointSeries<Real> entry_;
+  std::optional<ContactPointSeries<Real>> exit_;
+  Real safety_, time_unit_, horizon_;
+  StateOf<Real> units_;
+  Scaled carry_{};                                // the compensated sum's low parts (advance)
+  std::vector<Real> inverse_;                     // 1/n
+  std::vector<Real> d_, v_, w_;                   // the state's Taylor coefficients
+  std::vector<Real> u_, q_, f_, g_, power_, cut_; // δ^a, δ^b, δ^p, δ^a v, δ^a v², κ q + γ v
+};
+
+template <SupportedReal Real>
+void TaylorContact<Real>::compute_coefficients(const Scaled& y) {
+  using std::pow;
+  const std::size_t order = static_cast<std::size_t>(order_);
+  d_[0] = y[0];
+  v_[0] = y[1];
+  w_[0] = y[2];
+  u_[0] = pow(y[0], a_);
+  for (std::size_t n = 0; n < order; ++n) {
+    if (n > 0) {
+      u_[n] = power_coefficient(d_, u_, a_, n);
+    }
+    q_[n] = product_coefficient(u_, d_, n);
+    f_[n] = product_coefficient(u_, q_, n);
+    g_[n] = product_coefficient(u_, v_, n);
+    d_[n + 1] = v_[n] * inverse_[n + 1];
+    v_[n + 1] = -(gamma_ * g_[n] + kappa_ * f_[n]) * inverse_[n + 1];
+    if (with_work()) {
+      power_[n] = product_coefficient(g_, v_, n);
+      w_[n + 1] = 2 * gamma_ * power_[n] * inverse_[n + 1];
+    }
+  }
+  if (force_end()) {
+    u_[order] = power_coefficient(d_, u_, a_, order);
+    q_[order] = product_coefficient(u_, d_, order);
+    for (std::size_t n = 0; n <= order; ++n) {
+      cut_[n] = kappa_ * q_[n] + gamma_ * v_[n];
+    }
+  }
+  collision_.count_rhs_evals(order_);
+}
+
+template <SupportedReal Real>
+Real TaylorContact<Real>::step_size() const {
+  using std::abs;
+  using std::pow;
+  Real rho = std::numeric_limits<Real>::infinity();
+  auto bound_by = [&](const std::vector<Real>& x, const Real& scale) {
+    for (const int n : {order_ - 1, order_}) {
+      const Real coefficient = abs(x[static_cast<std::size_t>(n)]);
+      if (scale > 0 && coefficient > 0) {
+        rho = std::min(rho, Real(pow(scale / coefficient, inverse_[static_cast<std::size_t>(n)])));
+      }
+    }
+  };
+  // δ > 0 inside a contact: its own value is its scale. v and W pass through 0 (at the peak; W at
+  // the start), so their scale is their value plus their growth over the radius found from δ:
+  // with |v_0| alone the steps would shrink with v towards the peak, a geometric creep that never
+  // reaches it at low orders (h ∝ |v_0|^(1/(N−1))).
+  bound_by(d_, abs(d_[0]));
+  const Real reach = rho < std::numeric_limits<Real>::infinity() ? rho : Real(0);
+  bound_by(v_, abs(v_[0]) + abs(v_[1]) * reach);
+  if (with_work()) {
+    // W must take part: where the solution is entire (p = 1, and odd p away from δ = 0) ρ measures
+    // the oscillation of δ and v, and W, an integral of v², oscillates twice as fast; its N-th
+    // term is then ~2^N times theirs (the work of p = 1 erred by 6e-27 in quad without this).
+    bound_by(w_, abs(w_[0]) + abs(w_[1]) * reach);
+  }
+  return rho * safety_;
+}
+
+template <SupportedReal Real>
+Result<Real> TaylorContact<Real>::run() {
+  using std::abs;
+  // Entry: the series up to its reach, and not past the loss of half the impact speed.
+  const Real x1 = entry_.rate_falls_to(Real(1) / 2, entry_.reach()).value_or(entry_.reach());
+  Real t = std::min(entry_.s_of(Real(1), x1), horizon_);
+  Scaled y = entry_state(t);
+  sample_through(t, [&](const Real& s) { return entry_state(s); });
+  long steps = 0;
+  while (t < horizon_) {
+    if (steps == collision_.options().max_steps) {
+      return collision_.finish(Outcome::step_limit, steps);
+    }
+    compute_coefficients(y);
+    const Real estimate = step_size();
+    const bool to_horizon = estimate >= horizon_ - t;
+    Real h = to_horizon ? horizon_ - t : estimate;
+    if (y[1] < 0) {
+      // Never across δ = 0: a step the estimate of ρ let through would end beyond the branch
+      // point, where the polynomial means nothing.
+      if (const auto zero = first_sign_change(span_of(d_), h)) {
+        h = *zero / 2;
+      }
+    }
+    for (const EventKind kind : {EventKind::peak, EventKind::exit}) {
+      if (!collision_.pending(kind) || (kind == EventKind::exit && !force_end())) {
+        continue;
+      }
+      const std::vector<Real>& event = kind == EventKind::peak ? v_ : cut_;
+      if (const auto theta = first_sign_change(span_of(event), h)) {
+        sample_through(t + *theta, [&](const Real& s) { return state_at(s - t); });
+        if (record(kind, t + *theta, state_at(*theta))) {
+          return collision_.finish(kind == EventKind::peak ? Outcome::peak : Outcome::exited,
+                                   steps + 1);
+        }
+      }
+    }
+    sample_through(t + h, [&](const Real& s) { return state_at(s - t); });
+    advance(y, h);
+    t = to_horizon && h == horizon_ - t ? horizon_ : t + h;
+    ++steps;
+    if (!force_end() && !collision_.pending(EventKind::peak) && y[1] < 0) {
+      const ContactPointSeries<Real>& exit = exit_series();
+      // x = u^a s^b with the straight-line guesses u ≈ −v, s ≈ δ / −v: Newton only near reach.
+      const auto contact =
+          exit.x_of(-y[1], y[0] / -y[1]) <= exit.reach() ? exit.locate(y[0], -y[1]) : std::nullopt;
+      if (contact) {
+        const Real tau = t + contact->s;
+        const Real work_exit =
+            y[2] + (with_work() ? exit.at(contact->u, contact->s).work : Real(0));
+        sample_through(tau, [&](const Real& s) {
+          const auto point = exit.at(contact->u, tau - s);
+          return Scaled{point.delta, -point.rate, with_work() ? work_exit - point.work : Real(0)};
+        });
+        const bool exited = record(EventKind::exit, tau, {Real(0), -contact->u, work_exit});
+        return collision_.finish(exited ? Outcome::exited : Outcome::no_exit, steps);
+      }
+    }
+  }
+  return collision_.finish(Outcome::no_exit, steps);
+}
+
+} // namespace
+
+template <SupportedReal Real>
+Result<Real> solve_taylor(const Problem<Real>& problem, const Options<Real>& options) {
+  return TaylorContact<Real>(problem, options).run();
+}
+
+template Result<double> solve_taylor(const Problem<double>&, const Options<double>&);
+template Result<long double> solve_taylor(const Problem<long double>&, const Options<long double>&);
+#if PLDAMP_WITH_QUAD
+template Result<quad> solve_taylor(const Problem<quad>&, const Options<quad>&);
+#endif
+template Result<bin50> solve_taylor(const Problem<bin50>&, const Options<bin50>&);
+
+} // namespace pldamp::solvers::detail
