@@ -73,7 +73,8 @@ int run_cli(int argc, const char* const* argv, std::ostream& out, std::ostream& 
     solver_help += "\n  " + std::string(info.name) + ": " + std::string(info.method);
   }
   solve->add_option("--solver", solve_args.solver, solver_help)->required();
-  solve->add_option("--rtol", solve_args.rtol, "relative tolerance (default 1e-8)");
+  solve->add_option("--rtol", solve_args.rtol,
+                    "relative tolerance (default 1e-8; taylor: the precision's epsilon)");
   solve->add_option("--atol", solve_args.atol,
                     "absolute tolerance for every state, literal (default: rtol x natural scale)");
   solve->add_option("--want", solve_args.want, "comma list of e,delta_max,t_peak,tau,energy");

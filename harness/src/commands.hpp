@@ -22,7 +22,7 @@ struct ContactArgs {
 struct SolveArgs {
   ContactArgs contact;
   std::string solver;
-  std::string rtol = "1e-8";
+  std::optional<std::string> rtol; // default 1e-8; taylor: the precision's epsilon
   std::optional<std::string> atol, dt, horizon;
   std::string want = "e,delta_max,t_peak,tau,energy";
   std::vector<std::string> sample_times;

@@ -5,6 +5,7 @@
 
 #include "pldamp/solvers/registry.hpp"
 
+#include <limits>
 #include <map>
 #include <sstream>
 
@@ -34,7 +35,8 @@ unsigned parse_want(const std::string& list) {
   return want;
 }
 
-std::string samples_json(const std::vector<solvers::Sample<double>>& samples) {
+template <SupportedReal Real>
+std::string samples_json(const std::vector<solvers::Sample<Real>>& samples) {
   std::string out = "[";
   for (const auto& s : samples) {
     out += (out.size() > 1 ? ", [" : "[") + format_number(s.t) + ", " + format_number(s.delta) +
@@ -43,29 +45,39 @@ std::string samples_json(const std::vector<solvers::Sample<double>>& samples) {
   return out + "]";
 }
 
-} // namespace
-
-void run_solve(const SolveArgs& args, std::ostream& out) {
-  if (args.contact.precision != "double") {
-    throw InputError("the registered solvers run in double precision (got " +
-                     args.contact.precision + ")");
+bool runs_in_any_precision(const std::string& solver) {
+  for (const solvers::SolverInfo& info : solvers::registry()) {
+    if (info.name == solver) {
+      return info.any_precision;
+    }
   }
-  const analytic::Contact<double> contact = make_contact<double>(args.contact);
-  const solvers::Problem<double> problem{contact.p(), contact.m(), contact.k(), contact.v0(),
-                                         contact.alpha()};
-  solvers::Options<double> options;
-  options.rtol = parse_real<double>("--rtol", args.rtol);
+  return false; // unknown: solvers::solve names the choices
+}
+
+// One collision in precision Real: α calibrated in Real, the solver run in Real.
+template <SupportedReal Real>
+void solve_in(const SolveArgs& args, std::ostream& out) {
+  const analytic::Contact<Real> contact = make_contact<Real>(args.contact);
+  const solvers::Problem<Real> problem{contact.p(), contact.m(), contact.k(), contact.v0(),
+                                       contact.alpha()};
+  const bool any_precision = runs_in_any_precision(args.solver);
+  solvers::Options<Real> options;
+  if (args.rtol) {
+    options.rtol = parse_real<Real>("--rtol", *args.rtol);
+  } else if (any_precision) {
+    options.rtol = std::numeric_limits<Real>::epsilon(); // the reference: as exact as Real allows
+  }
   if (args.atol) {
-    options.atol = parse_real<double>("--atol", *args.atol);
+    options.atol = parse_real<Real>("--atol", *args.atol);
   }
   if (args.dt) {
-    options.fixed_step = parse_real<double>("--dt", *args.dt);
+    options.fixed_step = parse_real<Real>("--dt", *args.dt);
   }
   if (args.horizon) {
-    options.horizon = parse_real<double>("--horizon", *args.horizon);
+    options.horizon = parse_real<Real>("--horizon", *args.horizon);
   }
   for (const std::string& t : args.sample_times) {
-    options.sample_times.push_back(parse_real<double>("--sample-times", t));
+    options.sample_times.push_back(parse_real<Real>("--sample-times", t));
   }
   options.want = parse_want(args.want);
   const bool capped = parse_end(args.contact.end) == ContactEnd::force;
@@ -78,7 +90,7 @@ void run_solve(const SolveArgs& args, std::ostream& out) {
   options.steps_per_contact = int(steps_per_contact);
   options.max_steps = parse_integer("--max-steps", args.max_steps);
 
-  const solvers::Result<double> r = solvers::solve(args.solver, problem, options);
+  const solvers::Result<Real> r = solvers::solve(args.solver, problem, options);
 
   JsonObject o = describe(contact, args.contact);
   o.string("solver", args.solver);
@@ -105,6 +117,17 @@ void run_solve(const SolveArgs& args, std::ostream& out) {
     o.raw("samples", samples_json(r.samples));
   }
   emit(o, args.contact.json, out);
+}
+
+} // namespace
+
+void run_solve(const SolveArgs& args, std::ostream& out) {
+  if (args.contact.precision != "double" && !runs_in_any_precision(args.solver)) {
+    throw InputError("solver " + args.solver +
+                     " runs in double precision only; taylor runs in any (got --precision " +
+                     args.contact.precision + ")");
+  }
+  with_precision(args.contact.precision, [&]<SupportedReal Real>() { solve_in<Real>(args, out); });
 }
 
 } // namespace pldamp::harness

@@ -182,7 +182,7 @@ TEST(Cli, BadInputIsOneLineAndExitTwo) {
       {{"launch"}, "unknown command, expected calibrate|observables|solve|showcase (got launch)"},
       {{"solve", "--solver", "ode45", "--p", "1.5", "--e", "0.5", "--v0", "1"},
        "unknown solver, expected cvode-bdf|cvode-adams|arkode-dp5|arkode-erk8|arkode-dirk|"
-       "odeint-rkf78|odeint-bs|verlet (got ode45)"},
+       "odeint-rkf78|odeint-bs|taylor|verlet (got ode45)"},
       {{"solve", "--p", "1.5", "--e", "0.5", "--v0", "1"}, "--solver is required (got nothing)"},
       {{"solve", "--solver", "cvode-bdf", "--p", "1.5", "--e", "0.5", "--v0", "1", "--rtol", "0"},
        "rtol must be > 0 (got 0)"},
@@ -216,7 +216,8 @@ TEST(Cli, BadInputIsOneLineAndExitTwo) {
        "p must be >= 1 (got 0.9)"},
       {{"solve", "--solver", "cvode-bdf", "--p", "1.5", "--e", "0.5", "--v0", "1", "--precision",
         "quad"},
-       "the registered solvers run in double precision (got quad)"},
+       "solver cvode-bdf runs in double precision only; taylor runs in any (got --precision "
+       "quad)"},
   };
   for (const BadInput& c : cases) {
     const CliRun r = run(c.args);
