@@ -12,6 +12,7 @@
 #include <limits>
 #include <optional>
 #include <span>
+#include <utility>
 #include <vector>
 
 namespace pldamp::solvers::detail {
@@ -83,11 +84,31 @@ bool excludes_roots_01(const std::vector<Real>& a) {
 
 } // namespace polynomial_detail
 
+// Where p(t) = 0 exactly: the sign of p just after t (that of its first nonzero Taylor coefficient
+// at t, found by shifting the polynomial to t) and whether p changes sign at t (odd multiplicity).
+template <class Real>
+std::pair<int, bool> sign_after_zero(std::span<const Real> c, const Real& t) {
+  std::vector<Real> shifted(c.begin(), c.end());
+  const std::size_t n = shifted.size() - 1;
+  for (std::size_t i = 0; i < n; ++i) {
+    for (std::size_t j = n; j-- > i;) {
+      shifted[j] += t * shifted[j + 1];
+    }
+  }
+  for (std::size_t k = 1; k <= n; ++k) {
+    if (shifted[k] != 0) {
+      return {shifted[k] > 0 ? 1 : -1, k % 2 == 1};
+    }
+  }
+  return {0, false};
+}
+
 // The first t in (0, h] where the polynomial Σ c_i t^i changes sign (a crossing, not a touch), or
 // none. Intervals are halved until Descartes' rule isolates a single root (a(x) on [lo, lo + w]
 // becomes a(lo + w x) on [0, 1]: the left half scales coefficient i by 2^-i, the right half is
 // the left shifted by one) or excludes all; the isolated root is then polished by TOMS 748 on
-// the original polynomial to all but 2 bits.
+// the original polynomial to all but 2 bits. Descartes counts roots inside an interval only, so
+// an exact zero at an end is judged by its multiplicity.
 template <class Real>
 std::optional<Real> first_sign_change(std::span<const Real> c, const Real& h) {
   using polynomial_detail::excludes_roots_01;
@@ -95,13 +116,30 @@ std::optional<Real> first_sign_change(std::span<const Real> c, const Real& h) {
   using polynomial_detail::shift_by_one;
 
   auto value_at = [&](const Real& t) { return horner(c, t); };
-  auto polish = [&](const Real& lo, const Real& hi) -> std::optional<Real> {
-    const Real f_lo = value_at(lo), f_hi = value_at(hi);
+  auto sign = [](const Real& x) { return x > 0 ? 1 : (x < 0 ? -1 : 0); };
+  auto polish = [&](Real lo, const Real& hi) -> std::optional<Real> {
+    const Real f_hi = value_at(hi);
     if (f_hi == 0) {
-      return hi;
+      return sign_after_zero(c, hi).second ? std::optional<Real>(hi) : std::nullopt;
     }
-    if ((f_lo > 0) == (f_hi > 0) || f_lo == 0) {
-      return std::nullopt; // an even number of crossings, or a root at the left end (not new)
+    Real f_lo = value_at(lo);
+    if (f_lo == 0) {
+      // One crossing inside and a zero at lo: bracket from a point just after lo with the sign
+      // p takes there.
+      const int after = sign_after_zero(c, lo).first;
+      if (after == 0 || after == sign(f_hi)) {
+        return std::nullopt;
+      }
+      Real step = (hi - lo) / 2;
+      for (int k = 0; k < 60 && sign(f_lo) != after; ++k, step /= 2) {
+        f_lo = value_at(lo + step);
+        if (sign(f_lo) == after) {
+          lo += step;
+        }
+      }
+    }
+    if (sign(f_lo) == sign(f_hi) || f_lo == 0) {
+      return std::nullopt; // an even number of crossings
     }
     std::uintmax_t iterations = 200;
     const auto bracket = boost::math::tools::toms748_solve(
@@ -144,10 +182,14 @@ std::optional<Real> first_sign_change(std::span<const Real> c, const Real& h) {
       continue;
     }
     const int bound = roots_bound_01(piece.coefficients);
+    const Real lo = h * piece.lo, hi = h * (piece.lo + piece.width);
     if (bound == 0) {
+      // No root inside; one exactly at the right end counts if p crosses there.
+      if (value_at(hi) == 0 && sign_after_zero(c, hi).second) {
+        return hi;
+      }
       continue;
     }
-    const Real lo = h * piece.lo, hi = h * (piece.lo + piece.width);
     if (bound == 1 || piece.depth == 60) {
       if (const auto root = polish(lo, hi)) {
         return root;
