@@ -6,7 +6,10 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <iomanip>
 #include <limits>
+#include <sstream>
+#include <string>
 
 namespace pldamp::testing {
 
@@ -30,6 +33,13 @@ double relative_error(const Got& got, const Want& want) {
   const bin50 g(got);
   const bin50 w(want);
   return static_cast<double>(w == 0 ? abs(g) : abs(g - w) / abs(w));
+}
+
+// For test reports (std::to_string would print 1e-15 as 0.000000).
+inline std::string scientific(double x) {
+  std::ostringstream out;
+  out << std::scientific << std::setprecision(2) << x;
+  return out.str();
 }
 
 } // namespace pldamp::testing

@@ -45,15 +45,22 @@ TEST(Cli, ObservablesJsonCarriesTheContractKeys) {
 }
 
 #if PLDAMP_WITH_QUAD
+// The digits of a JSON number as printed (nlohmann would parse them into a double).
+std::string raw_number(const std::string& json, const std::string& key) {
+  const std::string quoted = "\"" + key + "\": ";
+  const auto at = json.find(quoted);
+  if (at == std::string::npos) {
+    return "missing " + key;
+  }
+  const std::string rest = json.substr(at + quoted.size());
+  return rest.substr(0, rest.find_first_of(",}"));
+}
+
 TEST(Cli, QuadPrintsThirtySixDigits) {
   const CliRun r = run(
       {"observables", "--p", "1.5", "--e", "0.5", "--v0", "2", "--precision", "quad", "--json"});
   ASSERT_EQ(r.code, 0) << r.err;
-  const std::string key = "\"tau\": ";
-  const auto at = r.out.find(key);
-  ASSERT_NE(at, std::string::npos);
-  std::string number = r.out.substr(at + key.size());
-  number = number.substr(0, number.find_first_of(",}"));
+  const std::string number = raw_number(r.out, "tau");
   const std::string mantissa = number.substr(0, number.find('e'));
   int digits = 0;
   for (char ch : mantissa) {
@@ -62,6 +69,22 @@ TEST(Cli, QuadPrintsThirtySixDigits) {
   EXPECT_EQ(digits, 36) << number;
   const auto c = analytic::Contact<quad>::from_e(quad(3) / 2, quad(1) / 2, quad(2));
   EXPECT_EQ(quad(number), analytic::contact_duration(c));
+}
+
+TEST(Cli, TaylorSolvesInQuadToItsEpsilon) {
+  const CliRun r = run({"solve", "--solver", "taylor", "--precision", "quad", "--p", "2.5", "--e",
+                        "0.3", "--v0", "0.4", "--json"});
+  ASSERT_EQ(r.code, 0) << r.err;
+  const auto c = analytic::Contact<quad>::from_e(quad(5) / 2, quad(3) / 10, quad(2) / 5);
+  const auto x = analytic::observables(c);
+  for (const auto& [key, want] :
+       {std::pair{"e", *x.e}, std::pair{"delta_max", *x.delta_max}, std::pair{"tau", *x.tau},
+        std::pair{"energy_unload", *x.energy_unload}}) {
+    const quad got(raw_number(r.out, key));
+    EXPECT_LT(static_cast<double>(abs(got - want) / want), 1e-30) << key;
+  }
+  EXPECT_EQ(raw_number(r.out, "rtol"), "1.92592994438723585305597794258492732e-34"); // ε of quad
+  EXPECT_EQ(raw_number(r.out, "outcome"), "\"exited\"");
 }
 #endif
 

@@ -1,0 +1,108 @@
+// The Taylor reference's speed claims (issue 4), on one collision: p = 1.5, e = 0.5,
+// v0 = m = k = 1, every observable.
+//
+// - precision/*: taylor at its precision's epsilon in double, long double, float128 and
+//   cpp_bin_float_50 (the issue's budget: float128 within 50 ms).
+// - work_precision/*: error against time in double, taylor and every SUNDIALS or Odeint solver
+//   at the tolerances where they come near 1e-13. err_e and err_tau are relative errors against
+//   the analytic layer in float128 for the same α (not the double closed forms, whose own error
+//   would blur the picture below 1e-14).
+//
+//   build/bench/taylor_bench --benchmark_min_time=0.3
+#include "pldamp/analytic.hpp"
+#include "pldamp/solvers/registry.hpp"
+
+#include <benchmark/benchmark.h>
+
+#include <cmath>
+#include <limits>
+#include <sstream>
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace {
+
+using pldamp::analytic::Contact;
+namespace solvers = pldamp::solvers;
+
+const double alpha = Contact<double>::from_e(1.5, 0.5, 1.0).alpha();
+
+template <class Real>
+solvers::Problem<Real> problem() {
+  return {Real(3) / 2, Real(1), Real(1), Real(1), Real(alpha)};
+}
+
+// The exact observables of problem<double>() (α as a double, converted exactly).
+const auto& exact() {
+  static const auto x = pldamp::analytic::observables(
+      Contact<pldamp::quad>::from_alpha(pldamp::quad(1.5), pldamp::quad(alpha), pldamp::quad(1)));
+  return x;
+}
+
+template <class Real>
+double relative_error(const Real& got, const pldamp::quad& want) {
+  std::ostringstream digits; // Real -> float128 through 40 digits (exact enough for any Real)
+  digits.precision(40);
+  digits << got;
+  return static_cast<double>(abs(pldamp::quad(digits.str()) - want) / want);
+}
+
+template <class Real>
+void precision(benchmark::State& state) {
+  solvers::Options<Real> options;
+  options.rtol = std::numeric_limits<Real>::epsilon();
+  solvers::Result<Real> r;
+  for (auto _ : state) {
+    r = solvers::solve("taylor", problem<Real>(), options);
+    benchmark::DoNotOptimize(r);
+  }
+  state.counters["steps"] = double(r.steps);
+  state.counters["err_e"] = relative_error(*r.e, *exact().e);
+  state.counters["err_tau"] = relative_error(*r.tau, *exact().tau);
+}
+BENCHMARK(precision<double>)->Name("precision/double")->Unit(benchmark::kMicrosecond);
+BENCHMARK(precision<long double>)->Name("precision/long")->Unit(benchmark::kMicrosecond);
+BENCHMARK(precision<pldamp::quad>)->Name("precision/quad")->Unit(benchmark::kMillisecond);
+BENCHMARK(precision<pldamp::bin50>)->Name("precision/50")->Unit(benchmark::kMillisecond);
+
+void work_precision(benchmark::State& state, const std::string& name, double rtol) {
+  solvers::Options<double> options;
+  options.rtol = rtol;
+  solvers::Result<double> r;
+  for (auto _ : state) {
+    r = solvers::solve(name, problem<double>(), options);
+    benchmark::DoNotOptimize(r);
+  }
+  state.counters["steps"] = double(r.steps);
+  state.counters["rhs_evals"] = double(r.rhs_evals);
+  state.counters["err_e"] = relative_error(*r.e, *exact().e);
+  state.counters["err_tau"] = relative_error(*r.tau, *exact().tau);
+}
+
+const int registered = [] {
+  const double eps = std::numeric_limits<double>::epsilon();
+  const std::pair<const char*, std::vector<double>> sweeps[] = {
+      {"taylor", {1e-6, 1e-8, 1e-10, 1e-12, eps}},
+      {"odeint-bs", {1e-11, 1e-12, 1e-13}},
+      {"odeint-rkf78", {1e-14, eps}},
+      {"arkode-dp5", {1e-13, 1e-14}},
+      {"arkode-erk8", {1e-14, eps}},
+      {"cvode-adams", {1e-14, eps}},
+      {"cvode-bdf", {1e-14, eps}},
+  };
+  for (const auto& [name, tolerances] : sweeps) {
+    for (const double rtol : tolerances) {
+      std::ostringstream label;
+      label << "work_precision/" << name << "/rtol:" << (rtol == eps ? "eps" : "");
+      if (rtol != eps) {
+        label << rtol;
+      }
+      benchmark::RegisterBenchmark(label.str().c_str(), work_precision, std::string(name), rtol)
+          ->Unit(benchmark::kMicrosecond);
+    }
+  }
+  return 0;
+}();
+
+} // namespace

@@ -1,0 +1,370 @@
+// taylor, the numerical reference (issue 4), against the analytic layer one precision up — double
+// against float128, float128 against cpp_bin_float_50 — built from the very α the solver was
+// given, so that neither the calibration's rounding of α nor the reference's own error is charged
+// to the solver (the analytic layer in double is itself ~7e-15 off for e = 1e-3). Also: its
+// building blocks (first sign change of a polynomial, the contact-point series) on exact
+// identities.
+#include "contact_series.hpp"
+#include "polynomial.hpp"
+
+#include "support.hpp"
+
+#include "pldamp/analytic.hpp"
+#include "pldamp/solvers/registry.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <initializer_list>
+#include <iomanip>
+#include <limits>
+#include <optional>
+#include <sstream>
+#include <string>
+#include <type_traits>
+#include <vector>
+
+namespace pldamp::solvers {
+namespace {
+
+using analytic::Contact;
+using analytic::ContactEnd;
+using pldamp::testing::scientific;
+
+using pldamp::testing::relative_error;
+
+// The worst relative error of the observables both sides carry, and which one it is.
+struct Worst {
+  double error = 0;
+  std::string where;
+  template <SupportedReal Ref, SupportedReal Real>
+  void check(const std::optional<Real>& got, const std::optional<Ref>& want, const char* name,
+             const std::string& label) {
+    ASSERT_TRUE(got.has_value()) << name << " missing for " << label;
+    ASSERT_TRUE(want.has_value()) << name;
+    const double err = relative_error(*got, *want);
+    if (!(err <= error)) { // NaN too
+      error = std::isnan(err) ? INFINITY : err;
+      where = std::string(name) + " at " + label;
+    }
+  }
+};
+
+std::string label_of(double p, double target, double v0) {
+  std::ostringstream s;
+  s << "p=" << p << " e|z=" << target << " v0=" << v0;
+  return s.str();
+}
+
+// The reference for unit m, k and the given v0, with the analytic layer in Ref.
+template <SupportedReal Ref, SupportedReal Real>
+analytic::Observables<Ref> reference(const Problem<Real>& problem) {
+  const auto c = Contact<Ref>::from_alpha(Ref(problem.p), Ref(problem.alpha), Ref(problem.v0),
+                                          Ref(problem.m), Ref(problem.k));
+  return analytic::observables(c);
+}
+
+template <SupportedReal Real>
+Options<Real> reference_options() {
+  Options<Real> options;
+  options.rtol = std::numeric_limits<Real>::epsilon();
+  return options;
+}
+
+template <SupportedReal Real>
+Problem<Real> problem_of(const Contact<Real>& c) {
+  return {c.p(), c.m(), c.k(), c.v0(), c.alpha()};
+}
+
+// The issue's grid: every observable of a returning contact.
+template <SupportedReal Real, SupportedReal Ref>
+Worst grid_error() {
+  Worst worst;
+  for (double p : {1.0, 1.25, 1.5, 2.0, 2.5, 3.0, 5.0}) {
+    for (double e : {0.999, 0.9, 0.5, 0.1, 1e-3}) {
+      for (double v0 : {1e-3, 1.0, 1e3}) {
+        const auto c = Contact<Real>::from_e(Real(p), Real(e), Real(v0));
+        const Problem<Real> problem = problem_of(c);
+        const Result<Real> r = solve("taylor", problem, reference_options<Real>());
+        const std::string label = label_of(p, e, v0);
+        EXPECT_EQ(r.outcome, Outcome::exited) << label;
+        const auto x = reference<Ref>(problem);
+        worst.check(r.e, x.e, "e", label);
+        worst.check(r.delta_max, x.delta_max, "delta_max", label);
+        worst.check(r.t_peak, x.t_peak, "t_peak", label);
+        worst.check(r.tau, x.tau, "tau", label);
+        worst.check(r.energy_load, x.energy_load, "energy_load", label);
+        worst.check(r.energy_unload, x.energy_unload, "energy_unload", label);
+      }
+    }
+  }
+  return worst;
+}
+
+// Every p of the grid at damping ratios `zs`, each run checked by check(r, x, label, worst).
+template <SupportedReal Real, SupportedReal Ref, class Check>
+Worst over_damping_ratios(std::initializer_list<double> zs, const Options<Real>& options,
+                          Check&& check) {
+  Worst worst;
+  for (double p : {1.0, 1.25, 1.5, 2.0, 2.5, 3.0, 5.0}) {
+    for (double z : zs) {
+      const auto c = Contact<Real>::from_alpha_eff(Real(p), Real(z), Real(1));
+      const Result<Real> r = solve("taylor", problem_of(c), options);
+      check(r, reference<Ref>(problem_of(c)), label_of(p, z, 1), worst);
+    }
+  }
+  return worst;
+}
+
+// Critical and overdamped: no return before the horizon; the loading measured.
+template <SupportedReal Real, SupportedReal Ref>
+Worst overdamped_error() {
+  return over_damping_ratios<Real, Ref>(
+      {1.0, 1.5, 4.0}, reference_options<Real>(),
+      [](const Result<Real>& r, const auto& x, const std::string& label, Worst& worst) {
+        EXPECT_EQ(r.outcome, Outcome::no_exit) << label;
+        EXPECT_EQ(r.e, Real(0)) << label;
+        EXPECT_TRUE(r.tau && std::isinf(static_cast<double>(*r.tau))) << label;
+        worst.check(r.delta_max, x.delta_max, "delta_max", label);
+        worst.check(r.t_peak, x.t_peak, "t_peak", label);
+        worst.check(r.energy_load, x.energy_load, "energy_load", label);
+      });
+}
+
+// The force-capped end (MATH.md §4): e_cap and t_cut, and the peak before them.
+template <SupportedReal Real, SupportedReal Ref>
+Worst capped_error() {
+  Options<Real> options = reference_options<Real>();
+  options.end = End::force;
+  return over_damping_ratios<Real, Ref>(
+      {0.3, 0.9, 2.0}, options,
+      [](const Result<Real>& r, const auto& x, const std::string& label, Worst& worst) {
+        EXPECT_EQ(r.outcome, Outcome::exited) << label;
+        worst.check(r.e, x.e_cap, "e_cap", label);
+        worst.check(r.tau, x.t_cut, "t_cut", label);
+        worst.check(r.delta_max, x.delta_max, "delta_max", label);
+        worst.check(r.t_peak, x.t_peak, "t_peak", label);
+      });
+}
+
+#if PLDAMP_WITH_QUAD
+// The issue's budgets: float128 within 1e-30, double within 1e-14.
+struct QuadAgainstFiftyDigits {
+  using Real = quad;
+  using Ref = bin50;
+  static constexpr double budget = 1e-30;
+};
+struct DoubleAgainstQuad {
+  using Real = double;
+  using Ref = quad;
+  static constexpr double budget = 1e-14;
+};
+template <class Pair>
+class TaylorReference : public ::testing::Test {};
+struct PairNames {
+  template <class Pair>
+  static std::string GetName(int) {
+    return std::is_same_v<typename Pair::Real, quad> ? "quad" : "double";
+  }
+};
+using Pairs = ::testing::Types<QuadAgainstFiftyDigits, DoubleAgainstQuad>;
+TYPED_TEST_SUITE(TaylorReference, Pairs, PairNames);
+
+TYPED_TEST(TaylorReference, MeetsTheIssueBudgetOnTheGrid) {
+  // Measured worst: 5.4e-33 (quad), 5.2e-15 (double, e = 1e-3).
+  const Worst worst = grid_error<typename TypeParam::Real, typename TypeParam::Ref>();
+  EXPECT_LT(worst.error, TypeParam::budget) << worst.where;
+  this->RecordProperty("worst_relative_error", scientific(worst.error));
+}
+
+TYPED_TEST(TaylorReference, OverdampedContactsMeasureTheLoading) {
+  const Worst worst = overdamped_error<typename TypeParam::Real, typename TypeParam::Ref>();
+  EXPECT_LT(worst.error, TypeParam::budget) << worst.where;
+}
+
+TYPED_TEST(TaylorReference, ForceCappedRestitutionAndCutTime) {
+  const Worst worst = capped_error<typename TypeParam::Real, typename TypeParam::Ref>();
+  EXPECT_LT(worst.error, TypeParam::budget) << worst.where;
+}
+
+TEST(TaylorPrecisions, LongDoubleAndFiftyDigitsReachTheirEpsilon) {
+  // cpp_bin_float_50 is the strictest check that no constant in the integrator is a double.
+  for (double p : {1.5, 2.5}) {
+    for (double e : {0.5, 0.1}) {
+      const auto cl = Contact<long double>::from_e(p, e, 1);
+      const Result<long double> rl =
+          solve("taylor", problem_of(cl), reference_options<long double>());
+      const auto xl = reference<quad>(problem_of(cl));
+      EXPECT_LT(relative_error(*rl.e, *xl.e), 1e-17) << p << " " << e;
+      EXPECT_LT(relative_error(*rl.tau, *xl.tau), 1e-17) << p << " " << e;
+
+      const auto cb = Contact<bin50>::from_e(bin50(p), bin50(e), bin50(1));
+      const Result<bin50> rb = solve("taylor", problem_of(cb), reference_options<bin50>());
+      const auto xb = reference<bin50>(problem_of(cb));
+      EXPECT_LT(relative_error(*rb.e, *xb.e), 1e-45) << p << " " << e;
+      EXPECT_LT(relative_error(*rb.tau, *xb.tau), 1e-45) << p << " " << e;
+      EXPECT_LT(relative_error(*rb.energy_unload, *xb.energy_unload), 1e-45) << p << " " << e;
+    }
+  }
+}
+
+TEST(TaylorQuad, SamplesFollowTheTrajectoryThroughEntrySeriesStepsAndExitSeries) {
+  const auto c = Contact<quad>::from_e(quad(5) / 2, quad(1) / 10, quad(1));
+  const quad tau = analytic::contact_duration(c);
+  Options<quad> options = reference_options<quad>();
+  // From the first instants (the entry series) to the last (the exit series).
+  for (const quad& fraction : {quad(1) / 1000, quad(1) / 20, quad(3) / 10, quad(1) / 2,
+                               quad(9) / 10, quad(99) / 100, quad(9999) / 10000}) {
+    options.sample_times.push_back(fraction * tau);
+  }
+  const Result<quad> r = solve("taylor", problem_of(c), options);
+  ASSERT_EQ(r.samples.size(), options.sample_times.size());
+  const analytic::Trajectory<quad> exact(c);
+  const quad delta_max = analytic::delta_max(c);
+  for (const Sample<quad>& s : r.samples) {
+    const auto want = exact.at_time(s.t);
+    EXPECT_LT(static_cast<double>(abs(s.delta - want.delta) / delta_max), 1e-30) << s.t;
+    EXPECT_LT(static_cast<double>(abs(s.v - want.v) / c.v0()), 1e-30) << s.t;
+  }
+}
+
+TEST(TaylorQuad, ObservablesScaleExactlyWithTheUnits) {
+  // MATH.md §7: e depends on (p, α) only, for v0, m, k from 1e-9 to 1e12.
+  const quad p = quad(3) / 2, alpha = quad(7) / 10;
+  const quad e = *solve("taylor", Problem<quad>{p, 1, 1, 1, alpha}, reference_options<quad>()).e;
+  for (const double v0 : {1e-9, 1e12}) {
+    for (const double m : {1e-9, 1e12}) {
+      const Problem<quad> problem{p, quad(m), 1 / quad(m), quad(v0), alpha};
+      const Result<quad> r = solve("taylor", problem, reference_options<quad>());
+      EXPECT_LT(relative_error(*r.e, e), 1e-32) << v0 << " " << m;
+      const auto x = reference<bin50>(problem);
+      EXPECT_LT(relative_error(*r.tau, *x.tau), 1e-30) << v0 << " " << m;
+      EXPECT_LT(relative_error(*r.delta_max, *x.delta_max), 1e-30) << v0 << " " << m;
+    }
+  }
+}
+#endif
+
+TEST(Taylor, PeakOnlyStopsAtThePeakAndNeverBuildsTheExitSeries) {
+  const Problem<double> problem{2.5, 1, 1, 1, 0.9};
+  Options<double> options = reference_options<double>();
+  const Result<double> all = solve("taylor", problem, options);
+  options.want = want_delta_max | want_t_peak;
+  const Result<double> peak = solve("taylor", problem, options);
+  EXPECT_EQ(peak.outcome, Outcome::peak);
+  // Not bit for bit: without W the steps differ (W takes part in the step control).
+  EXPECT_NEAR(*peak.delta_max, *all.delta_max, 4e-16 * *all.delta_max);
+  EXPECT_NEAR(*peak.t_peak, *all.t_peak, 4e-16 * *all.t_peak);
+  EXPECT_FALSE(peak.e || peak.tau || peak.energy_load);
+  EXPECT_LT(double(peak.rhs_evals), 0.6 * double(all.rhs_evals)); // measured 0.45
+}
+
+TEST(Taylor, StepLimitIsAnOutcome) {
+  Options<double> options = reference_options<double>();
+  options.max_steps = 1;
+  const Result<double> r = solve("taylor", Problem<double>{2.5, 1, 1, 1, 0.9}, options);
+  EXPECT_EQ(r.outcome, Outcome::step_limit);
+  EXPECT_EQ(r.steps, 1);
+  EXPECT_FALSE(r.e.has_value());
+}
+
+TEST(Taylor, WorkGrowsWithOrderNotSteps) {
+  // Order N = ⌈1 − ½ ln rtol⌉ with the step ~ ρ/e²: tightening rtol from 1e-6 to ε raises the
+  // order, not the number of steps; errors follow the tolerance.
+  const Problem<double> problem{1.5, 1, 1, 1, 0.7};
+  const auto exact = reference<quad>(problem);
+  long steps_loose = 0;
+  for (double rtol : {1e-6, 1e-10, 1e-14}) {
+    Options<double> options;
+    options.rtol = rtol;
+    const Result<double> r = solve("taylor", problem, options);
+    EXPECT_LT(relative_error(*r.e, *exact.e), 10 * rtol) << rtol;
+    EXPECT_LT(relative_error(*r.tau, *exact.tau), 10 * rtol) << rtol;
+    steps_loose = steps_loose == 0 ? r.steps : steps_loose;
+    EXPECT_LE(r.steps, steps_loose + 2) << rtol;
+  }
+}
+
+// ---- building blocks --------------------------------------------------------------------------
+
+using detail::first_sign_change;
+
+template <class Real>
+std::vector<Real> expand(const std::vector<Real>& roots, const Real& scale) {
+  std::vector<Real> c{scale}; // scale · Π (t − r)
+  for (const Real& r : roots) {
+    std::vector<Real> next(c.size() + 1, Real(0));
+    for (std::size_t i = 0; i < c.size(); ++i) {
+      next[i + 1] += c[i];
+      next[i] -= r * c[i];
+    }
+    c = next;
+  }
+  return c;
+}
+
+TEST(Polynomial, FirstSignChangeIsTheFirstCrossingNotATouch) {
+  auto first = [](const std::vector<double>& roots, double h) {
+    const std::vector<double> c = expand(roots, -1.0);
+    return first_sign_change<double>(c, h);
+  };
+  EXPECT_NEAR(*first({0.3, 0.7, -1}, 1), 0.3, 1e-15);
+  EXPECT_NEAR(*first({0.7, 0.3, 2}, 1), 0.3, 1e-15);
+  EXPECT_FALSE(first({0.5, 0.5}, 1)); // a double root touches 0 without crossing
+  EXPECT_NEAR(*first({0.5, 0.5, 0.8}, 1), 0.8, 1e-15);
+  // A close pair, both crossings: the first (each root of the pair is conditioned ~ε/1e-6).
+  const auto close = first({0.3 + 1e-6, 0.3, 0.9}, 1);
+  ASSERT_TRUE(close);
+  EXPECT_NEAR(*close, 0.3, 1e-9);
+  EXPECT_EQ(*first({0.25}, 0.25), 0.25);  // at the end of the step
+  EXPECT_EQ(*first({0.5, 0.75}, 1), 0.5); // at a bisection point
+  EXPECT_FALSE(first({1.5, -0.5}, 1));
+  EXPECT_FALSE(first({0.0, 2.0}, 1)); // at the start: not a new crossing
+#if PLDAMP_WITH_QUAD
+  const quad third = quad(1) / 3;
+  const std::vector<quad> c = expand<quad>({third, quad(2), quad(-3)}, quad(7));
+  EXPECT_LT(static_cast<double>(abs(*first_sign_change<quad>(c, quad(1)) - third)), 1e-33);
+#endif
+}
+
+#if PLDAMP_WITH_QUAD
+// The series of contact_series.hpp conserve energy exactly: with E = (dδ/ds)² + δ^(p+1) in the
+// scaled units, E(s) = u² − W(s) going forward from the entry, u² + W(s) going back from the exit.
+TEST(ContactPointSeries, EnergyBalanceHoldsToTheLastDigit) {
+  const quad eps = std::numeric_limits<quad>::epsilon();
+  for (const quad& p : {quad(1), quad(5) / 4, quad(5) / 2, quad(5)}) {
+    for (const quad& gamma : {quad(0), quad(3) / 10, quad(2)}) {
+      for (const int direction : {1, -1}) {
+        const detail::ContactPointSeries<quad> series(p, direction * gamma, 2 * gamma, eps, 80,
+                                                      true);
+        for (const quad& u : {quad(1), quad(1) / 1000}) {
+          const quad s = series.s_of(u, series.reach());
+          const auto point = series.at(u, s);
+          const quad energy = point.rate * point.rate + pow(point.delta, p + 1);
+          const quad balance = energy - u * u + direction * point.work;
+          EXPECT_LT(static_cast<double>(abs(balance) / (energy > u * u ? energy : u * u)), 1e-32)
+              << p << " " << gamma << " " << direction;
+        }
+      }
+    }
+  }
+}
+
+TEST(ContactPointSeries, LocateRecoversTheContactPoint) {
+  const quad eps = std::numeric_limits<quad>::epsilon();
+  for (const quad& p : {quad(1), quad(3) / 2, quad(3)}) {
+    const detail::ContactPointSeries<quad> exit(p, quad(-1), quad(2), eps, 80, false);
+    for (const quad& u : {quad(1), quad(1) / 1000}) {
+      const quad s = exit.s_of(u, exit.reach() / 2);
+      const auto point = exit.at(u, s);
+      const auto found = exit.locate(point.delta, point.rate);
+      ASSERT_TRUE(found.has_value()) << p;
+      EXPECT_LT(relative_error(found->u, u), 1e-32) << p;
+      EXPECT_LT(relative_error(found->s, s), 1e-32) << p;
+    }
+  }
+}
+#endif
+
+} // namespace
+} // namespace pldamp::solvers
