@@ -32,6 +32,8 @@
 //   exit speed u and the time s to the exit from the step's (δ, v); it answers when x = u^a s^b
 //   lies within its reach. Then τ = t + s, e = u and the remaining work W(s) are exact to ε.
 //   No step approaches δ = 0 (a step that would cross it is halved).
+// The state is carried as a compensated sum (advance), so that rounding does not build up over the
+// slow creep before a heavily damped exit.
 //
 // Events. The peak (v = 0) and, with the force end, the cut (k δ^b + c v = 0, MATH.md §4; here
 // κ q + γ v, whose coefficients the recurrences give) are located on each step's polynomial:
@@ -39,7 +41,7 @@
 // (polynomial.hpp). The state at an event is the polynomial's value.
 //
 // Work: rhs_evals counts the orders of the recurrences computed (N per step, plus the terms of
-// the two series); order n costs about n products, so this undercounts the arithmetic of
+// each series built); order n costs about n products, so this undercounts the arithmetic of
 // high orders: compare wall time across methods.
 #include "collision.hpp"
 #include "contact_series.hpp"
@@ -233,7 +235,6 @@ Real TaylorContact<Real>::step_size() const {
 
 template <SupportedReal Real>
 Result<Real> TaylorContact<Real>::run() {
-  using std::abs;
   // Entry: the series up to its reach, and not past the loss of half the impact speed.
   const Real x1 = entry_.rate_falls_to(Real(1) / 2, entry_.reach()).value_or(entry_.reach());
   Real t = std::min(entry_.s_of(Real(1), x1), horizon_);
