@@ -40,6 +40,17 @@ StateOf<Real> BasicCollision<Real>::absolute_tolerances() const {
 }
 
 template <SupportedReal Real>
+Real BasicCollision<Real>::exit_speed_noise() const {
+  // An "exit" at a speed within the tolerances (of v, and of δ per time unit) is an overdamped
+  // overlap that decayed into the integration noise and crossed 0 there: not a return the solver
+  // can tell from none (so e below ~10 rtol reads as no exit). Capped at 1e-3 v0 so that a loose
+  // tolerance does not hide a real return.
+  using std::min;
+  const State atol = absolute_tolerances();
+  return min(10 * (atol[1] + atol[0] / ode_.time_scale()), ode_.v0() / 1000);
+}
+
+template <SupportedReal Real>
 Real BasicCollision<Real>::jacobian_floor() const {
   // 1e-3 δ_u: the Newton iterations of a step leaving δ = 0 start from the step's start, where the
   // true ∂|δ|^a/∂δ is infinite, and must reach stage overlaps ~ v0 h. A floor at √ε δ_u (the
@@ -72,15 +83,8 @@ bool BasicCollision<Real>::record(EventKind kind, const Real& t, const State& y)
     // Peak quantities alone: nothing after the peak is needed.
     return (options_.want & (want_e | want_tau | want_energy)) == 0;
   }
-  const State atol = absolute_tolerances();
   using std::abs;
-  using std::min;
-  const Real noise = min(10 * (atol[1] + atol[0] / ode_.time_scale()), ode_.v0() / 1000);
-  if (abs(y[1]) <= noise) {
-    // An "exit" at a speed within the tolerances (of v, and of δ per time unit) is an overdamped
-    // overlap that decayed into the integration noise and crossed 0 there: not a return the
-    // solver can tell from none (so e below ~10 rtol reads as no exit). Capped at 1e-3 v0 so that
-    // a loose tolerance does not hide a real return.
+  if (abs(y[1]) <= exit_speed_noise()) {
     return false;
   }
   events_.push_back({kind, t});
@@ -178,7 +182,11 @@ Result<double> run_one_step_method(OneStepMethod& method, Collision& collision) 
   const long max_steps = collision.options().max_steps;
   const ExitApproach approach(method, collision);
   while (method.steps() < max_steps) {
-    const bool unloading = !collision.pending(EventKind::peak) && y[1] < 0 && y[0] > 0;
+    // Only while a return can still be told from the noise: once a critical or overdamped
+    // overlap has decayed into it, δ hovers about 0 and the cap κ δ/|v| would creep (odeint-rkf78
+    // ran into its step limit at p = 1, z = 1).
+    const bool unloading =
+        !collision.pending(EventKind::peak) && y[0] > 0 && -y[1] > collision.exit_speed_noise();
     if (approach.active() && unloading) {
       method.limit_next_step(approach.kappa * y[0] / -y[1]);
     }

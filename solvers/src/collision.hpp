@@ -55,8 +55,10 @@ public:
   Real event_value(EventKind kind, const State& y) const;
   // An event still to be found: the peak until found; the exit once the peak is behind.
   bool pending(EventKind kind) const;
-  // Records an event; returns true when the run is complete.
+  // Records an event; returns true when the run is complete. An exit at a speed at or below
+  // exit_speed_noise() is not one.
   bool record(EventKind kind, const Real& t, const State& y);
+  Real exit_speed_noise() const;
 
   // Records the requested samples with times up to t (inclusive), in order.
   template <class StateAt>
