@@ -9,7 +9,7 @@ cd "$(dirname "$0")/.."
 
 # Debian 12 packages; README "Dependencies" says why each is here.
 packages=(cmake make g++ libboost-dev libsundials-dev libcli11-dev libfmt-dev nlohmann-json3-dev libgtest-dev
-  libbenchmark-dev clang-format)
+  libbenchmark-dev libtomlplusplus-dev gnuplot-nox clang-format)
 
 install_missing() {
   local missing=() p

@@ -2,6 +2,7 @@
 
 #include "commands.hpp"
 #include "format.hpp"
+#include "scene.hpp"
 
 #include "pldamp/solvers/registry.hpp"
 
@@ -87,6 +88,20 @@ int run_cli(int argc, const char* const* argv, std::ostream& out, std::ostream& 
       ->delimiter(',');
   solve->add_option("--max-steps", solve_args.max_steps, "step limit (default 1e6)");
 
+  RunArgs run_args;
+  CLI::App* run = app.add_subcommand("run", "run a scene: solvers against the closed forms, "
+                                            "budgets, claims, reports");
+  run->add_option("scene", run_args.scene, "scene file (TOML), e.g. data/scenes/nightly.toml")
+      ->required();
+  run->add_option("--out", run_args.out, "report folder (default: report)");
+  run->add_option("--jobs", run_args.jobs, "parallel solver runs (default: the cores)");
+
+  std::string diff_old, diff_new;
+  CLI::App* diff =
+      app.add_subcommand("diff", "regressions between two report.json (exit 1 if any)");
+  diff->add_option("old", diff_old, "last night's report.json")->required();
+  diff->add_option("new", diff_new, "tonight's report.json")->required();
+
   std::string showcase_precision = "double";
   CLI::App* showcase =
       app.add_subcommand("showcase", "observables for p = 1 ... 3 at e = 0.5, one overdamped case");
@@ -96,9 +111,11 @@ int run_cli(int argc, const char* const* argv, std::ostream& out, std::ostream& 
   try {
     if (!arguments.empty() && arguments.front().rfind('-', 0) != 0 &&
         arguments.front() != "calibrate" && arguments.front() != "observables" &&
-        arguments.front() != "solve" && arguments.front() != "showcase") {
-      throw InputError("unknown command, expected calibrate|observables|solve|showcase (got " +
-                       arguments.front() + ")");
+        arguments.front() != "solve" && arguments.front() != "showcase" &&
+        arguments.front() != "run" && arguments.front() != "diff") {
+      throw InputError(
+          "unknown command, expected calibrate|observables|solve|run|diff|showcase (got " +
+          arguments.front() + ")");
     }
     try {
       app.parse(argc, argv);
@@ -120,7 +137,14 @@ int run_cli(int argc, const char* const* argv, std::ostream& out, std::ostream& 
       run_solve(solve_args, out);
     } else if (showcase->parsed()) {
       run_showcase(showcase_precision, out);
+    } else if (run->parsed()) {
+      run_scene(run_args, out, err);
+    } else if (diff->parsed()) {
+      return run_diff(diff_old, diff_new, out);
     }
+  } catch (const SceneError& e) { // already "file:line: message"
+    err << e.what() << "\n";
+    return 2;
   } catch (const InternalError& e) {
     err << "error: internal: " << e.what() << "\n";
     return 3;

@@ -30,9 +30,19 @@ struct SolveArgs {
   std::string max_steps = "1000000";
 };
 
+// `pldamp run`: a scene, its plan, its reports.
+struct RunArgs {
+  std::string scene;
+  std::string out = "report";
+  std::optional<std::string> jobs; // default: the cores
+};
+
 void run_calibrate(const ContactArgs& args, std::ostream& out);
 void run_observables(const ContactArgs& args, std::ostream& out);
 void run_showcase(const std::string& precision, std::ostream& out);
 void run_solve(const SolveArgs& args, std::ostream& out);
+void run_scene(const RunArgs& args, std::ostream& out, std::ostream& err);
+// Returns the exit code: 1 if NEW regressed against OLD, else 0.
+int run_diff(const std::string& old_path, const std::string& new_path, std::ostream& out);
 
 } // namespace pldamp::harness

@@ -1,0 +1,60 @@
+// The plan of a scene: its cells (grid points), its solver configurations (the sweeps, plus any
+// claim configuration not among them), the observables to compare, and the reference truth.
+//
+// Reference truth is the analytic layer in float128 (DESIGN.md), computed once per (p, damping)
+// at v0 = m = k = 1 and scaled to each cell: δ by (m v0²/k)^(1/(p+1)), times by that over v0,
+// energies by m v0² (MATH.md §7; e is scale-free). Only the wanted observables are computed, so
+// no time quadrature runs unless t_peak or τ is wanted. The reference is built from α rounded to
+// the precision the solver receives (the double solvers get α as a double), so that this rounding
+// is not charged to them. The analytic layer's own budget (double against float128) is computed
+// alongside, from the same (p, damping).
+#pragma once
+
+#include "scene.hpp"
+
+#include "pldamp/core/real_types.hpp"
+
+#include <map>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace pldamp::harness {
+
+struct Cell {
+  std::size_t point; // index into Plan::points: its (p, damping)
+  double v0, m, k;
+};
+
+// The reference values at one (p, damping), v0 = m = k = 1.
+struct Point {
+  double p;
+  Damping damping;
+  double alpha_eff; // the damping as α_eff (computed for a target e)
+  quad alpha;       // calibrated in float128
+  bool overdamped;  // α_eff ≥ 1: no return
+  // Per α precision ("double", "long", "quad"): the observables in scene order, float128.
+  std::map<std::string, std::vector<std::optional<quad>>> reference;
+  std::vector<std::optional<double>> analytic_double; // the analytic layer in double
+  std::vector<std::optional<double>> analytic_error;  // its relative error against float128
+};
+
+struct Plan {
+  Scene scene;
+  std::vector<std::string> observables; // compared, in order (e, tau: e_cap, t_cut if end = force)
+  std::vector<Point> points;
+  std::vector<Cell> cells;
+  std::vector<SolverConfig> configs; // the scene's, then claim-only ones
+};
+
+// Expands the scene and computes the references (float128 work, once per point).
+Plan make_plan(const Scene& scene);
+
+// The float128 reference of an observable at a cell.
+std::optional<quad> reference_at(const Plan& plan, const Cell& cell, std::size_t observable,
+                                 const std::string& alpha_precision);
+
+// The precision α is rounded to for a configuration: taylor in 50 digits gets the float128 α.
+std::string alpha_precision(const SolverConfig& config);
+
+} // namespace pldamp::harness

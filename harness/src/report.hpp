@@ -1,0 +1,44 @@
+// A run's reports (DESIGN.md "Reports"), written into one folder:
+//   report.json  complete (schema, scene, totals, claims, budgets, records); the input of diff
+//   report.csv   one row per cell and solver configuration
+//   report.md    worst errors per observable and configuration, claim verdicts, the analytic
+//                layer's own budget; fit for a CI log
+//   report.html  self-contained: the tables and inline SVG plots drawn by gnuplot (error maps
+//                over p × α_eff, work-precision diagrams, the claim table); without gnuplot the
+//                plots are skipped and the page says so
+#pragma once
+
+#include "budget.hpp"
+
+#include <nlohmann/json.hpp>
+
+#include <string>
+#include <vector>
+
+namespace pldamp::harness {
+
+inline constexpr int report_schema = 1;
+
+struct RunReport {
+  const Plan& plan;
+  const std::vector<Record>& records;
+  const Budgets& budgets;
+  const RunTotals& totals;
+};
+
+nlohmann::ordered_json report_json(const RunReport& report);
+std::string report_csv(const RunReport& report);
+std::string report_markdown(const RunReport& report);
+// `gnuplot` is the program to draw with; empty or missing: no plots.
+std::string report_html(const RunReport& report, const std::string& gnuplot);
+
+// Writes the scene's formats into `folder` (created if needed); returns the files written.
+std::vector<std::string> write_reports(const RunReport& report, const std::string& folder);
+
+// `pldamp diff`: the regressions from OLD to NEW (an error grown more than tenfold above the
+// precision's noise, a claim that flipped from holds to fails, a record that now fails or is
+// gone), one line each.
+std::vector<std::string> regressions(const nlohmann::json& old_report,
+                                     const nlohmann::json& new_report);
+
+} // namespace pldamp::harness

@@ -1,0 +1,419 @@
+#include "scene.hpp"
+
+#include "pldamp/solvers/registry.hpp"
+
+#include <toml++/toml.h>
+
+#include <algorithm>
+#include <cmath>
+#include <initializer_list>
+#include <sstream>
+#include <string_view>
+
+namespace pldamp::harness {
+namespace {
+
+std::string shortest(double x) {
+  return to_string_full(x);
+}
+
+// Reports problems at the line of the node they concern.
+class Reader {
+public:
+  explicit Reader(std::string path) : path_(std::move(path)) {}
+
+  [[noreturn]] void fail(const toml::node& at, const std::string& what) const {
+    fail_at(at.source().begin.line, what);
+  }
+  [[noreturn]] void fail_at(std::size_t line, const std::string& what) const {
+    throw SceneError(path_ + ":" + std::to_string(line) + ": " + what);
+  }
+
+  // Every key of `table` must be one of `allowed`.
+  void only(const toml::table& table, std::initializer_list<std::string_view> allowed,
+            const std::string& where) const {
+    for (const auto& [key, node] : table) {
+      if (std::find(allowed.begin(), allowed.end(), key.str()) == allowed.end()) {
+        std::string names;
+        for (const std::string_view name : allowed) {
+          if (!names.empty()) {
+            names += '|';
+          }
+          names.append(name);
+        }
+        fail(node, "unknown key in " + where + ", expected " + names + " (got " +
+                       std::string(key.str()) + ")");
+      }
+    }
+  }
+
+  double number(const toml::node& node, const std::string& what) const {
+    if (const auto value = node.value<double>();
+        value && (node.is_floating_point() || node.is_integer())) {
+      if (!std::isfinite(*value)) {
+        fail(node, what + " must be finite (got " + shortest(*value) + ")");
+      }
+      return *value;
+    }
+    fail(node, what + " must be a number (got " + type_of(node) + ")");
+  }
+  // A number or a non-empty list of numbers.
+  std::vector<double> numbers(const toml::node& node, const std::string& what) const {
+    std::vector<double> out;
+    if (const toml::array* list = node.as_array()) {
+      for (const toml::node& item : *list) {
+        out.push_back(number(item, what));
+      }
+      if (out.empty()) {
+        fail(node, what + " is an empty list");
+      }
+      return out;
+    }
+    return {number(node, what)};
+  }
+  std::string string(const toml::node& node, const std::string& what) const {
+    if (const auto value = node.value<std::string>(); value && node.is_string()) {
+      return *value;
+    }
+    fail(node, what + " must be a string (got " + type_of(node) + ")");
+  }
+  std::vector<std::string> strings(const toml::node& node, const std::string& what) const {
+    std::vector<std::string> out;
+    if (const toml::array* list = node.as_array()) {
+      for (const toml::node& item : *list) {
+        out.push_back(string(item, what));
+      }
+      return out;
+    }
+    return {string(node, what)};
+  }
+  const toml::table& table(const toml::node& node, const std::string& what) const {
+    if (const toml::table* t = node.as_table()) {
+      return *t;
+    }
+    fail(node, what + " must be a table (got " + type_of(node) + ")");
+  }
+
+  // Checks a condition on a value read from `node`.
+  void require(bool ok, const toml::node& node, const std::string& what, double value) const {
+    if (!ok) {
+      fail(node, what + " (got " + shortest(value) + ")");
+    }
+  }
+
+private:
+  static std::string type_of(const toml::node& node) {
+    std::ostringstream out;
+    out << node.type();
+    return out.str();
+  }
+  std::string path_;
+};
+
+unsigned parse_want(const Reader& reader, const toml::node& node) {
+  unsigned want = 0;
+  for (const std::string& name : reader.strings(node, "want")) {
+    static constexpr std::pair<std::string_view, unsigned> names[] = {
+        {"e", solvers::want_e},
+        {"delta_max", solvers::want_delta_max},
+        {"t_peak", solvers::want_t_peak},
+        {"tau", solvers::want_tau},
+        {"energy", solvers::want_energy}};
+    const auto* found = std::find_if(std::begin(names), std::end(names),
+                                     [&](const auto& entry) { return entry.first == name; });
+    if (found == std::end(names)) {
+      reader.fail(node, "unknown observable in want, expected e|delta_max|t_peak|tau|energy (got " +
+                            name + ")");
+    }
+    want |= found->second;
+  }
+  if (want == 0) {
+    reader.fail(node, "want names no observable");
+  }
+  return want;
+}
+
+const solvers::SolverInfo* find_solver(const std::string& name) {
+  for (const solvers::SolverInfo& info : solvers::registry()) {
+    if (info.name == name) {
+      return &info;
+    }
+  }
+  return nullptr;
+}
+
+// name, precision, atol and rtol (one value) of a [[solver]] or [[claim]] entry; the rest is the
+// caller's.
+SolverConfig base_config(const Reader& reader, const toml::table& entry, const std::string& where,
+                         const toml::node& at) {
+  SolverConfig config;
+  const toml::node* name = entry.get("solver") ? entry.get("solver") : entry.get("name");
+  if (name == nullptr) {
+    reader.fail(at, where + " needs a solver name");
+  }
+  config.name = reader.string(*name, "solver name");
+  const solvers::SolverInfo* info = find_solver(config.name);
+  if (info == nullptr) {
+    reader.fail(*name, "unknown solver, expected " + solvers::solver_names() + " (got " +
+                           config.name + ")");
+  }
+  if (const toml::node* precision = entry.get("precision")) {
+    config.precision = reader.string(*precision, "precision");
+    const bool known = config.precision == "double" || config.precision == "long" ||
+                       config.precision == "quad" || config.precision == "50";
+    if (!known) {
+      reader.fail(*precision,
+                  "unknown precision, expected double|long|quad|50 (got " + config.precision + ")");
+    }
+    if (config.precision != "double" && !info->any_precision) {
+      reader.fail(*precision, "solver " + config.name +
+                                  " runs in double precision only; taylor runs in any (got " +
+                                  config.precision + ")");
+    }
+  }
+  if (const toml::node* atol = entry.get("atol")) {
+    config.atol = reader.number(*atol, "atol");
+    reader.require(*config.atol > 0, *atol, "atol must be > 0", *config.atol);
+  }
+  return config;
+}
+
+void check_rtol(const Reader& reader, const toml::node& node, double rtol) {
+  reader.require(rtol > 0 && rtol < 1, node, "rtol must be in (0, 1)", rtol);
+}
+
+void read_solvers(const Reader& reader, const toml::node& node, Scene& scene) {
+  const toml::array* entries = node.as_array();
+  if (entries == nullptr) {
+    reader.fail(node, "solver must be an array of tables ([[solver]])");
+  }
+  for (const toml::node& item : *entries) {
+    const toml::table& entry = reader.table(item, "[[solver]]");
+    reader.only(entry, {"name", "rtol", "atol", "precision", "steps_per_contact"}, "[[solver]]");
+    const SolverConfig base = base_config(reader, entry, "[[solver]]", item);
+    const bool fixed_step = !find_solver(base.name)->adaptive;
+    if (const toml::node* steps = entry.get("steps_per_contact")) {
+      if (!fixed_step) {
+        reader.fail(*steps, "steps_per_contact is for fixed-step solvers (got " + base.name + ")");
+      }
+      for (const double n : reader.numbers(*steps, "steps_per_contact")) {
+        reader.require(n >= 1 && n <= 1e9 && n == std::floor(n), *steps,
+                       "steps_per_contact must be an integer in [1, 1e9]", n);
+        SolverConfig config = base;
+        config.steps_per_contact = static_cast<int>(n);
+        scene.configs.push_back(config);
+      }
+      continue;
+    }
+    if (const toml::node* rtol = entry.get("rtol")) {
+      if (fixed_step) {
+        reader.fail(*rtol, base.name + " takes a fixed step: give steps_per_contact (got rtol)");
+      }
+      for (const double value : reader.numbers(*rtol, "rtol")) {
+        check_rtol(reader, *rtol, value);
+        SolverConfig config = base;
+        config.rtol = value;
+        scene.configs.push_back(config);
+      }
+      continue;
+    }
+    if (base.name != "taylor" && !fixed_step) {
+      reader.fail(item, "[[solver]] " + base.name + " needs rtol (a number or a list)");
+    }
+    SolverConfig config = base;
+    if (fixed_step) {
+      config.steps_per_contact = 50;
+    }
+    scene.configs.push_back(config);
+  }
+}
+
+void read_claims(const Reader& reader, const toml::node& node, Scene& scene) {
+  const toml::array* entries = node.as_array();
+  if (entries == nullptr) {
+    reader.fail(node, "claim must be an array of tables ([[claim]])");
+  }
+  for (const toml::node& item : *entries) {
+    const toml::table& entry = reader.table(item, "[[claim]]");
+    reader.only(entry, {"name", "observable", "solver", "rtol", "atol", "precision", "bound"},
+                "[[claim]]");
+    Claim claim;
+    claim.config = base_config(reader, entry, "[[claim]]", item);
+    for (const char* key : {"name", "observable", "bound"}) {
+      if (entry.get(key) == nullptr) {
+        reader.fail(item, std::string("[[claim]] needs ") + key);
+      }
+    }
+    claim.name = reader.string(*entry.get("name"), "claim name");
+    claim.observable = reader.string(*entry.get("observable"), "observable");
+    const std::vector<std::string> wanted = observable_names(scene.want);
+    if (std::find(wanted.begin(), wanted.end(), claim.observable) == wanted.end()) {
+      std::string names;
+      for (const std::string& name : wanted) {
+        names += (names.empty() ? "" : "|") + name;
+      }
+      reader.fail(*entry.get("observable"), "claim observable must be one the scene wants: " +
+                                                names + " (got " + claim.observable + ")");
+    }
+    if (const toml::node* rtol = entry.get("rtol")) {
+      claim.config.rtol = reader.number(*rtol, "rtol");
+      check_rtol(reader, *rtol, *claim.config.rtol);
+    } else if (claim.config.name != "taylor") {
+      reader.fail(item, "[[claim]] needs the rtol of its solver");
+    }
+    claim.bound = reader.number(*entry.get("bound"), "bound");
+    reader.require(claim.bound > 0, *entry.get("bound"), "bound must be > 0", claim.bound);
+    scene.claims.push_back(claim);
+  }
+}
+
+void read_grid(const Reader& reader, const toml::node& node, Scene& scene) {
+  const toml::table& grid = reader.table(node, "[grid]");
+  reader.only(grid, {"p", "e", "alpha_eff", "v0", "m", "k"}, "[grid]");
+  for (const char* key : {"p", "v0"}) {
+    if (grid.get(key) == nullptr) {
+      reader.fail(node, std::string("[grid] needs ") + key);
+    }
+  }
+  if (grid.get("e") == nullptr && grid.get("alpha_eff") == nullptr) {
+    reader.fail(node, "[grid] needs e or alpha_eff");
+  }
+  auto list = [&](const char* key, auto&& valid, const char* rule) {
+    std::vector<double> values{1.0};
+    if (const toml::node* at = grid.get(key)) {
+      values = reader.numbers(*at, key);
+      for (const double value : values) {
+        reader.require(valid(value), *at, std::string(key) + rule, value);
+      }
+    }
+    return values;
+  };
+  const auto positive = [](double x) { return x > 0; };
+  scene.p = list(
+      "p", [](double x) { return x >= 1; }, " must be >= 1");
+  scene.v0 = list("v0", positive, " must be > 0");
+  scene.m = list("m", positive, " must be > 0");
+  scene.k = list("k", positive, " must be > 0");
+  if (grid.get("e") != nullptr) {
+    for (const double e : list(
+             "e", [](double x) { return x > 0 && x <= 1; }, " must be in (0, 1]")) {
+      scene.damping.push_back({Damping::Kind::e, e});
+    }
+  }
+  if (grid.get("alpha_eff") != nullptr) {
+    for (const double z : list(
+             "alpha_eff", [](double x) { return x >= 0; }, " must be >= 0")) {
+      scene.damping.push_back({Damping::Kind::alpha_eff, z});
+    }
+  }
+}
+
+} // namespace
+
+std::string Damping::label() const {
+  return (kind == Kind::e ? "e=" : "z=") + to_string_full(value);
+}
+
+std::string SolverConfig::label() const {
+  std::string out = name;
+  if (precision != "double") {
+    out += " " + precision;
+  }
+  if (rtol) {
+    std::ostringstream r;
+    r << *rtol;
+    out += " rtol=" + r.str();
+  }
+  if (atol) {
+    std::ostringstream a;
+    a << *atol;
+    out += " atol=" + a.str();
+  }
+  if (steps_per_contact) {
+    out += " n=" + std::to_string(*steps_per_contact);
+  }
+  return out;
+}
+
+std::vector<std::string> observable_names(unsigned want) {
+  std::vector<std::string> names;
+  for (const auto& [bit, name] :
+       {std::pair{solvers::want_e, "e"}, std::pair{solvers::want_delta_max, "delta_max"},
+        std::pair{solvers::want_t_peak, "t_peak"}, std::pair{solvers::want_tau, "tau"}}) {
+    if (want & bit) {
+      names.emplace_back(name);
+    }
+  }
+  if (want & solvers::want_energy) {
+    names.emplace_back("energy_load");
+    names.emplace_back("energy_unload");
+  }
+  return names;
+}
+
+Scene load_scene(const std::string& path) {
+  const Reader reader(path);
+  toml::table root;
+  try {
+    root = toml::parse_file(path);
+  } catch (const toml::parse_error& e) {
+    if (e.source().begin.line == 0) { // not a parse error inside the file: it cannot be read
+      throw SceneError(path + ":0: cannot read the scene (" + std::string(e.description()) + ")");
+    }
+    reader.fail_at(e.source().begin.line, std::string(e.description()));
+  }
+  reader.only(root, {"name", "end", "want", "grid", "solver", "claim", "report", "timing"},
+              "the scene");
+  Scene scene;
+  scene.path = path;
+  scene.name = root.get("name") ? reader.string(*root.get("name"), "name") : path;
+  if (const toml::node* end = root.get("end")) {
+    const std::string value = reader.string(*end, "end");
+    if (value != "overlap" && value != "force") {
+      reader.fail(*end, "unknown contact end, expected overlap|force (got " + value + ")");
+    }
+    scene.end = value == "force" ? solvers::End::force : solvers::End::overlap;
+  }
+  if (const toml::node* want = root.get("want")) {
+    scene.want = parse_want(reader, *want);
+  }
+  if (root.get("grid") == nullptr) {
+    reader.fail_at(1, "the scene needs a [grid]");
+  }
+  read_grid(reader, *root.get("grid"), scene);
+  if (const toml::node* entries = root.get("solver")) {
+    read_solvers(reader, *entries, scene);
+  }
+  if (const toml::node* claims = root.get("claim")) {
+    read_claims(reader, *claims, scene);
+  }
+  if (scene.configs.empty() && scene.claims.empty()) {
+    reader.fail_at(1, "the scene names no [[solver]] and no [[claim]]");
+  }
+  if (const toml::node* report = root.get("report")) {
+    const toml::table& table = reader.table(*report, "[report]");
+    reader.only(table, {"formats"}, "[report]");
+    if (const toml::node* formats = table.get("formats")) {
+      scene.formats = reader.strings(*formats, "formats");
+      for (const std::string& format : scene.formats) {
+        if (format != "json" && format != "csv" && format != "md" && format != "html") {
+          reader.fail(*formats,
+                      "unknown report format, expected json|csv|md|html (got " + format + ")");
+        }
+      }
+    }
+  }
+  if (const toml::node* timing = root.get("timing")) {
+    const toml::table& table = reader.table(*timing, "[timing]");
+    reader.only(table, {"repeats"}, "[timing]");
+    if (const toml::node* repeats = table.get("repeats")) {
+      const double n = reader.number(*repeats, "repeats");
+      reader.require(n >= 1 && n <= 100 && n == std::floor(n), *repeats,
+                     "repeats must be an integer in [1, 100]", n);
+      scene.repeats = static_cast<int>(n);
+    }
+  }
+  return scene;
+}
+
+} // namespace pldamp::harness
