@@ -1,7 +1,7 @@
 // The CLI contract of DESIGN.md, run in-process: JSON keys and digits, the force end, and every
 // kind of bad input producing one "error: <what> (got <value>)" line and exit code 2.
+#include "cli_run.hpp"
 #include "pldamp/analytic.hpp"
-#include "pldamp/harness/cli.hpp"
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
@@ -13,21 +13,8 @@
 namespace pldamp::harness {
 namespace {
 
-struct CliRun {
-  int code;
-  std::string out, err;
-};
-
-CliRun run(std::vector<std::string> args) {
-  args.insert(args.begin(), "pldamp");
-  std::vector<const char*> argv;
-  for (const std::string& a : args) {
-    argv.push_back(a.c_str());
-  }
-  std::ostringstream out, err;
-  const int code = run_cli(static_cast<int>(argv.size()), argv.data(), out, err);
-  return {code, out.str(), err.str()};
-}
+using testing::CliRun;
+using testing::run;
 
 TEST(Cli, ObservablesJsonCarriesTheContractKeys) {
   const CliRun r = run({"observables", "--p", "1.5", "--e", "0.5", "--v0", "2", "--m", "0.01",

@@ -2,13 +2,15 @@
 // evaluations), the reference scaling, budget arithmetic on hand-made records, diff catching
 // injected regressions, and an end-to-end run of data/scenes/quick.toml.
 #include "budget.hpp"
+#include "cli_run.hpp"
 #include "plan.hpp"
 #include "report.hpp"
 #include "run.hpp"
 #include "scene.hpp"
 
+#include "cli_run.hpp"
 #include "pldamp/analytic.hpp"
-#include "pldamp/harness/cli.hpp"
+#include "pldamp/solvers/registry.hpp"
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
@@ -38,20 +40,8 @@ std::string write_file(const std::string& name, const std::string& text) {
   return path.string();
 }
 
-struct CliRun {
-  int code;
-  std::string out, err;
-};
-CliRun run(std::vector<std::string> args) {
-  args.insert(args.begin(), "pldamp");
-  std::vector<const char*> argv;
-  for (const std::string& a : args) {
-    argv.push_back(a.c_str());
-  }
-  std::ostringstream out, err;
-  const int code = run_cli(static_cast<int>(argv.size()), argv.data(), out, err);
-  return {code, out.str(), err.str()};
-}
+using testing::CliRun;
+using testing::run;
 
 const std::string valid_scene = R"(name = "t"
 want = ["e", "delta_max", "t_peak", "tau", "energy"]
@@ -171,41 +161,23 @@ atol = 1e-13
                                               "arkode-dp5 rtol=1e-10 atol=1e-13"}));
 }
 
-// The same scene wanting everything and wanting δ_max only.
+// The same scene wanting everything and wanting δ_max only, with every registered solver (two
+// tolerances each; verlet two step counts).
 std::string skip_scene(const std::string& want) {
-  return "want = [" + want + R"(]
+  std::string scene = "want = [" + want + R"(]
 [grid]
 p = [1.0, 1.5, 2.5]
 e = [0.9, 0.5, 0.1]
 alpha_eff = [1.5]
 v0 = [1.0]
-[[solver]]
-name = "cvode-bdf"
-rtol = [1e-6, 1e-10]
-[[solver]]
-name = "cvode-adams"
-rtol = [1e-6, 1e-10]
-[[solver]]
-name = "arkode-dp5"
-rtol = [1e-6, 1e-10]
-[[solver]]
-name = "arkode-erk8"
-rtol = [1e-6, 1e-10]
-[[solver]]
-name = "arkode-dirk"
-rtol = [1e-6, 1e-10]
-[[solver]]
-name = "odeint-rkf78"
-rtol = [1e-6, 1e-10]
-[[solver]]
-name = "odeint-bs"
-rtol = [1e-6, 1e-10]
-[[solver]]
-name = "taylor"
-[[solver]]
-name = "verlet"
-steps_per_contact = [50, 1000]
 )";
+  for (const solvers::SolverInfo& info : solvers::registry()) {
+    scene += "[[solver]]\nname = \"" + std::string(info.name) + "\"\n" +
+             (info.name == "taylor" ? ""
+              : info.adaptive       ? "rtol = [1e-6, 1e-10]\n"
+                                    : "steps_per_contact = [50, 1000]\n");
+  }
+  return scene;
 }
 
 TEST(Plan, PeakOnlyScenesStopAtThePeak) {
