@@ -57,7 +57,8 @@ void run_scene(const RunArgs& args, std::ostream& out, std::ostream& err) {
   const std::vector<Record> records =
       run_plan(plan, static_cast<int>(jobs), totals, terminal ? Progress(draw_progress) : nullptr);
   const Budgets budgets = make_budgets(plan, records);
-  const RunReport report{plan, records, budgets, totals};
+  const std::vector<Figure> figures = make_figures(scene);
+  const RunReport report{plan, records, budgets, totals, figures};
   const std::vector<std::string> written = write_reports(report, args.out);
   out << scene.name << ": " << plan.cells.size() << " cells x " << plan.configs.size()
       << " solver configurations, " << totals.solver_runs << " solver runs, " << totals.rhs_evals

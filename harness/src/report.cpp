@@ -222,6 +222,22 @@ ordered_json report_json(const RunReport& report) {
     records.push_back(r);
   }
   out["records"] = records;
+  ordered_json figures = ordered_json::array();
+  for (const Figure& figure : report.figures) {
+    ordered_json series = ordered_json::array();
+    for (const Series& line : figure.series) {
+      series.push_back(
+          {{"title", line.title}, {"closed_form", line.closed_form}, {"points", line.points}});
+    }
+    figures.push_back({{"kind", figure.kind},
+                       {"title", figure.title},
+                       {"x", figure.x_label},
+                       {"y", figure.y_label},
+                       {"max_deviation", figure.deviation},
+                       {"deviation_of", figure.deviation_of},
+                       {"series", series}});
+  }
+  out["figures"] = figures;
   return out;
 }
 
@@ -341,6 +357,14 @@ std::string report_markdown(const RunReport& report) {
            }
            return worst;
          });
+  if (!report.figures.empty()) {
+    out << "\n## The seed's figures: solver against closed form\n\n| figure | largest deviation "
+           "|\n|---|---|\n";
+    for (const Figure& figure : report.figures) {
+      out << "| " << figure.title << " | " << short_number(figure.deviation) << " in "
+          << figure.deviation_of << " |\n";
+    }
+  }
   if (budgets.failed_records > 0) {
     out << "\n## Failed records\n\n";
     long shown = 0;

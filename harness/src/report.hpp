@@ -9,6 +9,7 @@
 #pragma once
 
 #include "budget.hpp"
+#include "figures.hpp"
 
 #include <nlohmann/json.hpp>
 
@@ -24,6 +25,7 @@ struct RunReport {
   const std::vector<Record>& records;
   const Budgets& budgets;
   const RunTotals& totals;
+  const std::vector<Figure>& figures;
 };
 
 nlohmann::ordered_json report_json(const RunReport& report);

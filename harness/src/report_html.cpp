@@ -179,6 +179,31 @@ std::string error_map_plot(Gnuplot& gnuplot, const RunReport& report, std::size_
   return gnuplot.svg(script.str(), 560, 380);
 }
 
+// A seed figure: closed-form lines and the solver's points.
+std::string figure_plot(Gnuplot& gnuplot, const Figure& figure) {
+  std::ostringstream script;
+  script << std::setprecision(17) << "set grid\nset key outside right\nset title '" << figure.title
+         << "' noenhanced\nset xlabel '" << figure.x_label << "' noenhanced\nset ylabel '"
+         << figure.y_label << "' noenhanced\n";
+  // A closed form and the solver's points after it share a colour.
+  std::string plot = "plot ";
+  int colour = 0;
+  for (std::size_t i = 0; i < figure.series.size(); ++i) {
+    const Series& series = figure.series[i];
+    colour += series.closed_form || colour == 0 ? 1 : 0;
+    script << "$s" << i << " << EOD\n";
+    for (const auto& [x, y] : series.points) {
+      script << x << " " << y << "\n";
+    }
+    script << "EOD\n";
+    plot += std::string(i ? ", " : "") + "$s" + std::to_string(i) +
+            (series.closed_form ? " with lines lw 2" : " with points pt 6 ps 0.9") + " lc " +
+            std::to_string(colour) + " title '" + series.title + "' noenhanced";
+  }
+  script << plot << "\n";
+  return gnuplot.svg(script.str(), 720, 440);
+}
+
 } // namespace
 
 std::string report_html(const RunReport& report, const std::string& gnuplot_program) {
@@ -240,6 +265,14 @@ std::string report_html(const RunReport& report, const std::string& gnuplot_prog
       if (!svg.empty()) {
         out << "<figure>" << svg << "</figure>\n";
       }
+    }
+  }
+  if (!report.figures.empty()) {
+    out << "<h2>The seed's figures: solver (points) against closed form (lines)</h2>\n";
+    for (const Figure& figure : report.figures) {
+      out << "<figure>" << figure_plot(gnuplot, figure) << "<figcaption>largest deviation "
+          << format(figure.deviation) << " in " << escape(figure.deviation_of)
+          << "</figcaption></figure>\n";
     }
   }
   out << "<p>Every configuration's maps, the analytic layer's own budget and each record are in "

@@ -21,7 +21,8 @@ struct Record {
   // Per observable (Plan::observables): the value (rounded to double for the report) and its
   // absolute and relative errors against the reference, computed in float128. The relative error
   // of a reference 0 (e of a contact that never returns) is the absolute one; of an infinite
-  // reference (its τ) 0 when the value is infinite too.
+  // reference (its τ) 0 when the value is infinite too. A solver's no_exit where the contact does
+  // return (just below critical damping) leaves τ unresolved and compares e absolutely.
   std::vector<std::optional<double>> value, abs_error, rel_error;
   // Failed: the solver threw, stopped at its step limit, or returned a non-finite error.
   bool failed() const;

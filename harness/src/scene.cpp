@@ -267,6 +267,61 @@ void read_claims(const Reader& reader, const toml::node& node, Scene& scene) {
   }
 }
 
+void read_figures(const Reader& reader, const toml::node& node, Scene& scene) {
+  const toml::array* entries = node.as_array();
+  if (entries == nullptr) {
+    reader.fail(node, "figure must be an array of tables ([[figure]])");
+  }
+  for (const toml::node& item : *entries) {
+    const toml::table& entry = reader.table(item, "[[figure]]");
+    reader.only(entry, {"kind", "solver", "rtol", "atol", "p", "e", "alpha_eff"}, "[[figure]]");
+    FigureSpec figure;
+    if (entry.get("kind") == nullptr) {
+      reader.fail(item, "[[figure]] needs a kind");
+    }
+    figure.kind = reader.string(*entry.get("kind"), "kind");
+    constexpr std::string_view kinds[] = {"alpha_vs_e", "force_history",  "delta_max_vs_e",
+                                          "tau_ratio",  "phase_portrait", "f_of_p"};
+    if (std::find(std::begin(kinds), std::end(kinds), figure.kind) == std::end(kinds)) {
+      reader.fail(*entry.get("kind"), "unknown figure, expected alpha_vs_e|force_history|"
+                                      "delta_max_vs_e|tau_ratio|phase_portrait|f_of_p (got " +
+                                          figure.kind + ")");
+    }
+    figure.config = base_config(reader, entry, "[[figure]]", item);
+    if (!find_solver(figure.config.name)->adaptive) {
+      figure.config.steps_per_contact = 50;
+    }
+    if (const toml::node* rtol = entry.get("rtol")) {
+      figure.config.rtol = reader.number(*rtol, "rtol");
+      check_rtol(reader, *rtol, *figure.config.rtol);
+    }
+    const bool by_alpha_eff = figure.kind == "tau_ratio";
+    for (const char* key : {"p", by_alpha_eff ? "alpha_eff" : "e"}) {
+      if (entry.get(key) == nullptr) {
+        reader.fail(item, "[[figure]] " + figure.kind + " needs " + key);
+      }
+    }
+    const toml::node& ps = *entry.get("p");
+    figure.p = reader.numbers(ps, "p");
+    for (const double p : figure.p) {
+      reader.require(p >= 1, ps, "p must be >= 1", p);
+    }
+    if (const toml::node* es = entry.get("e")) {
+      figure.e = reader.numbers(*es, "e");
+      for (const double e : figure.e) {
+        reader.require(e > 0 && e < 1, *es, "e must be in (0, 1)", e);
+      }
+    }
+    if (const toml::node* zs = entry.get("alpha_eff")) {
+      figure.alpha_eff = reader.numbers(*zs, "alpha_eff");
+      for (const double z : figure.alpha_eff) {
+        reader.require(z >= 0 && z < 1, *zs, "alpha_eff must be in [0, 1) (a return)", z);
+      }
+    }
+    scene.figures.push_back(figure);
+  }
+}
+
 void read_grid(const Reader& reader, const toml::node& node, Scene& scene) {
   const toml::table& grid = reader.table(node, "[grid]");
   reader.only(grid, {"p", "e", "alpha_eff", "v0", "m", "k"}, "[grid]");
@@ -362,7 +417,8 @@ Scene load_scene(const std::string& path) {
     }
     reader.fail_at(e.source().begin.line, std::string(e.description()));
   }
-  reader.only(root, {"name", "end", "want", "grid", "solver", "claim", "report", "timing"},
+  reader.only(root,
+              {"name", "end", "want", "grid", "solver", "claim", "figure", "report", "timing"},
               "the scene");
   Scene scene;
   scene.path = path;
@@ -386,6 +442,9 @@ Scene load_scene(const std::string& path) {
   }
   if (const toml::node* claims = root.get("claim")) {
     read_claims(reader, *claims, scene);
+  }
+  if (const toml::node* figures = root.get("figure")) {
+    read_figures(reader, *figures, scene);
   }
   if (scene.configs.empty() && scene.claims.empty()) {
     reader.fail_at(1, "the scene names no [[solver]] and no [[claim]]");

@@ -8,6 +8,7 @@
 //     [[solver]]  name; rtol (number or list; taylor: its precision's epsilon if absent); atol;
 //                 precision (taylor: double|long|quad|50); steps_per_contact (verlet, list)
 //     [[claim]]   name, observable, solver, rtol, atol, precision, bound (max abs error)
+//     [[figure]]  kind (figures.hpp), solver, rtol, atol, p, e, alpha_eff: the seed's figures
 //     [report]    formats = ["json", "csv", "md", "html"]
 //     [timing]    repeats = 3   (wall time of a run: the minimum over repeats)
 #pragma once
@@ -53,6 +54,13 @@ struct Claim {
   double bound; // on the largest absolute error over the grid
 };
 
+// A figure of the seed (figures.hpp): its kind, the solver behind its points, its lists.
+struct FigureSpec {
+  std::string kind;
+  SolverConfig config;
+  std::vector<double> p, e, alpha_eff;
+};
+
 struct Scene {
   std::string path, name;
   solvers::End end = solvers::End::overlap;
@@ -61,6 +69,7 @@ struct Scene {
   std::vector<Damping> damping;
   std::vector<SolverConfig> configs; // every sweep expanded, in file order
   std::vector<Claim> claims;
+  std::vector<FigureSpec> figures;
   std::vector<std::string> formats{"json", "csv", "md", "html"};
   int repeats = 1;
 };

@@ -62,8 +62,8 @@ struct BadScene {
 TEST(Scene, EveryErrorNamesFileAndLineBeforeAnyWork) {
   const std::vector<BadScene> cases{
       {"colour = 1\n" + valid_scene,
-       "1: unknown key in the scene, expected name|end|want|grid|solver|claim|report|timing (got "
-       "colour)"},
+       "1: unknown key in the scene, expected name|end|want|grid|solver|claim|figure|report|"
+       "timing (got colour)"},
       {R"(name = "t"
 [grid]
 p = ["one"]
@@ -116,6 +116,12 @@ v0 = [1.0]
       {valid_scene + "[timing]\nrepeats = 0\n",
        "11: repeats must be an integer in [1, 100] (got 0)"},
       {"name = \"t\"\n[grid\n", "2: Error while parsing table header: expected ']', saw '\\n'"},
+      {valid_scene + "[[figure]]\nkind = \"fig7\"\nsolver = \"arkode-dp5\"\n",
+       "11: unknown figure, expected alpha_vs_e|force_history|delta_max_vs_e|tau_ratio|"
+       "phase_portrait|f_of_p (got fig7)"},
+      {valid_scene + "[[figure]]\nkind = \"tau_ratio\"\nsolver = \"arkode-dp5\"\nrtol = 1e-8\n"
+                     "p = [1.5]\nalpha_eff = [0.5, 1.0]\n",
+       "15: alpha_eff must be in [0, 1) (a return) (got 1)"},
   };
   for (std::size_t i = 0; i < cases.size(); ++i) {
     const std::string path = write_file("bad" + std::to_string(i) + ".toml", cases[i].text);
@@ -307,7 +313,7 @@ TEST(Diff, CatchesInjectedRegressions) {
   const HandMade h = hand_made();
   const Budgets b = make_budgets(h.plan, h.records);
   const RunTotals totals{400, 4, 1.0};
-  const nlohmann::json old_report = report_json({h.plan, h.records, b, totals});
+  const nlohmann::json old_report = report_json({h.plan, h.records, b, totals, {}});
   EXPECT_TRUE(regressions(old_report, old_report).empty());
 
   nlohmann::json worse = old_report;
@@ -357,7 +363,7 @@ TEST(EndToEnd, QuickSceneWritesEveryReportWithItsPlots) {
     keys.push_back(key);
   }
   EXPECT_EQ(keys, (std::vector<std::string>{"schema", "scene", "totals", "claims", "budgets",
-                                            "records"}));
+                                            "records", "figures"}));
   EXPECT_EQ(report["claims"][0]["verdict"], "holds");
   EXPECT_LT(report["claims"][0]["measured"].get<double>(), 1e-5);
   EXPECT_EQ(report["totals"]["failed_records"], 0);
@@ -385,6 +391,50 @@ TEST(EndToEnd, QuickSceneWritesEveryReportWithItsPlots) {
   }
   EXPECT_GE(plots, 2u * 3u + 5u) << "work-precision per p (time, rhs) and a map per solver";
   EXPECT_NE(html.str().find("seed Table II"), std::string::npos);
+}
+
+} // namespace
+} // namespace pldamp::harness
+
+namespace pldamp::harness {
+namespace {
+
+TEST(EndToEnd, PaperSceneReproducesTableTwoAndTheSixFigures) {
+  const fs::path out = scratch() / "paper";
+  fs::remove_all(out);
+  const CliRun r =
+      run({"run", std::string(PLDAMP_DATA_DIR) + "/scenes/paper.toml", "--out", out.string()});
+  ASSERT_EQ(r.code, 0) << r.err;
+  std::ifstream json_file(out / "report.json");
+  const nlohmann::json report = nlohmann::json::parse(json_file);
+  EXPECT_EQ(report["claims"][0]["verdict"], "holds");
+  // Table II: 5 p x 5 v0 at e = 0.5, every entry 0.50000 within 1e-5 (measured 2e-9).
+  std::size_t table = 0;
+  for (const auto& record : report["records"]) {
+    if (record["config"] == "arkode-dp5 rtol=1e-10 atol=1e-13") {
+      EXPECT_NEAR(record["value"]["e"].get<double>(), 0.5, 1e-8) << record["key"];
+      ++table;
+    }
+  }
+  EXPECT_EQ(table, 25u);
+  // The figures: the seed says "within 0.1%"; the solver and the closed forms agree far closer.
+  const std::vector<std::string> kinds{"alpha_vs_e", "force_history",  "delta_max_vs_e",
+                                       "tau_ratio",  "phase_portrait", "f_of_p"};
+  ASSERT_EQ(report["figures"].size(), kinds.size());
+  for (std::size_t i = 0; i < kinds.size(); ++i) {
+    const auto& figure = report["figures"][i];
+    EXPECT_EQ(figure["kind"], kinds[i]);
+    EXPECT_LT(figure["max_deviation"].get<double>(), 1e-5) << kinds[i];
+    std::size_t points = 0;
+    for (const auto& series : figure["series"]) {
+      points += series["closed_form"].get<bool>() ? 0 : series["points"].size();
+    }
+    EXPECT_GE(points, 8u) << kinds[i];
+  }
+  std::ifstream html_file(out / "report.html");
+  std::stringstream html;
+  html << html_file.rdbuf();
+  EXPECT_NE(html.str().find("Fig. 6: f(p)"), std::string::npos);
 }
 
 } // namespace
