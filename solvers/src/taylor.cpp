@@ -278,6 +278,10 @@ Result<Real> TaylorContact<Real>::run() {
       // x = u^a s^b with the straight-line guesses u ≈ −v, s ≈ δ / −v: Newton only near reach.
       const auto contact =
           exit.x_of(-y[1], y[0] / -y[1]) <= exit.reach() ? exit.locate(y[0], -y[1]) : std::nullopt;
+      if (contact && t + contact->s > horizon_) {
+        // The series sees a return beyond the horizon; like every solver, give up there.
+        return collision_.finish(Outcome::no_exit, steps);
+      }
       if (contact) {
         const Real tau = t + contact->s;
         const Real work_exit =

@@ -259,6 +259,20 @@ TEST(Taylor, PeakOnlyStopsAtThePeakAndNeverBuildsTheExitSeries) {
   EXPECT_LT(double(peak.rhs_evals), 0.6 * double(all.rhs_evals)); // measured 0.45
 }
 
+TEST(Taylor, HonoursTheHorizonLikeEverySolver) {
+  // p = 10, e = 1e-4 creeps back at τ ≈ 2130 δ_u/v0, after the default horizon (1000): the exit
+  // series sees the return, but the contact is given up at the horizon, as by every solver.
+  const auto c = Contact<double>::from_e(10.0, 1e-4, 1.0);
+  Options<double> options = reference_options<double>();
+  EXPECT_EQ(solve("taylor", problem_of(c), options).outcome, Outcome::no_exit);
+  options.horizon = 5000;
+  const Result<double> r = solve("taylor", problem_of(c), options);
+  EXPECT_EQ(r.outcome, Outcome::exited);
+  const auto exact = reference<quad>(problem_of(c));
+  EXPECT_LT(relative_error(*r.e, *exact.e), 1e-13);
+  EXPECT_LT(relative_error(*r.tau, *exact.tau), 1e-13);
+}
+
 TEST(Taylor, StepLimitIsAnOutcome) {
   Options<double> options = reference_options<double>();
   options.max_steps = 1;

@@ -61,7 +61,10 @@ struct Options {
   End end = End::overlap;
   // Where a contact that has not ended is given up as `no_exit` (critical and overdamped contacts
   // return only as t → ∞). Default: 1000 natural time units δ_u/v0, about 300 undamped contact
-  // durations, where an overdamped overlap has decayed by more than 40 orders of magnitude.
+  // durations. For p = 1 an overdamped overlap has then decayed exponentially, by tens of orders
+  // of magnitude; for p > 1 the creep is algebraic (δ ~ t^(−2/(p−1))), and a heavily damped
+  // contact can return later than that (p = 10, e = 1e-4 at 2100 δ_u/v0): set the horizon
+  // accordingly to see such returns.
   std::optional<Real> horizon;
   // Times at which to record (t, δ, v); only those inside the contact are recorded.
   std::vector<Real> sample_times;
