@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # The one entry point of the README's Quick start and of CI.
-#   scripts/run.sh main   install what is missing, build, run the main job (the showcase)
+#   scripts/run.sh main   install what is missing, build, run the main job (the nightly scene)
 #   scripts/run.sh test   install what is missing, build with -Werror and run every test, rebuild
 #                         and rerun them under ASan+UBSan, check the reference table regenerates
 #                         bit for bit and that the sources are clang-formatted
@@ -36,7 +36,8 @@ case "${1:-}" in
 main)
   install_missing
   build build >/dev/null
-  build/harness/pldamp showcase
+  # The nightly scene; its last lines name the report files (report/report.html to read).
+  build/harness/pldamp run data/scenes/nightly.toml --out report
   ;;
 test)
   install_missing
