@@ -131,7 +131,9 @@ Plan make_plan(const Scene& scene) {
     for (const double v0 : scene.v0) {
       for (const double m : scene.m) {
         for (const double k : scene.k) {
-          plan.cells.push_back({i, v0, m, k});
+          const quad length =
+              exp(log(quad(m) * quad(v0) * quad(v0) / quad(k)) / (quad(plan.points[i].p) + 1));
+          plan.cells.push_back({i, v0, m, k, length, length / quad(v0), quad(m) * v0 * v0});
         }
       }
     }
@@ -146,18 +148,15 @@ std::optional<quad> reference_at(const Plan& plan, const Cell& cell, std::size_t
   if (!unit) {
     return std::nullopt;
   }
-  // MATH.md §7: δ_u ∝ (m v0² / k)^(1/(p+1)), T = δ_u / v0, KE0 ∝ m v0².
-  const quad v0(cell.v0), m(cell.m), k(cell.k);
-  const quad length = exp(log(m * v0 * v0 / k) / (quad(point.p) + 1));
   const std::string& name = plan.observables[observable];
   if (name == "delta_max") {
-    return *unit * length;
+    return *unit * cell.length_scale;
   }
   if (name == "t_peak" || name == "tau") {
-    return *unit * (length / v0);
+    return *unit * cell.time_scale;
   }
   if (name == "energy_load" || name == "energy_unload") {
-    return *unit * (m * v0 * v0);
+    return *unit * cell.energy_scale;
   }
   return unit; // e
 }

@@ -24,6 +24,9 @@ namespace pldamp::harness {
 struct Cell {
   std::size_t point; // index into Plan::points: its (p, damping)
   double v0, m, k;
+  // MATH.md §7, from the unit reference: lengths × (m v0²/k)^(1/(p+1)), times × that / v0,
+  // energies × m v0² (computed once here, not per record).
+  quad length_scale, time_scale, energy_scale;
 };
 
 // The reference values at one (p, damping), v0 = m = k = 1.

@@ -1,0 +1,78 @@
+// The harness's own cost per cell, solver time excluded (issue 5), on data/scenes/quick.toml
+// (45 cells × 13 configurations):
+// - plan: reading the scene and the float128 references (once per (p, damping), scaled to cells)
+// - run_overhead: run_plan's time beyond the solvers' own wall time, per record (threads off)
+// - budgets_and_reports: budgets, report.json, .csv and .md from the records, per record
+//
+//   build/bench/harness_bench
+#include "budget.hpp"
+#include "plan.hpp"
+#include "report.hpp"
+#include "run.hpp"
+#include "scene.hpp"
+
+#include <benchmark/benchmark.h>
+
+#include <chrono>
+#include <string>
+
+namespace {
+
+using namespace pldamp::harness;
+
+const std::string scene_path = std::string(PLDAMP_DATA_DIR) + "/scenes/quick.toml";
+
+void plan(benchmark::State& state) {
+  std::size_t cells = 0;
+  for (auto _ : state) {
+    const Plan p = make_plan(load_scene(scene_path));
+    cells = p.cells.size();
+    benchmark::DoNotOptimize(p);
+  }
+  state.counters["cells"] = double(cells);
+  state.counters["per_cell"] =
+      benchmark::Counter(double(state.iterations()) * double(cells),
+                         benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
+}
+BENCHMARK(plan)->Unit(benchmark::kMillisecond);
+
+void run_overhead(benchmark::State& state) {
+  Plan p = make_plan(load_scene(scene_path));
+  p.scene.repeats = 1; // each solver runs once: its wall_seconds is all its time
+  double overhead = 0;
+  std::size_t records = 0;
+  for (auto _ : state) {
+    RunTotals totals;
+    const auto start = std::chrono::steady_clock::now();
+    const std::vector<Record> r = run_plan(p, 1, totals);
+    const std::chrono::duration<double> took = std::chrono::steady_clock::now() - start;
+    double solver_seconds = 0;
+    for (const Record& record : r) {
+      solver_seconds += record.wall_seconds;
+    }
+    overhead += took.count() - solver_seconds;
+    records += r.size();
+  }
+  state.counters["overhead_us_per_record"] = 1e6 * overhead / double(records);
+}
+BENCHMARK(run_overhead)->Unit(benchmark::kMillisecond)->Iterations(3);
+
+void budgets_and_reports(benchmark::State& state) {
+  const Plan p = make_plan(load_scene(scene_path));
+  RunTotals totals;
+  const std::vector<Record> records = run_plan(p, 2, totals);
+  const std::vector<Figure> figures;
+  for (auto _ : state) {
+    const Budgets b = make_budgets(p, records);
+    const RunReport report{p, records, b, totals, figures};
+    benchmark::DoNotOptimize(report_json(report).dump());
+    benchmark::DoNotOptimize(report_csv(report));
+    benchmark::DoNotOptimize(report_markdown(report));
+  }
+  state.counters["per_record"] =
+      benchmark::Counter(double(state.iterations()) * double(records.size()),
+                         benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
+}
+BENCHMARK(budgets_and_reports)->Unit(benchmark::kMillisecond);
+
+} // namespace
