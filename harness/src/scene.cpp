@@ -142,14 +142,14 @@ const solvers::SolverInfo* find_solver(const std::string& name) {
   return nullptr;
 }
 
-// name, precision, atol and rtol (one value) of a [[solver]] or [[claim]] entry; the rest is the
-// caller's.
-SolverConfig base_config(const Reader& reader, const toml::table& entry, const std::string& where,
-                         const toml::node& at) {
+// The solver (under `key`: name in [[solver]], solver in [[claim]] and [[figure]]), precision and
+// atol of an entry; tolerances and steps are the caller's.
+SolverConfig base_config(const Reader& reader, const toml::table& entry, const char* key,
+                         const std::string& where, const toml::node& at) {
   SolverConfig config;
-  const toml::node* name = entry.get("solver") ? entry.get("solver") : entry.get("name");
+  const toml::node* name = entry.get(key);
   if (name == nullptr) {
-    reader.fail(at, where + " needs a solver name");
+    reader.fail(at, where + " needs " + key);
   }
   config.name = reader.string(*name, "solver name");
   const solvers::SolverInfo* info = find_solver(config.name);
@@ -182,6 +182,12 @@ void check_rtol(const Reader& reader, const toml::node& node, double rtol) {
   reader.require(rtol > 0 && rtol < 1, node, "rtol must be in (0, 1)", rtol);
 }
 
+int steps_per_contact(const Reader& reader, const toml::node& node, double n) {
+  reader.require(n >= 1 && n <= 1e9 && n == std::floor(n), node,
+                 "steps_per_contact must be an integer in [1, 1e9]", n);
+  return static_cast<int>(n);
+}
+
 void read_solvers(const Reader& reader, const toml::node& node, Scene& scene) {
   const toml::array* entries = node.as_array();
   if (entries == nullptr) {
@@ -190,25 +196,24 @@ void read_solvers(const Reader& reader, const toml::node& node, Scene& scene) {
   for (const toml::node& item : *entries) {
     const toml::table& entry = reader.table(item, "[[solver]]");
     reader.only(entry, {"name", "rtol", "atol", "precision", "steps_per_contact"}, "[[solver]]");
-    const SolverConfig base = base_config(reader, entry, "[[solver]]", item);
+    const SolverConfig base = base_config(reader, entry, "name", "[[solver]]", item);
     const bool fixed_step = !find_solver(base.name)->adaptive;
+    if (fixed_step && entry.get("rtol") != nullptr) {
+      reader.fail(*entry.get("rtol"),
+                  base.name + " takes a fixed step: give steps_per_contact (got rtol)");
+    }
     if (const toml::node* steps = entry.get("steps_per_contact")) {
       if (!fixed_step) {
         reader.fail(*steps, "steps_per_contact is for fixed-step solvers (got " + base.name + ")");
       }
       for (const double n : reader.numbers(*steps, "steps_per_contact")) {
-        reader.require(n >= 1 && n <= 1e9 && n == std::floor(n), *steps,
-                       "steps_per_contact must be an integer in [1, 1e9]", n);
         SolverConfig config = base;
-        config.steps_per_contact = static_cast<int>(n);
+        config.steps_per_contact = steps_per_contact(reader, *steps, n);
         scene.configs.push_back(config);
       }
       continue;
     }
     if (const toml::node* rtol = entry.get("rtol")) {
-      if (fixed_step) {
-        reader.fail(*rtol, base.name + " takes a fixed step: give steps_per_contact (got rtol)");
-      }
       for (const double value : reader.numbers(*rtol, "rtol")) {
         check_rtol(reader, *rtol, value);
         SolverConfig config = base;
@@ -235,10 +240,12 @@ void read_claims(const Reader& reader, const toml::node& node, Scene& scene) {
   }
   for (const toml::node& item : *entries) {
     const toml::table& entry = reader.table(item, "[[claim]]");
-    reader.only(entry, {"name", "observable", "solver", "rtol", "atol", "precision", "bound"},
-                "[[claim]]");
+    reader.only(
+        entry,
+        {"name", "observable", "solver", "rtol", "atol", "precision", "steps_per_contact", "bound"},
+        "[[claim]]");
     Claim claim;
-    claim.config = base_config(reader, entry, "[[claim]]", item);
+    claim.config = base_config(reader, entry, "solver", "[[claim]]", item);
     for (const char* key : {"name", "observable", "bound"}) {
       if (entry.get(key) == nullptr) {
         reader.fail(item, std::string("[[claim]] needs ") + key);
@@ -255,11 +262,18 @@ void read_claims(const Reader& reader, const toml::node& node, Scene& scene) {
       reader.fail(*entry.get("observable"), "claim observable must be one the scene wants: " +
                                                 names + " (got " + claim.observable + ")");
     }
-    if (const toml::node* rtol = entry.get("rtol")) {
-      claim.config.rtol = reader.number(*rtol, "rtol");
-      check_rtol(reader, *rtol, *claim.config.rtol);
+    const bool fixed_step = !find_solver(claim.config.name)->adaptive;
+    if (const toml::node* rtol = entry.get(fixed_step ? "steps_per_contact" : "rtol")) {
+      const double value = reader.number(*rtol, fixed_step ? "steps_per_contact" : "rtol");
+      if (fixed_step) {
+        claim.config.steps_per_contact = steps_per_contact(reader, *rtol, value);
+      } else {
+        check_rtol(reader, *rtol, value);
+        claim.config.rtol = value;
+      }
     } else if (claim.config.name != "taylor") {
-      reader.fail(item, "[[claim]] needs the rtol of its solver");
+      reader.fail(item, std::string("[[claim]] needs the ") +
+                            (fixed_step ? "steps_per_contact" : "rtol") + " of its solver");
     }
     claim.bound = reader.number(*entry.get("bound"), "bound");
     reader.require(claim.bound > 0, *entry.get("bound"), "bound must be > 0", claim.bound);
@@ -287,7 +301,7 @@ void read_figures(const Reader& reader, const toml::node& node, Scene& scene) {
                                       "delta_max_vs_e|tau_ratio|phase_portrait|f_of_p (got " +
                                           figure.kind + ")");
     }
-    figure.config = base_config(reader, entry, "[[figure]]", item);
+    figure.config = base_config(reader, entry, "solver", "[[figure]]", item);
     if (!find_solver(figure.config.name)->adaptive) {
       figure.config.steps_per_contact = 50;
     }

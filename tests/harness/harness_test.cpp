@@ -115,6 +115,11 @@ v0 = [1.0]
        "1: unknown contact end, expected overlap|force (got sideways)"},
       {valid_scene + "[timing]\nrepeats = 0\n",
        "11: repeats must be an integer in [1, 100] (got 0)"},
+      {valid_scene + "[[claim]]\nname = \"no solver\"\nobservable = \"e\"\nbound = 1e-5\n",
+       "10: [[claim]] needs solver"},
+      {valid_scene + "[[claim]]\nname = \"c\"\nobservable = \"e\"\nsolver = \"verlet\"\n"
+                     "bound = 1e-2\n",
+       "10: [[claim]] needs the steps_per_contact of its solver"},
       {"name = \"t\"\n[grid\n", "2: Error while parsing table header: expected ']', saw '\\n'"},
       {valid_scene + "[[figure]]\nkind = \"fig7\"\nsolver = \"arkode-dp5\"\n",
        "11: unknown figure, expected alpha_vs_e|force_history|delta_max_vs_e|tau_ratio|"
@@ -158,6 +163,23 @@ rtol = [1e-6, 1e-10]
 atol = 1e-13
 )");
   const Scene scene = load_scene(path);
+  // A claim on a configuration the sweeps already run adds no configuration to the plan.
+  const std::string with_claim = write_file("sweeps-claim.toml", valid_scene + R"([[solver]]
+name = "verlet"
+steps_per_contact = [50, 200]
+[[claim]]
+name = "DEM at 200 steps"
+observable = "e"
+solver = "verlet"
+steps_per_contact = 200
+bound = 1e-2
+)");
+  const Plan plan = make_plan(load_scene(with_claim));
+  ASSERT_EQ(plan.configs.size(), 3u);
+  EXPECT_EQ(plan.scene.claims[0].config, plan.configs[2]);
+  const CliRun no_jobs = run({"run", with_claim, "--jobs", "0"});
+  EXPECT_EQ(no_jobs.code, 2);
+  EXPECT_EQ(no_jobs.err, "error: --jobs must be in [1, 1024] (got 0)\n");
   std::vector<std::string> labels;
   for (const SolverConfig& config : scene.configs) {
     labels.push_back(config.label());
