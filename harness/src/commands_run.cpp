@@ -51,6 +51,7 @@ void run_scene(const RunArgs& args, std::ostream& out, std::ostream& err) {
   if (jobs < 1 || jobs > 1024) {
     throw InputError("--jobs must be in [1, 1024] (got " + std::to_string(jobs) + ")");
   }
+  create_report_folder(args.out); // a folder that cannot be written fails before the work
   const Plan plan = make_plan(scene);
   const bool terminal = &err == &std::cerr && isatty(STDERR_FILENO) == 1;
   RunTotals totals;

@@ -378,9 +378,18 @@ std::string report_markdown(const RunReport& report) {
   return out.str();
 }
 
+void create_report_folder(const std::string& folder) {
+  std::error_code failed;
+  std::filesystem::create_directories(folder, failed);
+  if (failed) {
+    throw InputError("cannot create the report folder, " + failed.message() + " (got " + folder +
+                     ")");
+  }
+}
+
 std::vector<std::string> write_reports(const RunReport& report, const std::string& folder) {
   namespace fs = std::filesystem;
-  fs::create_directories(folder);
+  create_report_folder(folder);
   std::vector<std::string> written;
   for (const std::string& format : report.plan.scene.formats) {
     const fs::path path = fs::path(folder) / ("report." + format);
@@ -395,7 +404,7 @@ std::vector<std::string> write_reports(const RunReport& report, const std::strin
       file << report_html(report, "gnuplot");
     }
     if (!file) {
-      throw std::runtime_error("cannot write " + path.string());
+      throw InputError("cannot write the report (got " + path.string() + ")");
     }
     written.push_back(path.string());
   }

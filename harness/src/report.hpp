@@ -34,6 +34,9 @@ std::string report_markdown(const RunReport& report);
 // `gnuplot` is the program to draw with; empty or missing: no plots.
 std::string report_html(const RunReport& report, const std::string& gnuplot);
 
+// Creates `folder` if needed; throws InputError if it cannot (checked before a run's work).
+void create_report_folder(const std::string& folder);
+
 // Writes the scene's formats into `folder` (created if needed); returns the files written.
 std::vector<std::string> write_reports(const RunReport& report, const std::string& folder);
 

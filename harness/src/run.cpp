@@ -108,7 +108,7 @@ void solve_record(const Plan& plan, Record& record) {
       // unresolved, not wrong.
       if (name == "tau") {
         reference.reset();
-      } else if (name == "e") {
+      } else if (name == "e" && value) {
         const quad absolute = abs(to_quad(*value) - *reference);
         record.abs_error.push_back(static_cast<double>(absolute));
         record.rel_error.push_back(static_cast<double>(absolute));

@@ -177,6 +177,9 @@ bound = 1e-2
   const Plan plan = make_plan(load_scene(with_claim));
   ASSERT_EQ(plan.configs.size(), 3u);
   EXPECT_EQ(plan.scene.claims[0].config, plan.configs[2]);
+  const CliRun no_folder = run({"run", with_claim, "--out", "/proc/pldamp-report"});
+  EXPECT_EQ(no_folder.code, 2);
+  EXPECT_EQ(no_folder.err.rfind("error: cannot create the report folder", 0), 0u) << no_folder.err;
   const CliRun no_jobs = run({"run", with_claim, "--jobs", "0"});
   EXPECT_EQ(no_jobs.code, 2);
   EXPECT_EQ(no_jobs.err, "error: --jobs must be in [1, 1024] (got 0)\n");
