@@ -117,29 +117,57 @@ std::optional<Real> first_sign_change(std::span<const Real> c, const Real& h) {
 
   auto value_at = [&](const Real& t) { return horner(c, t); };
   auto sign = [](const Real& x) { return x > 0 ? 1 : (x < 0 ? -1 : 0); };
-  auto polish = [&](Real lo, const Real& hi) -> std::optional<Real> {
-    const Real f_hi = value_at(hi);
-    if (f_hi == 0) {
-      return sign_after_zero(c, hi).second ? std::optional<Real>(hi) : std::nullopt;
+  // Horner's rule evaluates p(t) to within 2 n ε Σ |c_i| |t|^i; a value below that has no
+  // reliable sign (near a double root, say, a bracket end there would let TOMS 748 converge on a
+  // rounding-noise "crossing").
+  auto noise_at = [&](const Real& t) {
+    using std::abs;
+    Real sum = Real(0), power = Real(1);
+    for (const Real& coefficient : c) {
+      sum += abs(coefficient) * power;
+      power *= abs(t);
     }
-    Real f_lo = value_at(lo);
-    if (f_lo == 0) {
-      // One crossing inside and a zero at lo: bracket from a point just after lo with the sign
-      // p takes there.
-      const int after = sign_after_zero(c, lo).first;
-      if (after == 0 || after == sign(f_hi)) {
-        return std::nullopt;
-      }
-      Real step = (hi - lo) / 2;
-      for (int k = 0; k < 60 && sign(f_lo) != after; ++k, step /= 2) {
-        f_lo = value_at(lo + step);
-        if (sign(f_lo) == after) {
-          lo += step;
+    return 2 * Real(c.size()) * std::numeric_limits<Real>::epsilon() * sum;
+  };
+  auto significant = [&](const Real& t, const Real& f) {
+    using std::abs;
+    return abs(f) > noise_at(t);
+  };
+  // Moves an end whose value is within the noise to the point nearest it, on the way towards the
+  // other end (halving the distance), whose sign is significant; false if there is none.
+  auto significant_end = [&](Real& end, Real& f_end, const Real& other) {
+    if (significant(end, f_end)) {
+      return true;
+    }
+    bool found = false;
+    Real step = (other - end) / 2;
+    Real best = end, f_best = f_end;
+    for (int k = 0; k < 60; ++k, step /= 2) {
+      const Real t = end + step;
+      const Real f = value_at(t);
+      if (!significant(t, f)) {
+        if (found) {
+          break;
         }
+        continue;
       }
+      found = true;
+      best = t;
+      f_best = f;
     }
-    if (sign(f_lo) == sign(f_hi) || f_lo == 0) {
-      return std::nullopt; // an even number of crossings
+    end = best;
+    f_end = f_best;
+    return found;
+  };
+  // The single crossing inside [lo, hi] that Descartes isolated, bracketed by ends whose signs are
+  // significant.
+  auto polish = [&](Real lo, Real hi) -> std::optional<Real> {
+    Real f_lo = value_at(lo), f_hi = value_at(hi);
+    if (!significant_end(lo, f_lo, hi) || !significant_end(hi, f_hi, lo)) {
+      return std::nullopt;
+    }
+    if (sign(f_lo) == sign(f_hi)) {
+      return std::nullopt; // an even number of crossings, or one within the noise
     }
     std::uintmax_t iterations = 200;
     const auto bracket = boost::math::tools::toms748_solve(
@@ -183,16 +211,15 @@ std::optional<Real> first_sign_change(std::span<const Real> c, const Real& h) {
     }
     const int bound = roots_bound_01(piece.coefficients);
     const Real lo = h * piece.lo, hi = h * (piece.lo + piece.width);
-    if (bound == 0) {
-      // No root inside; one exactly at the right end counts if p crosses there.
-      if (value_at(hi) == 0 && sign_after_zero(c, hi).second) {
-        return hi;
-      }
-      continue;
-    }
     if (bound == 1 || piece.depth == 60) {
       if (const auto root = polish(lo, hi)) {
         return root;
+      }
+    }
+    if (bound <= 1 || piece.depth == 60) {
+      // Nothing (more) inside; a zero exactly at the right end counts if p crosses there.
+      if (value_at(hi) == 0 && sign_after_zero(c, hi).second) {
+        return hi;
       }
       continue;
     }
