@@ -42,10 +42,7 @@ const auto& exact() {
 
 template <class Real>
 double relative_error(const Real& got, const pldamp::quad& want) {
-  std::ostringstream digits; // Real -> float128 through 40 digits (exact enough for any Real)
-  digits.precision(40);
-  digits << got;
-  return static_cast<double>(abs(pldamp::quad(digits.str()) - want) / want);
+  return static_cast<double>(abs(static_cast<pldamp::quad>(got) - want) / want);
 }
 
 template <class Real>

@@ -45,6 +45,28 @@ Verdict judge(const Plan& plan, const std::vector<Record>& records, const Claim&
 
 } // namespace
 
+std::optional<double> largest(const std::vector<std::optional<double>>& values) {
+  std::optional<double> out;
+  for (const std::optional<double>& value : values) {
+    raise(out, value);
+  }
+  return out;
+}
+
+std::optional<double> worst_at(const Budgets& budgets, std::size_t config, std::size_t point) {
+  std::optional<double> out;
+  for (const auto& per_observable : budgets.map[config]) {
+    raise(out, per_observable[point]);
+  }
+  return out;
+}
+
+bool last_of_its_solver(const Plan& plan, std::size_t config) {
+  const std::size_t next = config + 1;
+  return next == plan.configs.size() || plan.configs[next].name != plan.configs[config].name ||
+         plan.configs[next].precision != plan.configs[config].precision;
+}
+
 Budgets make_budgets(const Plan& plan, const std::vector<Record>& records) {
   Budgets budgets;
   const std::size_t configs = plan.configs.size(), observables = plan.observables.size();

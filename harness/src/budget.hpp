@@ -43,4 +43,11 @@ struct Budgets {
 
 Budgets make_budgets(const Plan& plan, const std::vector<Record>& records);
 
+// The largest of the values present (NaN counts as infinite); none if none is.
+std::optional<double> largest(const std::vector<std::optional<double>>& values);
+// A configuration's largest relative error of any observable at one (p, damping) point.
+std::optional<double> worst_at(const Budgets& budgets, std::size_t config, std::size_t point);
+// Whether a configuration is the last (tightest) of its solver's sweep, the one the reports map.
+bool last_of_its_solver(const Plan& plan, std::size_t config);
+
 } // namespace pldamp::harness

@@ -46,12 +46,8 @@ std::string samples_json(const std::vector<solvers::Sample<Real>>& samples) {
 }
 
 bool runs_in_any_precision(const std::string& solver) {
-  for (const solvers::SolverInfo& info : solvers::registry()) {
-    if (info.name == solver) {
-      return info.any_precision;
-    }
-  }
-  return false; // unknown: solvers::solve names the choices
+  const solvers::SolverInfo* info = solvers::find_solver(solver);
+  return info != nullptr && info->any_precision; // unknown: solvers::solve names the choices
 }
 
 // One collision in precision Real: α calibrated in Real, the solver run in Real.

@@ -1,5 +1,7 @@
 #include "report.hpp"
 
+#include "contact_args.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
@@ -20,7 +22,9 @@ ordered_json number_or_null(const std::optional<double>& x) {
   return x && std::isfinite(*x) ? ordered_json(*x) : ordered_json(nullptr);
 }
 
-std::string short_number(const std::optional<double>& x, int digits = 2) {
+} // namespace
+
+std::string short_number(const std::optional<double>& x, int digits) {
   if (!x) {
     return "–";
   }
@@ -32,18 +36,15 @@ std::string short_number(const std::optional<double>& x, int digits = 2) {
   return out.str();
 }
 
+namespace {
+
+// 16 ε of a record's precision: below it a tenfold change is rounding, not a regression.
 double precision_noise(const std::string& precision) {
-  // 16 ε of the precision: below it a tenfold change is rounding, not a regression.
-  if (precision == "long") {
-    return 16 * static_cast<double>(std::numeric_limits<long double>::epsilon());
-  }
-  if (precision == "quad") {
-    return 16 * 1.925929944387235853e-34;
-  }
-  if (precision == "50") {
-    return 16e-50;
-  }
-  return 16 * std::numeric_limits<double>::epsilon();
+  double epsilon = 0;
+  with_precision(precision, [&]<SupportedReal Real>() {
+    epsilon = static_cast<double>(std::numeric_limits<Real>::epsilon());
+  });
+  return 16 * epsilon;
 }
 
 std::string record_key(const Plan& plan, const Record& record) {
@@ -328,35 +329,15 @@ std::string report_markdown(const RunReport& report) {
   // Per solver, its tightest configuration (the last of its sweep) over p × α_eff.
   out << "\n## Worst relative error per p × α_eff (each solver's last configuration)\n";
   for (std::size_t c = 0; c < plan.configs.size(); ++c) {
-    const bool last = c + 1 == plan.configs.size() ||
-                      plan.configs[c + 1].name != plan.configs[c].name ||
-                      plan.configs[c + 1].precision != plan.configs[c].precision;
-    if (!last) {
-      continue;
+    if (last_of_its_solver(plan, c)) {
+      out << "\n### " << plan.configs[c].label() << "\n\n"
+          << markdown_map(plan, [&](std::size_t point) { return worst_at(budgets, c, point); });
     }
-    out << "\n### " << plan.configs[c].label() << "\n\n"
-        << markdown_map(plan, [&](std::size_t point) {
-             std::optional<double> worst;
-             for (std::size_t o = 0; o < plan.observables.size(); ++o) {
-               const auto& e = budgets.map[c][o][point];
-               if (e && (!worst || *e > *worst)) {
-                 worst = e;
-               }
-             }
-             return worst;
-           });
   }
   out << "\n## The analytic layer in double against float128 (relative error, worst observable)"
          "\n\n"
-      << markdown_map(plan, [&](std::size_t point) {
-           std::optional<double> worst;
-           for (const auto& e : plan.points[point].analytic_error) {
-             if (e && (!worst || *e > *worst)) {
-               worst = e;
-             }
-           }
-           return worst;
-         });
+      << markdown_map(
+             plan, [&](std::size_t point) { return largest(plan.points[point].analytic_error); });
   if (!report.figures.empty()) {
     out << "\n## The seed's figures: solver against closed form\n\n| figure | largest deviation "
            "|\n|---|---|\n";

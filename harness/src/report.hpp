@@ -20,6 +20,9 @@ namespace pldamp::harness {
 
 inline constexpr int report_schema = 1;
 
+// A number for a table: `digits` + 1 significant digits, "inf", or "–" when absent.
+std::string short_number(const std::optional<double>& x, int digits = 2);
+
 struct RunReport {
   const Plan& plan;
   const std::vector<Record>& records;

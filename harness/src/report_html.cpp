@@ -36,15 +36,6 @@ std::string escape(const std::string& text) {
   return out;
 }
 
-std::string format(const std::optional<double>& x, int digits = 2) {
-  if (!x) {
-    return "–";
-  }
-  std::ostringstream out;
-  out << std::setprecision(digits + 1) << *x;
-  return out.str();
-}
-
 // Runs gnuplot on `script` (which must not set the output) and returns the SVG, or "".
 class Gnuplot {
 public:
@@ -160,13 +151,7 @@ std::string error_map_plot(Gnuplot& gnuplot, const RunReport& report, std::size_
   script << ")\n$map << EOD\n";
   for (std::size_t i = 0; i < plan.scene.p.size(); ++i) {
     for (std::size_t d = 0; d < dampings; ++d) {
-      std::optional<double> worst;
-      for (std::size_t o = 0; o < plan.observables.size(); ++o) {
-        const auto& e = report.budgets.map[config][o][i * dampings + d];
-        if (e && (!worst || *e > *worst)) {
-          worst = e;
-        }
-      }
+      const std::optional<double> worst = worst_at(report.budgets, config, i * dampings + d);
       data << d << " " << i << " "
            << (worst && *worst > 0 && std::isfinite(*worst) ? std::log10(*worst) : NAN) << "\n";
     }
@@ -221,7 +206,7 @@ std::string report_html(const RunReport& report, const std::string& gnuplot_prog
       << escape(plan.scene.path) << "</code>: " << plan.cells.size() << " cells × "
       << plan.configs.size() << " solver configurations, " << report.totals.solver_runs
       << " solver runs, " << report.totals.rhs_evals << " rhs evaluations, "
-      << format(report.totals.wall_seconds, 3) << " s; " << budgets.failed_records
+      << short_number(report.totals.wall_seconds, 3) << " s; " << budgets.failed_records
       << " failed records.</p>\n";
   if (!gnuplot.available()) {
     out << "<p><strong>gnuplot was not found: the plots were skipped.</strong></p>\n";
@@ -230,9 +215,10 @@ std::string report_html(const RunReport& report, const std::string& gnuplot_prog
          "th><th>measured</th><th>verdict</th><th>margin</th><th>supported</th></tr>\n";
   for (const Verdict& v : budgets.claims) {
     out << "<tr><td>" << escape(v.name) << "</td><td>" << v.observable << "</td><td>"
-        << escape(v.config) << "</td><td>" << format(v.bound) << "</td><td>" << format(v.measured)
-        << "</td><td class='" << (v.holds ? "holds'>holds" : "fails'>fails") << "</td><td>"
-        << format(v.margin) << "</td><td>" << format(v.supported, 0) << "</td></tr>\n";
+        << escape(v.config) << "</td><td>" << short_number(v.bound) << "</td><td>"
+        << short_number(v.measured) << "</td><td class='"
+        << (v.holds ? "holds'>holds" : "fails'>fails") << "</td><td>" << short_number(v.margin)
+        << "</td><td>" << short_number(v.supported, 0) << "</td></tr>\n";
   }
   out << "</table>\n<h2>Work-precision</h2>\n";
   for (std::size_t i = 0; i < plan.scene.p.size(); ++i) {
@@ -251,16 +237,13 @@ std::string report_html(const RunReport& report, const std::string& gnuplot_prog
   for (std::size_t c = 0; c < plan.configs.size(); ++c) {
     out << "<tr><td>" << escape(plan.configs[c].label()) << "</td>";
     for (std::size_t o = 0; o < plan.observables.size(); ++o) {
-      out << "<td>" << format(budgets.worst[c][o].rel) << "</td>";
+      out << "<td>" << short_number(budgets.worst[c][o].rel) << "</td>";
     }
     out << "</tr>\n";
   }
   out << "</table>\n<h2>Error maps over p × damping (each solver's last configuration)</h2>\n";
   for (std::size_t c = 0; c < plan.configs.size(); ++c) {
-    const bool last = c + 1 == plan.configs.size() ||
-                      plan.configs[c + 1].name != plan.configs[c].name ||
-                      plan.configs[c + 1].precision != plan.configs[c].precision;
-    if (last) {
+    if (last_of_its_solver(plan, c)) {
       const std::string svg = error_map_plot(gnuplot, report, c);
       if (!svg.empty()) {
         out << "<figure>" << svg << "</figure>\n";
@@ -271,7 +254,7 @@ std::string report_html(const RunReport& report, const std::string& gnuplot_prog
     out << "<h2>The seed's figures: solver (points) against closed form (lines)</h2>\n";
     for (const Figure& figure : report.figures) {
       out << "<figure>" << figure_plot(gnuplot, figure) << "<figcaption>largest deviation "
-          << format(figure.deviation) << " in " << escape(figure.deviation_of)
+          << short_number(figure.deviation) << " in " << escape(figure.deviation_of)
           << "</figcaption></figure>\n";
     }
   }

@@ -10,32 +10,10 @@
 #include <cmath>
 #include <limits>
 #include <mutex>
-#include <sstream>
 #include <thread>
 
 namespace pldamp::harness {
 namespace {
-
-template <SupportedReal Real>
-Real from_quad(const quad& x) {
-  if constexpr (std::is_same_v<Real, bin50>) {
-    return bin50(x); // exact: 113 bits fit in 166
-  } else {
-    return static_cast<Real>(x);
-  }
-}
-
-template <SupportedReal Real>
-quad to_quad(const Real& x) {
-  if constexpr (std::is_same_v<Real, bin50>) {
-    std::ostringstream digits; // rounding once to float128 through 40 digits
-    digits.precision(40);
-    digits << x;
-    return quad(digits.str());
-  } else {
-    return quad(x);
-  }
-}
 
 template <SupportedReal Real>
 std::optional<Real> value_of(const solvers::Result<Real>& r, const std::string& name) {
@@ -74,7 +52,7 @@ void solve_record(const Plan& plan, Record& record) {
   const Point& point = plan.points[cell.point];
   const SolverConfig& config = plan.configs[record.config];
   const solvers::Problem<Real> problem{Real(point.p), Real(cell.m), Real(cell.k), Real(cell.v0),
-                                       from_quad<Real>(point.alpha)};
+                                       static_cast<Real>(point.alpha)};
   solvers::Options<Real> options;
   options.rtol = config.rtol ? Real(*config.rtol) : std::numeric_limits<Real>::epsilon();
   if (config.atol) {
@@ -109,14 +87,14 @@ void solve_record(const Plan& plan, Record& record) {
       if (name == "tau") {
         reference.reset();
       } else if (name == "e" && value) {
-        const quad absolute = abs(to_quad(*value) - *reference);
+        const quad absolute = abs(static_cast<quad>(*value) - *reference);
         record.abs_error.push_back(static_cast<double>(absolute));
         record.rel_error.push_back(static_cast<double>(absolute));
         continue;
       }
     }
     if (value && reference) {
-      const auto [absolute, relative] = errors(to_quad(*value), *reference);
+      const auto [absolute, relative] = errors(static_cast<quad>(*value), *reference);
       record.abs_error.push_back(absolute);
       record.rel_error.push_back(relative);
     } else {

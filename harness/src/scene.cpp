@@ -133,15 +133,6 @@ unsigned parse_want(const Reader& reader, const toml::node& node) {
   return want;
 }
 
-const solvers::SolverInfo* find_solver(const std::string& name) {
-  for (const solvers::SolverInfo& info : solvers::registry()) {
-    if (info.name == name) {
-      return &info;
-    }
-  }
-  return nullptr;
-}
-
 // The solver (under `key`: name in [[solver]], solver in [[claim]] and [[figure]]), precision and
 // atol of an entry; tolerances and steps are the caller's.
 SolverConfig base_config(const Reader& reader, const toml::table& entry, const char* key,
@@ -152,7 +143,7 @@ SolverConfig base_config(const Reader& reader, const toml::table& entry, const c
     reader.fail(at, where + " needs " + key);
   }
   config.name = reader.string(*name, "solver name");
-  const solvers::SolverInfo* info = find_solver(config.name);
+  const solvers::SolverInfo* info = solvers::find_solver(config.name);
   if (info == nullptr) {
     reader.fail(*name, "unknown solver, expected " + solvers::solver_names() + " (got " +
                            config.name + ")");
@@ -197,7 +188,7 @@ void read_solvers(const Reader& reader, const toml::node& node, Scene& scene) {
     const toml::table& entry = reader.table(item, "[[solver]]");
     reader.only(entry, {"name", "rtol", "atol", "precision", "steps_per_contact"}, "[[solver]]");
     const SolverConfig base = base_config(reader, entry, "name", "[[solver]]", item);
-    const bool fixed_step = !find_solver(base.name)->adaptive;
+    const bool fixed_step = !solvers::find_solver(base.name)->adaptive;
     if (fixed_step && entry.get("rtol") != nullptr) {
       reader.fail(*entry.get("rtol"),
                   base.name + " takes a fixed step: give steps_per_contact (got rtol)");
@@ -262,7 +253,7 @@ void read_claims(const Reader& reader, const toml::node& node, Scene& scene) {
       reader.fail(*entry.get("observable"), "claim observable must be one the scene wants: " +
                                                 names + " (got " + claim.observable + ")");
     }
-    const bool fixed_step = !find_solver(claim.config.name)->adaptive;
+    const bool fixed_step = !solvers::find_solver(claim.config.name)->adaptive;
     if (const toml::node* rtol = entry.get(fixed_step ? "steps_per_contact" : "rtol")) {
       const double value = reader.number(*rtol, fixed_step ? "steps_per_contact" : "rtol");
       if (fixed_step) {
@@ -302,7 +293,7 @@ void read_figures(const Reader& reader, const toml::node& node, Scene& scene) {
                                           figure.kind + ")");
     }
     figure.config = base_config(reader, entry, "solver", "[[figure]]", item);
-    if (!find_solver(figure.config.name)->adaptive) {
+    if (!solvers::find_solver(figure.config.name)->adaptive) {
       figure.config.steps_per_contact = 50;
     }
     if (const toml::node* rtol = entry.get("rtol")) {

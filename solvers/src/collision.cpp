@@ -15,6 +15,13 @@ BasicCollision<Real>::BasicCollision(const Problem<Real>& problem, const Options
       sample_times_(options.sample_times) {
   options_.validate();
   std::sort(sample_times_.begin(), sample_times_.end());
+  // An "exit" at a speed within the tolerances (of v, and of δ per time unit) is an overdamped
+  // overlap that decayed into the integration noise and crossed 0 there: not a return the solver
+  // can tell from none (so e below ~10 rtol reads as no exit). Capped at 1e-3 v0 so that a loose
+  // tolerance does not hide a real return. Fixed per collision; the exit approach asks per step.
+  using std::min;
+  const State atol = absolute_tolerances();
+  exit_speed_noise_ = min(10 * (atol[1] + atol[0] / ode_.time_scale()), ode_.v0() / 1000);
 }
 
 template <SupportedReal Real>
@@ -37,17 +44,6 @@ StateOf<Real> BasicCollision<Real>::absolute_tolerances() const {
       ode_.damping_coefficient() * ode_.dashpot_factor(delta_u) * delta_u * ode_.v0();
   return {rtol * delta_u, rtol * ode_.v0() / 1000,
           rtol * max(dashpot_work, ode_.energy_scale() / 1000)};
-}
-
-template <SupportedReal Real>
-Real BasicCollision<Real>::exit_speed_noise() const {
-  // An "exit" at a speed within the tolerances (of v, and of δ per time unit) is an overdamped
-  // overlap that decayed into the integration noise and crossed 0 there: not a return the solver
-  // can tell from none (so e below ~10 rtol reads as no exit). Capped at 1e-3 v0 so that a loose
-  // tolerance does not hide a real return.
-  using std::min;
-  const State atol = absolute_tolerances();
-  return min(10 * (atol[1] + atol[0] / ode_.time_scale()), ode_.v0() / 1000);
 }
 
 template <SupportedReal Real>

@@ -58,7 +58,7 @@ public:
   // Records an event; returns true when the run is complete. An exit at a speed at or below
   // exit_speed_noise() is not one.
   bool record(EventKind kind, const Real& t, const State& y);
-  Real exit_speed_noise() const;
+  Real exit_speed_noise() const { return exit_speed_noise_; }
 
   // Records the requested samples with times up to t (inclusive), in order.
   template <class StateAt>
@@ -76,6 +76,7 @@ private:
   ContactOde<Real> ode_;
   Options<Real> options_;
   Real horizon_;
+  Real exit_speed_noise_ = 0; // set in the constructor
   long rhs_evals_ = 0, jacobian_evals_ = 0;
   std::vector<Real> sample_times_; // sorted
   std::size_t next_sample_ = 0;

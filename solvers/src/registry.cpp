@@ -63,6 +63,15 @@ std::span<const SolverInfo> registry() {
   return infos;
 }
 
+const SolverInfo* find_solver(std::string_view name) {
+  for (const SolverInfo& info : infos) {
+    if (info.name == name) {
+      return &info;
+    }
+  }
+  return nullptr;
+}
+
 std::string solver_names() {
   std::string names;
   for (const SolverInfo& info : infos) {

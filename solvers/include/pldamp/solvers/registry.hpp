@@ -21,6 +21,9 @@ struct SolverInfo {
 // Every registered solver, in a stable order.
 std::span<const SolverInfo> registry();
 
+// The registered solver of that name, or nullptr.
+const SolverInfo* find_solver(std::string_view name);
+
 // "cvode-bdf|cvode-adams|...", for messages and help.
 std::string solver_names();
 
