@@ -5,11 +5,11 @@
 // - budgets_and_reports: budgets, report.json, .csv and .md from the records, per record
 //
 //   build/bench/harness_bench
-#include "budget.hpp"
-#include "plan.hpp"
-#include "report.hpp"
-#include "run.hpp"
-#include "scene.hpp"
+#include "judge/budget.hpp"
+#include "report/report.hpp"
+#include "run/run.hpp"
+#include "scene/scene.hpp"
+#include "truth/plan.hpp"
 
 #include <benchmark/benchmark.h>
 

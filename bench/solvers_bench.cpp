@@ -80,7 +80,7 @@ void collision(benchmark::State& state, const std::string& name, double rtol, in
 const int registered = [] {
   for (const solvers::SolverInfo& info : solvers::registry()) {
     const std::string name(info.name);
-    if (info.adaptive) {
+    if (!info.fixed_step) {
       for (const double rtol : {1e-6, 1e-10}) {
         benchmark::RegisterBenchmark((name + "/rtol:" + (rtol > 1e-8 ? "1e-6" : "1e-10")).c_str(),
                                      collision, name, rtol, 50)

@@ -33,16 +33,19 @@ solvers::Problem<Real> problem() {
   return {Real(3) / 2, Real(1), Real(1), Real(1), Real(alpha)};
 }
 
+// The reference: float128, or 50 digits in a build without it.
+using Exact = pldamp::NarrowestWithDigits10<30>;
+
 // The exact observables of problem<double>() (α as a double, converted exactly).
 const auto& exact() {
-  static const auto x = pldamp::analytic::observables(
-      Contact<pldamp::quad>::from_alpha(pldamp::quad(1.5), pldamp::quad(alpha), pldamp::quad(1)));
+  static const auto x =
+      pldamp::analytic::observables(Contact<Exact>::from_alpha(Exact(1.5), Exact(alpha), Exact(1)));
   return x;
 }
 
 template <class Real>
-double relative_error(const Real& got, const pldamp::quad& want) {
-  return static_cast<double>(abs(static_cast<pldamp::quad>(got) - want) / want);
+double relative_error(const Real& got, const Exact& want) {
+  return static_cast<double>(abs(static_cast<Exact>(got) - want) / want);
 }
 
 template <class Real>
@@ -58,10 +61,6 @@ void precision(benchmark::State& state) {
   state.counters["err_e"] = relative_error(*r.e, *exact().e);
   state.counters["err_tau"] = relative_error(*r.tau, *exact().tau);
 }
-BENCHMARK(precision<double>)->Name("precision/double")->Unit(benchmark::kMicrosecond);
-BENCHMARK(precision<long double>)->Name("precision/long")->Unit(benchmark::kMicrosecond);
-BENCHMARK(precision<pldamp::quad>)->Name("precision/quad")->Unit(benchmark::kMillisecond);
-BENCHMARK(precision<pldamp::bin50>)->Name("precision/50")->Unit(benchmark::kMillisecond);
 
 void work_precision(benchmark::State& state, const std::string& name, double rtol) {
   solvers::Options<double> options;
@@ -78,6 +77,12 @@ void work_precision(benchmark::State& state, const std::string& name, double rto
 }
 
 const int registered = [] {
+  pldamp::for_each_precision([]<class Real>() {
+    const bool wide = std::numeric_limits<Real>::digits > 64; // milliseconds, not microseconds
+    benchmark::RegisterBenchmark(
+        ("precision/" + std::string(pldamp::precision_name<Real>())).c_str(), precision<Real>)
+        ->Unit(wide ? benchmark::kMillisecond : benchmark::kMicrosecond);
+  });
   const double eps = std::numeric_limits<double>::epsilon();
   const std::pair<const char*, std::vector<double>> sweeps[] = {
       {"taylor", {1e-6, 1e-8, 1e-10, 1e-12, eps}},

@@ -3,7 +3,8 @@
 #   scripts/run.sh main   install what is missing, build, run the main job (the nightly scene)
 #   scripts/run.sh test   install what is missing, build with -Werror and run every test, rebuild
 #                         and rerun them under ASan+UBSan, check the reference table regenerates
-#                         bit for bit and that the sources are clang-formatted
+#                         bit for bit, that the sources are clang-formatted and that the library
+#                         and CLI build without float128
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
@@ -48,6 +49,11 @@ test)
   cmp build/analytic.csv data/reference/analytic.csv
   echo "== clang-format"
   git ls-files '*.cpp' '*.hpp' | xargs clang-format --dry-run -Werror
+  echo "== the library and the CLI without float128 (-DPLDAMP_WITH_QUAD=OFF)"
+  cmake -S . -B build-noquad -DCMAKE_BUILD_TYPE=Release -DPLDAMP_WERROR=ON -DPLDAMP_WITH_QUAD=OFF \
+    -DPLDAMP_BUILD_TESTS=OFF -DPLDAMP_BUILD_BENCHMARKS=OFF >/dev/null
+  cmake --build build-noquad -j "$(nproc)" --target pldamp
+  build-noquad/harness/pldamp observables --p 1.5 --e 0.5 --v0 1 --precision 50 --json
   echo "== tests under AddressSanitizer + UndefinedBehaviorSanitizer"
   build build-sanitize -DPLDAMP_WERROR=ON -DPLDAMP_SANITIZE=ON -DPLDAMP_BUILD_BENCHMARKS=OFF \
     -DCMAKE_BUILD_TYPE=RelWithDebInfo

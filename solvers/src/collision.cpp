@@ -137,12 +137,9 @@ Result<Real> BasicCollision<Real>::finish(Outcome outcome, long steps) {
   return r;
 }
 
-template class BasicCollision<double>;
-template class BasicCollision<long double>;
-#if PLDAMP_WITH_QUAD
-template class BasicCollision<quad>;
-#endif
-template class BasicCollision<bin50>;
+#define PLDAMP_INSTANTIATE(Real, name) template class BasicCollision<Real>;
+PLDAMP_FOR_EACH_PRECISION(PLDAMP_INSTANTIATE)
+#undef PLDAMP_INSTANTIATE
 
 namespace {
 

@@ -4,6 +4,7 @@
 
 #include <array>
 #include <stdexcept>
+#include <tuple>
 
 namespace pldamp::solvers {
 namespace {
@@ -12,42 +13,82 @@ using detail::ArkodeMethod;
 using detail::CvodeMethod;
 using detail::OdeintMethod;
 
-// A solver family's entry point with its method fixed.
+template <SupportedReal Real>
+using SolveFn = Result<Real> (*)(const Problem<Real>&, const Options<Real>&);
+
+// One entry point per precision; nullptr where the solver does not run.
+template <class... Reals>
+std::tuple<SolveFn<Reals>...> entry_points_of(RealList<Reals...>);
+using EntryPoints = decltype(entry_points_of(Precisions{}));
+
+// A solver family's double entry point with its method fixed.
 template <auto solve_family, auto method>
 Result<double> with_method(const Problem<double>& problem, const Options<double>& options) {
   return solve_family(method, problem, options);
 }
 
+constexpr EntryPoints double_only(SolveFn<double> solve) {
+  EntryPoints points{};
+  std::get<SolveFn<double>>(points) = solve;
+  return points;
+}
+
+constexpr EntryPoints taylor_in_every_precision() {
+  EntryPoints points{};
+  for_each_precision(
+      [&]<class Real>() { std::get<SolveFn<Real>>(points) = detail::solve_taylor<Real>; });
+  return points;
+}
+
 struct Entry {
-  SolverInfo info;
-  Result<double> (*solve)(const Problem<double>&, const Options<double>&);
+  SolverInfo info; // its precisions are filled from `solve`
+  EntryPoints solve;
 };
 
-constexpr std::array entries{
-    Entry{
-        {"cvode-bdf", "SUNDIALS CVODE, BDF orders 1-5, Newton with analytic Jacobian", true, false},
-        with_method<detail::solve_cvode, CvodeMethod::bdf>},
-    Entry{{"cvode-adams", "SUNDIALS CVODE, Adams-Moulton orders 1-12, Newton", true, false},
-          with_method<detail::solve_cvode, CvodeMethod::adams>},
-    Entry{{"arkode-dp5", "SUNDIALS ARKODE ERKStep, Dormand-Prince 5(4) (ode45)", true, false},
-          with_method<detail::solve_arkode, ArkodeMethod::dormand_prince_5>},
-    Entry{{"arkode-erk8", "SUNDIALS ARKODE ERKStep, Fehlberg 8(7), FSAL-corrected table", true,
-           false},
-          with_method<detail::solve_arkode, ArkodeMethod::fehlberg_8>},
-    Entry{{"arkode-dirk", "SUNDIALS ARKODE ARKStep, Kvaerno ESDIRK 7(4)5, Newton", true, false},
-          with_method<detail::solve_arkode, ArkodeMethod::esdirk_5>},
-    Entry{{"odeint-rkf78", "Boost.Odeint controlled Runge-Kutta-Fehlberg 7(8)", true, false},
-          with_method<detail::solve_odeint, OdeintMethod::fehlberg_78>},
-    Entry{{"odeint-bs", "Boost.Odeint Bulirsch-Stoer with dense output", true, false},
-          with_method<detail::solve_odeint, OdeintMethod::bulirsch_stoer>},
+using enum DefaultTolerance;
+
+// name, method, fixed_step, takes_atol, takes_fixed_step, default tolerance
+constexpr std::array declared{
+    Entry{{"cvode-bdf", "SUNDIALS CVODE, BDF orders 1-5, Newton with analytic Jacobian", false,
+           true, false, standard},
+          double_only(with_method<detail::solve_cvode, CvodeMethod::bdf>)},
+    Entry{{"cvode-adams", "SUNDIALS CVODE, Adams-Moulton orders 1-12, Newton", false, true, false,
+           standard},
+          double_only(with_method<detail::solve_cvode, CvodeMethod::adams>)},
+    Entry{{"arkode-dp5", "SUNDIALS ARKODE ERKStep, Dormand-Prince 5(4) (ode45)", false, true, true,
+           standard},
+          double_only(with_method<detail::solve_arkode, ArkodeMethod::dormand_prince_5>)},
+    Entry{{"arkode-erk8", "SUNDIALS ARKODE ERKStep, Fehlberg 8(7), FSAL-corrected table", false,
+           true, true, standard},
+          double_only(with_method<detail::solve_arkode, ArkodeMethod::fehlberg_8>)},
+    Entry{{"arkode-dirk", "SUNDIALS ARKODE ARKStep, Kvaerno ESDIRK 7(4)5, Newton", false, true,
+           true, standard},
+          double_only(with_method<detail::solve_arkode, ArkodeMethod::esdirk_5>)},
+    Entry{{"odeint-rkf78", "Boost.Odeint controlled Runge-Kutta-Fehlberg 7(8)", false, true, false,
+           standard},
+          double_only(with_method<detail::solve_odeint, OdeintMethod::fehlberg_78>)},
+    Entry{{"odeint-bs", "Boost.Odeint Bulirsch-Stoer with dense output", false, true, false,
+           standard},
+          double_only(with_method<detail::solve_odeint, OdeintMethod::bulirsch_stoer>)},
     Entry{{"taylor",
            "adaptive Taylor series, order and step after Jorba-Zou, contact-point series at "
            "entry and exit; double, long, quad or 50 digits",
-           true, true},
-          detail::solve_taylor<double>},
-    Entry{{"verlet", "velocity Verlet, fixed step, as DEM codes step a contact", false, false},
-          detail::solve_verlet},
+           false, false, false, epsilon},
+          taylor_in_every_precision()},
+    Entry{{"verlet", "velocity Verlet, fixed step, as DEM codes step a contact", true, false, false,
+           standard},
+          double_only(detail::solve_verlet)},
 };
+
+constexpr auto entries = [] {
+  std::array out = declared;
+  for (Entry& entry : out) {
+    for_each_precision([&]<class Real>() {
+      entry.info.precisions |= std::get<SolveFn<Real>>(entry.solve) ? precision_bit<Real>() : 0;
+    });
+  }
+  return out;
+}();
 
 constexpr auto infos = [] {
   std::array<SolverInfo, entries.size()> out{};
@@ -56,6 +97,16 @@ constexpr auto infos = [] {
   }
   return out;
 }();
+
+const Entry& entry_named(std::string_view name) {
+  for (const Entry& entry : entries) {
+    if (entry.info.name == name) {
+      return entry;
+    }
+  }
+  throw std::invalid_argument("unknown solver, expected " + solver_names() + " (got " +
+                              std::string(name) + ")");
+}
 
 } // namespace
 
@@ -72,53 +123,52 @@ const SolverInfo* find_solver(std::string_view name) {
   return nullptr;
 }
 
+const SolverInfo& solver_named(std::string_view name) {
+  return infos[static_cast<std::size_t>(&entry_named(name) - entries.data())];
+}
+
 std::string solver_names() {
-  std::string names;
-  for (const SolverInfo& info : infos) {
-    if (!names.empty()) {
-      names += '|';
-    }
-    names += info.name;
-  }
-  return names;
+  return solver_names([](const SolverInfo&) { return true; });
 }
 
-namespace {
-
-const Entry& entry_named(std::string_view name) {
-  for (const Entry& entry : entries) {
-    if (entry.info.name == name) {
-      return entry;
-    }
-  }
-  throw std::invalid_argument("unknown solver, expected " + solver_names() + " (got " +
-                              std::string(name) + ")");
-}
-
-} // namespace
-
-Result<double> solve(std::string_view name, const Problem<double>& problem,
-                     const Options<double>& options) {
-  return entry_named(name).solve(problem, options);
+std::string precision_refusal(const SolverInfo& info, const std::string& got) {
+  const std::string any =
+      solver_names([](const SolverInfo& other) { return other.precisions == every_precision; });
+  return "solver " + std::string(info.name) + " runs in " + precision_names(info.precisions) +
+         " precision only" + (any.empty() ? "" : "; " + any + " runs in any") + " (got " + got +
+         ")";
 }
 
 template <SupportedReal Real>
-requires(!std::same_as<Real, double>) Result<Real> solve(std::string_view name,
-                                                         const Problem<Real>& problem,
-                                                         const Options<Real>& options) {
-  if (!entry_named(name).info.any_precision) {
-    throw std::invalid_argument("solver " + std::string(name) + " runs in double only (taylor " +
-                                "runs in any precision); got " +
-                                std::string(precision_name<Real>()));
+void check_solver_options(const SolverInfo& info, const Options<Real>& options) {
+  const std::string name(info.name);
+  if ((info.precisions & precision_bit<Real>()) == 0) {
+    throw std::invalid_argument(precision_refusal(info, std::string(precision_name<Real>())));
   }
-  return detail::solve_taylor(problem, options);
+  if (options.atol && !info.takes_atol) {
+    require(false,
+            name + (info.fixed_step
+                        ? " takes a fixed step and no atol"
+                        : " controls its error relative to each state and takes no atol"),
+            *options.atol);
+  }
+  if (options.fixed_step && !info.fixed_step && !info.takes_fixed_step) {
+    require(false, name + " has no fixed-step mode and takes no dt", *options.fixed_step);
+  }
 }
 
-template Result<long double> solve(std::string_view, const Problem<long double>&,
-                                   const Options<long double>&);
-#if PLDAMP_WITH_QUAD
-template Result<quad> solve(std::string_view, const Problem<quad>&, const Options<quad>&);
-#endif
-template Result<bin50> solve(std::string_view, const Problem<bin50>&, const Options<bin50>&);
+template <SupportedReal Real>
+Result<Real> solve(std::string_view name, const Problem<Real>& problem,
+                   const Options<Real>& options) {
+  const Entry& entry = entry_named(name);
+  check_solver_options(entry.info, options);
+  return std::get<SolveFn<Real>>(entry.solve)(problem, options);
+}
+
+#define PLDAMP_INSTANTIATE(Real, name)                                                             \
+  template void check_solver_options(const SolverInfo&, const Options<Real>&);                     \
+  template Result<Real> solve(std::string_view, const Problem<Real>&, const Options<Real>&);
+PLDAMP_FOR_EACH_PRECISION(PLDAMP_INSTANTIATE)
+#undef PLDAMP_INSTANTIATE
 
 } // namespace pldamp::solvers

@@ -305,11 +305,9 @@ Result<Real> solve_taylor(const Problem<Real>& problem, const Options<Real>& opt
   return TaylorContact<Real>(problem, options).run();
 }
 
-template Result<double> solve_taylor(const Problem<double>&, const Options<double>&);
-template Result<long double> solve_taylor(const Problem<long double>&, const Options<long double>&);
-#if PLDAMP_WITH_QUAD
-template Result<quad> solve_taylor(const Problem<quad>&, const Options<quad>&);
-#endif
-template Result<bin50> solve_taylor(const Problem<bin50>&, const Options<bin50>&);
+#define PLDAMP_INSTANTIATE(Real, name)                                                             \
+  template Result<Real> solve_taylor(const Problem<Real>&, const Options<Real>&);
+PLDAMP_FOR_EACH_PRECISION(PLDAMP_INSTANTIATE)
+#undef PLDAMP_INSTANTIATE
 
 } // namespace pldamp::solvers::detail

@@ -181,7 +181,7 @@ TEST(Cli, BadInputIsOneLineAndExitTwo) {
       {{"observables", "--p", "2", "--alpha", "-1", "--v0", "1"}, "alpha must be >= 0 (got -1)"},
       {{"observables", "--p", "2x", "--e", "0.5", "--v0", "1"}, "--p is not a number (got 2x)"},
       {{"observables", "--p", "2", "--e", "0.5", "--v0", "1", "--precision", "float"},
-       "unknown precision, expected double|long|quad|50 (got float)"},
+       "unknown precision, expected " + precision_names() + " (got float)"},
       {{"observables", "--p", "2", "--e", "0.5", "--v0", "1", "--frobnicate"},
        "unknown argument (got --frobnicate)"},
       {{"observables", "--p", "2", "--e", "0.5"}, "--v0 is required (got nothing)"},
@@ -226,9 +226,15 @@ TEST(Cli, BadInputIsOneLineAndExitTwo) {
       {{"solve", "--solver", "cvode-bdf", "--p", "0.9", "--e", "0.5", "--v0", "1"},
        "p must be >= 1 (got 0.9)"},
       {{"solve", "--solver", "cvode-bdf", "--p", "1.5", "--e", "0.5", "--v0", "1", "--precision",
-        "quad"},
+        "long"},
        "solver cvode-bdf runs in double precision only; taylor runs in any (got --precision "
-       "quad)"},
+       "long)"},
+      {{"solve", "--solver", "taylor", "--p", "1.5", "--e", "0.5", "--v0", "1", "--atol", "1e-9"},
+       "taylor controls its error relative to each state and takes no atol (got 1e-09)"},
+      {{"solve", "--solver", "cvode-bdf", "--p", "1.5", "--e", "0.5", "--v0", "1", "--dt", "0.1"},
+       "cvode-bdf has no fixed-step mode and takes no dt (got 0.1)"},
+      {{"solve", "--solver", "verlet", "--p", "1.5", "--e", "0.5", "--v0", "1", "--rtol", "1e-8"},
+       "verlet takes a fixed step: give --dt or --steps-per-contact (got --rtol 1e-8)"},
   };
   for (const BadInput& c : cases) {
     const CliRun r = run(c.args);
@@ -236,12 +242,13 @@ TEST(Cli, BadInputIsOneLineAndExitTwo) {
     EXPECT_EQ(r.err, "error: " + c.message + "\n");
     EXPECT_TRUE(r.out.empty());
   }
-  for (const char* precision : {"long", "quad", "50"}) {
+  for_each_precision([]<class Real>() {
+    const std::string precision(precision_name<Real>());
     const CliRun r =
         run({"observables", "--p", "0.5", "--e", "0.5", "--v0", "1", "--precision", precision});
     EXPECT_EQ(r.code, 2);
     EXPECT_EQ(r.err, "error: p must be >= 1 (got 0.5)\n") << precision;
-  }
+  });
 }
 
 } // namespace

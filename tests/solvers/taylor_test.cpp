@@ -7,6 +7,7 @@
 #include "contact_series.hpp"
 #include "polynomial.hpp"
 
+#include "every_solver.hpp"
 #include "support.hpp"
 
 #include "pldamp/analytic.hpp"
@@ -187,27 +188,6 @@ TYPED_TEST(TaylorReference, ForceCappedRestitutionAndCutTime) {
   EXPECT_LT(worst.error, TypeParam::budget) << worst.where;
 }
 
-TEST(TaylorPrecisions, LongDoubleAndFiftyDigitsReachTheirEpsilon) {
-  // cpp_bin_float_50 is the strictest check that no constant in the integrator is a double.
-  for (double p : {1.5, 2.5}) {
-    for (double e : {0.5, 0.1}) {
-      const auto cl = Contact<long double>::from_e(p, e, 1);
-      const Result<long double> rl =
-          solve("taylor", problem_of(cl), reference_options<long double>());
-      const auto xl = reference<quad>(problem_of(cl));
-      EXPECT_LT(relative_error(*rl.e, *xl.e), 1e-17) << p << " " << e;
-      EXPECT_LT(relative_error(*rl.tau, *xl.tau), 1e-17) << p << " " << e;
-
-      const auto cb = Contact<bin50>::from_e(bin50(p), bin50(e), bin50(1));
-      const Result<bin50> rb = solve("taylor", problem_of(cb), reference_options<bin50>());
-      const auto xb = reference<bin50>(problem_of(cb));
-      EXPECT_LT(relative_error(*rb.e, *xb.e), 1e-45) << p << " " << e;
-      EXPECT_LT(relative_error(*rb.tau, *xb.tau), 1e-45) << p << " " << e;
-      EXPECT_LT(relative_error(*rb.energy_unload, *xb.energy_unload), 1e-45) << p << " " << e;
-    }
-  }
-}
-
 TEST(TaylorQuad, SamplesFollowTheTrajectoryThroughEntrySeriesStepsAndExitSeries) {
   const auto c = Contact<quad>::from_e(quad(5) / 2, quad(1) / 10, quad(1));
   const quad tau = analytic::contact_duration(c);
@@ -259,6 +239,27 @@ TEST(Taylor, PeakOnlyStopsAtThePeakAndNeverBuildsTheExitSeries) {
   EXPECT_LT(double(peak.rhs_evals), 0.6 * double(all.rhs_evals)); // measured 0.45
 }
 
+TEST(TaylorPrecisions, LongDoubleAndFiftyDigitsReachTheirEpsilon) {
+  // cpp_bin_float_50 is the strictest check that no constant in the integrator is a double.
+  for (double p : {1.5, 2.5}) {
+    for (double e : {0.5, 0.1}) {
+      const auto cl = Contact<long double>::from_e(p, e, 1);
+      const Result<long double> rl =
+          solve("taylor", problem_of(cl), reference_options<long double>());
+      const auto xl = reference<pldamp::testing::Exact>(problem_of(cl));
+      EXPECT_LT(relative_error(*rl.e, *xl.e), 1e-17) << p << " " << e;
+      EXPECT_LT(relative_error(*rl.tau, *xl.tau), 1e-17) << p << " " << e;
+
+      const auto cb = Contact<bin50>::from_e(bin50(p), bin50(e), bin50(1));
+      const Result<bin50> rb = solve("taylor", problem_of(cb), reference_options<bin50>());
+      const auto xb = reference<bin50>(problem_of(cb));
+      EXPECT_LT(relative_error(*rb.e, *xb.e), 1e-45) << p << " " << e;
+      EXPECT_LT(relative_error(*rb.tau, *xb.tau), 1e-45) << p << " " << e;
+      EXPECT_LT(relative_error(*rb.energy_unload, *xb.energy_unload), 1e-45) << p << " " << e;
+    }
+  }
+}
+
 TEST(Taylor, HonoursTheHorizonLikeEverySolver) {
   // p = 10, e = 1e-4 creeps back at τ ≈ 2130 δ_u/v0, after the default horizon (1000): the exit
   // series sees the return, but the contact is given up at the horizon, as by every solver.
@@ -268,7 +269,7 @@ TEST(Taylor, HonoursTheHorizonLikeEverySolver) {
   options.horizon = 5000;
   const Result<double> r = solve("taylor", problem_of(c), options);
   EXPECT_EQ(r.outcome, Outcome::exited);
-  const auto exact = reference<quad>(problem_of(c));
+  const auto exact = reference<pldamp::testing::Exact>(problem_of(c));
   EXPECT_LT(relative_error(*r.e, *exact.e), 1e-13);
   EXPECT_LT(relative_error(*r.tau, *exact.tau), 1e-13);
 }
@@ -286,7 +287,7 @@ TEST(Taylor, WorkGrowsWithOrderNotSteps) {
   // Order N = ⌈1 − ½ ln rtol⌉ with the step ~ ρ/e²: tightening rtol from 1e-6 to ε raises the
   // order, not the number of steps; errors follow the tolerance.
   const Problem<double> problem{1.5, 1, 1, 1, 0.7};
-  const auto exact = reference<quad>(problem);
+  const auto exact = reference<pldamp::testing::Exact>(problem);
   long steps_loose = 0;
   for (double rtol : {1e-6, 1e-10, 1e-14}) {
     Options<double> options;
@@ -389,3 +390,12 @@ TEST(ContactPointSeries, LocateRecoversTheContactPoint) {
 
 } // namespace
 } // namespace pldamp::solvers
+
+namespace pldamp::solvers::testing {
+namespace {
+
+// taylor is also an error-controlled solver like the others (every_solver.hpp).
+INSTANTIATE_TEST_SUITE_P(Taylor, EverySolver, ::testing::ValuesIn(family("taylor")), test_name);
+
+} // namespace
+} // namespace pldamp::solvers::testing

@@ -48,9 +48,15 @@ enum Want : unsigned {
   want_all = (1u << 5) - 1,
 };
 
+// The relative tolerance of a solve that names none (DefaultTolerance::standard in registry.hpp).
+template <SupportedReal Real>
+Real standard_rtol() {
+  return Real(1) / 100000000;
+}
+
 template <SupportedReal Real>
 struct Options {
-  Real rtol = Real(1) / 100000000;
+  Real rtol = standard_rtol<Real>();
   // Absolute tolerance applied literally to every state, in physical units, as ode45 does. When
   // absent each state gets rtol times its natural scale (δ: the undamped δ_max; v: 1e-3 v0; W:
   // the dashpot's work scale; see Collision::absolute_tolerances), so a contact in metres

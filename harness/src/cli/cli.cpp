@@ -1,0 +1,182 @@
+#include "pldamp/harness/cli.hpp"
+
+#include "cli/commands.hpp"
+#include "common/input.hpp"
+#include "scene/scene.hpp"
+
+#include "pldamp/solvers/registry.hpp"
+
+#include <CLI/CLI.hpp>
+
+#include <string>
+#include <vector>
+
+namespace pldamp::harness {
+namespace {
+
+// "double | long | quad | 50"
+std::string precision_choices() {
+  std::string choices = precision_names();
+  for (std::size_t at = choices.find('|'); at != std::string::npos;
+       at = choices.find('|', at + 3)) {
+    choices.replace(at, 1, " | ");
+  }
+  return choices;
+}
+
+void add_contact_options(CLI::App& command, ContactArgs& a, bool calibrate_only) {
+  command.add_option("--p", a.p, "force-law exponent, p >= 1")->required();
+  command.add_option("--e", a.e, "coefficient of restitution in (0, 1] under --end");
+  command.add_option("--end", a.end, "contact end: overlap (delta = 0) or force (F = 0)");
+  command.add_option("--precision", a.precision, precision_choices());
+  command.add_flag("--json", a.json, "one JSON object instead of key/value lines");
+  if (calibrate_only) {
+    return;
+  }
+  command.add_option("--alpha", a.alpha, "damping coefficient alpha >= 0");
+  command.add_option("--alpha-eff", a.alpha_eff, "effective damping ratio alpha_eff >= 0");
+  command.add_option("--v0", a.v0, "impact velocity > 0")->required();
+  command.add_option("--m", a.m, "reduced mass > 0 (default 1)");
+  command.add_option("--k", a.k, "stiffness > 0 (default 1)");
+}
+
+// CLI11's own errors, rewritten to the contract's one line "<what> (got <value>)".
+std::string describe(const CLI::ParseError& e, const CLI::App& app,
+                     const std::vector<std::string>& arguments) {
+  const std::string what = e.what();
+  if (dynamic_cast<const CLI::ExtrasError*>(&e) != nullptr) {
+    std::string extras;
+    for (const CLI::App* level = &app; level != nullptr;) {
+      for (const std::string& extra : level->remaining()) {
+        extras += (extras.empty() ? "" : " ") + extra;
+      }
+      const auto subs = level->get_subcommands();
+      level = subs.empty() ? nullptr : subs.front();
+    }
+    return "unknown argument (got " + (extras.empty() ? what : extras) + ")";
+  }
+  if (dynamic_cast<const CLI::RequiredError*>(&e) != nullptr) {
+    return what + " (got nothing)";
+  }
+  return what + " (got " + CLI::detail::join(arguments, " ") + ")";
+}
+
+} // namespace
+
+int run_cli(int argc, const char* const* argv, std::ostream& out, std::ostream& err) {
+  CLI::App app{"pldamp: closed forms and validation harness for the power-law damped contact "
+               "oscillator m d'' + alpha sqrt(mk) d^((p-1)/2) d' + k d^p = 0"};
+  app.require_subcommand(1);
+
+  ContactArgs calibrate_args;
+  CLI::App* calibrate = app.add_subcommand("calibrate", "alpha for a target restitution e");
+  add_contact_options(*calibrate, calibrate_args, true);
+
+  ContactArgs observables_args;
+  CLI::App* observables = app.add_subcommand("observables", "every closed-form observable");
+  add_contact_options(*observables, observables_args, false);
+
+  SolveArgs solve_args;
+  CLI::App* solve = app.add_subcommand("solve", "integrate one collision with a registered solver");
+  add_contact_options(*solve, solve_args.contact, false);
+  std::string solver_help = "registered solver:";
+  for (const solvers::SolverInfo& info : solvers::registry()) {
+    solver_help += "\n  " + std::string(info.name) + ": " + std::string(info.method);
+  }
+  solve->add_option("--solver", solve_args.solver, solver_help)->required();
+  solve->add_option("--rtol", solve_args.rtol,
+                    "relative tolerance (default 1e-8; " +
+                        solvers::solver_names([](const solvers::SolverInfo& info) {
+                          return info.default_tolerance == solvers::DefaultTolerance::epsilon;
+                        }) +
+                        ": the precision's epsilon)");
+  solve->add_option("--atol", solve_args.atol,
+                    "absolute tolerance for every state, literal (default: rtol x natural scale)");
+  solve->add_option("--want", solve_args.want, "comma list of e,delta_max,t_peak,tau,energy");
+  const std::string fixed_step_solvers =
+      solvers::solver_names([](const solvers::SolverInfo& info) { return info.fixed_step; });
+  solve->add_option("--dt", solve_args.dt,
+                    "fixed step (" + fixed_step_solvers + "; " +
+                        solvers::solver_names(
+                            [](const solvers::SolverInfo& info) { return info.takes_fixed_step; }) +
+                        " without error control)");
+  solve->add_option("--steps-per-contact", solve_args.steps_per_contact,
+                    fixed_step_solvers +
+                        " without --dt: steps per contact time estimate (default 50)");
+  solve->add_option("--horizon", solve_args.horizon,
+                    "time at which a contact that has not ended is reported no_exit");
+  solve->add_option("--sample-times", solve_args.sample_times, "comma list of times to sample")
+      ->delimiter(',');
+  solve->add_option("--max-steps", solve_args.max_steps, "step limit (default 1e6)");
+
+  RunArgs run_args;
+  CLI::App* run = app.add_subcommand("run", "run a scene: solvers against the closed forms, "
+                                            "budgets, claims, reports");
+  run->add_option("scene", run_args.scene, "scene file (TOML), e.g. data/scenes/nightly.toml")
+      ->required();
+  run->add_option("--out", run_args.out, "report folder (default: report)");
+  run->add_option("--jobs", run_args.jobs, "parallel solver runs (default: the cores)");
+
+  std::string diff_old, diff_new;
+  CLI::App* diff =
+      app.add_subcommand("diff", "regressions between two report.json (exit 1 if any)");
+  diff->add_option("old", diff_old, "last night's report.json")->required();
+  diff->add_option("new", diff_new, "tonight's report.json")->required();
+
+  std::string showcase_precision = "double";
+  CLI::App* showcase =
+      app.add_subcommand("showcase", "observables for p = 1 ... 3 at e = 0.5, one overdamped case");
+  showcase->add_option("--precision", showcase_precision, precision_choices());
+
+  const std::vector<std::string> arguments(argv + 1, argv + argc);
+  try {
+    if (!arguments.empty() && arguments.front().rfind('-', 0) != 0 &&
+        arguments.front() != "calibrate" && arguments.front() != "observables" &&
+        arguments.front() != "solve" && arguments.front() != "showcase" &&
+        arguments.front() != "run" && arguments.front() != "diff") {
+      throw InputError(
+          "unknown command, expected calibrate|observables|solve|run|diff|showcase (got " +
+          arguments.front() + ")");
+    }
+    try {
+      app.parse(argc, argv);
+    } catch (const CLI::CallForHelp&) {
+      const auto parsed = app.get_subcommands();
+      out << (parsed.empty() ? app.help() : parsed.front()->help());
+      return 0;
+    } catch (const CLI::CallForAllHelp&) {
+      out << app.help("", CLI::AppFormatMode::All);
+      return 0;
+    } catch (const CLI::ParseError& e) {
+      throw InputError(describe(e, app, arguments));
+    }
+    if (calibrate->parsed()) {
+      run_calibrate(calibrate_args, out);
+    } else if (observables->parsed()) {
+      run_observables(observables_args, out);
+    } else if (solve->parsed()) {
+      run_solve(solve_args, out);
+    } else if (showcase->parsed()) {
+      run_showcase(showcase_precision, out);
+    } else if (run->parsed()) {
+      run_scene(run_args, out, err);
+    } else if (diff->parsed()) {
+      return run_diff(diff_old, diff_new, out);
+    }
+  } catch (const SceneError& e) { // already "file:line: message"
+    err << e.what() << "\n";
+    return 2;
+  } catch (const InternalError& e) {
+    err << "error: internal: " << e.what() << "\n";
+    return 3;
+  } catch (const std::invalid_argument& e) { // InputError and the library's validation
+    err << "error: " << e.what() << "\n";
+    return 2;
+  } catch (const std::runtime_error& e) { // an integrator that failed
+    err << "error: internal: " << e.what() << "\n";
+    return 3;
+  }
+  return 0;
+}
+
+} // namespace pldamp::harness

@@ -1,0 +1,115 @@
+// `pldamp solve`: one collision integrated by a registered solver. The harness calibrates α from
+// --e / --alpha-eff with the analytic layer (in the precision asked for), then hands solvers/ only
+// the physical parameters (p, m, k, v0, α).
+#include "cli/contact_args.hpp"
+#include "common/observables.hpp"
+
+#include "pldamp/solvers/registry.hpp"
+
+#include <sstream>
+
+namespace pldamp::harness {
+namespace {
+
+// "e,delta_max,..." -> Want bits; "energy" is both energy_load and energy_unload.
+unsigned parse_want_list(const std::string& list) {
+  std::vector<std::string> words;
+  std::istringstream items(list);
+  for (std::string item; std::getline(items, item, ',');) {
+    words.push_back(item);
+  }
+  const unsigned want = parse_want(words, "--want", true);
+  if (want == 0) {
+    throw InputError("--want names no observable (got " + list + ")");
+  }
+  return want;
+}
+
+template <SupportedReal Real>
+Answer samples_of(const std::vector<solvers::Sample<Real>>& samples) {
+  Answer out = Answer::array();
+  for (const auto& s : samples) {
+    out.push_back({exact_number(s.t), exact_number(s.delta), exact_number(s.v)});
+  }
+  return out;
+}
+
+// One collision in precision Real: α calibrated in Real, the solver run in Real.
+template <SupportedReal Real>
+void solve_in(const SolveArgs& args, const solvers::SolverInfo* solver, std::ostream& out) {
+  const analytic::Contact<Real> contact = make_contact<Real>(args.contact);
+  const solvers::Problem<Real> problem{contact.p(), contact.m(), contact.k(), contact.v0(),
+                                       contact.alpha()};
+  solvers::Options<Real> options;
+  if (args.rtol) {
+    options.rtol = parse_real<Real>("--rtol", *args.rtol);
+  } else if (solver != nullptr) {
+    options.rtol = solver->template default_rtol<Real>();
+  }
+  if (args.atol) {
+    options.atol = parse_real<Real>("--atol", *args.atol);
+  }
+  if (args.dt) {
+    options.fixed_step = parse_real<Real>("--dt", *args.dt);
+  }
+  if (args.horizon) {
+    options.horizon = parse_real<Real>("--horizon", *args.horizon);
+  }
+  for (const std::string& t : args.sample_times) {
+    options.sample_times.push_back(parse_real<Real>("--sample-times", t));
+  }
+  options.want = parse_want_list(args.want);
+  options.end = parse_end(args.contact.end) == ContactEnd::force ? solvers::End::force
+                                                                 : solvers::End::overlap;
+  const long steps_per_contact = parse_integer("--steps-per-contact", args.steps_per_contact);
+  if (steps_per_contact < 1 || steps_per_contact > 1000000000) {
+    throw InputError("--steps-per-contact must be in [1, 1e9] (got " + args.steps_per_contact +
+                     ")");
+  }
+  options.steps_per_contact = int(steps_per_contact);
+  options.max_steps = parse_integer("--max-steps", args.max_steps);
+
+  const solvers::Result<Real> r = solvers::solve(args.solver, problem, options);
+
+  Answer o = describe(contact, args.contact);
+  o["solver"] = args.solver;
+  if (r.fixed_step) { // what a fixed-step run used instead of tolerances
+    put_number(o, "dt", r.fixed_step);
+  } else {
+    o["rtol"] = exact_number(options.rtol);
+    put_number(o, "atol", options.atol);
+  }
+  o["outcome"] = solvers::outcome_name(r.outcome);
+  for (const Observable& observable : observable_table()) {
+    put_number(o, std::string(observable.key_at(options.end)), observable.measured(r));
+  }
+  o["steps"] = r.steps;
+  o["rhs_evals"] = r.rhs_evals;
+  if (r.jacobian_evals > 0) {
+    o["jacobian_evals"] = r.jacobian_evals;
+  }
+  o["wall_seconds"] = exact_number(r.wall_seconds);
+  if (!options.sample_times.empty()) {
+    o["samples"] = samples_of(r.samples);
+  }
+  emit(o, args.contact.json, out);
+}
+
+} // namespace
+
+void run_solve(const SolveArgs& args, std::ostream& out) {
+  // An unknown name is reported by solvers::solve, after the contact's own checks.
+  const solvers::SolverInfo* solver = solvers::find_solver(args.solver);
+  if (solver != nullptr && !solver->runs_in(args.contact.precision) &&
+      precision_bit(args.contact.precision) != 0) {
+    throw InputError(solvers::precision_refusal(*solver, "--precision " + args.contact.precision));
+  }
+  if (solver != nullptr && args.rtol && !solver->takes_rtol()) {
+    throw InputError(args.solver + " takes a fixed step: give --dt or --steps-per-contact (got " +
+                     "--rtol " + *args.rtol + ")");
+  }
+  with_precision(args.contact.precision,
+                 [&]<SupportedReal Real>() { solve_in<Real>(args, solver, out); });
+}
+
+} // namespace pldamp::harness

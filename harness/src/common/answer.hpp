@@ -1,0 +1,43 @@
+// The answers of `calibrate`, `observables` and `solve`: an nlohmann::ordered_json object, so the
+// keys keep their order and every string is escaped by nlohmann, whose numbers are printed by
+// format_number in their own precision (36 digits for float128).
+//
+// nlohmann's numbers are doubles, so an exact number travels in the tree as a binary value of
+// subtype exact_number_subtype holding its decimal digits; answer_json prints it bare, an
+// infinity as null (JSON has none: τ when α_eff ≥ 1), and answer_text as the digits or "inf".
+#pragma once
+
+#include "common/input.hpp"
+
+#include <nlohmann/json.hpp>
+
+#include <optional>
+#include <string>
+
+namespace pldamp::harness {
+
+using Answer = nlohmann::ordered_json;
+
+inline constexpr std::uint64_t exact_number_subtype = 0x45; // 'E'
+
+template <SupportedReal Real>
+Answer exact_number(const Real& value) {
+  const std::string digits = format_number(value); // throws InternalError for NaN
+  return Answer::binary(Answer::binary_t::container_type(digits.begin(), digits.end()),
+                        exact_number_subtype);
+}
+
+// Sets answer[key] to the value, if there is one.
+template <SupportedReal Real>
+void put_number(Answer& answer, const std::string& key, const std::optional<Real>& value) {
+  if (value) {
+    answer[key] = exact_number(*value);
+  }
+}
+
+// {"key": value, ...} on one line.
+std::string answer_json(const Answer& answer);
+// "key             value" lines for people: strings unquoted, infinities as inf.
+std::string answer_text(const Answer& answer);
+
+} // namespace pldamp::harness

@@ -1,0 +1,118 @@
+#include "judge/budget.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+namespace pldamp::harness {
+namespace {
+
+void raise(std::optional<double>& slot, const std::optional<double>& value) {
+  if (value && (!slot || *value > *slot || std::isnan(*value))) {
+    slot = std::isnan(*value) ? std::numeric_limits<double>::infinity() : *value;
+  }
+}
+
+Verdict judge(const Plan& plan, const std::vector<Record>& records, const Claim& claim) {
+  Verdict verdict;
+  verdict.name = claim.name;
+  verdict.observable = claim.observable;
+  verdict.config = claim.config.label();
+  verdict.bound = claim.bound;
+  const auto config = static_cast<std::size_t>(
+      std::find(plan.configs.begin(), plan.configs.end(), claim.config) - plan.configs.begin());
+  const auto observable = static_cast<std::size_t>(
+      std::find_if(plan.observables.begin(), plan.observables.end(),
+                   [&](const Observable* o) { return o->key == claim.observable; }) -
+      plan.observables.begin());
+  std::optional<double> measured;
+  for (const Record& record : records) {
+    if (record.config != config) {
+      continue;
+    }
+    if (record.failed()) {
+      ++verdict.failed_cells;
+    }
+    raise(measured, record.abs_error[observable]);
+  }
+  verdict.measured = measured.value_or(std::numeric_limits<double>::infinity());
+  verdict.holds = verdict.failed_cells == 0 && verdict.measured <= verdict.bound;
+  if (verdict.measured > 0 && std::isfinite(verdict.measured)) {
+    verdict.margin = verdict.bound / verdict.measured;
+    verdict.supported = std::pow(10.0, std::ceil(std::log10(verdict.measured)));
+  }
+  return verdict;
+}
+
+} // namespace
+
+std::optional<double> largest(const std::vector<std::optional<double>>& values) {
+  std::optional<double> out;
+  for (const std::optional<double>& value : values) {
+    raise(out, value);
+  }
+  return out;
+}
+
+std::optional<double> worst_at(const Budgets& budgets, std::size_t config, std::size_t point) {
+  std::optional<double> out;
+  for (const auto& per_observable : budgets.map[config]) {
+    raise(out, per_observable[point]);
+  }
+  return out;
+}
+
+bool last_of_its_solver(const Plan& plan, std::size_t config) {
+  const std::size_t next = config + 1;
+  return next == plan.configs.size() || plan.configs[next].name != plan.configs[config].name ||
+         plan.configs[next].precision != plan.configs[config].precision;
+}
+
+Budgets make_budgets(const Plan& plan, const std::vector<Record>& records) {
+  Budgets budgets;
+  const std::size_t configs = plan.configs.size(), observables = plan.observables.size();
+  budgets.worst.assign(configs, std::vector<Worst>(observables));
+  budgets.map.assign(configs,
+                     std::vector<std::vector<std::optional<double>>>(
+                         observables, std::vector<std::optional<double>>(plan.points.size())));
+  // Work per configuration and p: sums, then means.
+  const std::vector<double>& ps = plan.scene.p;
+  std::vector<std::vector<long>> counts(configs, std::vector<long>(ps.size(), 0));
+  budgets.work.assign(configs, std::vector<WorkPoint>(ps.size()));
+  for (std::size_t c = 0; c < configs; ++c) {
+    for (std::size_t i = 0; i < ps.size(); ++i) {
+      budgets.work[c][i].p = ps[i];
+    }
+  }
+  for (const Record& record : records) {
+    budgets.failed_records += record.failed() ? 1 : 0;
+    const Cell& cell = plan.cells[record.cell];
+    const double p = plan.points[cell.point].p;
+    const auto p_index = static_cast<std::size_t>(std::find(ps.begin(), ps.end(), p) - ps.begin());
+    WorkPoint& work = budgets.work[record.config][p_index];
+    work.seconds += record.wall_seconds;
+    work.rhs_evals += double(record.rhs_evals);
+    ++counts[record.config][p_index];
+    for (std::size_t o = 0; o < observables; ++o) {
+      Worst& worst = budgets.worst[record.config][o];
+      raise(worst.abs, record.abs_error[o]);
+      raise(worst.rel, record.rel_error[o]);
+      raise(budgets.map[record.config][o][cell.point], record.rel_error[o]);
+      raise(work.error, record.rel_error[o]);
+    }
+  }
+  for (std::size_t c = 0; c < configs; ++c) {
+    for (std::size_t i = 0; i < ps.size(); ++i) {
+      if (counts[c][i] > 0) {
+        budgets.work[c][i].seconds /= double(counts[c][i]);
+        budgets.work[c][i].rhs_evals /= double(counts[c][i]);
+      }
+    }
+  }
+  for (const Claim& claim : plan.scene.claims) {
+    budgets.claims.push_back(judge(plan, records, claim));
+  }
+  return budgets;
+}
+
+} // namespace pldamp::harness

@@ -1,0 +1,284 @@
+#include "judge/figures.hpp"
+
+#include "pldamp/analytic.hpp"
+#include "pldamp/solvers/registry.hpp"
+
+#include <boost/math/tools/toms748_solve.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <functional>
+#include <stdexcept>
+
+namespace pldamp::harness {
+namespace {
+
+using analytic::Contact;
+
+solvers::Options<double> options_of(const SolverConfig& config, unsigned want) {
+  solvers::Options<double> options;
+  options.rtol = config.rtol.value_or(std::numeric_limits<double>::epsilon());
+  options.atol = config.atol;
+  options.want = want;
+  if (config.steps_per_contact) {
+    options.steps_per_contact = *config.steps_per_contact;
+  }
+  return options;
+}
+
+solvers::Result<double> solve(const SolverConfig& config, double p, double alpha, unsigned want,
+                              std::vector<double> sample_times = {}) {
+  solvers::Options<double> options = options_of(config, want);
+  options.sample_times = std::move(sample_times);
+  const solvers::Result<double> r =
+      solvers::solve(config.name, solvers::Problem<double>{p, 1, 1, 1, alpha}, options);
+  if (r.outcome == solvers::Outcome::step_limit) {
+    throw std::runtime_error(config.label() + " hit its step limit at p = " + to_string_full(p) +
+                             ", alpha = " + to_string_full(alpha));
+  }
+  return r;
+}
+
+// One measured value; a run that ended without it (no exit where τ was wanted) fails the figure.
+double measured(const SolverConfig& config, double p, double alpha, unsigned want,
+                std::optional<double> solvers::Result<double>::*value, const char* name) {
+  const solvers::Result<double> r = solve(config, p, alpha, want);
+  if (!(r.*value)) {
+    throw std::runtime_error(config.label() + " gave no " + name + " at p = " + to_string_full(p) +
+                             ", alpha = " + to_string_full(alpha) + " (" +
+                             std::string(solvers::outcome_name(r.outcome)) + ")");
+  }
+  return *(r.*value);
+}
+
+// α for which the solver returns with restitution e: TOMS 748 on α ↦ e_solver(α) − e over
+// [0, α at α_eff = 1), where e falls from 1 to 0 (the seed's "bisection on the ODE solver").
+double alpha_by_bisection(const SolverConfig& config, double p, double e) {
+  const double critical = Contact<double>::from_alpha_eff(p, 1.0, 1.0).alpha();
+  auto gap = [&](double alpha) {
+    return measured(config, p, alpha, solvers::want_e, &solvers::Result<double>::e, "e") - e;
+  };
+  std::uintmax_t iterations = 100;
+  const auto [lo, hi] =
+      boost::math::tools::toms748_solve(gap, 0.0, critical * (1 - 1e-9), 1 - e, -e,
+                                        boost::math::tools::eps_tolerance<double>(40), iterations);
+  return lo + (hi - lo) / 2;
+}
+
+std::string p_title(double p) {
+  return "p = " + to_string_full(p);
+}
+
+// Total normal force k δ^p + α √(mk) δ^((p−1)/2) v with m = k = 1.
+double force(double p, double alpha, double delta, double v) {
+  const double d = std::max(delta, 0.0);
+  return std::pow(d, p) + alpha * std::pow(d, (p - 1) / 2) * v;
+}
+
+std::vector<double> fine(double from, double to, int n) {
+  std::vector<double> x;
+  for (int i = 0; i <= n; ++i) {
+    x.push_back(from + (to - from) * i / n);
+  }
+  return x;
+}
+
+Figure figure(FigureKind kind, std::string title, std::string x, std::string y,
+              std::string deviation_of) {
+  return {std::string(name_of(figure_kinds, kind)),
+          std::move(title),
+          std::move(x),
+          std::move(y),
+          {},
+          0,
+          std::move(deviation_of),
+          {}};
+}
+
+// Per p: the closed form along `curve` as a line, the solver at `at` as points, and the largest
+// relative deviation between them.
+void curve_and_points(Figure& f, const FigureSpec& spec, const std::vector<double>& curve,
+                      const std::vector<double>& at,
+                      const std::function<double(double p, double x)>& closed,
+                      const std::function<double(double p, double x)>& numeric) {
+  for (const double p : spec.p) {
+    Series line{p_title(p) + " closed form", {}, true}, points{p_title(p), {}, false};
+    for (const double x : curve) {
+      line.points.emplace_back(x, closed(p, x));
+    }
+    for (const double x : at) {
+      const double value = numeric(p, x);
+      points.points.emplace_back(x, value);
+      f.deviation = std::max(f.deviation, std::abs(value / closed(p, x) - 1));
+    }
+    f.series.push_back(line);
+    f.series.push_back(points);
+  }
+}
+
+// The solver's (t, δ, v) at n + 1 times across the contact and the closed form's at the same
+// times, as pairs.
+struct Sampled {
+  solvers::Sample<double> solver, exact;
+};
+std::vector<Sampled> sample_contact(const FigureSpec& spec, const Contact<double>& c, int n) {
+  const double tau = analytic::contact_duration(c);
+  std::vector<double> times;
+  for (const double x : fine(0, 1, n)) {
+    times.push_back(x * tau);
+  }
+  const solvers::Result<double> r = solve(spec.config, c.p(), c.alpha(), solvers::want_tau, times);
+  const analytic::Trajectory<double> trajectory(c);
+  std::vector<Sampled> out;
+  for (const solvers::Sample<double>& s : r.samples) {
+    const auto want = trajectory.at_time(s.t);
+    out.push_back({s, {s.t, want.delta, want.v}});
+  }
+  return out;
+}
+
+Figure alpha_vs_e(const FigureSpec& spec) {
+  Figure f = figure(FigureKind::alpha_vs_e, "Fig. 1: α against e", "e", "α", "α (relative)");
+  curve_and_points(
+      f, spec, fine(0.05, 0.995, 60), spec.e,
+      [](double p, double e) { return Contact<double>::from_e(p, e, 1.0).alpha(); },
+      [&](double p, double e) { return alpha_by_bisection(spec.config, p, e); });
+  return f;
+}
+
+Figure force_history(const FigureSpec& spec) {
+  const double e = spec.e.front();
+  Figure f =
+      figure(FigureKind::force_history, "Fig. 2: force against time, e = " + to_string_full(e),
+             "t / τ", "F / F_max", "F / F_max");
+  for (const double p : spec.p) {
+    const auto c = Contact<double>::from_e(p, e, 1.0);
+    const double tau = analytic::contact_duration(c), peak = analytic::force_max(c);
+    Series line{p_title(p) + " closed form", {}, true}, points{p_title(p), {}, false};
+    for (const auto& [s, want] : sample_contact(spec, c, 80)) {
+      const double numeric = force(p, c.alpha(), s.delta, s.v) / peak;
+      const double closed = force(p, c.alpha(), want.delta, want.v) / peak;
+      line.points.emplace_back(s.t / tau, closed);
+      points.points.emplace_back(s.t / tau, numeric);
+      f.deviation = std::max(f.deviation, std::abs(numeric - closed));
+    }
+    f.series.push_back(line);
+    f.series.push_back(points);
+  }
+  return f;
+}
+
+Figure delta_max_vs_e(const FigureSpec& spec) {
+  Figure f = figure(FigureKind::delta_max_vs_e, "Fig. 3: δ_max against e (v0 = 1)", "e", "δ_max",
+                    "δ_max (relative)");
+  curve_and_points(
+      f, spec, fine(0.02, 1.0, 60), spec.e,
+      [](double p, double e) { return analytic::delta_max(Contact<double>::from_e(p, e, 1.0)); },
+      [&](double p, double e) {
+        const double alpha = Contact<double>::from_e(p, e, 1.0).alpha();
+        return measured(spec.config, p, alpha, solvers::want_delta_max,
+                        &solvers::Result<double>::delta_max, "delta_max");
+      });
+  return f;
+}
+
+Figure tau_ratio(const FigureSpec& spec) {
+  Figure f = figure(FigureKind::tau_ratio, "Fig. 4: τ(α)/τ(0) against α_eff", "α_eff",
+                    "τ(α) / τ(0)", "τ ratio (relative)");
+  Series linear{"1/√(1 − α_eff²) (exact for p = 1)", {}, true};
+  for (const double z : fine(0, 0.95, 60)) {
+    linear.points.emplace_back(z, 1 / std::sqrt(1 - z * z));
+  }
+  f.series.push_back(linear);
+  curve_and_points(
+      f, spec, fine(0, 0.95, 40), spec.alpha_eff,
+      [](double p, double z) {
+        const auto c = Contact<double>::from_alpha_eff(p, z, 1.0);
+        return *analytic::observables(c, analytic::want_tau).tau_ratio;
+      },
+      [&](double p, double z) {
+        const double alpha = Contact<double>::from_alpha_eff(p, z, 1.0).alpha();
+        const auto tau = &solvers::Result<double>::tau;
+        return measured(spec.config, p, alpha, solvers::want_tau, tau, "tau") /
+               measured(spec.config, p, 0.0, solvers::want_tau, tau, "tau");
+      });
+  return f;
+}
+
+Figure phase_portrait(const FigureSpec& spec) {
+  const double p = spec.p.front();
+  Figure f = figure(FigureKind::phase_portrait, "Fig. 5: phase portrait, " + p_title(p),
+                    "δ / δ_max(e = 1)", "v / v0", "v / v0");
+  const double undamped = analytic::delta_max(Contact<double>::from_e(p, 1.0, 1.0));
+  for (const double e : spec.e) {
+    const auto c = Contact<double>::from_e(p, e, 1.0);
+    const std::string title = "e = " + to_string_full(e);
+    Series line{title + " closed form", {}, true}, points{title, {}, false};
+    for (const auto& [s, want] : sample_contact(spec, c, 120)) {
+      line.points.emplace_back(want.delta / undamped, want.v);
+      points.points.emplace_back(s.delta / undamped, s.v);
+      f.deviation = std::max(f.deviation, std::abs(s.v - want.v));
+    }
+    f.series.push_back(line);
+    f.series.push_back(points);
+  }
+  return f;
+}
+
+Figure f_of_p(const FigureSpec& spec) {
+  const double e = spec.e.front();
+  const double xi = -std::log(e) / std::sqrt(M_PI * M_PI + std::log(e) * std::log(e));
+  Figure f = figure(FigureKind::f_of_p, "Fig. 6: f(p) = α/ξ_L at e = " + to_string_full(e), "p",
+                    "f(p)", "f (relative)");
+  Series line{"√(2(p+1))", {}, true}, points{"bisection on the solver", {}, false};
+  const double p_max = *std::max_element(spec.p.begin(), spec.p.end());
+  for (const double p : fine(1, p_max, 60)) {
+    line.points.emplace_back(p, std::sqrt(2 * (p + 1)));
+  }
+  for (const double p : spec.p) {
+    const double found = alpha_by_bisection(spec.config, p, e) / xi;
+    points.points.emplace_back(p, found);
+    f.deviation = std::max(f.deviation, std::abs(found / std::sqrt(2 * (p + 1)) - 1));
+  }
+  f.series.push_back(line);
+  f.series.push_back(points);
+  return f;
+}
+
+Figure make_figure(const FigureSpec& spec) {
+  switch (spec.kind) {
+  case FigureKind::alpha_vs_e:
+    return alpha_vs_e(spec);
+  case FigureKind::force_history:
+    return force_history(spec);
+  case FigureKind::delta_max_vs_e:
+    return delta_max_vs_e(spec);
+  case FigureKind::tau_ratio:
+    return tau_ratio(spec);
+  case FigureKind::phase_portrait:
+    return phase_portrait(spec);
+  case FigureKind::f_of_p:
+    break;
+  }
+  return f_of_p(spec);
+}
+
+} // namespace
+
+std::vector<Figure> make_figures(const Scene& scene) {
+  std::vector<Figure> figures;
+  for (const FigureSpec& spec : scene.figures) {
+    Figure figure;
+    try {
+      figure = make_figure(spec);
+    } catch (const std::exception& e) {
+      const std::string kind(name_of(figure_kinds, spec.kind));
+      figure = Figure{kind, kind, "", "", {}, 0, "", e.what()};
+    }
+    figure.title += " (" + spec.config.label() + ")";
+    figures.push_back(std::move(figure));
+  }
+  return figures;
+}
+
+} // namespace pldamp::harness

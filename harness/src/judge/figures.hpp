@@ -1,0 +1,39 @@
+// The seed's Figures 1–6 (a scene's [[figure]] entries, paper.toml): each one a solver's points
+// over the closed form's curve, with the largest deviation between them.
+//
+//   alpha_vs_e      Fig. 1: α found by bisection on the solver for target e, per p
+//   force_history   Fig. 2: F/F_max against t/τ at e (first of the list), per p
+//   delta_max_vs_e  Fig. 3: δ_max against e at v0 = 1, per p
+//   tau_ratio       Fig. 4: τ(α)/τ(0) against α_eff, per p, with 1/√(1 − α_eff²)
+//   phase_portrait  Fig. 5: v/v0 against δ/δ_max(e) at p (first of the list), per e
+//   f_of_p          Fig. 6: α/ξ_L by bisection at e (first of the list) against √(2(p+1))
+#pragma once
+
+#include "scene/scene.hpp"
+
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace pldamp::harness {
+
+struct Series {
+  std::string title;
+  std::vector<std::pair<double, double>> points;
+  bool closed_form = false; // drawn as a line; the solver's as points
+};
+
+struct Figure {
+  std::string kind, title, x_label, y_label;
+  std::vector<Series> series;
+  double deviation = 0; // the largest |solver − closed form| in the figure's units
+  std::string deviation_of;
+  std::string failure; // not empty: the figure could not be drawn, and why
+};
+
+// Computes every figure of the scene (double precision, the figure's solver configuration). A
+// figure whose solver fails (a step limit, no exit where one was due, a bisection without a
+// bracket) carries the reason in `failure` and no series; the others are unaffected.
+std::vector<Figure> make_figures(const Scene& scene);
+
+} // namespace pldamp::harness

@@ -1,0 +1,400 @@
+#include "report/report.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <functional>
+#include <iomanip>
+#include <limits>
+#include <map>
+#include <numeric>
+#include <sstream>
+
+namespace pldamp::harness {
+namespace {
+
+using nlohmann::ordered_json;
+
+ordered_json number_or_null(const std::optional<double>& x) {
+  return x && std::isfinite(*x) ? ordered_json(*x) : ordered_json(nullptr);
+}
+
+} // namespace
+
+std::string short_number(const std::optional<double>& x, int digits) {
+  if (!x) {
+    return "–";
+  }
+  if (std::isinf(*x)) {
+    return "inf";
+  }
+  return fmt::format("{:.{}g}", *x, digits + 1);
+}
+
+std::string record_key(const Plan& plan, const Record& record) {
+  const Cell& cell = plan.cells[record.cell];
+  const Point& point = plan.points[cell.point];
+  return plan.configs[record.config].label() + " | p=" + to_string_full(point.p) + " " +
+         point.damping.label() + " v0=" + to_string_full(cell.v0) + " m=" + to_string_full(cell.m) +
+         " k=" + to_string_full(cell.k);
+}
+
+namespace {
+
+// The damping points' columns: underdamped by α_eff, then overdamped (the sinh branch) apart.
+std::vector<std::size_t> damping_columns(const Plan& plan) {
+  std::vector<std::size_t> columns(plan.scene.damping.size());
+  std::iota(columns.begin(), columns.end(), 0);
+  const auto alpha_eff = [&](std::size_t d) { return plan.points[d].alpha_eff; };
+  std::stable_sort(columns.begin(), columns.end(), [&](std::size_t a, std::size_t b) {
+    const bool over_a = alpha_eff(a) >= 1, over_b = alpha_eff(b) >= 1;
+    return over_a != over_b ? !over_a : alpha_eff(a) < alpha_eff(b);
+  });
+  return columns;
+}
+
+// A Markdown table of values over p (rows) × damping (columns), the overdamped columns after a
+// separator.
+std::string markdown_map(const Plan& plan,
+                         const std::function<std::optional<double>(std::size_t point)>& value) {
+  const std::vector<std::size_t> columns = damping_columns(plan);
+  const std::size_t dampings = plan.scene.damping.size();
+  const auto overdamped = [&](std::size_t d) { return plan.points[d].alpha_eff >= 1; };
+  std::ostringstream head, rule, body;
+  head << "| p \\ α_eff |";
+  rule << "|---|";
+  for (std::size_t c = 0; c < columns.size(); ++c) {
+    const std::size_t d = columns[c];
+    if (overdamped(d) && (c == 0 || !overdamped(columns[c - 1]))) {
+      head << " overdamped: |";
+      rule << "---|";
+    }
+    head << " " << short_number(plan.points[d].alpha_eff, 3) << " ("
+         << plan.points[d].damping.label() << ") |";
+    rule << "---|";
+  }
+  for (std::size_t i = 0; i < plan.scene.p.size(); ++i) {
+    body << "| " << to_string_full(plan.scene.p[i]) << " |";
+    for (std::size_t c = 0; c < columns.size(); ++c) {
+      const std::size_t d = columns[c];
+      if (overdamped(d) && (c == 0 || !overdamped(columns[c - 1]))) {
+        body << " |";
+      }
+      body << " " << short_number(value(i * dampings + d)) << " |";
+    }
+    body << "\n";
+  }
+  return head.str() + "\n" + rule.str() + "\n" + body.str();
+}
+
+} // namespace
+
+ordered_json report_json(const RunReport& report) {
+  const Plan& plan = report.plan;
+  const Budgets& budgets = report.budgets;
+  ordered_json out;
+  out["schema"] = report_schema;
+  ordered_json scene;
+  scene["name"] = plan.scene.name;
+  scene["path"] = plan.scene.path;
+  scene["end"] = plan.scene.end == solvers::End::force ? "force" : "overlap";
+  for (const Observable* observable : plan.observables) {
+    scene["observables"].push_back(observable->key);
+  }
+  scene["grid"] = {
+      {"p", plan.scene.p}, {"v0", plan.scene.v0}, {"m", plan.scene.m}, {"k", plan.scene.k}};
+  for (const Point& point : plan.points) {
+    if (point.p == plan.scene.p.front()) {
+      scene["grid"]["damping"].push_back({{"label", point.damping.label()},
+                                          {"alpha_eff", point.alpha_eff},
+                                          {"overdamped", point.overdamped}});
+    }
+  }
+  for (const SolverConfig& config : plan.configs) {
+    ordered_json c{
+        {"label", config.label()}, {"solver", config.name}, {"precision", config.precision}};
+    c["rtol"] = number_or_null(config.rtol);
+    c["atol"] = number_or_null(config.atol);
+    c["steps_per_contact"] =
+        config.steps_per_contact ? ordered_json(*config.steps_per_contact) : ordered_json(nullptr);
+    scene["configs"].push_back(c);
+  }
+  scene["repeats"] = plan.scene.repeats;
+  out["scene"] = scene;
+  out["totals"] = {{"rhs_evals", report.totals.rhs_evals},
+                   {"solver_runs", report.totals.solver_runs},
+                   {"wall_seconds", report.totals.wall_seconds},
+                   {"failed_records", budgets.failed_records}};
+  out["claims"] = ordered_json::array();
+  for (const Verdict& v : budgets.claims) {
+    out["claims"].push_back({{"name", v.name},
+                             {"verdict", v.holds ? "holds" : "fails"},
+                             {"measured", number_or_null(v.measured)},
+                             {"bound", v.bound},
+                             {"observable", v.observable},
+                             {"solver", v.config},
+                             {"margin", number_or_null(v.margin)},
+                             {"supported", number_or_null(v.supported)},
+                             {"failed_cells", v.failed_cells}});
+  }
+  ordered_json worst = ordered_json::array(), maps = ordered_json::array(),
+               work = ordered_json::array();
+  for (std::size_t c = 0; c < plan.configs.size(); ++c) {
+    const std::string label = plan.configs[c].label();
+    for (std::size_t o = 0; o < plan.observables.size(); ++o) {
+      worst.push_back({{"config", label},
+                       {"observable", plan.observables[o]->key},
+                       {"max_abs", number_or_null(budgets.worst[c][o].abs)},
+                       {"max_rel", number_or_null(budgets.worst[c][o].rel)}});
+      ordered_json map = ordered_json::array();
+      for (std::size_t i = 0; i < plan.points.size(); ++i) {
+        map.push_back(number_or_null(budgets.map[c][o][i]));
+      }
+      maps.push_back(
+          {{"config", label}, {"observable", plan.observables[o]->key}, {"max_rel", map}});
+    }
+    for (const WorkPoint& point : budgets.work[c]) {
+      work.push_back({{"config", label},
+                      {"solver", plan.configs[c].name},
+                      {"p", point.p},
+                      {"seconds", point.seconds},
+                      {"rhs_evals", point.rhs_evals},
+                      {"max_rel", number_or_null(point.error)}});
+    }
+  }
+  ordered_json analytic = ordered_json::array();
+  for (const Point& point : plan.points) {
+    ordered_json errors;
+    for (std::size_t o = 0; o < plan.observables.size(); ++o) {
+      errors[plan.observables[o]->key] = number_or_null(point.analytic_error[o]);
+    }
+    analytic.push_back({{"p", point.p},
+                        {"damping", point.damping.label()},
+                        {"alpha_eff", point.alpha_eff},
+                        {"max_rel", errors}});
+  }
+  out["budgets"] = {{"points_order", "p-major: point = p index × dampings + damping index"},
+                    {"worst", worst},
+                    {"maps", maps},
+                    {"analytic_double", analytic},
+                    {"work_precision", work}};
+  ordered_json records = ordered_json::array();
+  for (const Record& record : report.records) {
+    const Cell& cell = plan.cells[record.cell];
+    const Point& point = plan.points[cell.point];
+    ordered_json r{{"key", record_key(plan, record)},
+                   {"config", plan.configs[record.config].label()},
+                   {"precision", plan.configs[record.config].precision},
+                   {"p", point.p},
+                   {"damping", point.damping.label()},
+                   {"alpha_eff", point.alpha_eff},
+                   {"v0", cell.v0},
+                   {"m", cell.m},
+                   {"k", cell.k},
+                   {"outcome", record.outcome_name()},
+                   {"failed", record.failed()},
+                   {"steps", record.steps},
+                   {"rhs_evals", record.rhs_evals},
+                   {"wall_seconds", record.wall_seconds}};
+    for (const char* field : {"value", "abs_error", "rel_error"}) {
+      const auto& column = std::string(field) == "value"       ? record.value
+                           : std::string(field) == "abs_error" ? record.abs_error
+                                                               : record.rel_error;
+      ordered_json values;
+      for (std::size_t o = 0; o < plan.observables.size(); ++o) {
+        values[plan.observables[o]->key] = number_or_null(column[o]);
+      }
+      r[field] = values;
+    }
+    if (!record.failure.empty()) {
+      r["failure"] = record.failure;
+    }
+    records.push_back(r);
+  }
+  out["records"] = records;
+  ordered_json figures = ordered_json::array();
+  for (const Figure& figure : report.figures) {
+    ordered_json series = ordered_json::array();
+    for (const Series& line : figure.series) {
+      series.push_back(
+          {{"title", line.title}, {"closed_form", line.closed_form}, {"points", line.points}});
+    }
+    figures.push_back({{"kind", figure.kind},
+                       {"title", figure.title},
+                       {"x", figure.x_label},
+                       {"y", figure.y_label},
+                       {"max_deviation", figure.failure.empty() ? ordered_json(figure.deviation)
+                                                                : ordered_json(nullptr)},
+                       {"deviation_of", figure.deviation_of},
+                       {"series", series}});
+    if (!figure.failure.empty()) {
+      figures.back()["failure"] = figure.failure;
+    }
+  }
+  out["figures"] = figures;
+  return out;
+}
+
+std::string report_csv(const RunReport& report) {
+  const Plan& plan = report.plan;
+  std::ostringstream out;
+  out << std::setprecision(17);
+  out << "solver,precision,rtol,atol,steps_per_contact,p,damping,alpha_eff,v0,m,k,outcome,steps,"
+         "rhs_evals,wall_seconds";
+  for (const Observable* observable : plan.observables) {
+    const std::string name(observable->key);
+    out << "," << name << "," << name << "_abs_error," << name << "_rel_error";
+  }
+  out << "\n";
+  auto cell = [&](const std::optional<double>& x) {
+    if (x) {
+      out << *x;
+    }
+  };
+  for (const Record& record : report.records) {
+    const SolverConfig& config = plan.configs[record.config];
+    const Cell& c = plan.cells[record.cell];
+    const Point& point = plan.points[c.point];
+    out << config.name << "," << config.precision << ",";
+    cell(config.rtol);
+    out << ",";
+    cell(config.atol);
+    out << "," << (config.steps_per_contact ? std::to_string(*config.steps_per_contact) : "") << ","
+        << point.p << "," << point.damping.label() << "," << point.alpha_eff << "," << c.v0 << ","
+        << c.m << "," << c.k << "," << record.outcome_name() << "," << record.steps << ","
+        << record.rhs_evals << "," << record.wall_seconds;
+    for (std::size_t o = 0; o < plan.observables.size(); ++o) {
+      out << ",";
+      cell(record.value[o]);
+      out << ",";
+      cell(record.abs_error[o]);
+      out << ",";
+      cell(record.rel_error[o]);
+    }
+    out << "\n";
+  }
+  return out.str();
+}
+
+std::string report_markdown(const RunReport& report) {
+  const Plan& plan = report.plan;
+  const Budgets& budgets = report.budgets;
+  std::ostringstream out;
+  out << "# pldamp report: " << plan.scene.name << "\n\n";
+  out << "Scene `" << plan.scene.path << "`, end "
+      << (plan.scene.end == solvers::End::force ? "force" : "overlap") << ": " << plan.cells.size()
+      << " cells × " << plan.configs.size() << " solver configurations, "
+      << report.totals.solver_runs << " solver runs, " << report.totals.rhs_evals
+      << " rhs evaluations, " << short_number(report.totals.wall_seconds, 3) << " s. "
+      << budgets.failed_records << " failed records.\n\n";
+  if (!budgets.claims.empty()) {
+    out << "## Claims\n\n| claim | observable | solver | bound | measured | verdict | margin | "
+           "supported |\n|---|---|---|---|---|---|---|---|\n";
+    for (const Verdict& v : budgets.claims) {
+      out << "| " << v.name << " | " << v.observable << " | " << v.config << " | "
+          << short_number(v.bound) << " | " << short_number(v.measured) << " | "
+          << (v.holds ? "**holds**" : "**fails**") << " | " << short_number(v.margin) << " | "
+          << short_number(v.supported, 0) << " |\n";
+    }
+    out << "\nmeasured: the largest absolute error over the grid; supported: the tightest power "
+           "of ten the data supports.\n\n";
+  }
+  out << "## Worst relative error over the grid\n\n| configuration |";
+  for (const Observable* observable : plan.observables) {
+    out << " " << observable->key << " |";
+  }
+  out << " rhs_evals / cell | µs / cell |\n|---|";
+  for (std::size_t o = 0; o < plan.observables.size(); ++o) {
+    out << "---|";
+  }
+  out << "---|---|\n";
+  for (std::size_t c = 0; c < plan.configs.size(); ++c) {
+    out << "| " << plan.configs[c].label() << " |";
+    for (std::size_t o = 0; o < plan.observables.size(); ++o) {
+      out << " " << short_number(budgets.worst[c][o].rel) << " |";
+    }
+    double rhs = 0, seconds = 0;
+    for (const WorkPoint& w : budgets.work[c]) {
+      rhs += w.rhs_evals / double(budgets.work[c].size());
+      seconds += w.seconds / double(budgets.work[c].size());
+    }
+    out << " " << short_number(rhs, 3) << " | " << short_number(seconds * 1e6, 3) << " |\n";
+  }
+  // Per solver, its tightest configuration (the last of its sweep) over p × α_eff.
+  out << "\n## Worst relative error per p × α_eff (each solver's last configuration)\n";
+  for (std::size_t c = 0; c < plan.configs.size(); ++c) {
+    if (last_of_its_solver(plan, c)) {
+      out << "\n### " << plan.configs[c].label() << "\n\n"
+          << markdown_map(plan, [&](std::size_t point) { return worst_at(budgets, c, point); });
+    }
+  }
+  out << "\n## The analytic layer in double against float128 (relative error, worst observable)"
+         "\n\n"
+      << markdown_map(
+             plan, [&](std::size_t point) { return largest(plan.points[point].analytic_error); });
+  if (!report.figures.empty()) {
+    out << "\n## The seed's figures: solver against closed form\n\n| figure | largest deviation "
+           "|\n|---|---|\n";
+    for (const Figure& figure : report.figures) {
+      out << "| " << figure.title << " | "
+          << (figure.failure.empty() ? short_number(figure.deviation) + " in " + figure.deviation_of
+                                     : "failed: " + figure.failure)
+          << " |\n";
+    }
+  }
+  if (budgets.failed_records > 0) {
+    out << "\n## Failed records\n\n";
+    long shown = 0;
+    for (const Record& record : report.records) {
+      if (record.failed() && shown++ < 20) {
+        out << "- " << record_key(plan, record) << ": " << record.outcome_name()
+            << (record.failure.empty() ? "" : " (" + record.failure + ")") << "\n";
+      }
+    }
+  }
+  return out.str();
+}
+
+void create_report_folder(const std::string& folder) {
+  std::error_code failed;
+  std::filesystem::create_directories(folder, failed);
+  if (failed) {
+    throw InputError("cannot create the report folder, " + failed.message() + " (got " + folder +
+                     ")");
+  }
+}
+
+std::vector<std::string> write_reports(const RunReport& report, const std::string& folder) {
+  namespace fs = std::filesystem;
+  create_report_folder(folder);
+  std::vector<std::string> written;
+  for (const ReportFormat format : report.plan.scene.formats) {
+    const fs::path path =
+        fs::path(folder) / ("report." + std::string(name_of(report_formats, format)));
+    std::ofstream file(path);
+    switch (format) {
+    case ReportFormat::json:
+      file << report_json(report).dump(1) << "\n";
+      break;
+    case ReportFormat::csv:
+      file << report_csv(report);
+      break;
+    case ReportFormat::md:
+      file << report_markdown(report);
+      break;
+    case ReportFormat::html:
+      file << report_html(report, "gnuplot");
+      break;
+    }
+    if (!file) {
+      throw InputError("cannot write the report (got " + path.string() + ")");
+    }
+    written.push_back(path.string());
+  }
+  return written;
+}
+
+} // namespace pldamp::harness

@@ -1,0 +1,46 @@
+// Running a plan: every (cell, configuration) solved once for its values, `repeats` times for its
+// wall time (the minimum), on `jobs` threads. Results land in plan order whatever the threads do,
+// so reports are deterministic (except wall times).
+#pragma once
+
+#include "truth/plan.hpp"
+
+#include <functional>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+namespace pldamp::harness {
+
+struct Record {
+  std::size_t cell = 0, config = 0;
+  std::optional<solvers::Outcome> outcome; // none: the solver threw
+  std::string failure;                     // the solver's message when it threw
+  long steps = 0, rhs_evals = 0;
+  double wall_seconds = 0; // minimum over the repeats
+  // Per observable (Plan::observables): the value (rounded to double for the report) and its
+  // absolute and relative errors against the reference, computed in Exact. The relative error
+  // of a reference 0 (e of a contact that never returns) is the absolute one; of an infinite
+  // reference (its τ) 0 when the value is infinite too. A solver's no_exit where the contact does
+  // return (just below critical damping) leaves τ unresolved and compares e absolutely.
+  std::vector<std::optional<double>> value, abs_error, rel_error;
+  // Failed: the solver threw, stopped at its step limit, or returned a non-finite error.
+  bool failed() const;
+  // The outcome's name, or "error" when the solver threw.
+  std::string_view outcome_name() const;
+};
+
+struct RunTotals {
+  long rhs_evals = 0;   // over one run of each record (repeats time only)
+  long solver_runs = 0; // repeats included
+  double wall_seconds = 0;
+};
+
+using Progress = std::function<void(std::size_t done, std::size_t total)>;
+
+// Runs every record of the plan; `progress` (if set) is called from the workers, serialised.
+std::vector<Record> run_plan(const Plan& plan, int jobs, RunTotals& totals,
+                             const Progress& progress = {});
+
+} // namespace pldamp::harness

@@ -1,0 +1,462 @@
+#include "scene/scene.hpp"
+
+#include "common/observables.hpp"
+
+#include "pldamp/solvers/registry.hpp"
+
+#include <fmt/format.h>
+#include <toml++/toml.h>
+
+#include <algorithm>
+#include <cmath>
+#include <initializer_list>
+#include <sstream>
+#include <string_view>
+
+namespace pldamp::harness {
+namespace {
+
+std::string shortest(double x) {
+  return to_string_full(x);
+}
+
+// Reports problems at the line of the node they concern.
+class Reader {
+public:
+  explicit Reader(std::string path) : path_(std::move(path)) {}
+
+  [[noreturn]] void fail(const toml::node& at, const std::string& what) const {
+    fail_at(at.source().begin.line, what);
+  }
+  [[noreturn]] void fail_at(std::size_t line, const std::string& what) const {
+    throw SceneError(path_ + ":" + std::to_string(line) + ": " + what);
+  }
+
+  // Every key of `table` must be one of `allowed`.
+  void only(const toml::table& table, std::initializer_list<std::string_view> allowed,
+            const std::string& where) const {
+    for (const auto& [key, node] : table) {
+      if (std::find(allowed.begin(), allowed.end(), key.str()) == allowed.end()) {
+        std::string names;
+        for (const std::string_view name : allowed) {
+          if (!names.empty()) {
+            names += '|';
+          }
+          names.append(name);
+        }
+        fail(node, "unknown key in " + where + ", expected " + names + " (got " +
+                       std::string(key.str()) + ")");
+      }
+    }
+  }
+
+  double number(const toml::node& node, const std::string& what) const {
+    if (const auto value = node.value<double>();
+        value && (node.is_floating_point() || node.is_integer())) {
+      if (!std::isfinite(*value)) {
+        fail(node, what + " must be finite (got " + shortest(*value) + ")");
+      }
+      return *value;
+    }
+    fail(node, what + " must be a number (got " + type_of(node) + ")");
+  }
+  // A number or a non-empty list of numbers.
+  std::vector<double> numbers(const toml::node& node, const std::string& what) const {
+    std::vector<double> out;
+    if (const toml::array* list = node.as_array()) {
+      for (const toml::node& item : *list) {
+        out.push_back(number(item, what));
+      }
+      if (out.empty()) {
+        fail(node, what + " is an empty list");
+      }
+      return out;
+    }
+    return {number(node, what)};
+  }
+  std::string string(const toml::node& node, const std::string& what) const {
+    if (const auto value = node.value<std::string>(); value && node.is_string()) {
+      return *value;
+    }
+    fail(node, what + " must be a string (got " + type_of(node) + ")");
+  }
+  std::vector<std::string> strings(const toml::node& node, const std::string& what) const {
+    std::vector<std::string> out;
+    if (const toml::array* list = node.as_array()) {
+      for (const toml::node& item : *list) {
+        out.push_back(string(item, what));
+      }
+      return out;
+    }
+    return {string(node, what)};
+  }
+  const toml::table& table(const toml::node& node, const std::string& what) const {
+    if (const toml::table* t = node.as_table()) {
+      return *t;
+    }
+    fail(node, what + " must be a table (got " + type_of(node) + ")");
+  }
+
+  // Checks a condition on a value read from `node`.
+  void require(bool ok, const toml::node& node, const std::string& what, double value) const {
+    if (!ok) {
+      fail(node, what + " (got " + shortest(value) + ")");
+    }
+  }
+
+private:
+  static std::string type_of(const toml::node& node) {
+    std::ostringstream out;
+    out << node.type();
+    return out.str();
+  }
+  std::string path_;
+};
+
+unsigned read_want(const Reader& reader, const toml::node& node) {
+  unsigned want = 0;
+  try {
+    want = parse_want(reader.strings(node, "want"), "want", false);
+  } catch (const std::invalid_argument& e) {
+    reader.fail(node, e.what());
+  }
+  if (want == 0) {
+    reader.fail(node, "want names no observable");
+  }
+  return want;
+}
+
+// The solver (under `key`: name in [[solver]], solver in [[claim]] and [[figure]]), precision and
+// atol of an entry; tolerances and steps are the caller's.
+SolverConfig base_config(const Reader& reader, const toml::table& entry, const char* key,
+                         const std::string& where, const toml::node& at) {
+  SolverConfig config;
+  const toml::node* name = entry.get(key);
+  if (name == nullptr) {
+    reader.fail(at, where + " needs " + key);
+  }
+  config.name = reader.string(*name, "solver name");
+  const solvers::SolverInfo* info = solvers::find_solver(config.name);
+  if (info == nullptr) {
+    reader.fail(*name, "unknown solver, expected " + solvers::solver_names() + " (got " +
+                           config.name + ")");
+  }
+  if (const toml::node* precision = entry.get("precision")) {
+    config.precision = reader.string(*precision, "precision");
+    if (precision_bit(config.precision) == 0) {
+      reader.fail(*precision, unknown_precision(config.precision));
+    }
+    if (!info->runs_in(config.precision)) {
+      reader.fail(*precision, solvers::precision_refusal(*info, config.precision));
+    }
+  }
+  if (const toml::node* atol = entry.get("atol")) {
+    config.atol = reader.number(*atol, "atol");
+    reader.require(*config.atol > 0, *atol, "atol must be > 0", *config.atol);
+    reader.require(info->takes_atol, *atol,
+                   config.name + (info->fixed_step ? " takes a fixed step and no atol"
+                                                   : " controls its error relative to each state "
+                                                     "and takes no atol"),
+                   *config.atol);
+  }
+  return config;
+}
+
+void check_rtol(const Reader& reader, const toml::node& node, double rtol) {
+  reader.require(rtol > 0 && rtol < 1, node, "rtol must be in (0, 1)", rtol);
+}
+
+int steps_per_contact(const Reader& reader, const toml::node& node, double n) {
+  reader.require(n >= 1 && n <= 1e9 && n == std::floor(n), node,
+                 "steps_per_contact must be an integer in [1, 1e9]", n);
+  return static_cast<int>(n);
+}
+
+void read_solvers(const Reader& reader, const toml::node& node, Scene& scene) {
+  const toml::array* entries = node.as_array();
+  if (entries == nullptr) {
+    reader.fail(node, "solver must be an array of tables ([[solver]])");
+  }
+  for (const toml::node& item : *entries) {
+    const toml::table& entry = reader.table(item, "[[solver]]");
+    reader.only(entry, {"name", "rtol", "atol", "precision", "steps_per_contact"}, "[[solver]]");
+    const SolverConfig base = base_config(reader, entry, "name", "[[solver]]", item);
+    const solvers::SolverInfo& info = solvers::solver_named(base.name);
+    const bool fixed_step = info.fixed_step;
+    if (fixed_step && entry.get("rtol") != nullptr) {
+      reader.fail(*entry.get("rtol"),
+                  base.name + " takes a fixed step: give steps_per_contact (got rtol)");
+    }
+    if (const toml::node* steps = entry.get("steps_per_contact")) {
+      if (!fixed_step) {
+        reader.fail(*steps, "steps_per_contact is for fixed-step solvers (got " + base.name + ")");
+      }
+      for (const double n : reader.numbers(*steps, "steps_per_contact")) {
+        SolverConfig config = base;
+        config.steps_per_contact = steps_per_contact(reader, *steps, n);
+        scene.configs.push_back(config);
+      }
+      continue;
+    }
+    if (const toml::node* rtol = entry.get("rtol")) {
+      for (const double value : reader.numbers(*rtol, "rtol")) {
+        check_rtol(reader, *rtol, value);
+        SolverConfig config = base;
+        config.rtol = value;
+        scene.configs.push_back(config);
+      }
+      continue;
+    }
+    if (info.default_tolerance != solvers::DefaultTolerance::epsilon && !fixed_step) {
+      reader.fail(item, "[[solver]] " + base.name + " needs rtol (a number or a list)");
+    }
+    SolverConfig config = base;
+    if (fixed_step) {
+      config.steps_per_contact = 50;
+    }
+    scene.configs.push_back(config);
+  }
+}
+
+void read_claims(const Reader& reader, const toml::node& node, Scene& scene) {
+  const toml::array* entries = node.as_array();
+  if (entries == nullptr) {
+    reader.fail(node, "claim must be an array of tables ([[claim]])");
+  }
+  for (const toml::node& item : *entries) {
+    const toml::table& entry = reader.table(item, "[[claim]]");
+    reader.only(
+        entry,
+        {"name", "observable", "solver", "rtol", "atol", "precision", "steps_per_contact", "bound"},
+        "[[claim]]");
+    Claim claim;
+    claim.config = base_config(reader, entry, "solver", "[[claim]]", item);
+    for (const char* key : {"name", "observable", "bound"}) {
+      if (entry.get(key) == nullptr) {
+        reader.fail(item, std::string("[[claim]] needs ") + key);
+      }
+    }
+    claim.name = reader.string(*entry.get("name"), "claim name");
+    claim.observable = reader.string(*entry.get("observable"), "observable");
+    const std::vector<const Observable*> wanted = observables_of(scene.want);
+    if (std::none_of(wanted.begin(), wanted.end(), [&](const Observable* observable) {
+          return observable->key == claim.observable;
+        })) {
+      std::string names;
+      for (const Observable* observable : wanted) {
+        names += names.empty() ? "" : "|";
+        names += observable->key;
+      }
+      reader.fail(*entry.get("observable"), "claim observable must be one the scene wants: " +
+                                                names + " (got " + claim.observable + ")");
+    }
+    const solvers::SolverInfo& info = solvers::solver_named(claim.config.name);
+    const bool fixed_step = info.fixed_step;
+    if (const toml::node* rtol = entry.get(fixed_step ? "steps_per_contact" : "rtol")) {
+      const double value = reader.number(*rtol, fixed_step ? "steps_per_contact" : "rtol");
+      if (fixed_step) {
+        claim.config.steps_per_contact = steps_per_contact(reader, *rtol, value);
+      } else {
+        check_rtol(reader, *rtol, value);
+        claim.config.rtol = value;
+      }
+    } else if (info.default_tolerance != solvers::DefaultTolerance::epsilon || fixed_step) {
+      reader.fail(item, std::string("[[claim]] needs the ") +
+                            (fixed_step ? "steps_per_contact" : "rtol") + " of its solver");
+    }
+    claim.bound = reader.number(*entry.get("bound"), "bound");
+    reader.require(claim.bound > 0, *entry.get("bound"), "bound must be > 0", claim.bound);
+    scene.claims.push_back(claim);
+  }
+}
+
+void read_figures(const Reader& reader, const toml::node& node, Scene& scene) {
+  const toml::array* entries = node.as_array();
+  if (entries == nullptr) {
+    reader.fail(node, "figure must be an array of tables ([[figure]])");
+  }
+  for (const toml::node& item : *entries) {
+    const toml::table& entry = reader.table(item, "[[figure]]");
+    reader.only(entry, {"kind", "solver", "rtol", "atol", "p", "e", "alpha_eff"}, "[[figure]]");
+    FigureSpec figure;
+    if (entry.get("kind") == nullptr) {
+      reader.fail(item, "[[figure]] needs a kind");
+    }
+    const std::string kind = reader.string(*entry.get("kind"), "kind");
+    const std::optional<FigureKind> known = value_named(figure_kinds, kind);
+    if (!known) {
+      reader.fail(*entry.get("kind"),
+                  "unknown figure, expected " + names_of(figure_kinds) + " (got " + kind + ")");
+    }
+    figure.kind = *known;
+    figure.config = base_config(reader, entry, "solver", "[[figure]]", item);
+    if (solvers::solver_named(figure.config.name).fixed_step) {
+      figure.config.steps_per_contact = 50;
+    }
+    if (const toml::node* rtol = entry.get("rtol")) {
+      figure.config.rtol = reader.number(*rtol, "rtol");
+      check_rtol(reader, *rtol, *figure.config.rtol);
+    }
+    const bool by_alpha_eff = figure.kind == FigureKind::tau_ratio;
+    for (const char* key : {"p", by_alpha_eff ? "alpha_eff" : "e"}) {
+      if (entry.get(key) == nullptr) {
+        reader.fail(item, "[[figure]] " + kind + " needs " + key);
+      }
+    }
+    const toml::node& ps = *entry.get("p");
+    figure.p = reader.numbers(ps, "p");
+    for (const double p : figure.p) {
+      reader.require(p >= 1, ps, "p must be >= 1", p);
+    }
+    if (const toml::node* es = entry.get("e")) {
+      figure.e = reader.numbers(*es, "e");
+      for (const double e : figure.e) {
+        reader.require(e > 0 && e < 1, *es, "e must be in (0, 1)", e);
+      }
+    }
+    if (const toml::node* zs = entry.get("alpha_eff")) {
+      figure.alpha_eff = reader.numbers(*zs, "alpha_eff");
+      for (const double z : figure.alpha_eff) {
+        reader.require(z >= 0 && z < 1, *zs, "alpha_eff must be in [0, 1) (a return)", z);
+      }
+    }
+    scene.figures.push_back(figure);
+  }
+}
+
+void read_grid(const Reader& reader, const toml::node& node, Scene& scene) {
+  const toml::table& grid = reader.table(node, "[grid]");
+  reader.only(grid, {"p", "e", "alpha_eff", "v0", "m", "k"}, "[grid]");
+  for (const char* key : {"p", "v0"}) {
+    if (grid.get(key) == nullptr) {
+      reader.fail(node, std::string("[grid] needs ") + key);
+    }
+  }
+  if (grid.get("e") == nullptr && grid.get("alpha_eff") == nullptr) {
+    reader.fail(node, "[grid] needs e or alpha_eff");
+  }
+  auto list = [&](const char* key, auto&& valid, const char* rule) {
+    std::vector<double> values{1.0};
+    if (const toml::node* at = grid.get(key)) {
+      values = reader.numbers(*at, key);
+      for (const double value : values) {
+        reader.require(valid(value), *at, std::string(key) + rule, value);
+      }
+    }
+    return values;
+  };
+  const auto positive = [](double x) { return x > 0; };
+  scene.p = list(
+      "p", [](double x) { return x >= 1; }, " must be >= 1");
+  scene.v0 = list("v0", positive, " must be > 0");
+  scene.m = list("m", positive, " must be > 0");
+  scene.k = list("k", positive, " must be > 0");
+  if (grid.get("e") != nullptr) {
+    for (const double e : list(
+             "e", [](double x) { return x > 0 && x <= 1; }, " must be in (0, 1]")) {
+      scene.damping.push_back({Damping::Kind::e, e});
+    }
+  }
+  if (grid.get("alpha_eff") != nullptr) {
+    for (const double z : list(
+             "alpha_eff", [](double x) { return x >= 0; }, " must be >= 0")) {
+      scene.damping.push_back({Damping::Kind::alpha_eff, z});
+    }
+  }
+}
+
+} // namespace
+
+std::string Damping::label() const {
+  return (kind == Kind::e ? "e=" : "z=") + to_string_full(value);
+}
+
+std::string SolverConfig::label() const {
+  std::string out = name;
+  if (precision != "double") {
+    out += " " + precision;
+  }
+  if (rtol) {
+    out += fmt::format(" rtol={:g}", *rtol);
+  }
+  if (atol) {
+    out += fmt::format(" atol={:g}", *atol);
+  }
+  if (steps_per_contact) {
+    out += fmt::format(" n={}", *steps_per_contact);
+  }
+  return out;
+}
+
+Scene load_scene(const std::string& path) {
+  const Reader reader(path);
+  toml::table root;
+  try {
+    root = toml::parse_file(path);
+  } catch (const toml::parse_error& e) {
+    if (e.source().begin.line == 0) { // not a parse error inside the file: it cannot be read
+      throw SceneError(path + ":0: cannot read the scene (" + std::string(e.description()) + ")");
+    }
+    reader.fail_at(e.source().begin.line, std::string(e.description()));
+  }
+  reader.only(root,
+              {"name", "end", "want", "grid", "solver", "claim", "figure", "report", "timing"},
+              "the scene");
+  Scene scene;
+  scene.path = path;
+  scene.name = root.get("name") ? reader.string(*root.get("name"), "name") : path;
+  if (const toml::node* end = root.get("end")) {
+    const std::string value = reader.string(*end, "end");
+    if (value != "overlap" && value != "force") {
+      reader.fail(*end, "unknown contact end, expected overlap|force (got " + value + ")");
+    }
+    scene.end = value == "force" ? solvers::End::force : solvers::End::overlap;
+  }
+  if (const toml::node* want = root.get("want")) {
+    scene.want = read_want(reader, *want);
+  }
+  if (root.get("grid") == nullptr) {
+    reader.fail_at(1, "the scene needs a [grid]");
+  }
+  read_grid(reader, *root.get("grid"), scene);
+  if (const toml::node* entries = root.get("solver")) {
+    read_solvers(reader, *entries, scene);
+  }
+  if (const toml::node* claims = root.get("claim")) {
+    read_claims(reader, *claims, scene);
+  }
+  if (const toml::node* figures = root.get("figure")) {
+    read_figures(reader, *figures, scene);
+  }
+  if (scene.configs.empty() && scene.claims.empty()) {
+    reader.fail_at(1, "the scene names no [[solver]] and no [[claim]]");
+  }
+  if (const toml::node* report = root.get("report")) {
+    const toml::table& table = reader.table(*report, "[report]");
+    reader.only(table, {"formats"}, "[report]");
+    if (const toml::node* formats = table.get("formats")) {
+      scene.formats.clear();
+      for (const std::string& name : reader.strings(*formats, "formats")) {
+        const std::optional<ReportFormat> format = value_named(report_formats, name);
+        if (!format) {
+          reader.fail(*formats, "unknown report format, expected " + names_of(report_formats) +
+                                    " (got " + name + ")");
+        }
+        scene.formats.push_back(*format);
+      }
+    }
+  }
+  if (const toml::node* timing = root.get("timing")) {
+    const toml::table& table = reader.table(*timing, "[timing]");
+    reader.only(table, {"repeats"}, "[timing]");
+    if (const toml::node* repeats = table.get("repeats")) {
+      const double n = reader.number(*repeats, "repeats");
+      reader.require(n >= 1 && n <= 100 && n == std::floor(n), *repeats,
+                     "repeats must be an integer in [1, 100]", n);
+      scene.repeats = static_cast<int>(n);
+    }
+  }
+  return scene;
+}
+
+} // namespace pldamp::harness

@@ -1,0 +1,108 @@
+// A scene: what one `pldamp run` computes (DESIGN.md "Scenes"). Read from TOML by toml++; every
+// problem with the file is reported as `file:line: message` before any work starts.
+//
+//     name = "quick"
+//     end  = "overlap"                      # or "force"
+//     want = ["e", "delta_max", "t_peak", "tau", "energy"]
+//     [grid]      p, e and/or alpha_eff, v0, m (default [1]), k (default [1]): numbers or lists
+//     [[solver]]  name; rtol (number or list; a reference solver without it: its precision's
+//                 epsilon); atol; precision (double|long|quad|50, where the solver runs in it);
+//                 steps_per_contact (fixed-step solvers, list)
+//     [[claim]]   name, observable, solver, rtol, atol, precision, bound (max abs error)
+//     [[figure]]  kind (figures.hpp), solver, rtol, atol, p, e, alpha_eff: the seed's figures
+//     [report]    formats = ["json", "csv", "md", "html"]
+//     [timing]    repeats = 3   (wall time of a run: the minimum over repeats)
+#pragma once
+
+#include "common/input.hpp"
+#include "common/names.hpp"
+
+#include "pldamp/solvers/problem.hpp"
+
+#include <optional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+namespace pldamp::harness {
+
+// A bad scene: the message is "file:line: what".
+struct SceneError : InputError {
+  using InputError::InputError;
+};
+
+// The damping of a grid point: a target restitution (under the scene's end) or α_eff.
+struct Damping {
+  enum class Kind { e, alpha_eff };
+  Kind kind;
+  double value;
+  std::string label() const; // "e=0.5", "z=1.5"
+};
+
+// One solver configuration: a point of a solver entry's sweep.
+struct SolverConfig {
+  std::string name;
+  std::string precision = "double";
+  std::optional<double> rtol; // none: the solver's default (a reference: its precision's epsilon)
+  std::optional<double> atol;
+  std::optional<int> steps_per_contact; // fixed-step solvers
+  std::string label() const;            // "cvode-bdf rtol=1e-08", "taylor quad", "verlet n=50"
+  bool operator==(const SolverConfig&) const = default;
+};
+
+struct Claim {
+  std::string name;
+  std::string observable; // a key of the observable table the scene wants
+  SolverConfig config;
+  double bound; // on the largest absolute error over the grid
+};
+
+// The seed's figures (judge/figures.hpp).
+enum class FigureKind {
+  alpha_vs_e,
+  force_history,
+  delta_max_vs_e,
+  tau_ratio,
+  phase_portrait,
+  f_of_p
+};
+inline constexpr NameTable<FigureKind, 6> figure_kinds{
+    {{FigureKind::alpha_vs_e, "alpha_vs_e"},
+     {FigureKind::force_history, "force_history"},
+     {FigureKind::delta_max_vs_e, "delta_max_vs_e"},
+     {FigureKind::tau_ratio, "tau_ratio"},
+     {FigureKind::phase_portrait, "phase_portrait"},
+     {FigureKind::f_of_p, "f_of_p"}}};
+
+// A figure of the seed: its kind, the solver behind its points, its lists.
+struct FigureSpec {
+  FigureKind kind;
+  SolverConfig config;
+  std::vector<double> p, e, alpha_eff;
+};
+
+// The report files; each name is the scene's word for it and the file's extension.
+enum class ReportFormat { json, csv, md, html };
+inline constexpr NameTable<ReportFormat, 4> report_formats{{{ReportFormat::json, "json"},
+                                                            {ReportFormat::csv, "csv"},
+                                                            {ReportFormat::md, "md"},
+                                                            {ReportFormat::html, "html"}}};
+
+struct Scene {
+  std::string path, name;
+  solvers::End end = solvers::End::overlap;
+  unsigned want = solvers::want_all;
+  std::vector<double> p, v0, m, k;
+  std::vector<Damping> damping;
+  std::vector<SolverConfig> configs; // every sweep expanded, in file order
+  std::vector<Claim> claims;
+  std::vector<FigureSpec> figures;
+  std::vector<ReportFormat> formats{ReportFormat::json, ReportFormat::csv, ReportFormat::md,
+                                    ReportFormat::html};
+  int repeats = 1;
+};
+
+// Reads and validates a scene; throws SceneError.
+Scene load_scene(const std::string& path);
+
+} // namespace pldamp::harness

@@ -1,0 +1,73 @@
+// The plan of a scene: its cells (grid points), its solver configurations (the sweeps, plus any
+// claim configuration not among them), the observables to compare, and the reference truth.
+//
+// Reference truth is the analytic layer in the Exact precision (float128; DESIGN.md), computed
+// once per (p, damping) at v0 = m = k = 1 and scaled to each cell by the observable's dimension:
+// lengths by (m v0²/k)^(1/(p+1)), times by that over v0, energies by m v0² (MATH.md §7; e is
+// scale-free). Only the wanted observables are computed, so no time quadrature runs unless t_peak
+// or τ is wanted. The reference is built from α rounded to the precision the solver receives (the
+// double solvers get α as a double), so that this rounding is not charged to them. The analytic
+// layer's own budget (double against Exact) is computed alongside, from the same (p, damping).
+#pragma once
+
+#include "common/observables.hpp"
+#include "scene/scene.hpp"
+
+#include "pldamp/core/real_types.hpp"
+
+#include <array>
+#include <map>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace pldamp::harness {
+
+// The precision of the truth and of every error computed against it: float128, or 50 digits in
+// a build without it.
+using Exact = NarrowestWithDigits10<30>;
+
+struct Cell {
+  std::size_t point; // index into Plan::points: its (p, damping)
+  double v0, m, k;
+  // MATH.md §7, from the unit reference, per Dimension: 1, lengths × (m v0²/k)^(1/(p+1)), times
+  // × that / v0, energies × m v0² (computed once here, not per record).
+  std::array<Exact, 4> scales;
+  const Exact& scale(Dimension dimension) const {
+    return scales[static_cast<std::size_t>(dimension)];
+  }
+};
+
+// The reference values at one (p, damping), v0 = m = k = 1.
+struct Point {
+  double p;
+  Damping damping;
+  double alpha_eff; // the damping as α_eff (computed for a target e)
+  Exact alpha;      // calibrated in Exact
+  bool overdamped;  // α_eff ≥ 1: no return
+  // Per α precision (alpha_precision): the observables in plan order, in Exact.
+  std::map<std::string, std::vector<std::optional<Exact>>> reference;
+  std::vector<std::optional<double>> analytic_double; // the analytic layer in double
+  std::vector<std::optional<double>> analytic_error;  // its relative error against Exact
+};
+
+struct Plan {
+  Scene scene;
+  std::vector<const Observable*> observables; // compared, in table order
+  std::vector<Point> points;
+  std::vector<Cell> cells;
+  std::vector<SolverConfig> configs; // the scene's, then claim-only ones
+};
+
+// Expands the scene and computes the references (Exact work, once per point).
+Plan make_plan(const Scene& scene);
+
+// The Exact reference of an observable (its index in Plan::observables) at a cell.
+std::optional<Exact> reference_at(const Plan& plan, const Cell& cell, std::size_t observable,
+                                  const std::string& alpha_precision);
+
+// The precision α is rounded to for a configuration: its own, or Exact's for a solver running
+// wider than the truth (taylor in 50 digits gets the float128 α).
+std::string alpha_precision(const SolverConfig& config);
+
+} // namespace pldamp::harness

@@ -1,0 +1,112 @@
+// What every harness stage shares: the observable table (each row reads the field its key names,
+// in the solver result and in the closed forms at either contact end), the want words, the
+// answers' JSON (escaped strings, exact numbers in their own precision), and enumeration names.
+#include "common/answer.hpp"
+#include "common/names.hpp"
+#include "common/observables.hpp"
+
+#include <gtest/gtest.h>
+
+#include <limits>
+#include <map>
+#include <string>
+#include <vector>
+
+namespace pldamp::harness {
+namespace {
+
+TEST(ObservableTable, KeysInReportOrderEachReadingItsOwnField) {
+  std::vector<std::string> keys;
+  for (const Observable& observable : observable_table()) {
+    keys.emplace_back(observable.key);
+  }
+  EXPECT_EQ(keys, (std::vector<std::string>{"e", "delta_max", "t_peak", "tau", "energy_load",
+                                            "energy_unload"}));
+  // A result and a closed-form bundle whose every field holds a different value.
+  solvers::Result<long double> result;
+  result.e = 1, result.delta_max = 2, result.t_peak = 3, result.tau = 4, result.energy_load = 5,
+  result.energy_unload = 6;
+  analytic::Observables<long double> closed;
+  closed.e = 11, closed.delta_max = 12, closed.t_peak = 13, closed.tau = 14,
+  closed.energy_load = 15, closed.energy_unload = 16, closed.e_cap = 21, closed.t_cut = 24;
+  const std::map<std::string, std::pair<long double, long double>> field{
+      {"e", {1, 11}},   {"delta_max", {2, 12}},   {"t_peak", {3, 13}},
+      {"tau", {4, 14}}, {"energy_load", {5, 15}}, {"energy_unload", {6, 16}}};
+  for (const Observable& observable : observable_table()) {
+    const std::string key(observable.key);
+    EXPECT_EQ(*observable.measured(result), field.at(key).first) << key;
+    EXPECT_EQ(*observable.exact(closed, solvers::End::overlap), field.at(key).second) << key;
+    EXPECT_NE(observable.solver_want & solvers::want_all, 0u) << key;
+    EXPECT_EQ(find_observable(key), &observable);
+  }
+  // At the force end e and τ are the cut's (MATH.md §4); the energy split has no closed form.
+  EXPECT_EQ(*find_observable("e")->exact(closed, solvers::End::force), 21);
+  EXPECT_EQ(*find_observable("tau")->exact(closed, solvers::End::force), 24);
+  EXPECT_EQ(*find_observable("delta_max")->exact(closed, solvers::End::force), 12);
+  EXPECT_FALSE(find_observable("energy_unload")->exact(closed, solvers::End::force));
+  EXPECT_EQ(find_observable("e")->key_at(solvers::End::force), "e_cap");
+  EXPECT_EQ(find_observable("tau")->key_at(solvers::End::force), "t_cut");
+  EXPECT_EQ(find_observable("force_max"), nullptr);
+}
+
+TEST(ObservableTable, WantWordsSelectObservablesAndTheirClosedForms) {
+  EXPECT_EQ(want_words(false), "e|delta_max|t_peak|tau|energy");
+  EXPECT_EQ(want_words(true), "e|delta_max|t_peak|tau|energy|all");
+  EXPECT_EQ(parse_want({"energy", "e"}, "want", false), solvers::want_energy | solvers::want_e);
+  EXPECT_EQ(parse_want({"all"}, "--want", true), unsigned(solvers::want_all));
+  EXPECT_EQ(parse_want({}, "want", false), 0u);
+  try {
+    parse_want({"all"}, "want", false);
+    ADD_FAILURE() << "no exception";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_STREQ(e.what(), "unknown observable in want, expected e|delta_max|t_peak|tau|energy "
+                           "(got all)");
+  }
+  std::vector<std::string> energies;
+  for (const Observable* observable : observables_of(solvers::want_energy)) {
+    energies.emplace_back(observable->key);
+  }
+  EXPECT_EQ(energies, (std::vector<std::string>{"energy_load", "energy_unload"}));
+  // Only what is wanted is asked of the closed forms: no quadrature for δ_max alone.
+  EXPECT_EQ(analytic_want_of(solvers::want_delta_max, solvers::End::overlap),
+            unsigned(analytic::want_delta_max));
+  EXPECT_EQ(analytic_want_of(solvers::want_e | solvers::want_tau, solvers::End::force),
+            unsigned(analytic::want_capped));
+  EXPECT_EQ(analytic_want_of(solvers::want_e | solvers::want_tau, solvers::End::overlap),
+            unsigned(analytic::want_e | analytic::want_tau));
+}
+
+TEST(Answer, StringsAreEscapedAndNumbersKeepTheirPrecision) {
+  Answer answer;
+  answer["name"] = "a \"quoted\"\nline\\";
+  answer["third"] = exact_number(1.0 / 3);
+  answer["tau"] = exact_number(std::numeric_limits<double>::infinity());
+  answer["steps"] = 12;
+  answer["samples"] = Answer::array({Answer::array({exact_number(0.5), exact_number(2.0)})});
+  EXPECT_EQ(answer_json(answer), R"({"name": "a \"quoted\"\nline\\", "third": 0.3333333333333333, )"
+                                 R"("tau": null, "steps": 12, "samples": [[0.5, 2]]})");
+  EXPECT_EQ(answer_text(answer), "name            a \"quoted\"\nline\\\n"
+                                 "third           0.3333333333333333\n"
+                                 "tau             inf\n"
+                                 "steps           12\n"
+                                 "samples         [[0.5, 2]]\n");
+  EXPECT_EQ(nlohmann::json::parse(answer_json(answer))["name"], "a \"quoted\"\nline\\");
+  // 50 digits: every digit that round-trips (max_digits10), read back exactly.
+  const std::string third_50 = answer_json(Answer{{"x", exact_number(bin50(1) / 3)}});
+  ASSERT_EQ(third_50.rfind("{\"x\": 0." + std::string(50, '3'), 0), 0u) << third_50;
+  const std::string digits = third_50.substr(6, third_50.size() - 7);
+  EXPECT_EQ(bin50(digits), bin50(1) / 3) << digits;
+  EXPECT_THROW(exact_number(std::numeric_limits<double>::quiet_NaN()), InternalError);
+}
+
+TEST(Names, OneTableGivesNamesValuesAndTheList) {
+  enum class Colour { red, green };
+  constexpr NameTable<Colour, 2> colours{{{Colour::red, "red"}, {Colour::green, "green"}}};
+  static_assert(name_of(colours, Colour::green) == "green");
+  EXPECT_EQ(value_named(colours, "red"), Colour::red);
+  EXPECT_FALSE(value_named(colours, "blue"));
+  EXPECT_EQ(names_of(colours), "red|green");
+}
+
+} // namespace
+} // namespace pldamp::harness

@@ -1,0 +1,82 @@
+// What the harness tests share: a scratch folder, scene files written into it, a valid scene to
+// vary, and a plan with records made by hand (for budgets and diff).
+#pragma once
+
+#include "cli_run.hpp"
+#include "judge/budget.hpp"
+#include "run/run.hpp"
+#include "scene/scene.hpp"
+#include "truth/plan.hpp"
+
+#include <filesystem>
+#include <fstream>
+#include <string>
+#include <vector>
+
+namespace pldamp::harness::testing {
+
+namespace fs = std::filesystem;
+
+inline fs::path scratch() {
+  const fs::path dir = fs::temp_directory_path() / "pldamp-harness-test";
+  fs::create_directories(dir);
+  return dir;
+}
+
+inline std::string write_file(const std::string& name, const std::string& text) {
+  const fs::path path = scratch() / name;
+  std::ofstream(path) << text;
+  return path.string();
+}
+
+inline const std::string valid_scene = R"(name = "t"
+want = ["e", "delta_max", "t_peak", "tau", "energy"]
+[grid]
+p = [1.5]
+e = [0.5]
+v0 = [1.0]
+[[solver]]
+name = "cvode-bdf"
+rtol = 1e-6
+)";
+
+// A plan of 1 p × 2 dampings × 2 v0 and one configuration, with records made by hand.
+struct HandMade {
+  Plan plan;
+  std::vector<Record> records;
+};
+inline HandMade hand_made() {
+  const std::string path = write_file("hand.toml", R"(want = ["e", "delta_max"]
+[grid]
+p = [2.0]
+e = [0.5]
+alpha_eff = [2.0]
+v0 = [1.0, 10.0]
+[[claim]]
+name = "tight"
+observable = "e"
+solver = "cvode-bdf"
+rtol = 1e-8
+bound = 3e-4
+)");
+  HandMade h{make_plan(load_scene(path)), {}};
+  // cells: (e=0.5, v0=1), (e=0.5, v0=10), (z=2, v0=1), (z=2, v0=10)
+  const double abs_e[] = {1e-4, 2.5e-4, 0, 0};
+  const double rel_dm[] = {3e-6, 1e-6, 7e-6, 2e-6};
+  const double seconds[] = {1e-3, 3e-3, 2e-3, 6e-3};
+  for (std::size_t cell = 0; cell < 4; ++cell) {
+    Record r;
+    r.cell = cell;
+    r.config = 0;
+    r.outcome = cell < 2 ? solvers::Outcome::exited : solvers::Outcome::no_exit;
+    r.rhs_evals = long(100 * (cell + 1));
+    r.wall_seconds = seconds[cell];
+    r.value = {0.5, 1.0};
+    r.abs_error = {abs_e[cell], rel_dm[cell]};
+    r.rel_error = {cell < 2 ? abs_e[cell] / 0.5 : 0.0, rel_dm[cell]};
+    h.records.push_back(r);
+  }
+  return h;
+}
+
+} // namespace pldamp::harness::testing

@@ -1,0 +1,89 @@
+// The plan: a peak-only scene stops every solver at the peak (counted rhs evaluations), and the
+// references scale exactly across units (MATH.md §7).
+#include "fixtures.hpp"
+
+#include "pldamp/analytic.hpp"
+#include "pldamp/solvers/registry.hpp"
+
+#include <gtest/gtest.h>
+
+namespace pldamp::harness {
+namespace {
+
+using namespace testing;
+
+// The same scene wanting everything and wanting δ_max only, with every registered solver (two
+// tolerances each; verlet two step counts).
+std::string skip_scene(const std::string& want) {
+  std::string scene = "want = [" + want + R"(]
+[grid]
+p = [1.0, 1.5, 2.5]
+e = [0.9, 0.5, 0.1]
+alpha_eff = [1.5]
+v0 = [1.0]
+)";
+  for (const solvers::SolverInfo& info : solvers::registry()) {
+    scene += "[[solver]]\nname = \"" + std::string(info.name) + "\"\n" +
+             (info.fixed_step ? "steps_per_contact = [50, 1000]\n" : "rtol = [1e-6, 1e-10]\n");
+  }
+  return scene;
+}
+
+TEST(Plan, PeakOnlyScenesStopAtThePeak) {
+  RunTotals all, peak;
+  const Plan everything =
+      make_plan(load_scene(write_file("all.toml", skip_scene(R"("e", "delta_max", "t_peak",
+                                                                 "tau", "energy")"))));
+  const std::vector<Record> all_records = run_plan(everything, 2, all);
+  const Plan delta_max =
+      make_plan(load_scene(write_file("peak.toml", skip_scene("\"delta_max\""))));
+  const std::vector<Record> peak_records = run_plan(delta_max, 2, peak);
+  const double ratio = double(peak.rhs_evals) / double(all.rhs_evals);
+  EXPECT_LE(ratio, 0.6) << peak.rhs_evals << " / " << all.rhs_evals;
+  RecordProperty("rhs_ratio", std::to_string(ratio));
+  ASSERT_EQ(delta_max.observables.size(), 1u);
+  EXPECT_EQ(delta_max.observables[0]->key, "delta_max");
+  for (const Record& record : peak_records) {
+    EXPECT_EQ(record.outcome, solvers::Outcome::peak) << record.config;
+  }
+  // Stopping at the peak costs no accuracy: each configuration's worst δ_max over the grid stays
+  // within 10x of the full runs' (not cell by cell: without W the error control, and so the
+  // steps, of most solvers change, and single errors fluctuate by more).
+  const Budgets peak_budget = make_budgets(delta_max, peak_records);
+  const Budgets all_budget = make_budgets(everything, all_records);
+  for (std::size_t c = 0; c < delta_max.configs.size(); ++c) {
+    EXPECT_LE(*peak_budget.worst[c][0].rel, std::max(10 * *all_budget.worst[c][1].rel, 1e-14))
+        << delta_max.configs[c].label();
+  }
+}
+
+TEST(Plan, ReferencesScaleExactlyAcrossUnits) {
+  // MATH.md §7: the reference at (v0, m, k) is the unit one scaled; against a direct evaluation.
+  const std::string path = write_file("scale.toml", R"([grid]
+p = [2.5]
+e = [0.3]
+v0 = [1e-3, 7.0]
+m = [2.0]
+k = [5e4]
+[[solver]]
+name = "taylor"
+precision = ")" + std::string(precision_name<Exact>()) + R"("
+)");
+  const Plan plan = make_plan(load_scene(path));
+  ASSERT_EQ(plan.cells.size(), 2u);
+  for (const Cell& cell : plan.cells) {
+    const auto direct = analytic::observables(analytic::Contact<Exact>::from_alpha(
+        Exact(5) / 2, plan.points[0].alpha, Exact(cell.v0), Exact(cell.m), Exact(cell.k)));
+    const std::vector<std::optional<Exact>> want{direct.e,           direct.delta_max,
+                                                 direct.t_peak,      direct.tau,
+                                                 direct.energy_load, direct.energy_unload};
+    for (std::size_t o = 0; o < plan.observables.size(); ++o) {
+      const Exact got = *reference_at(plan, cell, o, std::string(precision_name<Exact>()));
+      EXPECT_LT(static_cast<double>(abs(got - *want[o]) / *want[o]), 1e-31)
+          << plan.observables[o]->key << " v0=" << cell.v0;
+    }
+  }
+}
+
+} // namespace
+} // namespace pldamp::harness

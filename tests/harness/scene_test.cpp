@@ -1,0 +1,158 @@
+// Scenes: every error names its file and line before any work; sweeps expand into
+// configurations.
+#include "fixtures.hpp"
+
+#include <gtest/gtest.h>
+
+namespace pldamp::harness {
+namespace {
+
+using namespace testing;
+
+struct BadScene {
+  std::string text;
+  std::string message; // after "path:"
+};
+
+TEST(Scene, EveryErrorNamesFileAndLineBeforeAnyWork) {
+  const std::vector<BadScene> cases{
+      {"colour = 1\n" + valid_scene,
+       "1: unknown key in the scene, expected name|end|want|grid|solver|claim|figure|report|"
+       "timing (got colour)"},
+      {R"(name = "t"
+[grid]
+p = ["one"]
+e = [0.5]
+v0 = [1.0]
+)",
+       "3: p must be a number (got string)"},
+      {R"([grid]
+p = []
+e = [0.5]
+v0 = [1.0]
+)",
+       "2: p is an empty list"},
+      {R"([grid]
+p = [1.5, 0.5]
+e = [0.5]
+v0 = [1.0]
+)",
+       "2: p must be >= 1 (got 0.5)"},
+      {R"([grid]
+p = [1.5]
+e = [1.5]
+v0 = [1.0]
+)",
+       "3: e must be in (0, 1] (got 1.5)"},
+      {R"([grid]
+p = [1.5]
+v0 = [1.0]
+)",
+       "1: [grid] needs e or alpha_eff"},
+      {valid_scene + "[[solver]]\nname = \"ode45\"\nrtol = 1e-6\n",
+       "11: unknown solver, expected cvode-bdf|cvode-adams|arkode-dp5|arkode-erk8|arkode-dirk|"
+       "odeint-rkf78|odeint-bs|taylor|verlet (got ode45)"},
+      {valid_scene + "[[solver]]\nname = \"verlet\"\nrtol = 1e-6\n",
+       "12: verlet takes a fixed step: give steps_per_contact (got rtol)"},
+      {valid_scene + "[[solver]]\nname = \"cvode-adams\"\nrtol = 1e-6\nprecision = \"long\"\n",
+       "13: solver cvode-adams runs in double precision only; taylor runs in any (got long)"},
+      {valid_scene + "[[solver]]\nname = \"taylor\"\nprecision = \"float\"\n",
+       "12: unknown precision, expected " + precision_names() + " (got float)"},
+      {valid_scene + "[[solver]]\nname = \"taylor\"\natol = 1e-12\n",
+       "12: taylor controls its error relative to each state and takes no atol (got 1e-12)"},
+      {valid_scene + "[[solver]]\nname = \"verlet\"\natol = 1e-12\n",
+       "12: verlet takes a fixed step and no atol (got 1e-12)"},
+      {valid_scene + "[[solver]]\nname = \"cvode-adams\"\nrtl = 1e-6\n",
+       "12: unknown key in [[solver]], expected name|rtol|atol|precision|steps_per_contact (got "
+       "rtl)"},
+      {valid_scene + "[[claim]]\nname = \"c\"\nobservable = \"force_max\"\nsolver = \"cvode-bdf\"\n"
+                     "rtol = 1e-6\nbound = 1e-5\n",
+       "12: claim observable must be one the scene wants: "
+       "e|delta_max|t_peak|tau|energy_load|energy_unload (got force_max)"},
+      {valid_scene + "[[claim]]\nname = \"c\"\nobservable = \"e\"\nsolver = \"cvode-bdf\"\n"
+                     "rtol = 1e-6\nbound = -1\n",
+       "15: bound must be > 0 (got -1)"},
+      {"end = \"sideways\"\n" + valid_scene,
+       "1: unknown contact end, expected overlap|force (got sideways)"},
+      {valid_scene + "[timing]\nrepeats = 0\n",
+       "11: repeats must be an integer in [1, 100] (got 0)"},
+      {valid_scene + "[[claim]]\nname = \"no solver\"\nobservable = \"e\"\nbound = 1e-5\n",
+       "10: [[claim]] needs solver"},
+      {valid_scene + "[[claim]]\nname = \"c\"\nobservable = \"e\"\nsolver = \"verlet\"\n"
+                     "bound = 1e-2\n",
+       "10: [[claim]] needs the steps_per_contact of its solver"},
+      {"name = \"t\"\n[grid\n", "2: Error while parsing table header: expected ']', saw '\\n'"},
+      {valid_scene + "[[figure]]\nkind = \"fig7\"\nsolver = \"arkode-dp5\"\n",
+       "11: unknown figure, expected alpha_vs_e|force_history|delta_max_vs_e|tau_ratio|"
+       "phase_portrait|f_of_p (got fig7)"},
+      {valid_scene + "[[figure]]\nkind = \"tau_ratio\"\nsolver = \"arkode-dp5\"\nrtol = 1e-8\n"
+                     "p = [1.5]\nalpha_eff = [0.5, 1.0]\n",
+       "15: alpha_eff must be in [0, 1) (a return) (got 1)"},
+  };
+  for (std::size_t i = 0; i < cases.size(); ++i) {
+    const std::string path = write_file("bad" + std::to_string(i) + ".toml", cases[i].text);
+    try {
+      load_scene(path);
+      ADD_FAILURE() << "no error for case " << i;
+    } catch (const SceneError& e) {
+      EXPECT_EQ(std::string(e.what()), path + ":" + cases[i].message) << "case " << i;
+    }
+    // Through the command line: the one line on stderr, exit 2, no report written.
+    const fs::path out = scratch() / ("out" + std::to_string(i));
+    fs::remove_all(out);
+    const CliRun r = run({"run", path, "--out", out.string()});
+    EXPECT_EQ(r.code, 2) << "case " << i;
+    EXPECT_EQ(r.err, path + ":" + cases[i].message + "\n") << "case " << i;
+    EXPECT_FALSE(fs::exists(out)) << "case " << i;
+  }
+  const CliRun missing = run({"run", (scratch() / "no-such.toml").string()});
+  EXPECT_EQ(missing.code, 2);
+  EXPECT_NE(missing.err.find("no-such.toml:0: cannot read the scene"), std::string::npos)
+      << missing.err;
+}
+
+TEST(Scene, SweepsExpandIntoConfigurations) {
+  const std::string exact(precision_name<Exact>()); // quad, or 50 digits in a build without it
+  const std::string path = write_file("sweeps.toml", valid_scene + R"([[solver]]
+name = "taylor"
+precision = ")" + exact + R"("
+[[solver]]
+name = "verlet"
+steps_per_contact = [50, 200]
+[[solver]]
+name = "arkode-dp5"
+rtol = [1e-6, 1e-10]
+atol = 1e-13
+)");
+  const Scene scene = load_scene(path);
+  // A claim on a configuration the sweeps already run adds no configuration to the plan.
+  const std::string with_claim = write_file("sweeps-claim.toml", valid_scene + R"([[solver]]
+name = "verlet"
+steps_per_contact = [50, 200]
+[[claim]]
+name = "DEM at 200 steps"
+observable = "e"
+solver = "verlet"
+steps_per_contact = 200
+bound = 1e-2
+)");
+  const Plan plan = make_plan(load_scene(with_claim));
+  ASSERT_EQ(plan.configs.size(), 3u);
+  EXPECT_EQ(plan.scene.claims[0].config, plan.configs[2]);
+  const CliRun no_folder = run({"run", with_claim, "--out", "/proc/pldamp-report"});
+  EXPECT_EQ(no_folder.code, 2);
+  EXPECT_EQ(no_folder.err.rfind("error: cannot create the report folder", 0), 0u) << no_folder.err;
+  const CliRun no_jobs = run({"run", with_claim, "--jobs", "0"});
+  EXPECT_EQ(no_jobs.code, 2);
+  EXPECT_EQ(no_jobs.err, "error: --jobs must be in [1, 1024] (got 0)\n");
+  std::vector<std::string> labels;
+  for (const SolverConfig& config : scene.configs) {
+    labels.push_back(config.label());
+  }
+  EXPECT_EQ(labels, (std::vector<std::string>{
+                        "cvode-bdf rtol=1e-06", "taylor " + exact, "verlet n=50", "verlet n=200",
+                        "arkode-dp5 rtol=1e-06 atol=1e-13", "arkode-dp5 rtol=1e-10 atol=1e-13"}));
+}
+
+} // namespace
+} // namespace pldamp::harness
