@@ -27,68 +27,62 @@ Result<double> with_method(const Problem<double>& problem, const Options<double>
   return solve_family(method, problem, options);
 }
 
-constexpr EntryPoints double_only(SolveFn<double> solve) {
-  EntryPoints points{};
-  std::get<SolveFn<double>>(points) = solve;
-  return points;
-}
-
-constexpr EntryPoints taylor_in_every_precision() {
-  EntryPoints points{};
-  for_each_precision(
-      [&]<class Real>() { std::get<SolveFn<Real>>(points) = detail::solve_taylor<Real>; });
-  return points;
-}
-
 struct Entry {
-  SolverInfo info; // its precisions are filled from `solve`
+  SolverInfo info;
   EntryPoints solve;
 };
+
+// The entry point and the precision set are filled together, so the set says where it runs.
+constexpr Entry in_double(SolverInfo info, SolveFn<double> solve) {
+  Entry entry{info, {}};
+  std::get<SolveFn<double>>(entry.solve) = solve;
+  entry.info.precisions = precision_bit<double>();
+  return entry;
+}
+
+constexpr Entry taylor_in_every_precision(SolverInfo info) {
+  Entry entry{info, {}};
+  for_each_precision([&]<class Real>() {
+    std::get<SolveFn<Real>>(entry.solve) = detail::solve_taylor<Real>;
+    entry.info.precisions |= precision_bit<Real>();
+  });
+  return entry;
+}
 
 using enum DefaultTolerance;
 
 // name, method, fixed_step, takes_atol, takes_fixed_step, default tolerance
-constexpr std::array declared{
-    Entry{{"cvode-bdf", "SUNDIALS CVODE, BDF orders 1-5, Newton with analytic Jacobian", false,
-           true, false, standard},
-          double_only(with_method<detail::solve_cvode, CvodeMethod::bdf>)},
-    Entry{{"cvode-adams", "SUNDIALS CVODE, Adams-Moulton orders 1-12, Newton", false, true, false,
-           standard},
-          double_only(with_method<detail::solve_cvode, CvodeMethod::adams>)},
-    Entry{{"arkode-dp5", "SUNDIALS ARKODE ERKStep, Dormand-Prince 5(4) (ode45)", false, true, true,
-           standard},
-          double_only(with_method<detail::solve_arkode, ArkodeMethod::dormand_prince_5>)},
-    Entry{{"arkode-erk8", "SUNDIALS ARKODE ERKStep, Fehlberg 8(7), FSAL-corrected table", false,
-           true, true, standard},
-          double_only(with_method<detail::solve_arkode, ArkodeMethod::fehlberg_8>)},
-    Entry{{"arkode-dirk", "SUNDIALS ARKODE ARKStep, Kvaerno ESDIRK 7(4)5, Newton", false, true,
-           true, standard},
-          double_only(with_method<detail::solve_arkode, ArkodeMethod::esdirk_5>)},
-    Entry{{"odeint-rkf78", "Boost.Odeint controlled Runge-Kutta-Fehlberg 7(8)", false, true, false,
-           standard},
-          double_only(with_method<detail::solve_odeint, OdeintMethod::fehlberg_78>)},
-    Entry{{"odeint-bs", "Boost.Odeint Bulirsch-Stoer with dense output", false, true, false,
-           standard},
-          double_only(with_method<detail::solve_odeint, OdeintMethod::bulirsch_stoer>)},
-    Entry{{"taylor",
-           "adaptive Taylor series, order and step after Jorba-Zou, contact-point series at "
-           "entry and exit; double, long, quad or 50 digits",
-           false, false, false, epsilon},
-          taylor_in_every_precision()},
-    Entry{{"verlet", "velocity Verlet, fixed step, as DEM codes step a contact", true, false, false,
-           standard},
-          double_only(detail::solve_verlet)},
+constexpr std::array entries{
+    in_double({"cvode-bdf", "SUNDIALS CVODE, BDF orders 1-5, Newton with analytic Jacobian", false,
+               true, false, standard},
+              with_method<detail::solve_cvode, CvodeMethod::bdf>),
+    in_double({"cvode-adams", "SUNDIALS CVODE, Adams-Moulton orders 1-12, Newton", false, true,
+               false, standard},
+              with_method<detail::solve_cvode, CvodeMethod::adams>),
+    in_double({"arkode-dp5", "SUNDIALS ARKODE ERKStep, Dormand-Prince 5(4) (ode45)", false, true,
+               true, standard},
+              with_method<detail::solve_arkode, ArkodeMethod::dormand_prince_5>),
+    in_double({"arkode-erk8", "SUNDIALS ARKODE ERKStep, Fehlberg 8(7), FSAL-corrected table", false,
+               true, true, standard},
+              with_method<detail::solve_arkode, ArkodeMethod::fehlberg_8>),
+    in_double({"arkode-dirk", "SUNDIALS ARKODE ARKStep, Kvaerno ESDIRK 7(4)5, Newton", false, true,
+               true, standard},
+              with_method<detail::solve_arkode, ArkodeMethod::esdirk_5>),
+    in_double({"odeint-rkf78", "Boost.Odeint controlled Runge-Kutta-Fehlberg 7(8)", false, true,
+               false, standard},
+              with_method<detail::solve_odeint, OdeintMethod::fehlberg_78>),
+    in_double({"odeint-bs", "Boost.Odeint Bulirsch-Stoer with dense output", false, true, false,
+               standard},
+              with_method<detail::solve_odeint, OdeintMethod::bulirsch_stoer>),
+    taylor_in_every_precision({"taylor",
+                               "adaptive Taylor series, order and step after Jorba-Zou, "
+                               "contact-point series at entry and exit; double, long, quad or 50 "
+                               "digits",
+                               false, false, false, epsilon}),
+    in_double({"verlet", "velocity Verlet, fixed step, as DEM codes step a contact", true, false,
+               false, standard},
+              detail::solve_verlet),
 };
-
-constexpr auto entries = [] {
-  std::array out = declared;
-  for (Entry& entry : out) {
-    for_each_precision([&]<class Real>() {
-      entry.info.precisions |= std::get<SolveFn<Real>>(entry.solve) ? precision_bit<Real>() : 0;
-    });
-  }
-  return out;
-}();
 
 constexpr auto infos = [] {
   std::array<SolverInfo, entries.size()> out{};
