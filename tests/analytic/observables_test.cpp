@@ -179,6 +179,33 @@ TYPED_TEST(ObservablesTest, SmallDampingSlope) {
   }
 }
 
+template <SupportedReal Real>
+std::optional<Real> restitution_at(const Real& p, const Real& z) {
+  return observables(Contact<Real>::from_alpha_eff(p, z, Real(1)), want_e).e;
+}
+
+// ln e and ln τ stay finite and accurate where e and τ leave the type's range (near z = 1, where
+// e ~ e^(−2221) underflows and, for p ≥ 2, τ overflows double), and equal ln of them elsewhere.
+TYPED_TEST(ObservablesTest, LogarithmsOfRestitutionAndDuration) {
+  using Real = TypeParam;
+  using std::log;
+  for (const Real& p : {Real(1), Real(2), Real(3)}) {
+    const Contact<Real> c = Contact<Real>::from_alpha(p, Real(1) / 2, Real(3));
+    const Observables<Real> x = observables(c, want_e | want_tau);
+    EXPECT_LE(relative_error(*x.log_e, Real(log(*x.e))), 8 * eps<Real>()) << p;
+    EXPECT_LE(relative_error(*x.log_tau, Real(log(*x.tau))), 8 * eps<Real>()) << p;
+    const Real z = 1 - Real(1) / 1000000;
+    const Observables<Real> near = observables(Contact<Real>::from_alpha_eff(p, z, Real(1)));
+    const Observables<bin50> exact =
+        observables(Contact<bin50>::from_alpha_eff(bin50(p), bin50(z), bin50(1)));
+    EXPECT_LE(relative_error(*near.log_e, *exact.log_e), 8 * eps<Real>()) << p;
+    EXPECT_LE(relative_error(*near.log_tau, *exact.log_tau), 8 * eps<Real>()) << p;
+  }
+  const bool underflows =
+      *restitution_at(Real(2), Real(1) - Real(1) / 1000000) == 0; // e^(−2221), double only
+  EXPECT_EQ(underflows, (std::is_same_v<Real, double>));
+}
+
 // The seed's Δt_crit and the tangent bound at p = 3/2, v0 = Ω0 = 1 (MATH.md §6: 1.749, 1.597),
 // and Δt_crit/τ0 = 2/B(1/(p+1), ½) for every p.
 TYPED_TEST(ObservablesTest, CriticalTimeSteps) {

@@ -124,25 +124,33 @@ Real narrowed(const Wide& value) {
   }
 }
 
-// (τ, τ/τ0) from ln τ0 and one ln(τ/τ0), which is summed in the wider type when it is large (it
-// needs no Γ but the ratio of special.hpp, cheap in any type); +∞ for z ≥ 1.
 template <SupportedReal Real>
-std::pair<Real, Real> duration_and_ratio(const Contact<Real>& c, const Real& log_tau0) {
+struct Duration {
+  Real tau, ratio, log_tau; // τ, τ/τ0 and ln τ
+};
+
+// τ, τ/τ0 and ln τ from ln τ0 and one ln(τ/τ0), which is summed in the wider type when it is
+// large (it needs no Γ but the ratio of special.hpp, cheap in any type); +∞ for z ≥ 1. ln τ stays
+// finite where τ itself overflows the type (near z = 1).
+template <SupportedReal Real>
+Duration<Real> duration_and_ratio(const Contact<Real>& c, const Real& log_tau0) {
   using std::exp;
   if (c.mu() <= 0) {
     const Real inf = std::numeric_limits<Real>::infinity();
-    return {inf, inf};
+    return {inf, inf, inf};
   }
   if constexpr (!std::is_same_v<DurationWide<Real>, Real>) {
     if (widen_duration_exponent(c)) {
       using W = DurationWide<Real>;
       const W log_ratio =
           log_duration_ratio(Damping<W>{W(c.alpha_eff()), W(c.mu())}, W(2 / (W(c.p()) + 1)));
-      return {narrowed<Real>(exp(W(log_tau0) + log_ratio)), narrowed<Real>(exp(log_ratio))};
+      const W log_tau = W(log_tau0) + log_ratio;
+      return {narrowed<Real>(exp(log_tau)), narrowed<Real>(exp(log_ratio)),
+              narrowed<Real>(log_tau)};
     }
   }
   const Real log_ratio = log_duration_ratio(c.damping(), c.q());
-  return {exp(log_tau0 + log_ratio), exp(log_ratio)};
+  return {exp(log_tau0 + log_ratio), exp(log_ratio), log_tau0 + log_ratio};
 }
 
 } // namespace detail
@@ -163,12 +171,12 @@ Real undamped_duration(const Contact<Real>& c) {
 // τ in closed form (MATH.md §3), as τ0·(τ/τ0); +∞ for z ≥ 1.
 template <SupportedReal Real>
 Real contact_duration(const Contact<Real>& c) {
-  return detail::duration_and_ratio(c, log_undamped_duration(c)).first;
+  return detail::duration_and_ratio(c, log_undamped_duration(c)).tau;
 }
 
 template <SupportedReal Real>
 Real duration_ratio(const Contact<Real>& c) {
-  return detail::duration_and_ratio(c, Real(0)).second;
+  return detail::duration_and_ratio(c, Real(0)).ratio;
 }
 
 template <SupportedReal Real>
@@ -221,7 +229,7 @@ enum Want : unsigned {
   want_e = 1u << 0,
   want_delta_max = 1u << 1,
   want_t_peak = 1u << 2,
-  want_tau = 1u << 3, // τ, τ0, τ/τ0
+  want_tau = 1u << 3, // τ, ln τ, τ0, τ/τ0
   want_energy = 1u << 4,
   want_force_max = 1u << 5,
   want_dt_crit = 1u << 6, // seed and tangent bounds
@@ -231,7 +239,8 @@ enum Want : unsigned {
 
 template <SupportedReal Real>
 struct Observables {
-  std::optional<Real> e, log_e, delta_max, force_max, t_peak, tau, tau0, tau_ratio, energy_load,
+  std::optional<Real> e, log_e, delta_max, force_max, t_peak, tau, log_tau, tau0, tau_ratio,
+      energy_load,
       energy_unload, dt_crit, dt_tangent, e_cap, t_cut;
 };
 
@@ -264,7 +273,10 @@ Observables<Real> observables(const Contact<Real>& c, unsigned want = want_all) 
   if (want & want_tau) {
     const Real log_tau0 = log_undamped_duration(c);
     out.tau0 = exp(log_tau0);
-    std::tie(out.tau, out.tau_ratio) = detail::duration_and_ratio(c, log_tau0);
+    const detail::Duration<Real> duration = detail::duration_and_ratio(c, log_tau0);
+    out.tau = duration.tau;
+    out.tau_ratio = duration.ratio;
+    out.log_tau = duration.log_tau;
   }
   if (want & want_energy) {
     out.energy_load = energy_load(c);
