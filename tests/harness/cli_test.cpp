@@ -29,6 +29,16 @@ TEST(Cli, ObservablesJsonCarriesTheContractKeys) {
   const auto c = analytic::Contact<double>::from_e(1.5, 0.5, 2, 0.01, 7e9);
   EXPECT_EQ(json["delta_max"].get<double>(), analytic::delta_max(c)); // shortest round trip
   EXPECT_EQ(json["tau"].get<double>(), analytic::contact_duration(c));
+  EXPECT_NEAR(json["log_tau"].get<double>(), std::log(json["tau"].get<double>()), 1e-15);
+  // Just below critical damping τ overflows double: null, while ln τ is still given.
+  const CliRun edge =
+      run({"observables", "--p", "3", "--alpha-eff", "0.999999", "--v0", "1", "--json"});
+  ASSERT_EQ(edge.code, 0) << edge.err;
+  const auto at_edge = nlohmann::json::parse(edge.out);
+  EXPECT_TRUE(at_edge["tau"].is_null());
+  EXPECT_GT(at_edge["log_tau"].get<double>(), 709.8); // beyond ln(DBL_MAX)
+  EXPECT_EQ(at_edge["e"].get<double>(), 0.0);
+  EXPECT_LT(at_edge["log_e"].get<double>(), -2000.0);
 }
 
 #if PLDAMP_WITH_QUAD

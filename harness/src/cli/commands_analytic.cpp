@@ -45,6 +45,7 @@ void run_observables(const ContactArgs& args, std::ostream& out) {
         {"force_max", x.force_max},
         {"t_peak", x.t_peak},
         {"tau", x.tau},
+        {"log_tau", x.log_tau},
         {"tau0", x.tau0},
         {"tau_ratio", x.tau_ratio},
         {"energy_load", x.energy_load},
