@@ -59,8 +59,27 @@ TEST(EndToEnd, QuickSceneWritesEveryReportWithItsPlots) {
        at = html.str().find("<svg", at + 1)) {
     ++plots;
   }
-  EXPECT_GE(plots, 2u * 3u + 5u) << "work-precision per p (time, rhs) and a map per solver";
+  // Per p: time and rhs evaluations in double, time in extended precision; a map per solver.
+  EXPECT_EQ(plots, 3u * 3u + 5u);
   EXPECT_NE(html.str().find("seed Table II"), std::string::npos);
+  EXPECT_EQ(html.str().find("nan"), std::string::npos);
+  // The cost against the closed forms: a multiple in every work point and table.
+  for (const auto& work : report["budgets"]["work_precision"]) {
+    EXPECT_GT(work["x_analytic"].get<double>(), 1.0) << work["config"];
+    EXPECT_NEAR(work["x_analytic"].get<double>(),
+                work["seconds"].get<double>() / work["analytic_seconds"].get<double>(), 1e-9);
+  }
+  for (const auto& point : report["budgets"]["analytic_double"]) {
+    EXPECT_LT(point["seconds"].get<double>(), 1e-4) << point["damping"];
+    EXPECT_TRUE(point["not_representable"].empty()) << point["damping"]; // quick stays in range
+  }
+  std::ifstream md_file(out / "report.md");
+  std::stringstream md;
+  md << md_file.rdbuf();
+  for (const std::string& page : {md.str(), html.str()}) {
+    EXPECT_NE(page.find("How to read this report."), std::string::npos);
+    EXPECT_NE(page.find("× analytic"), std::string::npos);
+  }
 }
 
 TEST(EndToEnd, PaperSceneReproducesTableTwoAndTheSixFigures) {

@@ -63,6 +63,9 @@ struct Observable {
   LateReturn late_return;
   PerPrecision<MeasuredFn> measured_fn;
   PerPrecision<ExactFn> exact_fn, exact_capped_fn;
+  // The closed form's logarithm at the overlap end, where the value itself can leave a type's
+  // range (e ~ e^-2221 and τ just below critical damping); none: no such form.
+  std::optional<PerPrecision<ExactFn>> exact_log_fn = std::nullopt;
 
   template <SupportedReal Real>
   std::optional<Real> measured(const solvers::Result<Real>& result) const {
@@ -75,6 +78,11 @@ struct Observable {
                                        : std::get<ExactFn<Real>>(exact_capped_fn)(closed);
     }
     return std::get<ExactFn<Real>>(exact_fn)(closed);
+  }
+  // ln of the closed form at the overlap end, for observables that have that form.
+  template <SupportedReal Real>
+  std::optional<Real> exact_log(const analytic::Observables<Real>& closed) const {
+    return exact_log_fn ? std::get<ExactFn<Real>>(*exact_log_fn)(closed) : std::nullopt;
   }
   unsigned analytic_want_at(solvers::End end) const {
     return end == solvers::End::force ? analytic_want_capped : analytic_want;

@@ -54,6 +54,33 @@ std::optional<double> largest(const std::vector<std::optional<double>>& values) 
   return out;
 }
 
+double times_analytic(const std::vector<WorkPoint>& work) {
+  double seconds = 0, analytic = 0;
+  for (const WorkPoint& w : work) {
+    seconds += w.seconds;
+    analytic += w.analytic_seconds;
+  }
+  return analytic > 0 ? seconds / analytic : std::numeric_limits<double>::infinity();
+}
+
+std::optional<double> analytic_worst(const Point& point) {
+  std::optional<double> out;
+  for (const AnalyticCheck& check : point.analytic) {
+    raise(out, check.error);
+  }
+  return out;
+}
+
+std::vector<std::string> not_representable(const Plan& plan, const Point& point) {
+  std::vector<std::string> keys;
+  for (std::size_t o = 0; o < plan.observables.size(); ++o) {
+    if (!point.analytic[o].representable) {
+      keys.emplace_back(plan.observables[o]->key);
+    }
+  }
+  return keys;
+}
+
 std::optional<double> worst_at(const Budgets& budgets, std::size_t config, std::size_t point) {
   std::optional<double> out;
   for (const auto& per_observable : budgets.map[config]) {
@@ -91,6 +118,7 @@ Budgets make_budgets(const Plan& plan, const std::vector<Record>& records) {
     const auto p_index = static_cast<std::size_t>(std::find(ps.begin(), ps.end(), p) - ps.begin());
     WorkPoint& work = budgets.work[record.config][p_index];
     work.seconds += record.wall_seconds;
+    work.analytic_seconds += plan.points[cell.point].analytic_seconds;
     work.rhs_evals += double(record.rhs_evals);
     ++counts[record.config][p_index];
     for (std::size_t o = 0; o < observables; ++o) {
@@ -105,6 +133,7 @@ Budgets make_budgets(const Plan& plan, const std::vector<Record>& records) {
     for (std::size_t i = 0; i < ps.size(); ++i) {
       if (counts[c][i] > 0) {
         budgets.work[c][i].seconds /= double(counts[c][i]);
+        budgets.work[c][i].analytic_seconds /= double(counts[c][i]);
         budgets.work[c][i].rhs_evals /= double(counts[c][i]);
       }
     }

@@ -17,8 +17,13 @@ struct Worst {
 // cell, and the largest relative error of any observable in any cell.
 struct WorkPoint {
   double p = 0, seconds = 0, rhs_evals = 0;
+  double analytic_seconds = 0; // the closed forms' cost per cell in double, over the same cells
   std::optional<double> error;
 };
+
+// What a configuration costs as a multiple of the closed forms for the same cells and
+// observables: the mean over p of its time per cell, over the same mean of the closed forms'.
+double times_analytic(const std::vector<WorkPoint>& work);
 
 struct Verdict {
   std::string name, observable, config;
@@ -45,6 +50,11 @@ Budgets make_budgets(const Plan& plan, const std::vector<Record>& records);
 
 // The largest of the values present (NaN counts as infinite); none if none is.
 std::optional<double> largest(const std::vector<std::optional<double>>& values);
+// The analytic layer's largest relative error in double at a point, over the observables
+// representable in double (none: no such observable).
+std::optional<double> analytic_worst(const Point& point);
+// The keys of the observables not representable in double at a point (AnalyticCheck).
+std::vector<std::string> not_representable(const Plan& plan, const Point& point);
 // A configuration's largest relative error of any observable at one (p, damping) point.
 std::optional<double> worst_at(const Budgets& budgets, std::size_t config, std::size_t point);
 // Whether a configuration is the last (tightest) of its solver's sweep, the one the reports map.

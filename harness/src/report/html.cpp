@@ -1,22 +1,31 @@
-// report.html: one self-contained page. Plots are SVG drawn by gnuplot (its svg terminal) from
-// data written inline into its script, and pasted into the page; gnuplot missing or failing
+// report.html: one self-contained page. Plots are SVG drawn by gnuplot (its svg terminal, at a
+// fixed size so the page lays them out at their natural size) from data written inline into its
+// script: gnuplot is started with an argument vector, the script on its stdin and the SVG read
+// from its stdout (common/process.hpp; no shell, no temporary file). gnuplot missing or failing
 // leaves the tables and a note instead of the plots.
+//
+// Styles: every solver line of a scene (a solver in one precision) keeps one style on every plot,
+// a colour of the Okabe–Ito palette (legible to colour-blind readers; its yellow left out, too
+// faint on white), a marker and a dash pattern, so no two lines share all three. Work-precision
+// plots put double and the extended precisions on separate panels (their errors lie 15 decades
+// apart); error maps use a perceptually ordered sequential palette (viridis) with the exponent
+// printed in each cell.
+#include "common/process.hpp"
 #include "report/report.hpp"
 
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <array>
 #include <cmath>
-#include <cstdio>
-#include <cstdlib>
-#include <filesystem>
-#include <fstream>
-#include <iomanip>
+#include <limits>
 #include <map>
 #include <sstream>
-#include <unistd.h>
 
 namespace pldamp::harness {
 namespace {
 
-std::string escape(const std::string& text) {
+std::string escape(std::string_view text) {
   std::string out;
   for (const char c : text) {
     switch (c) {
@@ -29,6 +38,9 @@ std::string escape(const std::string& text) {
     case '&':
       out += "&amp;";
       break;
+    case '\'':
+      out += "&#39;";
+      break;
     default:
       out += c;
     }
@@ -36,157 +48,308 @@ std::string escape(const std::string& text) {
   return out;
 }
 
-// Runs gnuplot on `script` (which must not set the output) and returns the SVG, or "".
+// A gnuplot single-quoted string: nothing inside is interpreted but '' for a quote.
+std::string gnuplot_string(std::string_view text) {
+  std::string out = "'";
+  for (const char c : text) {
+    out += c == '\'' ? "''" : std::string(1, c);
+  }
+  return out + "'";
+}
+
+// gnuplot, started per plot; the SVG it writes on stdout, or "".
 class Gnuplot {
 public:
   explicit Gnuplot(std::string program) : program_(std::move(program)) {
-    available_ =
-        !program_.empty() && std::system((program_ + " --version >/dev/null 2>&1").c_str()) == 0;
+    available_ = !program_.empty() && run_program({program_, "--version"}, "").succeeded();
   }
   bool available() const { return available_; }
 
-  std::string svg(const std::string& script, int width = 640, int height = 420) {
+  std::string svg(const std::string& script, int width, int height) const {
     if (!available_) {
       return "";
     }
-    namespace fs = std::filesystem;
-    const fs::path base = fs::temp_directory_path() / ("pldamp-plot-" + std::to_string(::getpid()) +
-                                                       "-" + std::to_string(++n_));
-    const fs::path script_path = base.string() + ".gp", svg_path = base.string() + ".svg";
-    {
-      std::ofstream out(script_path);
-      out << "set terminal svg size " << width << "," << height
-          << " dynamic enhanced font 'sans,11' background rgb 'white'\n"
-          << "set output '" << svg_path.string() << "'\n"
-          << script << "\nunset output\n";
-    }
-    const bool ok =
-        std::system((program_ + " '" + script_path.string() + "' >/dev/null 2>&1").c_str()) == 0;
-    std::string svg;
-    if (ok) {
-      std::ifstream in(svg_path);
-      std::stringstream buffer;
-      buffer << in.rdbuf();
-      svg = buffer.str();
-      const auto start = svg.find("<svg");
-      svg = start == std::string::npos ? "" : svg.substr(start); // drop the XML prologue
-    }
-    std::error_code ignored;
-    fs::remove(script_path, ignored);
-    fs::remove(svg_path, ignored);
-    return svg;
+    const std::string header = fmt::format(
+        "set terminal svg size {},{} fixed enhanced font 'sans,11' background rgb 'white'\n"
+        "set output\n",
+        width, height);
+    const ProgramRun run = run_program({program_}, header + script + "\n");
+    const auto start = run.out.find("<svg");
+    return run.succeeded() && start != std::string::npos ? run.out.substr(start) : "";
   }
 
 private:
   std::string program_;
   bool available_ = false;
-  int n_ = 0;
 };
 
-// A solver's lines: configurations sharing a name and precision, in sweep order.
-std::map<std::string, std::vector<std::size_t>> solver_lines(const Plan& plan) {
-  std::map<std::string, std::vector<std::size_t>> lines;
+struct Style {
+  std::string colour;
+  int marker, dash;
+};
+
+// Okabe & Ito's palette without yellow; gnuplot's filled markers, then the open ones.
+constexpr std::array<const char*, 7> colours{"#0072B2", "#D55E00", "#009E73", "#CC79A7",
+                                             "#E69F00", "#56B4E9", "#000000"};
+constexpr std::array<int, 7> markers{7, 5, 9, 11, 13, 6, 4};
+
+Style style_of(std::size_t line) {
+  return {colours[line % colours.size()], markers[(line + line / colours.size()) % markers.size()],
+          int(1 + line / colours.size() % 4)};
+}
+
+std::string line_name(const SolverConfig& config) {
+  return config.name + (config.precision == "double" ? "" : " " + config.precision);
+}
+
+// A solver's lines: configurations sharing a name and precision, in sweep order, with the style
+// of their first appearance in the scene.
+struct Line {
+  std::string name;
+  bool extended; // a precision wider than double
+  Style style;
+  std::vector<std::size_t> configs;
+};
+std::vector<Line> solver_lines(const Plan& plan) {
+  std::vector<Line> lines;
   for (std::size_t c = 0; c < plan.configs.size(); ++c) {
-    const SolverConfig& config = plan.configs[c];
-    lines[config.name + (config.precision == "double" ? "" : " " + config.precision)].push_back(c);
+    const std::string name = line_name(plan.configs[c]);
+    auto found = std::find_if(lines.begin(), lines.end(),
+                              [&](const Line& line) { return line.name == name; });
+    if (found == lines.end()) {
+      lines.push_back({name, plan.configs[c].precision != "double", style_of(lines.size()), {}});
+      found = lines.end() - 1;
+    }
+    found->configs.push_back(c);
   }
   return lines;
 }
 
-// Error against time (or rhs evaluations) at one p, one line per solver.
-std::string work_precision_plot(Gnuplot& gnuplot, const RunReport& report, std::size_t p_index,
-                                bool against_time) {
-  std::ostringstream script;
-  script << std::setprecision(17);
-  script << "set logscale xy\nset format y '10^{%L}'\nset format x '10^{%L}'\nset grid\n"
-         << "set key outside right\nset xlabel '"
-         << (against_time ? "wall time per collision [s]" : "rhs evaluations per collision")
-         << "'\nset ylabel 'largest relative error'\nset title 'p = "
-         << report.plan.scene.p[p_index] << "'\n";
-  std::string plot = "plot ";
-  int block = 0;
-  for (const auto& [name, configs] : solver_lines(report.plan)) {
-    std::ostringstream data;
-    data << std::setprecision(17);
-    int points = 0;
-    for (const std::size_t c : configs) {
-      const WorkPoint& w = report.budgets.work[c][p_index];
-      if (w.error && *w.error > 0 && std::isfinite(*w.error) && w.seconds > 0) {
-        data << (against_time ? w.seconds : w.rhs_evals) << " " << *w.error << "\n";
-        ++points;
+// The closed forms in double at one p: their cost per cell and their worst representable error.
+struct ClosedForm {
+  double seconds = 0;
+  std::optional<double> error;
+};
+ClosedForm closed_form_at(const Plan& plan, std::size_t p_index) {
+  ClosedForm out;
+  long cells = 0;
+  const std::size_t dampings = plan.scene.damping.size();
+  for (const Cell& cell : plan.cells) {
+    if (cell.point / dampings == p_index) {
+      out.seconds += plan.points[cell.point].analytic_seconds;
+      ++cells;
+      const std::optional<double> error = analytic_worst(plan.points[cell.point]);
+      if (error && (!out.error || *error > *out.error)) {
+        out.error = error;
       }
     }
-    if (points == 0) {
+  }
+  out.seconds /= double(std::max(cells, 1L));
+  return out;
+}
+
+enum class Axis { time, rhs_evals };
+
+// Error against time (or rhs evaluations) at one p, one line per solver of the chosen panel
+// (double or extended precision), with the closed forms as references: their cost per cell (a
+// vertical line, on time axes) and their own error in double (a horizontal line).
+std::string work_precision_plot(const Gnuplot& gnuplot, const RunReport& report,
+                                std::size_t p_index, Axis axis, bool extended) {
+  const Plan& plan = report.plan;
+  std::ostringstream script;
+  script << "set logscale xy\nset format y '10^{%L}'\nset format x '10^{%L}'\nset grid\n"
+         << "set key outside right top noenhanced\nset xlabel "
+         << (axis == Axis::time ? "'wall time per collision [s]'"
+                                : "'rhs evaluations per collision'")
+         << "\nset ylabel 'largest relative error'\nset title "
+         << gnuplot_string(fmt::format("p = {}, {}", plan.scene.p[p_index],
+                                       extended ? "extended precision" : "double precision"))
+         << " noenhanced\n";
+  std::string plot;
+  int block = 0;
+  // The ranges cover the data and the references (gnuplot would clip a reference outside).
+  double x_low = std::numeric_limits<double>::infinity(), x_high = 0, y_low = x_low, y_high = 0;
+  auto cover = [](double& low, double& high, double value) {
+    low = std::min(low, value);
+    high = std::max(high, value);
+  };
+  for (const Line& line : solver_lines(plan)) {
+    if (line.extended != extended) {
       continue;
     }
-    script << "$d" << block << " << EOD\n" << data.str() << "EOD\n";
-    plot += std::string(block ? ", " : "") + "$d" + std::to_string(block) +
-            " with linespoints lw 2 pt 7 ps 0.8 title '" + name + "'";
+    std::string data;
+    for (const std::size_t c : line.configs) {
+      const WorkPoint& w = report.budgets.work[c][p_index];
+      const double x = axis == Axis::time ? w.seconds : w.rhs_evals;
+      if (w.error && *w.error > 0 && std::isfinite(*w.error) && x > 0) {
+        data += fmt::format("{:.17g} {:.17g}\n", x, *w.error);
+        cover(x_low, x_high, x);
+        cover(y_low, y_high, *w.error);
+      }
+    }
+    if (data.empty()) {
+      continue;
+    }
+    script << "$d" << block << " << EOD\n" << data << "EOD\n";
+    plot += fmt::format("{}$d{} with linespoints lw 2 lc rgb '{}' pt {} ps 0.9 dt {} title {}",
+                        plot.empty() ? "plot " : ", ", block, line.style.colour, line.style.marker,
+                        line.style.dash, gnuplot_string(line.name));
     ++block;
   }
   if (block == 0) {
     return "";
   }
+  const ClosedForm closed = closed_form_at(plan, p_index);
+  const bool cost_line = axis == Axis::time && closed.seconds > 0;
+  const bool error_line = !extended && closed.error && *closed.error > 0;
+  if (cost_line) {
+    cover(x_low, x_high, closed.seconds);
+    script << fmt::format("set arrow from {0:.17g}, graph 0 to {0:.17g}, graph 1 nohead lw 1.5 "
+                          "lc rgb '#555555' dt 2 front\n"
+                          "set label 'closed forms' at {0:.17g}, graph 0.97 left offset 0.4,0 "
+                          "tc rgb '#555555' font ',9' noenhanced front\n",
+                          closed.seconds);
+  }
+  if (error_line) {
+    cover(y_low, y_high, *closed.error);
+    script << fmt::format("set arrow from graph 0, first {0:.17g} to graph 1, first {0:.17g} "
+                          "nohead lw 1.5 lc rgb '#555555' dt 3 front\n"
+                          "set label 'closed forms'' own error' at graph 0.02, first {0:.17g} "
+                          "offset 0,0.7 tc rgb '#555555' font ',9' noenhanced front\n",
+                          *closed.error);
+  }
+  // Half a decade of room on each side (a whole one above, for the labels).
+  script << fmt::format("set xrange [{:.17g}:{:.17g}]\nset yrange [{:.17g}:{:.17g}]\n", x_low / 3,
+                        x_high * 3, y_low / 3, y_high * 10);
   script << plot << "\n";
-  return gnuplot.svg(script.str());
+  return gnuplot.svg(script.str(), 640, 400);
 }
 
-// log10 of the largest relative error over p × α_eff for one configuration.
-std::string error_map_plot(Gnuplot& gnuplot, const RunReport& report, std::size_t config) {
+// The viridis palette at 5 stops (perceptually ordered, legible in grey).
+constexpr const char* viridis = "set palette defined (0 '#440154', 1 '#3B528B', 2 '#21908C', "
+                                "3 '#5DC863', 4 '#FDE725')\n";
+
+// log10 of the largest relative error over p × damping for one configuration, the exponent in
+// each cell; an error of exactly 0 is printed as 0 and coloured as the best, a missing one as a
+// dash on grey.
+std::string error_map_plot(const Gnuplot& gnuplot, const RunReport& report, std::size_t config) {
   const Plan& plan = report.plan;
   const std::size_t dampings = plan.scene.damping.size();
-  std::ostringstream script, data;
-  script << "set xlabel 'damping'\nset ylabel 'p'\nset cblabel 'log_{10} relative error'\n"
-         << "set title '" << plan.configs[config].label()
-         << "'\nset palette rgbformulae 22,13,-31\nset xrange [-0.5:" << dampings - 0.5
-         << "]\nset yrange [-0.5:" << plan.scene.p.size() - 0.5 << "]\n";
-  script << "set xtics rotate by 45 right (";
-  for (std::size_t d = 0; d < dampings; ++d) {
-    script << (d ? ", " : "") << "'" << plan.points[d].damping.label() << "' " << d;
-  }
-  script << ")\nset ytics (";
-  for (std::size_t i = 0; i < plan.scene.p.size(); ++i) {
-    script << (i ? ", " : "") << "'" << plan.scene.p[i] << "' " << i;
-  }
-  script << ")\n$map << EOD\n";
+  struct Entry {
+    std::size_t d, i;
+    std::optional<double> error;
+  };
+  std::vector<Entry> entries;
+  double lowest = std::numeric_limits<double>::infinity(), highest = -lowest;
   for (std::size_t i = 0; i < plan.scene.p.size(); ++i) {
     for (std::size_t d = 0; d < dampings; ++d) {
       const std::optional<double> worst = worst_at(report.budgets, config, i * dampings + d);
-      data << d << " " << i << " "
-           << (worst && *worst > 0 && std::isfinite(*worst) ? std::log10(*worst) : NAN) << "\n";
+      entries.push_back({d, i, worst});
+      if (worst && *worst > 0 && std::isfinite(*worst)) {
+        lowest = std::min(lowest, std::log10(*worst));
+        highest = std::max(highest, std::log10(*worst));
+      }
     }
-    data << "\n";
   }
-  // One solid box per cell (vector output, no interpolation), its exponent printed on it.
-  script << data.str()
-         << "EOD\nplot $map using 1:2:(0.5):(0.5):3 with boxxyerror fs solid fc palette "
-            "notitle, $map using 1:2:(sprintf('%.1f', $3)) with labels notitle\n";
-  return gnuplot.svg(script.str(), 560, 380);
+  if (!std::isfinite(lowest)) { // every error 0, infinite or missing
+    lowest = -17;
+    highest = 0;
+  }
+  lowest = std::floor(lowest);
+  highest = std::max(std::ceil(highest), lowest + 1);
+  const double middle = (lowest + highest) / 2;
+  std::string boxes, labels;
+  for (const Entry& entry : entries) {
+    if (!entry.error) {
+      labels += fmt::format("{} {} \"–\" 3355443\n", entry.d, entry.i);
+      continue;
+    }
+    const bool finite = std::isfinite(*entry.error);
+    const double level = *entry.error > 0 && finite ? std::log10(*entry.error)
+                         : finite                   ? lowest
+                                                    : highest;
+    boxes += fmt::format("{} {} {:.6g}\n", entry.d, entry.i, level);
+    const std::string text = *entry.error == 0 ? "0"
+                             : !finite         ? "inf"
+                                               : fmt::format("{:.1f}", level);
+    // Light text on the dark (low) half of viridis, dark text on the light half.
+    labels +=
+        fmt::format("{} {} \"{}\" {}\n", entry.d, entry.i, text, level < middle ? "16777215" : "0");
+  }
+  std::ostringstream script;
+  script << "set xlabel 'damping'\nset ylabel 'p'\nset cblabel 'log_{10} relative error'\n"
+         << "set title " << gnuplot_string(plan.configs[config].label()) << " noenhanced\n"
+         << viridis << fmt::format("set cbrange [{}:{}]\n", lowest, highest)
+         << fmt::format("set xrange [-0.5:{}]\nset yrange [-0.5:{}]\n", double(dampings) - 0.5,
+                        double(plan.scene.p.size()) - 0.5)
+         << "set object 1 rect from graph 0, graph 0 to graph 1, graph 1 behind fc rgb '#DDDDDD' "
+            "fs solid noborder\nset xtics rotate by 45 right noenhanced (";
+  for (std::size_t d = 0; d < dampings; ++d) {
+    script << (d ? ", " : "") << gnuplot_string(plan.points[d].damping.label()) << " " << d;
+  }
+  script << ")\nset ytics (";
+  for (std::size_t i = 0; i < plan.scene.p.size(); ++i) {
+    script << (i ? ", " : "") << gnuplot_string(to_string_full(plan.scene.p[i])) << " " << i;
+  }
+  script << ")\n$boxes << EOD\n"
+         << boxes << "EOD\n$labels << EOD\n"
+         << labels << "EOD\n"
+         << "plot $boxes using 1:2:(0.5):(0.5):3 with boxxyerror fs solid noborder fc palette "
+            "notitle, $labels using 1:2:3:4 with labels tc rgb variable font ',9' notitle\n";
+  return gnuplot.svg(script.str(), 620, 400);
 }
 
-// A seed figure: closed-form lines and the solver's points.
-std::string figure_plot(Gnuplot& gnuplot, const Figure& figure) {
+// A seed figure: closed-form lines and the solver's points, a shared style per series pair.
+std::string figure_plot(const Gnuplot& gnuplot, const Figure& figure) {
   std::ostringstream script;
-  script << std::setprecision(17) << "set grid\nset key outside right\nset title '" << figure.title
-         << "' noenhanced\nset xlabel '" << figure.x_label << "' noenhanced\nset ylabel '"
-         << figure.y_label << "' noenhanced\n";
-  // A closed form and the solver's points after it share a colour.
+  script << "set grid\nset key outside right noenhanced\nset title " << gnuplot_string(figure.title)
+         << " noenhanced\nset xlabel " << gnuplot_string(figure.x_label)
+         << " noenhanced\nset ylabel " << gnuplot_string(figure.y_label) << " noenhanced\n";
   std::string plot = "plot ";
-  int colour = 0;
+  std::size_t pair = 0;
   for (std::size_t i = 0; i < figure.series.size(); ++i) {
     const Series& series = figure.series[i];
-    colour += series.closed_form || colour == 0 ? 1 : 0;
+    if (series.closed_form && i > 0) {
+      ++pair;
+    }
+    const Style style = style_of(pair);
     script << "$s" << i << " << EOD\n";
     for (const auto& [x, y] : series.points) {
-      script << x << " " << y << "\n";
+      script << fmt::format("{:.17g} {:.17g}\n", x, y);
     }
     script << "EOD\n";
-    plot += std::string(i ? ", " : "") + "$s" + std::to_string(i) +
-            (series.closed_form ? " with lines lw 2" : " with points pt 6 ps 0.9") + " lc " +
-            std::to_string(colour) + " title '" + series.title + "' noenhanced";
+    plot += fmt::format("{}$s{} {} lc rgb '{}' title {}", i ? ", " : "", i,
+                        series.closed_form ? fmt::format("with lines lw 2 dt {}", style.dash)
+                                           : fmt::format("with points pt {} ps 0.9", style.marker),
+                        style.colour, gnuplot_string(series.title));
   }
   script << plot << "\n";
   return gnuplot.svg(script.str(), 720, 440);
+}
+
+std::string html_table(const MapTable& table) {
+  std::string out = "<table><tr>";
+  for (const std::string& head : table.header) {
+    out += "<th>" + escape(head) + "</th>";
+  }
+  out += "</tr>\n";
+  for (const std::vector<std::string>& row : table.rows) {
+    out += "<tr>";
+    for (const std::string& entry : row) {
+      out += "<td>" + escape(entry) + "</td>";
+    }
+    out += "</tr>\n";
+  }
+  return out + "</table>\n";
+}
+
+// A <figure> holding an SVG, or nothing when gnuplot drew none.
+std::string figure_html(const std::string& svg, const std::string& caption = "") {
+  if (svg.empty()) {
+    return "";
+  }
+  return "<figure>" + svg + (caption.empty() ? "" : "<figcaption>" + caption + "</figcaption>") +
+         "</figure>\n";
 }
 
 } // namespace
@@ -194,61 +357,93 @@ std::string figure_plot(Gnuplot& gnuplot, const Figure& figure) {
 std::string report_html(const RunReport& report, const std::string& gnuplot_program) {
   const Plan& plan = report.plan;
   const Budgets& budgets = report.budgets;
-  Gnuplot gnuplot(gnuplot_program);
+  const Gnuplot gnuplot(gnuplot_program);
   std::ostringstream out;
   out << "<!DOCTYPE html>\n<html><head><meta charset='utf-8'><title>pldamp: "
       << escape(plan.scene.name)
-      << "</title>\n<style>body{font-family:sans-serif;margin:2em;max-width:80em}"
+      << "</title>\n<style>body{font-family:sans-serif;margin:2em;max-width:90em}"
          "table{border-collapse:collapse;margin:1em 0}td,th{border:1px solid #bbb;padding:2px "
-         "6px;text-align:right}th{background:#eee}.holds{color:#070}.fails{color:#b00;font-weight:"
-         "bold}figure{display:inline-block;margin:0.5em}</style></head><body>\n";
+         "6px;text-align:right;white-space:nowrap}th{background:#eee}td:first-child{text-align:left}"
+         ".holds{color:#070}.fails{color:#b00;font-weight:bold}"
+         "figure{display:inline-block;vertical-align:top;margin:0.5em}"
+         "figure svg{display:block;max-width:100%;height:auto}"
+         "p.read{max-width:60em;line-height:1.4}"
+         "@media print{body{margin:0;max-width:none}figure{break-inside:avoid}"
+         "h2{break-after:avoid}}</style></head><body>\n";
   out << "<h1>pldamp report: " << escape(plan.scene.name) << "</h1>\n<p>Scene <code>"
       << escape(plan.scene.path) << "</code>: " << plan.cells.size() << " cells × "
       << plan.configs.size() << " solver configurations, " << report.totals.solver_runs
       << " solver runs, " << report.totals.rhs_evals << " rhs evaluations, "
       << short_number(report.totals.wall_seconds, 3) << " s; " << budgets.failed_records
-      << " failed records.</p>\n";
+      << " failed records.</p>\n<p class='read'><strong>How to read this report.</strong> "
+      << escape(how_to_read) << "</p>\n";
   if (!gnuplot.available()) {
     out << "<p><strong>gnuplot was not found: the plots were skipped.</strong></p>\n";
   }
   out << "<h2>Claims</h2>\n<table><tr><th>claim</th><th>observable</th><th>solver</th><th>bound</"
          "th><th>measured</th><th>verdict</th><th>margin</th><th>supported</th></tr>\n";
   for (const Verdict& v : budgets.claims) {
-    out << "<tr><td>" << escape(v.name) << "</td><td>" << v.observable << "</td><td>"
+    out << "<tr><td>" << escape(v.name) << "</td><td>" << escape(v.observable) << "</td><td>"
         << escape(v.config) << "</td><td>" << short_number(v.bound) << "</td><td>"
         << short_number(v.measured) << "</td><td class='"
         << (v.holds ? "holds'>holds" : "fails'>fails") << "</td><td>" << short_number(v.margin)
         << "</td><td>" << short_number(v.supported, 0) << "</td></tr>\n";
   }
-  out << "</table>\n<h2>Work-precision</h2>\n";
+  const bool any_extended =
+      std::any_of(plan.configs.begin(), plan.configs.end(),
+                  [](const SolverConfig& c) { return c.precision != "double"; });
+  out << "</table>\n<h2>Work-precision</h2>\n<p>Each line is a solver, each point one of its "
+         "configurations: the mean cost per cell against the largest relative error of any "
+         "observable at that p. The dashed grey lines are the closed forms: their time per cell "
+         "in double and their own error in double.</p>\n";
   for (std::size_t i = 0; i < plan.scene.p.size(); ++i) {
-    for (const bool against_time : {true, false}) {
-      const std::string svg = work_precision_plot(gnuplot, report, i, against_time);
-      if (!svg.empty()) {
-        out << "<figure>" << svg << "</figure>\n";
-      }
+    out << figure_html(work_precision_plot(gnuplot, report, i, Axis::time, false))
+        << figure_html(work_precision_plot(gnuplot, report, i, Axis::rhs_evals, false));
+    if (any_extended) {
+      out << figure_html(work_precision_plot(gnuplot, report, i, Axis::time, true));
     }
   }
   out << "<h2>Worst relative error over the grid</h2>\n<table><tr><th>configuration</th>";
   for (const Observable* observable : plan.observables) {
     out << "<th>" << observable->key << "</th>";
   }
-  out << "</tr>\n";
+  out << "<th>rhs_evals / cell</th><th>µs / cell</th><th>× analytic</th></tr>\n";
   for (std::size_t c = 0; c < plan.configs.size(); ++c) {
     out << "<tr><td>" << escape(plan.configs[c].label()) << "</td>";
     for (std::size_t o = 0; o < plan.observables.size(); ++o) {
       out << "<td>" << short_number(budgets.worst[c][o].rel) << "</td>";
     }
-    out << "</tr>\n";
+    double rhs = 0, seconds = 0;
+    for (const WorkPoint& w : budgets.work[c]) {
+      rhs += w.rhs_evals / double(budgets.work[c].size());
+      seconds += w.seconds / double(budgets.work[c].size());
+    }
+    out << "<td>" << short_number(rhs, 3) << "</td><td>" << short_number(seconds * 1e6, 3)
+        << "</td><td>" << short_number(times_analytic(budgets.work[c]), 2) << "</td></tr>\n";
   }
   out << "</table>\n<h2>Error maps over p × damping (each solver's last configuration)</h2>\n";
   for (std::size_t c = 0; c < plan.configs.size(); ++c) {
     if (last_of_its_solver(plan, c)) {
-      const std::string svg = error_map_plot(gnuplot, report, c);
-      if (!svg.empty()) {
-        out << "<figure>" << svg << "</figure>\n";
-      }
+      out << figure_html(error_map_plot(gnuplot, report, c));
     }
+  }
+  out << "<h2>The closed forms in double against " << precision_name<Exact>()
+      << "</h2>\n<p>The worst relative error of the closed forms computed in double, over the "
+         "observables wanted; they cost "
+      << short_number(mean_analytic_seconds(plan) * 1e6, 2) << " µs per cell.</p>\n"
+      << html_table(map_table(plan, [&](std::size_t point) {
+           const Point& at = plan.points[point];
+           return short_number(analytic_worst(at)) +
+                  (not_representable(plan, at).empty() ? "" : " †");
+         }));
+  if (const std::string notes = unrepresentable_note(plan); !notes.empty()) {
+    out << "<p>† an observable out of double's range (it under- or overflows there; not an error "
+           "of the closed form):</p>\n<ul>";
+    std::istringstream each(notes);
+    for (std::string line; std::getline(each, line);) {
+      out << "<li>" << escape(line) << "</li>";
+    }
+    out << "</ul>\n";
   }
   if (!report.figures.empty()) {
     out << "<h2>The seed's figures: solver (points) against closed form (lines)</h2>\n";
@@ -258,13 +453,13 @@ std::string report_html(const RunReport& report, const std::string& gnuplot_prog
             << "</p>\n";
         continue;
       }
-      out << "<figure>" << figure_plot(gnuplot, figure) << "<figcaption>largest deviation "
-          << short_number(figure.deviation) << " in " << escape(figure.deviation_of)
-          << "</figcaption></figure>\n";
+      out << figure_html(figure_plot(gnuplot, figure), "largest deviation " +
+                                                           short_number(figure.deviation) + " in " +
+                                                           escape(figure.deviation_of));
     }
   }
-  out << "<p>Every configuration's maps, the analytic layer's own budget and each record are in "
-         "report.json and report.csv.</p>\n</body></html>\n";
+  out << "<p>Every configuration's maps and each record are in report.json and report.csv.</p>\n"
+         "</body></html>\n";
   return out.str();
 }
 

@@ -56,38 +56,98 @@ std::vector<std::size_t> damping_columns(const Plan& plan) {
   return columns;
 }
 
-// A Markdown table of values over p (rows) × damping (columns), the overdamped columns after a
-// separator.
-std::string markdown_map(const Plan& plan,
-                         const std::function<std::optional<double>(std::size_t point)>& value) {
+} // namespace
+
+MapTable map_table(const Plan& plan, const std::function<std::string(std::size_t point)>& cell) {
   const std::vector<std::size_t> columns = damping_columns(plan);
   const std::size_t dampings = plan.scene.damping.size();
   const auto overdamped = [&](std::size_t d) { return plan.points[d].alpha_eff >= 1; };
-  std::ostringstream head, rule, body;
-  head << "| p \\ α_eff |";
-  rule << "|---|";
+  const auto starts_overdamped = [&](std::size_t c) {
+    return overdamped(columns[c]) && (c == 0 || !overdamped(columns[c - 1]));
+  };
+  MapTable table;
+  table.header.emplace_back("p \\ α_eff");
   for (std::size_t c = 0; c < columns.size(); ++c) {
-    const std::size_t d = columns[c];
-    if (overdamped(d) && (c == 0 || !overdamped(columns[c - 1]))) {
-      head << " overdamped: |";
-      rule << "---|";
+    if (starts_overdamped(c)) {
+      table.header.emplace_back("overdamped:");
     }
-    head << " " << short_number(plan.points[d].alpha_eff, 3) << " ("
-         << plan.points[d].damping.label() << ") |";
-    rule << "---|";
+    const Point& point = plan.points[columns[c]];
+    table.header.push_back(short_number(point.alpha_eff, 3) + " (" + point.damping.label() + ")");
   }
   for (std::size_t i = 0; i < plan.scene.p.size(); ++i) {
-    body << "| " << to_string_full(plan.scene.p[i]) << " |";
+    std::vector<std::string> row{to_string_full(plan.scene.p[i])};
     for (std::size_t c = 0; c < columns.size(); ++c) {
-      const std::size_t d = columns[c];
-      if (overdamped(d) && (c == 0 || !overdamped(columns[c - 1]))) {
-        body << " |";
+      if (starts_overdamped(c)) {
+        row.emplace_back();
       }
-      body << " " << short_number(value(i * dampings + d)) << " |";
+      row.push_back(cell(i * dampings + columns[c]));
     }
-    body << "\n";
+    table.rows.push_back(row);
   }
-  return head.str() + "\n" + rule.str() + "\n" + body.str();
+  return table;
+}
+
+double mean_analytic_seconds(const Plan& plan) {
+  double sum = 0;
+  for (const Cell& cell : plan.cells) {
+    sum += plan.points[cell.point].analytic_seconds;
+  }
+  return plan.cells.empty() ? 0 : sum / double(plan.cells.size());
+}
+
+std::string unrepresentable_note(const Plan& plan) {
+  std::string lines;
+  for (const Point& point : plan.points) {
+    for (std::size_t o = 0; o < plan.observables.size(); ++o) {
+      const AnalyticCheck& check = point.analytic[o];
+      if (!check.representable) {
+        const std::string key(plan.observables[o]->key);
+        lines += fmt::format(
+            "p={} {}: {} is not representable in double{}\n", to_string_full(point.p),
+            point.damping.label(), key,
+            check.log_error ? "; ln " + key + " errs " + short_number(check.log_error) : "");
+      }
+    }
+  }
+  return lines;
+}
+
+namespace {
+
+// The † footnote under the analytic map, one line per observable out of double's range.
+std::string analytic_footnote(const Plan& plan) {
+  const std::string lines = unrepresentable_note(plan);
+  if (lines.empty()) {
+    return "";
+  }
+  std::string out = "\n† an observable out of double's range (it under- or overflows there; not an "
+                    "error of the closed form):\n\n";
+  std::istringstream each(lines);
+  for (std::string line; std::getline(each, line);) {
+    out += "- " + line + "\n";
+  }
+  return out;
+}
+
+// A map as a Markdown table.
+std::string markdown_map(const Plan& plan,
+                         const std::function<std::string(std::size_t point)>& cell) {
+  const MapTable table = map_table(plan, cell);
+  std::string out = "|";
+  for (const std::string& head : table.header) {
+    out += " " + head + " |";
+  }
+  out += "\n|";
+  for (std::size_t c = 0; c < table.header.size(); ++c) {
+    out += "---|";
+  }
+  for (const std::vector<std::string>& row : table.rows) {
+    out += "\n|";
+    for (const std::string& entry : row) {
+      out += " " + entry + " |";
+    }
+  }
+  return out + "\n";
 }
 
 } // namespace
@@ -162,19 +222,28 @@ ordered_json report_json(const RunReport& report) {
                       {"p", point.p},
                       {"seconds", point.seconds},
                       {"rhs_evals", point.rhs_evals},
+                      {"analytic_seconds", point.analytic_seconds},
+                      {"x_analytic", number_or_null(point.seconds / point.analytic_seconds)},
                       {"max_rel", number_or_null(point.error)}});
     }
   }
   ordered_json analytic = ordered_json::array();
   for (const Point& point : plan.points) {
-    ordered_json errors;
+    ordered_json errors, logs = ordered_json::object();
     for (std::size_t o = 0; o < plan.observables.size(); ++o) {
-      errors[plan.observables[o]->key] = number_or_null(point.analytic_error[o]);
+      const AnalyticCheck& check = point.analytic[o];
+      errors[plan.observables[o]->key] = number_or_null(check.error);
+      if (check.log_error) {
+        logs[plan.observables[o]->key] = number_or_null(check.log_error);
+      }
     }
     analytic.push_back({{"p", point.p},
                         {"damping", point.damping.label()},
                         {"alpha_eff", point.alpha_eff},
-                        {"max_rel", errors}});
+                        {"max_rel", errors},
+                        {"not_representable", not_representable(plan, point)},
+                        {"log_rel", logs},
+                        {"seconds", point.analytic_seconds}});
   }
   out["budgets"] = {{"points_order", "p-major: point = p index × dampings + damping index"},
                     {"worst", worst},
@@ -289,7 +358,8 @@ std::string report_markdown(const RunReport& report) {
       << " cells × " << plan.configs.size() << " solver configurations, "
       << report.totals.solver_runs << " solver runs, " << report.totals.rhs_evals
       << " rhs evaluations, " << short_number(report.totals.wall_seconds, 3) << " s. "
-      << budgets.failed_records << " failed records.\n\n";
+      << budgets.failed_records << " failed records.\n\n**How to read this report.** "
+      << how_to_read << "\n\n";
   if (!budgets.claims.empty()) {
     out << "## Claims\n\n| claim | observable | solver | bound | measured | verdict | margin | "
            "supported |\n|---|---|---|---|---|---|---|---|\n";
@@ -306,11 +376,11 @@ std::string report_markdown(const RunReport& report) {
   for (const Observable* observable : plan.observables) {
     out << " " << observable->key << " |";
   }
-  out << " rhs_evals / cell | µs / cell |\n|---|";
+  out << " rhs_evals / cell | µs / cell | × analytic |\n|---|";
   for (std::size_t o = 0; o < plan.observables.size(); ++o) {
     out << "---|";
   }
-  out << "---|---|\n";
+  out << "---|---|---|\n";
   for (std::size_t c = 0; c < plan.configs.size(); ++c) {
     out << "| " << plan.configs[c].label() << " |";
     for (std::size_t o = 0; o < plan.observables.size(); ++o) {
@@ -321,20 +391,31 @@ std::string report_markdown(const RunReport& report) {
       rhs += w.rhs_evals / double(budgets.work[c].size());
       seconds += w.seconds / double(budgets.work[c].size());
     }
-    out << " " << short_number(rhs, 3) << " | " << short_number(seconds * 1e6, 3) << " |\n";
+    out << " " << short_number(rhs, 3) << " | " << short_number(seconds * 1e6, 3) << " | "
+        << short_number(times_analytic(budgets.work[c]), 2) << " |\n";
   }
+  out << "\n× analytic: the time per cell as a multiple of the closed forms' for the same "
+         "observables in double ("
+      << short_number(mean_analytic_seconds(plan) * 1e6, 2) << " µs per cell).\n";
   // Per solver, its tightest configuration (the last of its sweep) over p × α_eff.
   out << "\n## Worst relative error per p × α_eff (each solver's last configuration)\n";
   for (std::size_t c = 0; c < plan.configs.size(); ++c) {
     if (last_of_its_solver(plan, c)) {
       out << "\n### " << plan.configs[c].label() << "\n\n"
-          << markdown_map(plan, [&](std::size_t point) { return worst_at(budgets, c, point); });
+          << markdown_map(plan, [&](std::size_t point) {
+               return short_number(worst_at(budgets, c, point));
+             });
     }
   }
-  out << "\n## The analytic layer in double against float128 (relative error, worst observable)"
-         "\n\n"
-      << markdown_map(
-             plan, [&](std::size_t point) { return largest(plan.points[point].analytic_error); });
+  out << "\n## The analytic layer in double against " << precision_name<Exact>()
+      << " (relative error, worst observable)\n\n"
+      << markdown_map(plan,
+                      [&](std::size_t point) {
+                        const Point& at = plan.points[point];
+                        return short_number(analytic_worst(at)) +
+                               (not_representable(plan, at).empty() ? "" : " †");
+                      })
+      << analytic_footnote(plan);
   if (!report.figures.empty()) {
     out << "\n## The seed's figures: solver against closed form\n\n| figure | largest deviation "
            "|\n|---|---|\n";

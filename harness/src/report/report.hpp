@@ -14,10 +14,27 @@
 
 #include <nlohmann/json.hpp>
 
+#include <functional>
+
 #include <string>
+#include <string_view>
 #include <vector>
 
 namespace pldamp::harness {
+
+// The paragraph that opens report.md and report.html.
+inline constexpr std::string_view how_to_read =
+    "A cell is one point of the scene's grid: p, a damping (a target e, or alpha_eff), v0, m and "
+    "k. Each solver configuration (a solver at one tolerance, precision or step count) solves "
+    "every cell once, and its values are compared with the closed forms, computed in float128 "
+    "from the damping coefficient exactly as the solver received it. Errors are relative unless "
+    "a column says otherwise; a dash is an observable not asked for or not produced, inf an "
+    "answer that should have been finite. A claim's measured value is its largest absolute "
+    "error over the grid, its margin the bound divided by that, and supported the tightest "
+    "power of ten the data supports. '× analytic' is a configuration's time per cell as a "
+    "multiple of the closed forms' time for the same observables in double. Every record (one "
+    "cell, one configuration) is in report.json and report.csv; `pldamp diff OLD.json NEW.json` "
+    "lists what regressed between two runs.";
 
 // A number for a table: `digits` + 1 significant digits, "inf", or "–" when absent.
 std::string short_number(const std::optional<double>& x, int digits = 2);
@@ -41,6 +58,20 @@ void create_report_folder(const std::string& folder);
 
 // Writes the scene's formats into `folder` (created if needed); returns the files written.
 std::vector<std::string> write_reports(const RunReport& report, const std::string& folder);
+
+// A table over p (rows) × damping (columns), underdamped by α_eff, then the overdamped (sinh
+// branch) columns after an empty separator column; `cell` gives each point's text.
+struct MapTable {
+  std::vector<std::string> header;
+  std::vector<std::vector<std::string>> rows;
+};
+MapTable map_table(const Plan& plan, const std::function<std::string(std::size_t point)>& cell);
+
+// The closed forms' mean cost per cell in double over the grid.
+double mean_analytic_seconds(const Plan& plan);
+
+// One line per observable out of double's range at a point, with its logarithm's error.
+std::string unrepresentable_note(const Plan& plan);
 
 // A record's identity across runs: "configuration | p=.. damping v0=.. m=.. k=.." (diff's key).
 std::string record_key(const Plan& plan, const Record& record);

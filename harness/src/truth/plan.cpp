@@ -3,6 +3,7 @@
 #include "pldamp/analytic.hpp"
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <limits>
 #include <set>
@@ -13,17 +14,74 @@ namespace {
 using analytic::Contact;
 using analytic::ContactEnd;
 
-// The observables of `c` in the plan's order; e and tau are e_cap and t_cut under the force end.
+// The closed forms of the plan's observables at `c`.
 template <SupportedReal Real>
-std::vector<std::optional<Real>> observe(const Contact<Real>& c, const Plan& plan) {
-  const solvers::End end = plan.scene.end;
-  const analytic::Observables<Real> closed =
-      analytic::observables(c, analytic_want_of(plan.scene.want, end));
+analytic::Observables<Real> closed_forms(const Contact<Real>& c, const Plan& plan) {
+  return analytic::observables(c, analytic_want_of(plan.scene.want, plan.scene.end));
+}
+
+// The plan's observables from the closed forms, in its order; e and tau are e_cap and t_cut under
+// the force end.
+template <SupportedReal Real>
+std::vector<std::optional<Real>> values_of(const analytic::Observables<Real>& closed,
+                                           const Plan& plan) {
   std::vector<std::optional<Real>> out;
   for (const Observable* observable : plan.observables) {
-    out.push_back(observable->exact(closed, end));
+    out.push_back(observable->exact(closed, plan.scene.end));
   }
   return out;
+}
+
+double relative(const Exact& value, const Exact& exact) {
+  return static_cast<double>(abs((value - exact) / exact));
+}
+
+// The analytic layer in double at α against the exact closed forms (AnalyticCheck).
+std::vector<AnalyticCheck> check_in_double(const Plan& plan, double p, double alpha,
+                                           const analytic::Observables<Exact>& exact) {
+  const analytic::Observables<double> in_double =
+      closed_forms(Contact<double>::from_alpha(p, alpha, 1.0), plan);
+  const Exact smallest(std::numeric_limits<double>::min()),
+      largest(std::numeric_limits<double>::max());
+  std::vector<AnalyticCheck> checks;
+  for (const Observable* observable : plan.observables) {
+    AnalyticCheck check;
+    check.value = observable->exact(in_double, plan.scene.end);
+    const std::optional<Exact> truth = observable->exact(exact, plan.scene.end);
+    if (check.value && truth && isfinite(*truth) && *truth != 0) {
+      check.representable = abs(*truth) >= smallest && abs(*truth) <= largest;
+      if (check.representable) {
+        check.error = relative(Exact(*check.value), *truth);
+      } else if (plan.scene.end == solvers::End::overlap) {
+        const std::optional<double> log_double = observable->exact_log(in_double);
+        const std::optional<Exact> log_exact = observable->exact_log(exact);
+        if (log_double && log_exact) {
+          check.log_error = relative(Exact(*log_double), *log_exact);
+        }
+      }
+    }
+    checks.push_back(check);
+  }
+  return checks;
+}
+
+// The closed forms' cost per cell in double: the contact from α and the wanted bundle, timed over
+// batches of at least 100 µs, the fastest batch (timing noise only ever adds).
+double time_in_double(const Plan& plan, double p, double alpha) {
+  using clock = std::chrono::steady_clock;
+  double fastest = std::numeric_limits<double>::infinity();
+  for (int batch = 0; batch < 3; ++batch) {
+    const auto start = clock::now();
+    long evaluations = 0;
+    do {
+      const auto closed = closed_forms(Contact<double>::from_alpha(p, alpha, 1.0), plan);
+      asm volatile("" : : "g"(&closed) : "memory"); // keep the work: it has no other use
+      ++evaluations;
+    } while (clock::now() - start < std::chrono::microseconds(100));
+    fastest = std::min(fastest, std::chrono::duration<double>(clock::now() - start).count() /
+                                    double(evaluations));
+  }
+  return fastest;
 }
 
 template <SupportedReal Real>
@@ -75,27 +133,28 @@ Plan make_plan(const Scene& scene) {
       point.alpha = calibrated.alpha();
       point.alpha_eff = static_cast<double>(calibrated.alpha_eff());
       point.overdamped = calibrated.alpha_eff() >= 1;
+      // The closed forms at α as each precision receives it; the double one also judges the
+      // analytic layer in double.
+      const double alpha = static_cast<double>(point.alpha);
+      std::optional<analytic::Observables<Exact>> at_double_alpha;
       for (const std::string& precision : precisions) {
-        const Exact alpha = rounded_alpha(point.alpha, precision);
-        point.reference[precision] =
-            alpha == point.alpha
-                ? observe(calibrated, plan)
-                : observe(Contact<Exact>::from_alpha(Exact(p), alpha, Exact(1)), plan);
-      }
-      // The analytic layer's own budget: the same point in double against Exact.
-      const std::vector<std::optional<Exact>>& exact = point.reference.count("double")
-                                                           ? point.reference.at("double")
-                                                           : observe(calibrated, plan);
-      const auto in_double =
-          observe(Contact<double>::from_alpha(p, static_cast<double>(point.alpha), 1.0), plan);
-      for (std::size_t i = 0; i < in_double.size(); ++i) {
-        point.analytic_double.push_back(in_double[i]);
-        std::optional<double> error;
-        if (in_double[i] && exact[i] && isfinite(*exact[i]) && *exact[i] != 0) {
-          error = static_cast<double>(abs((Exact(*in_double[i]) - *exact[i]) / *exact[i]));
+        const Exact rounded = rounded_alpha(point.alpha, precision);
+        const analytic::Observables<Exact> closed = closed_forms(
+            rounded == point.alpha ? calibrated
+                                   : Contact<Exact>::from_alpha(Exact(p), rounded, Exact(1)),
+            plan);
+        point.reference[precision] = values_of(closed, plan);
+        if (rounded == Exact(alpha)) {
+          at_double_alpha = closed;
         }
-        point.analytic_error.push_back(error);
       }
+      if (!at_double_alpha) {
+        at_double_alpha =
+            closed_forms(Contact<Exact>::from_alpha(Exact(p), Exact(alpha), Exact(1)), plan);
+      }
+      // The analytic layer's own budget and cost: the same point in double against Exact.
+      point.analytic = check_in_double(plan, p, alpha, *at_double_alpha);
+      point.analytic_seconds = time_in_double(plan, p, alpha);
       plan.points.push_back(std::move(point));
     }
   }

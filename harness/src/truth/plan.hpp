@@ -7,7 +7,8 @@
 // scale-free). Only the wanted observables are computed, so no time quadrature runs unless t_peak
 // or τ is wanted. The reference is built from α rounded to the precision the solver receives (the
 // double solvers get α as a double), so that this rounding is not charged to them. The analytic
-// layer's own budget (double against Exact) is computed alongside, from the same (p, damping).
+// layer's own budget (double against Exact) and its cost per cell are computed alongside, from the
+// same (p, damping).
 #pragma once
 
 #include "common/observables.hpp"
@@ -38,6 +39,16 @@ struct Cell {
   }
 };
 
+// The analytic layer's own accuracy for one observable: its double value and relative error, or,
+// where the exact value lies outside double's normal range (e ~ e^-2221, τ beyond 1.8e308 just
+// below critical damping), not representable in double, and then the relative error of its
+// logarithm where the observable has one (ln e, ln τ).
+struct AnalyticCheck {
+  std::optional<double> value, error;
+  bool representable = true;
+  std::optional<double> log_error;
+};
+
 // The reference values at one (p, damping), v0 = m = k = 1.
 struct Point {
   double p;
@@ -47,8 +58,11 @@ struct Point {
   bool overdamped;  // α_eff ≥ 1: no return
   // Per α precision (alpha_precision): the observables in plan order, in Exact.
   std::map<std::string, std::vector<std::optional<Exact>>> reference;
-  std::vector<std::optional<double>> analytic_double; // the analytic layer in double
-  std::vector<std::optional<double>> analytic_error;  // its relative error against Exact
+  // The analytic layer in double against Exact, per observable (plan order).
+  std::vector<AnalyticCheck> analytic;
+  // What the closed forms cost in double for the observables wanted, per cell (contact and
+  // bundle): the yardstick for the solvers' cost (a solver's "× analytic").
+  double analytic_seconds = 0;
 };
 
 struct Plan {
