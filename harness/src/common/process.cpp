@@ -3,9 +3,9 @@
 #include <cerrno>
 #include <csignal>
 #include <ctime>
-#include <pthread.h>
 #include <fcntl.h>
 #include <poll.h>
+#include <pthread.h>
 #include <spawn.h>
 #include <sys/wait.h>
 #include <unistd.h>

@@ -363,7 +363,8 @@ std::string report_html(const RunReport& report, const std::string& gnuplot_prog
       << escape(plan.scene.name)
       << "</title>\n<style>body{font-family:sans-serif;margin:2em;max-width:90em}"
          "table{border-collapse:collapse;margin:1em 0}td,th{border:1px solid #bbb;padding:2px "
-         "6px;text-align:right;white-space:nowrap}th{background:#eee}td:first-child{text-align:left}"
+         "6px;text-align:right;white-space:nowrap}th{background:#eee}td:first-child{text-align:"
+         "left}"
          ".holds{color:#070}.fails{color:#b00;font-weight:bold}"
          "figure{display:inline-block;vertical-align:top;margin:0.5em}"
          "figure svg{display:block;max-width:100%;height:auto}"

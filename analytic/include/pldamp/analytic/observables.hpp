@@ -240,8 +240,7 @@ enum Want : unsigned {
 template <SupportedReal Real>
 struct Observables {
   std::optional<Real> e, log_e, delta_max, force_max, t_peak, tau, log_tau, tau0, tau_ratio,
-      energy_load,
-      energy_unload, dt_crit, dt_tangent, e_cap, t_cut;
+      energy_load, energy_unload, dt_crit, dt_tangent, e_cap, t_cut;
 };
 
 // Computes exactly the observables in `want`; the rest stay empty.
