@@ -15,7 +15,6 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
-#include <regex>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -116,10 +115,12 @@ document.body.appendChild(out);
   const ProgramRun dom = chromium(dir / "profile", {"--window-size=1400,1000", "--dump-dom",
                                                     "file://" + (dir / "measure.html").string()});
   ASSERT_TRUE(dom.succeeded()) << "chromium --dump-dom failed (exit " << dom.exit_code << ")";
-  std::smatch found;
-  ASSERT_TRUE(std::regex_search(dom.out, found, std::regex("<pre id=\"measured\">([^<]*)</pre>")))
-      << dom.out.substr(0, 500);
-  std::stringstream fields(found[1].str());
+  const std::string open = "<pre id=\"measured\">";
+  const std::size_t start = dom.out.find(open);
+  ASSERT_NE(start, std::string::npos) << dom.out.substr(0, 500);
+  const std::size_t end = dom.out.find("</pre>", start);
+  ASSERT_NE(end, std::string::npos);
+  std::stringstream fields(dom.out.substr(start + open.size(), end - start - open.size()));
   std::string item;
   std::getline(fields, item, ';');
   const int page_height = std::stoi(item);
