@@ -8,6 +8,8 @@ namespace pldamp::solvers::detail {
 enum class CvodeMethod { bdf, adams };
 enum class ArkodeMethod { dormand_prince_5, fehlberg_8, esdirk_5 };
 enum class OdeintMethod { fehlberg_78, bulirsch_stoer };
+// The stepping loops of DEM codes (dem.cpp): LAMMPS/LIGGGHTS/MercuryDPM, Chrono SMC, YADE.
+enum class DemScheme { verlet, symplectic_euler, leapfrog };
 
 Result<double> solve_cvode(CvodeMethod method, const Problem<double>& problem,
                            const Options<double>& options);
@@ -16,6 +18,8 @@ Result<double> solve_arkode(ArkodeMethod method, const Problem<double>& problem,
 Result<double> solve_odeint(OdeintMethod method, const Problem<double>& problem,
                             const Options<double>& options);
 Result<double> solve_verlet(const Problem<double>& problem, const Options<double>& options);
+Result<double> solve_dem(DemScheme scheme, const Problem<double>& problem,
+                         const Options<double>& options);
 // Instantiated for every SupportedReal.
 template <SupportedReal Real>
 Result<Real> solve_taylor(const Problem<Real>& problem, const Options<Real>& options);

@@ -11,6 +11,7 @@ namespace {
 
 using detail::ArkodeMethod;
 using detail::CvodeMethod;
+using detail::DemScheme;
 using detail::OdeintMethod;
 
 template <SupportedReal Real>
@@ -79,9 +80,24 @@ constexpr std::array entries{
                                "contact-point series at entry and exit; double, long, quad or 50 "
                                "digits",
                                false, false, false, epsilon}),
-    in_double({"verlet", "velocity Verlet, fixed step, as DEM codes step a contact", true, false,
-               false, standard},
+    in_double({"verlet-predicted",
+               "velocity Verlet, the dashpot fed the predicted full-step velocity (second order; "
+               "no DEM code runs it)",
+               true, false, false, standard},
               detail::solve_verlet),
+    in_double({"dem-verlet",
+               "velocity Verlet as LAMMPS, LIGGGHTS and MercuryDPM run it: the force from "
+               "x_{n+1} and v_{n+1/2}",
+               true, false, false, standard},
+              with_method<detail::solve_dem, DemScheme::verlet>),
+    in_double({"dem-symplectic-euler",
+               "semi-implicit Euler as Project Chrono's SMC runs it: the force from (x_n, v_n)",
+               true, false, false, standard},
+              with_method<detail::solve_dem, DemScheme::symplectic_euler>),
+    in_double({"dem-leapfrog",
+               "leapfrog as YADE's NewtonIntegrator runs it: the force from x_n and v_{n-1/2}",
+               true, false, false, standard},
+              with_method<detail::solve_dem, DemScheme::leapfrog>),
 };
 
 constexpr auto infos = [] {
@@ -148,6 +164,9 @@ void check_solver_options(const SolverInfo& info, const Options<Real>& options) 
   }
   if (options.fixed_step && !info.fixed_step && !info.takes_fixed_step) {
     require(false, name + " has no fixed-step mode and takes no dt", *options.fixed_step);
+  }
+  if (options.onset_phase != 0 && !info.fixed_step) {
+    require(false, name + " controls its error and has no onset phase", options.onset_phase);
   }
 }
 

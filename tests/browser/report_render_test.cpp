@@ -131,8 +131,9 @@ document.body.appendChild(out);
     numbers >> box.x >> box.y >> box.width >> box.height;
     boxes.push_back(box);
   }
-  // quick.toml: 3 p × (time, rhs, extended time) and a map per solver (5).
-  EXPECT_EQ(boxes.size(), 3u * 3u + 5u);
+  // quick.toml: 3 p × (time, rhs, extended time), 3 p × the time-step study's e, δ_max and τ,
+  // and a map per solver (5).
+  EXPECT_EQ(boxes.size(), 3u * 3u + 3u * 3u + 5u);
 
   // Look: a screenshot of the whole page, every plot's box inspected.
   const fs::path shot = dir / "shot.png";

@@ -112,6 +112,38 @@ TEST(Cli, CalibrateBothEnds) {
   EXPECT_LT(b["e_uncapped"].get<double>(), 0.5);
 }
 
+TEST(Cli, CalibrateForACodeSaysWhatItGivesAndWhatToEnter) {
+  const CliRun tsuji =
+      run({"calibrate", "--code", "lammps-tsuji", "--p", "1.5", "--e", "0.5", "--json"});
+  ASSERT_EQ(tsuji.code, 0) << tsuji.err;
+  const auto a = nlohmann::json::parse(tsuji.out);
+  const analytic::Convention& convention = *analytic::find_convention("lammps-tsuji");
+  EXPECT_EQ(a["alpha"].get<double>(), analytic::tsuji_polynomial(0.5));
+  EXPECT_NEAR(a["e_given"].get<double>(), 0.616076, 1e-6);
+  EXPECT_EQ(a["end"], "overlap");
+  // Entering e_to_enter gives the target back.
+  const double entry = a["e_to_enter"].get<double>();
+  EXPECT_NEAR(analytic::e_given(1.5, analytic::alpha_set(convention, 1.5, entry), false), 0.5,
+              1e-14);
+  EXPECT_NE(a["source"].get<std::string>().find("gran_sub_mod_damping.cpp"), std::string::npos);
+
+  const CliRun chrono =
+      run({"calibrate", "--code", "chrono", "--p", "1.5", "--e", "0.1", "--json"});
+  ASSERT_EQ(chrono.code, 0) << chrono.err;
+  const auto b = nlohmann::json::parse(chrono.out);
+  EXPECT_EQ(b["end"], "force");
+  EXPECT_TRUE(b["e_to_enter"].is_null()); // a capped code calibrated at the overlap end: ≥ e^-2
+  EXPECT_GT(b["e_reachable_from"].get<double>(), std::exp(-2.0));
+
+  const CliRun limited = run(
+      {"calibrate", "--code", "liggghts", "--p", "1", "--e", "0.5", "--limit-damping", "--json"});
+  ASSERT_EQ(limited.code, 0) << limited.err;
+  const auto c = nlohmann::json::parse(limited.out);
+  EXPECT_EQ(c["end"], "force");
+  EXPECT_NEAR(c["e_given"].get<double>(),
+              analytic::capped_restitution(analytic::damping_from_e(0.5)), 1e-15);
+}
+
 TEST(Cli, TextOutputAndShowcase) {
   const CliRun text = run({"observables", "--p", "2", "--e", "0.5", "--v0", "1"});
   ASSERT_EQ(text.code, 0);
@@ -159,8 +191,8 @@ TEST(Cli, SolveForceEndOverdampedAndSamples) {
   EXPECT_EQ(b["e"].get<double>(), 0.0);
   EXPECT_TRUE(b["tau"].is_null());
 
-  const CliRun sampled = run({"solve", "--solver", "verlet", "--p", "1", "--e", "0.5", "--v0", "1",
-                              "--dt", "1e-3", "--sample-times", "0,0.5,1", "--json"});
+  const CliRun sampled = run({"solve", "--solver", "verlet-predicted", "--p", "1", "--e", "0.5",
+                              "--v0", "1", "--dt", "1e-3", "--sample-times", "0,0.5,1", "--json"});
   ASSERT_EQ(sampled.code, 0) << sampled.err;
   EXPECT_EQ(nlohmann::json::parse(sampled.out)["dt"].get<double>(), 1e-3);
   EXPECT_FALSE(nlohmann::json::parse(sampled.out).contains("rtol")); // a fixed step has none
@@ -203,7 +235,8 @@ TEST(Cli, BadInputIsOneLineAndExitTwo) {
        "unknown command, expected calibrate|observables|solve|run|diff|showcase (got launch)"},
       {{"solve", "--solver", "ode45", "--p", "1.5", "--e", "0.5", "--v0", "1"},
        "unknown solver, expected cvode-bdf|cvode-adams|arkode-dp5|arkode-erk8|arkode-dirk|"
-       "odeint-rkf78|odeint-bs|taylor|verlet (got ode45)"},
+       "odeint-rkf78|odeint-bs|taylor|verlet-predicted|dem-verlet|dem-symplectic-euler|dem-"
+       "leapfrog (got ode45)"},
       {{"solve", "--p", "1.5", "--e", "0.5", "--v0", "1"}, "--solver is required (got nothing)"},
       {{"solve", "--solver", "cvode-bdf", "--p", "1.5", "--e", "0.5", "--v0", "1", "--rtol", "0"},
        "rtol must be > 0 (got 0)"},
@@ -213,7 +246,8 @@ TEST(Cli, BadInputIsOneLineAndExitTwo) {
        "rtol must be < 1 (got 2)"},
       {{"solve", "--solver", "cvode-bdf", "--p", "1.5", "--e", "0.5", "--v0", "1", "--atol", "0"},
        "atol must be > 0 (got 0)"},
-      {{"solve", "--solver", "verlet", "--p", "1.5", "--e", "0.5", "--v0", "1", "--dt", "-1e-3"},
+      {{"solve", "--solver", "verlet-predicted", "--p", "1.5", "--e", "0.5", "--v0", "1", "--dt",
+        "-1e-3"},
        "dt must be > 0 (got -0.001)"},
       {{"solve", "--solver", "cvode-bdf", "--p", "1.5", "--e", "0.5", "--v0", "1", "--want",
         "e,speed"},
@@ -221,10 +255,10 @@ TEST(Cli, BadInputIsOneLineAndExitTwo) {
       {{"solve", "--solver", "cvode-bdf", "--p", "1.5", "--e", "0.5", "--v0", "1", "--sample-times",
         "1,-2"},
        "sample time must be >= 0 (got -2)"},
-      {{"solve", "--solver", "verlet", "--p", "1.5", "--e", "0.5", "--v0", "1",
+      {{"solve", "--solver", "verlet-predicted", "--p", "1.5", "--e", "0.5", "--v0", "1",
         "--steps-per-contact", "abc"},
        "--steps-per-contact is not an integer (got abc)"},
-      {{"solve", "--solver", "verlet", "--p", "1.5", "--e", "0.5", "--v0", "1",
+      {{"solve", "--solver", "verlet-predicted", "--p", "1.5", "--e", "0.5", "--v0", "1",
         "--steps-per-contact", "0"},
        "--steps-per-contact must be in [1, 1e9] (got 0)"},
       {{"solve", "--solver", "cvode-bdf", "--p", "1.5", "--e", "0.5", "--v0", "1", "--max-steps",
@@ -243,8 +277,25 @@ TEST(Cli, BadInputIsOneLineAndExitTwo) {
        "taylor controls its error relative to each state and takes no atol (got 1e-09)"},
       {{"solve", "--solver", "cvode-bdf", "--p", "1.5", "--e", "0.5", "--v0", "1", "--dt", "0.1"},
        "cvode-bdf has no fixed-step mode and takes no dt (got 0.1)"},
-      {{"solve", "--solver", "verlet", "--p", "1.5", "--e", "0.5", "--v0", "1", "--rtol", "1e-8"},
-       "verlet takes a fixed step: give --dt or --steps-per-contact (got --rtol 1e-8)"},
+      {{"calibrate", "--code", "lammps", "--p", "1.5", "--e", "0.5"},
+       "unknown --code, expected lammps-tsuji|lammps-tsuji-2026|lammps-coeff-restitution|liggghts|"
+       "mercurydpm|chrono|yade (got lammps)"},
+      {{"calibrate", "--code", "lammps-tsuji", "--p", "2", "--e", "0.5"},
+       "lammps-tsuji has a Hertz model only: p must be 1.5 (got 2)"},
+      {{"calibrate", "--code", "chrono", "--p", "1.5", "--e", "0.5", "--limit-damping"},
+       "chrono always caps the force: --limit-damping is a LAMMPS and LIGGGHTS option (got "
+       "--limit-damping)"},
+      {{"calibrate", "--p", "1.5", "--e", "0.5", "--limit-damping"},
+       "--limit-damping goes with --code (got --limit-damping alone)"},
+      {{"solve", "--solver", "dem-verlet", "--p", "1.5", "--e", "0.5", "--v0", "1", "--onset-phase",
+        "1"},
+       "onset phase must be in [0, 1) (got 1)"},
+      {{"solve", "--solver", "cvode-bdf", "--p", "1.5", "--e", "0.5", "--v0", "1", "--onset-phase",
+        "0.5"},
+       "cvode-bdf controls its error and has no onset phase (got 0.5)"},
+      {{"solve", "--solver", "verlet-predicted", "--p", "1.5", "--e", "0.5", "--v0", "1", "--rtol",
+        "1e-8"},
+       "verlet-predicted takes a fixed step: give --dt or --steps-per-contact (got --rtol 1e-8)"},
   };
   for (const BadInput& c : cases) {
     const CliRun r = run(c.args);

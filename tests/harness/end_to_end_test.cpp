@@ -4,6 +4,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include <map>
 #include <sstream>
 
 #include <gtest/gtest.h>
@@ -59,8 +60,9 @@ TEST(EndToEnd, QuickSceneWritesEveryReportWithItsPlots) {
        at = html.str().find("<svg", at + 1)) {
     ++plots;
   }
-  // Per p: time and rhs evaluations in double, time in extended precision; a map per solver.
-  EXPECT_EQ(plots, 3u * 3u + 5u);
+  // Per p: time and rhs evaluations in double, time in extended precision, and the time-step
+  // study of verlet-predicted's sweep in e, δ_max and τ; a map per solver.
+  EXPECT_EQ(plots, 3u * 3u + 3u * 3u + 5u);
   EXPECT_NE(html.str().find("seed Table II"), std::string::npos);
   EXPECT_EQ(html.str().find("nan"), std::string::npos);
   // The cost against the closed forms: a multiple in every work point and table.
@@ -121,6 +123,68 @@ TEST(EndToEnd, PaperSceneReproducesTableTwoAndTheSixFigures) {
   std::stringstream html;
   html << html_file.rdbuf();
   EXPECT_NE(html.str().find("Fig. 6: f(p)"), std::string::npos);
+}
+
+TEST(EndToEnd, DemSceneGivesTheTableADemUserQuotes) {
+  const fs::path out = scratch() / "dem";
+  fs::remove_all(out);
+  const CliRun r =
+      run({"run", std::string(PLDAMP_DATA_DIR) + "/scenes/dem.toml", "--out", out.string()});
+  ASSERT_EQ(r.code, 0) << r.err;
+  std::ifstream json_file(out / "report.json");
+  const nlohmann::json report = nlohmann::json::parse(json_file);
+  EXPECT_EQ(report["totals"]["failed_records"], 0);
+  // 25 cells × 4 schemes × 9 steps per contact × 2 end rules, each over 16 onset phases.
+  EXPECT_EQ(report["records"].size(), 25u * 72u);
+  EXPECT_EQ(report["totals"]["solver_runs"], 25 * 72 * 16);
+  // The codes' calibrations: released tsuji misses by 0.14 (e = 0.3 gives 0.44); the exact one
+  // holds; capped codes calibrated at the overlap end give e_cap (0.1 gives 0.25).
+  std::map<std::string, nlohmann::json> claims;
+  for (const auto& claim : report["claims"]) {
+    claims[claim["name"].get<std::string>()] = claim;
+  }
+  const auto& tsuji = claims.at("LAMMPS tsuji (released) gives the target e within 1e-3");
+  EXPECT_EQ(tsuji["verdict"], "fails");
+  EXPECT_NEAR(tsuji["measured"].get<double>(), 0.13960, 1e-4);
+  EXPECT_EQ(claims.at("LAMMPS coeff_restitution gives the target e within 1e-12")["verdict"],
+            "holds");
+  EXPECT_EQ(claims.at("Chrono SMC gives the target e within 1e-3")["verdict"], "fails");
+  // The time-step study: one table per sweep; the three codes' loops are one map, so their
+  // tables agree; each is first order in e.
+  const auto& sweeps = report["budgets"]["step_study"]["sweeps"];
+  ASSERT_EQ(sweeps.size(), 8u);
+  std::map<std::string, nlohmann::json> by_line;
+  for (const auto& sweep : sweeps) {
+    by_line[sweep["line"].get<std::string>()] = sweep["per_p"];
+  }
+  for (const char* end : {"overlap", "force"}) {
+    const std::string suffix = std::string(" end=") + end + " phases=16";
+    const auto& verlet = by_line.at("dem-verlet" + suffix);
+    for (const char* other : {"dem-symplectic-euler", "dem-leapfrog"}) {
+      const auto& them = by_line.at(std::string(other) + suffix);
+      for (std::size_t i = 0; i < verlet.size(); ++i) {
+        for (std::size_t t = 0; t < 3; ++t) {
+          const auto& a = verlet[i]["needed"][t]["steps_per_contact"];
+          const auto& b = them[i]["needed"][t]["steps_per_contact"];
+          ASSERT_EQ(a.is_null(), b.is_null()) << other << " p index " << i;
+          if (!a.is_null()) {
+            EXPECT_NEAR(a.get<double>(), b.get<double>(), 1e-6 * a.get<double>()) << other;
+          }
+        }
+      }
+    }
+    for (const auto& at_p : verlet) {
+      EXPECT_NEAR(at_p["order_e"].get<double>(), 1.0, 0.06) << end << " p=" << at_p["p"];
+      // More steps for a tighter target, and 1 % within the sweep (10 ... 5000 steps).
+      const double one = at_p["needed"][0]["steps_per_contact"].get<double>();
+      const double tenth = at_p["needed"][1]["steps_per_contact"].get<double>();
+      EXPECT_GT(tenth, 5 * one) << end << " p=" << at_p["p"];
+    }
+  }
+  std::ifstream md_file(out / "report.md");
+  std::stringstream md;
+  md << md_file.rdbuf();
+  EXPECT_NE(md.str().find("## Time-step study"), std::string::npos);
 }
 
 } // namespace

@@ -74,6 +74,7 @@ bound = 3e-4
     r.value = {0.5, 1.0};
     r.abs_error = {abs_e[cell], rel_dm[cell]};
     r.rel_error = {cell < 2 ? abs_e[cell] / 0.5 : 0.0, rel_dm[cell]};
+    r.spread = {std::nullopt, std::nullopt};
     h.records.push_back(r);
   }
   return h;

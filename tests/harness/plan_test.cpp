@@ -80,7 +80,7 @@ precision = ")" + std::string(precision_name<Exact>()) + R"("
                                                  direct.t_peak,      direct.tau,
                                                  direct.energy_load, direct.energy_unload};
     for (std::size_t o = 0; o < plan.observables.size(); ++o) {
-      const Exact got = *reference_at(plan, cell, o, std::string(precision_name<Exact>()));
+      const Exact got = *reference_at(plan, cell, o, plan.configs[0]);
       EXPECT_LT(static_cast<double>(abs(got - *want[o]) / *want[o]), 1e-31)
           << plan.observables[o]->key << " v0=" << cell.v0;
     }

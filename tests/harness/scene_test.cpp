@@ -51,20 +51,31 @@ v0 = [1.0]
        "1: [grid] needs e or alpha_eff"},
       {valid_scene + "[[solver]]\nname = \"ode45\"\nrtol = 1e-6\n",
        "11: unknown solver, expected cvode-bdf|cvode-adams|arkode-dp5|arkode-erk8|arkode-dirk|"
-       "odeint-rkf78|odeint-bs|taylor|verlet (got ode45)"},
-      {valid_scene + "[[solver]]\nname = \"verlet\"\nrtol = 1e-6\n",
-       "12: verlet takes a fixed step: give steps_per_contact (got rtol)"},
+       "odeint-rkf78|odeint-bs|taylor|verlet-predicted|dem-verlet|dem-symplectic-euler|dem-"
+       "leapfrog (got ode45)"},
+      {valid_scene + "[[solver]]\nname = \"verlet-predicted\"\nrtol = 1e-6\n",
+       "12: verlet-predicted takes a fixed step: give steps_per_contact (got rtol)"},
       {valid_scene + "[[solver]]\nname = \"cvode-adams\"\nrtol = 1e-6\nprecision = \"long\"\n",
        "13: solver cvode-adams runs in double precision only; taylor runs in any (got long)"},
       {valid_scene + "[[solver]]\nname = \"taylor\"\nprecision = \"float\"\n",
        "12: unknown precision, expected " + precision_names() + " (got float)"},
       {valid_scene + "[[solver]]\nname = \"taylor\"\natol = 1e-12\n",
        "12: taylor controls its error relative to each state and takes no atol (got 1e-12)"},
-      {valid_scene + "[[solver]]\nname = \"verlet\"\natol = 1e-12\n",
-       "12: verlet takes a fixed step and no atol (got 1e-12)"},
+      {valid_scene + "[[solver]]\nname = \"verlet-predicted\"\natol = 1e-12\n",
+       "12: verlet-predicted takes a fixed step and no atol (got 1e-12)"},
       {valid_scene + "[[solver]]\nname = \"cvode-adams\"\nrtl = 1e-6\n",
-       "12: unknown key in [[solver]], expected name|rtol|atol|precision|steps_per_contact (got "
-       "rtl)"},
+       "12: unknown key in [[solver]], expected "
+       "name|rtol|atol|precision|steps_per_contact|end|onset_phases (got rtl)"},
+      {valid_scene + "[[solver]]\nname = \"dem-verlet\"\nonset_phases = 2.5\n",
+       "12: onset_phases must be an integer in [1, 1000] (got 2.5)"},
+      {valid_scene + "[[solver]]\nname = \"cvode-adams\"\nrtol = 1e-6\nonset_phases = 4\n",
+       "13: onset_phases is for fixed-step solvers (got cvode-adams)"},
+      {valid_scene + "[[solver]]\nname = \"dem-verlet\"\nend = [\"overlap\", \"sideways\"]\n",
+       "12: unknown contact end, expected overlap|force (got sideways)"},
+      {valid_scene + "[[claim]]\nname = \"c\"\nobservable = \"e\"\nconvention = \"lammps\"\n"
+                     "bound = 1e-3\n",
+       "13: unknown convention, expected lammps-tsuji|lammps-tsuji-2026|lammps-coeff-restitution|"
+       "liggghts|mercurydpm|chrono|yade (got lammps)"},
       {valid_scene + "[[claim]]\nname = \"c\"\nobservable = \"force_max\"\nsolver = \"cvode-bdf\"\n"
                      "rtol = 1e-6\nbound = 1e-5\n",
        "12: claim observable must be one the scene wants: "
@@ -78,7 +89,7 @@ v0 = [1.0]
        "11: repeats must be an integer in [1, 100] (got 0)"},
       {valid_scene + "[[claim]]\nname = \"no solver\"\nobservable = \"e\"\nbound = 1e-5\n",
        "10: [[claim]] needs solver"},
-      {valid_scene + "[[claim]]\nname = \"c\"\nobservable = \"e\"\nsolver = \"verlet\"\n"
+      {valid_scene + "[[claim]]\nname = \"c\"\nobservable = \"e\"\nsolver = \"verlet-predicted\"\n"
                      "bound = 1e-2\n",
        "10: [[claim]] needs the steps_per_contact of its solver"},
       {"name = \"t\"\n[grid\n", "2: Error while parsing table header: expected ']', saw '\\n'"},
@@ -117,7 +128,7 @@ TEST(Scene, SweepsExpandIntoConfigurations) {
 name = "taylor"
 precision = ")" + exact + R"("
 [[solver]]
-name = "verlet"
+name = "verlet-predicted"
 steps_per_contact = [50, 200]
 [[solver]]
 name = "arkode-dp5"
@@ -127,12 +138,12 @@ atol = 1e-13
   const Scene scene = load_scene(path);
   // A claim on a configuration the sweeps already run adds no configuration to the plan.
   const std::string with_claim = write_file("sweeps-claim.toml", valid_scene + R"([[solver]]
-name = "verlet"
+name = "verlet-predicted"
 steps_per_contact = [50, 200]
 [[claim]]
 name = "DEM at 200 steps"
 observable = "e"
-solver = "verlet"
+solver = "verlet-predicted"
 steps_per_contact = 200
 bound = 1e-2
 )");
@@ -149,9 +160,10 @@ bound = 1e-2
   for (const SolverConfig& config : scene.configs) {
     labels.push_back(config.label());
   }
-  EXPECT_EQ(labels, (std::vector<std::string>{
-                        "cvode-bdf rtol=1e-06", "taylor " + exact, "verlet n=50", "verlet n=200",
-                        "arkode-dp5 rtol=1e-06 atol=1e-13", "arkode-dp5 rtol=1e-10 atol=1e-13"}));
+  EXPECT_EQ(labels, (std::vector<std::string>{"cvode-bdf rtol=1e-06", "taylor " + exact,
+                                              "verlet-predicted n=50", "verlet-predicted n=200",
+                                              "arkode-dp5 rtol=1e-06 atol=1e-13",
+                                              "arkode-dp5 rtol=1e-10 atol=1e-13"}));
 }
 
 } // namespace

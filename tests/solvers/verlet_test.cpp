@@ -7,10 +7,10 @@ namespace {
 
 TEST(FixedStep, VerletIsSecondOrderInThePeakOverlap) {
   for (double n : {100.0, 200.0, 400.0}) {
-    EXPECT_NEAR(observed_order("verlet", 1, want_delta_max, n), 2.0, 0.1) << n;
-    EXPECT_NEAR(observed_order("verlet", 5, want_delta_max, n), 2.0, 0.1) << n;
+    EXPECT_NEAR(observed_order("verlet-predicted", 1, want_delta_max, n), 2.0, 0.1) << n;
+    EXPECT_NEAR(observed_order("verlet-predicted", 5, want_delta_max, n), 2.0, 0.1) << n;
     // For 1 < p < 3 the branch point at contact (force ~ t^((p−1)/2)) caps it at (p+1)/2.
-    EXPECT_NEAR(observed_order("verlet", 1.5, want_delta_max, n), 1.25, 0.1) << n;
+    EXPECT_NEAR(observed_order("verlet-predicted", 1.5, want_delta_max, n), 1.25, 0.1) << n;
   }
 }
 
@@ -20,7 +20,7 @@ TEST(FixedStep, VerletAtTheSeedsCriticalStepGainsEnergy) {
   const auto c = Contact<double>::from_alpha(1.5, 0.0, 1.0);
   Options<double> options;
   options.fixed_step = analytic::dt_crit_seed(c);
-  const Result<double> r = solve("verlet", problem_of(c), options);
+  const Result<double> r = solve("verlet-predicted", problem_of(c), options);
   EXPECT_EQ(r.steps, 2);
   EXPECT_GT(*r.e, 2.5);
   EXPECT_LT(*r.e, 3.5);
@@ -28,7 +28,7 @@ TEST(FixedStep, VerletAtTheSeedsCriticalStepGainsEnergy) {
 
 TEST(FixedStep, VerletDefaultsToFiftyStepsPerContactTimeScale) {
   const auto c = Contact<double>::from_e(1.0, 0.5, 1.0);
-  const Result<double> r = solve("verlet", problem_of(c), Options<double>{});
+  const Result<double> r = solve("verlet-predicted", problem_of(c), Options<double>{});
   // p = 1: the contact lasts π/Ω1 = π/(Ω0 √μ), a little over the π/Ω0 the step is based on.
   EXPECT_NEAR(double(r.steps), 50 / std::sqrt(c.mu()), 1.5);
   EXPECT_DOUBLE_EQ(*r.fixed_step, M_PI / 50); // π δ_u/v0 / 50 with δ_u/v0 = 1/Ω0 = 1

@@ -4,6 +4,7 @@
 #include "common/input.hpp"
 #include "scene/scene.hpp"
 
+#include "pldamp/analytic/conventions.hpp"
 #include "pldamp/solvers/registry.hpp"
 
 #include <CLI/CLI.hpp>
@@ -71,6 +72,10 @@ int run_cli(int argc, const char* const* argv, std::ostream& out, std::ostream& 
   ContactArgs calibrate_args;
   CLI::App* calibrate = app.add_subcommand("calibrate", "alpha for a target restitution e");
   add_contact_options(*calibrate, calibrate_args, true);
+  calibrate->add_option("--code", calibrate_args.code,
+                        "what a DEM code sets and really gives: " + analytic::convention_names());
+  calibrate->add_flag("--limit-damping", calibrate_args.limit_damping,
+                      "with --code: LAMMPS limit_damping / LIGGGHTS limitForce (force cap) on");
 
   ContactArgs observables_args;
   CLI::App* observables = app.add_subcommand("observables", "every closed-form observable");
@@ -103,6 +108,9 @@ int run_cli(int argc, const char* const* argv, std::ostream& out, std::ostream& 
   solve->add_option("--steps-per-contact", solve_args.steps_per_contact,
                     fixed_step_solvers +
                         " without --dt: steps per contact time estimate (default 50)");
+  solve->add_option("--onset-phase", solve_args.onset_phase,
+                    "fixed-step solvers: the contact begins this fraction of a step before the "
+                    "first step position in contact, in [0, 1) (default 0)");
   solve->add_option("--horizon", solve_args.horizon,
                     "time at which a contact that has not ended is reported no_exit");
   solve->add_option("--sample-times", solve_args.sample_times, "comma list of times to sample")

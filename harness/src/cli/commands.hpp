@@ -16,6 +16,8 @@ struct ContactArgs {
   std::string precision = "double";
   std::string end = "overlap";
   bool json = false;
+  std::optional<std::string> code; // calibrate: a DEM code's convention
+  bool limit_damping = false;      // calibrate --code: its optional force cap on
 };
 
 // `pldamp solve`: the contact options plus the solver's.
@@ -27,6 +29,7 @@ struct SolveArgs {
   std::string want = "e,delta_max,t_peak,tau,energy";
   std::vector<std::string> sample_times;
   std::string steps_per_contact = "50";
+  std::optional<std::string> onset_phase; // fixed-step solvers, in [0, 1)
   std::string max_steps = "1000000";
 };
 

@@ -8,9 +8,64 @@
 
 namespace pldamp::harness {
 
+namespace {
+
+// `calibrate --code`: what a DEM code sets for the target e, what it really gives, and what to
+// enter instead (MATH.md §5).
+void calibrate_for_code(const ContactArgs& args, std::ostream& out) {
+  const analytic::Convention* convention = analytic::find_convention(*args.code);
+  if (convention == nullptr) {
+    throw InputError("unknown --code, expected " + analytic::convention_names() + " (got " +
+                     *args.code + ")");
+  }
+  if (args.limit_damping && convention->cap != analytic::Cap::optional) {
+    throw InputError(std::string(convention->name) +
+                     (convention->cap == analytic::Cap::always ? " always caps" : " never caps") +
+                     " the force: --limit-damping is a LAMMPS and LIGGGHTS option (got " +
+                     "--limit-damping)");
+  }
+  with_precision(args.precision, [&]<SupportedReal Real>() {
+    const Real p = parse_real<Real>("--p", args.p);
+    const Real target = parse_real<Real>("--e", *args.e);
+    require_finite("p", p);
+    require(p >= 1, "p must be >= 1", p);
+    const bool cut = analytic::capped(*convention, args.limit_damping);
+    const Real alpha = analytic::alpha_set(*convention, p, target);
+    const std::optional<Real> enter =
+        analytic::e_to_enter(*convention, p, target, args.limit_damping);
+    Answer o;
+    o["precision"] = precision_name<Real>();
+    o["code"] = convention->name;
+    o["end"] = cut ? "force" : "overlap";
+    o["p"] = exact_number(p);
+    o["e"] = exact_number(target);
+    o["alpha"] = exact_number(alpha);
+    o["alpha_eff"] = exact_number(Real(alpha / analytic::alpha_per_alpha_eff(p)));
+    o["e_given"] = exact_number(analytic::e_given(p, alpha, cut));
+    if (enter) {
+      o["e_to_enter"] = exact_number(*enter);
+    } else {
+      o["e_to_enter"] = nullptr; // out of the convention's reach
+      o["e_reachable_from"] = exact_number(
+          analytic::e_given(p, analytic::alpha_set(*convention, p, Real(1) / 1000000), cut));
+    }
+    o["source"] = convention->source;
+    emit(o, args.json, out);
+  });
+}
+
+} // namespace
+
 void run_calibrate(const ContactArgs& args, std::ostream& out) {
   if (!args.e) {
     throw InputError("calibrate needs --e (got nothing)");
+  }
+  if (args.code) {
+    calibrate_for_code(args, out);
+    return;
+  }
+  if (args.limit_damping) {
+    throw InputError("--limit-damping goes with --code (got --limit-damping alone)");
   }
   with_precision(args.precision, [&]<SupportedReal Real>() {
     const analytic::Contact<Real> c = make_contact<Real>(args);

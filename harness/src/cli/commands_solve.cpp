@@ -55,6 +55,9 @@ void solve_in(const SolveArgs& args, const solvers::SolverInfo* solver, std::ost
   if (args.horizon) {
     options.horizon = parse_real<Real>("--horizon", *args.horizon);
   }
+  if (args.onset_phase) {
+    options.onset_phase = parse_real<Real>("--onset-phase", *args.onset_phase);
+  }
   for (const std::string& t : args.sample_times) {
     options.sample_times.push_back(parse_real<Real>("--sample-times", t));
   }

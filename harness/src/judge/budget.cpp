@@ -1,5 +1,7 @@
 #include "judge/budget.hpp"
 
+#include "pldamp/analytic/conventions.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -13,7 +15,43 @@ void raise(std::optional<double>& slot, const std::optional<double>& value) {
   }
 }
 
+void conclude(Verdict& verdict, const std::optional<double>& measured) {
+  verdict.measured = measured.value_or(std::numeric_limits<double>::infinity());
+  verdict.holds = verdict.failed_cells == 0 && verdict.measured <= verdict.bound;
+  if (verdict.measured > 0 && std::isfinite(verdict.measured)) {
+    verdict.margin = verdict.bound / verdict.measured;
+    verdict.supported = std::pow(10.0, std::ceil(std::log10(verdict.measured)));
+  }
+}
+
+// A DEM code's calibration, by the closed forms: |e it gives − target| over the grid's targets
+// (and the p it has a model for).
+Verdict judge_convention(const Plan& plan, const Claim& claim) {
+  const analytic::Convention& convention = *analytic::find_convention(*claim.convention);
+  Verdict verdict;
+  verdict.name = claim.name;
+  verdict.observable = claim.observable;
+  verdict.config = *claim.convention + (claim.limit_damping ? " limit_damping" : "");
+  verdict.bound = claim.bound;
+  const bool cut = analytic::capped(convention, claim.limit_damping);
+  std::optional<double> measured;
+  for (const Point& point : plan.points) {
+    const bool model = (convention.linear && point.p == 1) || (convention.hertz && point.p == 1.5);
+    if (!model || point.damping.kind != Damping::Kind::e) {
+      continue;
+    }
+    const Exact p(point.p), target(point.damping.value);
+    const Exact given = analytic::e_given(p, analytic::alpha_set(convention, p, target), cut);
+    raise(measured, static_cast<double>(abs(given - target)));
+  }
+  conclude(verdict, measured);
+  return verdict;
+}
+
 Verdict judge(const Plan& plan, const std::vector<Record>& records, const Claim& claim) {
+  if (claim.convention) {
+    return judge_convention(plan, claim);
+  }
   Verdict verdict;
   verdict.name = claim.name;
   verdict.observable = claim.observable;
@@ -35,12 +73,7 @@ Verdict judge(const Plan& plan, const std::vector<Record>& records, const Claim&
     }
     raise(measured, record.abs_error[observable]);
   }
-  verdict.measured = measured.value_or(std::numeric_limits<double>::infinity());
-  verdict.holds = verdict.failed_cells == 0 && verdict.measured <= verdict.bound;
-  if (verdict.measured > 0 && std::isfinite(verdict.measured)) {
-    verdict.margin = verdict.bound / verdict.measured;
-    verdict.supported = std::pow(10.0, std::ceil(std::log10(verdict.measured)));
-  }
+  conclude(verdict, measured);
   return verdict;
 }
 
@@ -91,8 +124,7 @@ std::optional<double> worst_at(const Budgets& budgets, std::size_t config, std::
 
 bool last_of_its_solver(const Plan& plan, std::size_t config) {
   const std::size_t next = config + 1;
-  return next == plan.configs.size() || plan.configs[next].name != plan.configs[config].name ||
-         plan.configs[next].precision != plan.configs[config].precision;
+  return next == plan.configs.size() || plan.configs[next].line() != plan.configs[config].line();
 }
 
 Budgets make_budgets(const Plan& plan, const std::vector<Record>& records) {
@@ -125,6 +157,7 @@ Budgets make_budgets(const Plan& plan, const std::vector<Record>& records) {
       Worst& worst = budgets.worst[record.config][o];
       raise(worst.abs, record.abs_error[o]);
       raise(worst.rel, record.rel_error[o]);
+      raise(worst.spread, record.spread[o]);
       raise(budgets.map[record.config][o][cell.point], record.rel_error[o]);
       raise(work.error, record.rel_error[o]);
     }
@@ -141,6 +174,7 @@ Budgets make_budgets(const Plan& plan, const std::vector<Record>& records) {
   for (const Claim& claim : plan.scene.claims) {
     budgets.claims.push_back(judge(plan, records, claim));
   }
+  budgets.steps = make_step_study(plan, records);
   return budgets;
 }
 

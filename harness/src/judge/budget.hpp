@@ -1,6 +1,7 @@
 // Error budgets, work-precision points and claim verdicts from a run's records.
 #pragma once
 
+#include "judge/step_study.hpp"
 #include "run/run.hpp"
 
 #include <optional>
@@ -11,6 +12,7 @@ namespace pldamp::harness {
 
 struct Worst {
   std::optional<double> abs, rel; // largest over the records (none: the observable never came)
+  std::optional<double> spread;   // largest spread over onset phases (several phases run)
 };
 
 // What a solver configuration costs and achieves at one p: mean wall time and rhs_evals per
@@ -43,6 +45,7 @@ struct Budgets {
   // work[config]: one point per p, in the scene's order.
   std::vector<std::vector<WorkPoint>> work;
   std::vector<Verdict> claims;
+  StepStudy steps; // the time-step study of fixed-step sweeps (empty without one)
   long failed_records = 0;
 };
 

@@ -98,12 +98,8 @@ Style style_of(std::size_t line) {
           int(1 + line / colours.size() % 4)};
 }
 
-std::string line_name(const SolverConfig& config) {
-  return config.name + (config.precision == "double" ? "" : " " + config.precision);
-}
-
-// A solver's lines: configurations sharing a name and precision, in sweep order, with the style
-// of their first appearance in the scene.
+// A solver's lines: configurations differing only in their sweep value (SolverConfig::line), in
+// sweep order, with the style of their first appearance in the scene.
 struct Line {
   std::string name;
   bool extended; // a precision wider than double
@@ -113,7 +109,7 @@ struct Line {
 std::vector<Line> solver_lines(const Plan& plan) {
   std::vector<Line> lines;
   for (std::size_t c = 0; c < plan.configs.size(); ++c) {
-    const std::string name = line_name(plan.configs[c]);
+    const std::string name = plan.configs[c].line();
     auto found = std::find_if(lines.begin(), lines.end(),
                               [&](const Line& line) { return line.name == name; });
     if (found == lines.end()) {
@@ -222,6 +218,61 @@ std::string work_precision_plot(const Gnuplot& gnuplot, const RunReport& report,
   script << fmt::format("set xrange [{:.17g}:{:.17g}]\nset yrange [{:.17g}:{:.17g}]\n", x_low / 3,
                         x_high * 3, y_low / 3, y_high * 10);
   script << plot << "\n";
+  return gnuplot.svg(script.str(), 640, 400);
+}
+
+// The time-step study at one p, one observable: the worst error against Δt/τ per sweep, with
+// the seed's Δt_crit and the tangent-stiffness bound (as fractions of the undamped τ0) marked.
+std::string step_study_plot(const Gnuplot& gnuplot, const RunReport& report, std::size_t p_index,
+                            std::size_t observable) {
+  const Plan& plan = report.plan;
+  const StepStudy& study = report.budgets.steps;
+  std::ostringstream script;
+  script << "set logscale xy\nset format y '10^{%L}'\nset format x '10^{%L}'\nset grid\n"
+         << "set key outside right top noenhanced\nset xlabel 'Δt / τ'\nset ylabel "
+         << gnuplot_string("worst relative error in " +
+                           std::string(plan.observables[observable]->key))
+         << " noenhanced\nset title "
+         << gnuplot_string(fmt::format("p = {}: {} against the step", plan.scene.p[p_index],
+                                       plan.observables[observable]->key))
+         << " noenhanced\n";
+  std::string plot;
+  double x_low = std::numeric_limits<double>::infinity(), x_high = 0;
+  for (std::size_t k = 0; k < study.sweeps.size(); ++k) {
+    const StepSweep& sweep = study.sweeps[k];
+    std::string data;
+    for (const StepPoint& point : sweep.points[observable][p_index]) {
+      if (point.error && *point.error > 0 && std::isfinite(*point.error) && point.dt_over_tau > 0) {
+        data += fmt::format("{:.17g} {:.17g}\n", point.dt_over_tau, *point.error);
+        x_low = std::min(x_low, point.dt_over_tau);
+        x_high = std::max(x_high, point.dt_over_tau);
+      }
+    }
+    if (data.empty()) {
+      continue;
+    }
+    const Style style = style_of(k);
+    script << "$s" << k << " << EOD\n" << data << "EOD\n";
+    plot += fmt::format("{}$s{} with linespoints lw 2 lc rgb '{}' pt {} ps 0.9 dt {} title {}",
+                        plot.empty() ? "plot " : ", ", k, style.colour, style.marker, style.dash,
+                        gnuplot_string(sweep.line));
+  }
+  if (plot.empty()) {
+    return "";
+  }
+  // Labels right-aligned left of their lines, one above the other (the two lie close).
+  const std::tuple<double, const char*, double> marks[] = {
+      {study.dt_crit_over_tau0[p_index], "seed's Δt_crit/τ0", 0.95},
+      {study.dt_tangent_over_tau0[p_index], "tangent bound/τ0", 0.88}};
+  const double leftmost = std::min(std::get<0>(marks[0]), std::get<0>(marks[1]));
+  for (const auto& [x, name, height] : marks) {
+    x_high = std::max(x_high, x);
+    script << fmt::format("set arrow from {0:.17g}, graph 0 to {0:.17g}, graph 1 nohead lw 1.5 "
+                          "lc rgb '#555555' dt 2 front\nset label {1} at {2:.17g}, graph {3} "
+                          "right offset -0.5,0 tc rgb '#555555' font ',9' noenhanced front\n",
+                          x, gnuplot_string(name), leftmost, height);
+  }
+  script << fmt::format("set xrange [{:.17g}:{:.17g}]\n", x_low / 2, x_high * 2) << plot << "\n";
   return gnuplot.svg(script.str(), 640, 400);
 }
 
@@ -344,7 +395,46 @@ std::string html_table(const MapTable& table) {
 }
 
 // A <figure> holding an SVG, or nothing when gnuplot drew none.
-std::string figure_html(const std::string& svg, const std::string& caption = "") {
+std::string figure_html(const std::string& svg, const std::string& caption = "");
+
+// The time-step study: the table a DEM user quotes, then error against Δt/τ per p.
+std::string step_study_html(const RunReport& report, const Gnuplot& gnuplot) {
+  const Plan& plan = report.plan;
+  const StepStudy& study = report.budgets.steps;
+  std::string out = "<h2>Time-step study: steps per contact for e within 1 %, 0.1 %, 0.01 %</h2>\n"
+                    "<p>Worst over the grid's cells and onset phases; steps per contact is τ/Δt "
+                    "with τ each cell's true contact duration (t_cut under the force cap). The "
+                    "order is the slope of the worst error in e against Δt over the finest half "
+                    "of the sweep. The plots mark the seed's Δt_crit and the tangent-stiffness "
+                    "bound as fractions of the undamped τ0.</p>\n";
+  MapTable table;
+  table.header = {
+      "sweep", "p", "order in e", "1 %", "0.1 %", "0.01 %", "spread of e over onset phases"};
+  for (const StepSweep& sweep : study.sweeps) {
+    for (std::size_t i = 0; i < plan.scene.p.size(); ++i) {
+      std::vector<std::string> row{sweep.line, to_string_full(plan.scene.p[i]),
+                                   short_number(sweep.order[i])};
+      for (std::size_t t = 0; t < step_targets.size(); ++t) {
+        row.push_back(step_steps_text(sweep, i, t));
+      }
+      row.push_back(phase_spread_text(sweep, study.e, i));
+      table.rows.push_back(row);
+    }
+  }
+  out += html_table(table);
+  for (std::size_t i = 0; i < plan.scene.p.size(); ++i) {
+    for (const std::string_view key : {"e", "delta_max", "tau"}) {
+      for (std::size_t o = 0; o < plan.observables.size(); ++o) {
+        if (plan.observables[o]->key == key) {
+          out += figure_html(step_study_plot(gnuplot, report, i, o));
+        }
+      }
+    }
+  }
+  return out;
+}
+
+std::string figure_html(const std::string& svg, const std::string& caption) {
   if (svg.empty()) {
     return "";
   }
@@ -422,7 +512,11 @@ std::string report_html(const RunReport& report, const std::string& gnuplot_prog
     out << "<td>" << short_number(rhs, 3) << "</td><td>" << short_number(seconds * 1e6, 3)
         << "</td><td>" << short_number(times_analytic(budgets.work[c]), 2) << "</td></tr>\n";
   }
-  out << "</table>\n<h2>Error maps over p × damping (each solver's last configuration)</h2>\n";
+  out << "</table>\n";
+  if (!budgets.steps.sweeps.empty()) {
+    out << step_study_html(report, gnuplot);
+  }
+  out << "<h2>Error maps over p × damping (each solver's last configuration)</h2>\n";
   for (std::size_t c = 0; c < plan.configs.size(); ++c) {
     if (last_of_its_solver(plan, c)) {
       out << figure_html(error_map_plot(gnuplot, report, c));

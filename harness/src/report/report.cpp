@@ -95,6 +95,21 @@ double mean_analytic_seconds(const Plan& plan) {
   return plan.cells.empty() ? 0 : sum / double(plan.cells.size());
 }
 
+std::string step_steps_text(const StepSweep& sweep, std::size_t p_index, std::size_t target) {
+  const StepsNeeded& needed = sweep.needed[p_index][target];
+  if (!needed.steps) {
+    const StepPoint& finest = sweep.points[0][p_index].back(); // Δt/τ is shared by observables
+    return finest.dt_over_tau > 0 ? fmt::format("> {:.0f}", 1 / finest.dt_over_tau) : "–";
+  }
+  return (needed.within_sweep ? "" : "≤ ") + fmt::format("{:.0f}", *needed.steps);
+}
+
+std::string phase_spread_text(const StepSweep& sweep, std::size_t e, std::size_t p_index) {
+  const std::optional<double>& coarsest = sweep.points[e][p_index].front().spread;
+  const std::optional<double>& finest = sweep.points[e][p_index].back().spread;
+  return coarsest || finest ? short_number(coarsest) + " → " + short_number(finest) : "–";
+}
+
 std::string unrepresentable_note(const Plan& plan) {
   std::string lines;
   for (const Point& point : plan.points) {
@@ -147,6 +162,66 @@ std::string markdown_map(const Plan& plan,
       out += " " + entry + " |";
     }
   }
+  return out + "\n";
+}
+
+ordered_json step_study_json(const Plan& plan, const StepStudy& study) {
+  ordered_json sweeps = ordered_json::array();
+  for (const StepSweep& sweep : study.sweeps) {
+    ordered_json per_p = ordered_json::array();
+    for (std::size_t i = 0; i < plan.scene.p.size(); ++i) {
+      ordered_json needed = ordered_json::array(), points;
+      for (std::size_t t = 0; t < step_targets.size(); ++t) {
+        needed.push_back({{"target", step_targets[t]},
+                          {"steps_per_contact", number_or_null(sweep.needed[i][t].steps)},
+                          {"within_sweep", sweep.needed[i][t].within_sweep}});
+      }
+      for (std::size_t o = 0; o < plan.observables.size(); ++o) {
+        ordered_json xy = ordered_json::array();
+        for (const StepPoint& point : sweep.points[o][i]) {
+          xy.push_back({point.dt_over_tau, number_or_null(point.error)});
+        }
+        points[plan.observables[o]->key] = xy;
+      }
+      per_p.push_back({{"p", plan.scene.p[i]},
+                       {"order_e", number_or_null(sweep.order[i])},
+                       {"needed", needed},
+                       {"dt_over_tau_and_worst_rel", points}});
+    }
+    sweeps.push_back({{"line", sweep.line}, {"per_p", per_p}});
+  }
+  return {{"dt_crit_over_tau0", study.dt_crit_over_tau0},
+          {"dt_tangent_over_tau0", study.dt_tangent_over_tau0},
+          {"sweeps", sweeps}};
+}
+
+std::string step_study_markdown(const Plan& plan, const StepStudy& study) {
+  std::string out =
+      "\n## Time-step study: steps per contact for e within 1 %, 0.1 %, 0.01 %\n\n"
+      "Worst over the grid's cells and onset phases; steps per contact is τ/Δt with τ each "
+      "cell's true contact duration (t_cut under the force cap); the order is the slope of the "
+      "worst error in e against Δt over the finest half of the sweep.\n";
+  for (const StepSweep& sweep : study.sweeps) {
+    out += fmt::format("\n### {}\n\n| p | order in e | 1 % | 0.1 % | 0.01 % | spread of e over "
+                       "onset phases, coarsest → finest step |\n|---|---|---|---|---|---|\n",
+                       sweep.line);
+    const std::size_t e = study.e;
+    for (std::size_t i = 0; i < plan.scene.p.size(); ++i) {
+      out +=
+          fmt::format("| {} | {} |", to_string_full(plan.scene.p[i]), short_number(sweep.order[i]));
+      for (std::size_t t = 0; t < step_targets.size(); ++t) {
+        out += fmt::format(" {} |", step_steps_text(sweep, i, t));
+      }
+      out += fmt::format(" {} |\n", phase_spread_text(sweep, e, i));
+    }
+  }
+  out += "\nThe seed's Δt_crit and the tangent-stiffness bound (MATH.md §6), as steps per undamped "
+         "contact τ0/Δt:";
+  for (std::size_t i = 0; i < plan.scene.p.size(); ++i) {
+    out += fmt::format(" p = {}: {:.3g} and {:.3g};", to_string_full(plan.scene.p[i]),
+                       1 / study.dt_crit_over_tau0[i], 1 / study.dt_tangent_over_tau0[i]);
+  }
+  out.back() = '.';
   return out + "\n";
 }
 
@@ -209,6 +284,9 @@ ordered_json report_json(const RunReport& report) {
                        {"observable", plan.observables[o]->key},
                        {"max_abs", number_or_null(budgets.worst[c][o].abs)},
                        {"max_rel", number_or_null(budgets.worst[c][o].rel)}});
+      if (plan.configs[c].onset_phases > 1) {
+        worst.back()["max_phase_spread"] = number_or_null(budgets.worst[c][o].spread);
+      }
       ordered_json map = ordered_json::array();
       for (std::size_t i = 0; i < plan.points.size(); ++i) {
         map.push_back(number_or_null(budgets.map[c][o][i]));
@@ -250,6 +328,9 @@ ordered_json report_json(const RunReport& report) {
                     {"maps", maps},
                     {"analytic_double", analytic},
                     {"work_precision", work}};
+  if (!budgets.steps.sweeps.empty()) {
+    out["budgets"]["step_study"] = step_study_json(plan, budgets.steps);
+  }
   ordered_json records = ordered_json::array();
   for (const Record& record : report.records) {
     const Cell& cell = plan.cells[record.cell];
@@ -268,15 +349,26 @@ ordered_json report_json(const RunReport& report) {
                    {"steps", record.steps},
                    {"rhs_evals", record.rhs_evals},
                    {"wall_seconds", record.wall_seconds}};
-    for (const char* field : {"value", "abs_error", "rel_error"}) {
-      const auto& column = std::string(field) == "value"       ? record.value
-                           : std::string(field) == "abs_error" ? record.abs_error
-                                                               : record.rel_error;
+    if (record.dt) {
+      r["dt"] = *record.dt;
+    }
+    const std::pair<const char*, const std::vector<std::optional<double>>*> columns[] = {
+        {"value", &record.value},
+        {"abs_error", &record.abs_error},
+        {"rel_error", &record.rel_error},
+        {"phase_spread", &record.spread}};
+    for (const auto& [field, column] : columns) {
+      if (column == &record.spread && record.phases == 1) {
+        continue; // one phase: no spread
+      }
       ordered_json values;
       for (std::size_t o = 0; o < plan.observables.size(); ++o) {
-        values[plan.observables[o]->key] = number_or_null(column[o]);
+        values[plan.observables[o]->key] = number_or_null((*column)[o]);
       }
       r[field] = values;
+    }
+    if (record.phases > 1) {
+      r["phases"] = record.phases;
     }
     if (!record.failure.empty()) {
       r["failure"] = record.failure;
@@ -397,6 +489,9 @@ std::string report_markdown(const RunReport& report) {
   out << "\n× analytic: the time per cell as a multiple of the closed forms' for the same "
          "observables in double ("
       << short_number(mean_analytic_seconds(plan) * 1e6, 2) << " µs per cell).\n";
+  if (!budgets.steps.sweeps.empty()) {
+    out << step_study_markdown(plan, budgets.steps);
+  }
   // Per solver, its tightest configuration (the last of its sweep) over p × α_eff.
   out << "\n## Worst relative error per p × α_eff (each solver's last configuration)\n";
   for (std::size_t c = 0; c < plan.configs.size(); ++c) {

@@ -67,6 +67,13 @@ struct MapTable {
 };
 MapTable map_table(const Plan& plan, const std::function<std::string(std::size_t point)>& cell);
 
+// "230", "≤ 10" (reached at the coarsest step), "> 5000" (not within the sweep): the steps per
+// contact a sweep needs at a p for step_targets[target].
+std::string step_steps_text(const StepSweep& sweep, std::size_t p_index, std::size_t target);
+
+// The spread of e over onset phases at a sweep's coarsest and finest step, "3.1e-02 → 2e-05".
+std::string phase_spread_text(const StepSweep& sweep, std::size_t e, std::size_t p_index);
+
 // The closed forms' mean cost per cell in double over the grid.
 double mean_analytic_seconds(const Plan& plan);
 

@@ -9,12 +9,14 @@
 #include <limits>
 #include <mutex>
 #include <thread>
+#include <tuple>
 
 namespace pldamp::harness {
 namespace {
 
 // |value − reference| and its relative size (see Record).
-std::pair<double, double> errors(const Exact& value, const Exact& reference) {
+std::pair<std::optional<double>, std::optional<double>> errors(const Exact& value,
+                                                               const Exact& reference) {
   if (isinf(reference) || isinf(value)) {
     const double e = value == reference ? 0.0 : std::numeric_limits<double>::infinity();
     return {e, e};
@@ -22,6 +24,44 @@ std::pair<double, double> errors(const Exact& value, const Exact& reference) {
   const Exact absolute = abs(value - reference);
   const Exact relative = reference == 0 ? absolute : absolute / abs(reference);
   return {static_cast<double>(absolute), static_cast<double>(relative)};
+}
+
+// One collision's errors against the reference, observable by observable (see Record).
+struct Measured {
+  std::optional<double> value, abs_error, rel_error;
+};
+
+template <SupportedReal Real>
+std::vector<Measured> measure(const Plan& plan, const Cell& cell, const SolverConfig& config,
+                              const solvers::Result<Real>& result) {
+  const Point& point = plan.points[cell.point];
+  std::vector<Measured> out;
+  for (std::size_t i = 0; i < plan.observables.size(); ++i) {
+    const Observable& observable = *plan.observables[i];
+    const std::optional<Real> value = observable.measured(result);
+    std::optional<Exact> reference = reference_at(plan, cell, i, config);
+    Measured m;
+    if (value) {
+      m.value = static_cast<double>(*value);
+    }
+    if (result.outcome == solvers::Outcome::no_exit && reference && !point.overdamped) {
+      // The contact returns, but too late or too slowly for the solver to tell: no_exit is its
+      // documented answer (common/observables.hpp, LateReturn).
+      if (observable.late_return == LateReturn::unresolved) {
+        reference.reset();
+      } else if (observable.late_return == LateReturn::absolute && value) {
+        const double absolute = static_cast<double>(abs(static_cast<Exact>(*value) - *reference));
+        m.abs_error = m.rel_error = absolute;
+        out.push_back(m);
+        continue;
+      }
+    }
+    if (value && reference) {
+      std::tie(m.abs_error, m.rel_error) = errors(static_cast<Exact>(*value), *reference);
+    }
+    out.push_back(m);
+  }
+  return out;
 }
 
 template <SupportedReal Real>
@@ -38,45 +78,62 @@ void solve_record(const Plan& plan, Record& record) {
     options.atol = Real(*config.atol);
   }
   options.want = plan.scene.want;
-  options.end = plan.scene.end;
+  options.end = end_of(plan.scene, config);
   if (config.steps_per_contact) {
     options.steps_per_contact = *config.steps_per_contact;
   }
-  const solvers::Result<Real> result = solvers::solve(config.name, problem, options);
-  double fastest = result.wall_seconds;
-  for (int repeat = 1; repeat < plan.scene.repeats; ++repeat) {
-    fastest = std::min(fastest, solvers::solve(config.name, problem, options).wall_seconds);
-  }
-  record.outcome = result.outcome;
-  record.steps = result.steps;
-  record.rhs_evals = result.rhs_evals + result.jacobian_evals;
-  record.wall_seconds = fastest;
-  const std::string precision = alpha_precision(config);
-  for (std::size_t i = 0; i < plan.observables.size(); ++i) {
-    const Observable& observable = *plan.observables[i];
-    const std::optional<Real> value = observable.measured(result);
-    std::optional<Exact> reference = reference_at(plan, cell, i, precision);
-    record.value.push_back(value ? std::optional<double>(static_cast<double>(*value))
-                                 : std::nullopt);
-    if (result.outcome == solvers::Outcome::no_exit && reference && !point.overdamped) {
-      // The contact returns, but too late or too slowly for the solver to tell: no_exit is its
-      // documented answer (common/observables.hpp, LateReturn).
-      if (observable.late_return == LateReturn::unresolved) {
-        reference.reset();
-      } else if (observable.late_return == LateReturn::absolute && value) {
-        const Exact absolute = abs(static_cast<Exact>(*value) - *reference);
-        record.abs_error.push_back(static_cast<double>(absolute));
-        record.rel_error.push_back(static_cast<double>(absolute));
-        continue;
+  // Every onset phase k/n; the record keeps, per observable, the phase with the largest error.
+  const std::size_t observables = plan.observables.size();
+  record.phases = config.onset_phases;
+  record.value.assign(observables, std::nullopt);
+  record.abs_error = record.rel_error = record.spread = record.value;
+  std::vector<double> lowest(observables, std::numeric_limits<double>::infinity()),
+      highest(observables, -std::numeric_limits<double>::infinity());
+  double steps = 0, rhs_evals = 0, seconds = 0;
+  for (int phase = 0; phase < config.onset_phases; ++phase) {
+    options.onset_phase = Real(phase) / Real(config.onset_phases);
+    const solvers::Result<Real> result = solvers::solve(config.name, problem, options);
+    double fastest = result.wall_seconds;
+    for (int repeat = 1; repeat < plan.scene.repeats; ++repeat) {
+      fastest = std::min(fastest, solvers::solve(config.name, problem, options).wall_seconds);
+    }
+    // A failed phase (step limit) fails the record; the outcome kept is the worst seen.
+    if (!record.outcome || result.outcome == solvers::Outcome::step_limit) {
+      record.outcome = result.outcome;
+    }
+    if (result.fixed_step) {
+      record.dt = static_cast<double>(*result.fixed_step);
+    }
+    steps += double(result.steps);
+    rhs_evals += double(result.rhs_evals + result.jacobian_evals);
+    seconds += fastest;
+    const std::vector<Measured> measured = measure(plan, cell, config, result);
+    for (std::size_t o = 0; o < observables; ++o) {
+      const Measured& m = measured[o];
+      if (m.value) {
+        lowest[o] = std::min(lowest[o], *m.value);
+        highest[o] = std::max(highest[o], *m.value);
+      }
+      const bool worse =
+          phase == 0 ||
+          (m.rel_error && (!record.rel_error[o] || !(*m.rel_error <= *record.rel_error[o])));
+      if (worse) {
+        record.value[o] = m.value;
+        record.abs_error[o] = m.abs_error;
+        record.rel_error[o] = m.rel_error;
       }
     }
-    if (value && reference) {
-      const auto [absolute, relative] = errors(static_cast<Exact>(*value), *reference);
-      record.abs_error.push_back(absolute);
-      record.rel_error.push_back(relative);
-    } else {
-      record.abs_error.push_back(std::nullopt);
-      record.rel_error.push_back(std::nullopt);
+  }
+  const double runs = double(config.onset_phases);
+  record.steps = std::lround(steps / runs);
+  record.rhs_evals = std::lround(rhs_evals / runs);
+  record.wall_seconds = seconds / runs;
+  if (config.onset_phases > 1) {
+    for (std::size_t o = 0; o < observables; ++o) {
+      const std::optional<Exact> reference = reference_at(plan, cell, o, config);
+      if (highest[o] >= lowest[o] && reference && isfinite(*reference) && *reference != 0) {
+        record.spread[o] = static_cast<double>(Exact(highest[o] - lowest[o]) / abs(*reference));
+      }
     }
   }
 }
@@ -120,8 +177,7 @@ std::vector<Record> run_plan(const Plan& plan, int jobs, RunTotals& totals,
         record.outcome.reset();
         record.failure = e.what();
         record.value.assign(plan.observables.size(), std::nullopt);
-        record.abs_error.assign(plan.observables.size(), std::nullopt);
-        record.rel_error.assign(plan.observables.size(), std::nullopt);
+        record.abs_error = record.rel_error = record.spread = record.value;
       }
       if (progress) {
         const std::lock_guard lock(report);
@@ -139,8 +195,8 @@ std::vector<Record> run_plan(const Plan& plan, int jobs, RunTotals& totals,
   }
   totals = {};
   for (const Record& record : records) {
-    totals.rhs_evals += record.rhs_evals;
-    totals.solver_runs += record.outcome ? plan.scene.repeats : 1;
+    totals.rhs_evals += record.rhs_evals * record.phases;
+    totals.solver_runs += record.outcome ? plan.scene.repeats * record.phases : 1;
   }
   totals.wall_seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();

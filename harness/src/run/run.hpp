@@ -17,14 +17,18 @@ struct Record {
   std::size_t cell = 0, config = 0;
   std::optional<solvers::Outcome> outcome; // none: the solver threw
   std::string failure;                     // the solver's message when it threw
-  long steps = 0, rhs_evals = 0;
-  double wall_seconds = 0; // minimum over the repeats
+  long steps = 0, rhs_evals = 0;           // per collision (the mean over onset phases)
+  double wall_seconds = 0;  // per collision: the minimum over the repeats, mean over phases
+  int phases = 1;           // onset phases run (fixed-step configurations)
+  std::optional<double> dt; // the fixed step a fixed-step run used
   // Per observable (Plan::observables): the value (rounded to double for the report) and its
   // absolute and relative errors against the reference, computed in Exact. The relative error
   // of a reference 0 (e of a contact that never returns) is the absolute one; of an infinite
   // reference (its τ) 0 when the value is infinite too. A solver's no_exit where the contact does
   // return (just below critical damping) leaves τ unresolved and compares e absolutely.
-  std::vector<std::optional<double>> value, abs_error, rel_error;
+  // Over several onset phases: the phase with the largest relative error, and the spread of the
+  // values over the phases relative to the reference.
+  std::vector<std::optional<double>> value, abs_error, rel_error, spread;
   // Failed: the solver threw, stopped at its step limit, or returned a non-finite error.
   bool failed() const;
   // The outcome's name, or "error" when the solver threw.
@@ -32,7 +36,7 @@ struct Record {
 };
 
 struct RunTotals {
-  long rhs_evals = 0;   // over one run of each record (repeats time only)
+  long rhs_evals = 0;   // over one run of each collision (repeats time only)
   long solver_runs = 0; // repeats included
   double wall_seconds = 0;
 };

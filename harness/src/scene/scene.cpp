@@ -2,6 +2,7 @@
 
 #include "common/observables.hpp"
 
+#include "pldamp/analytic/conventions.hpp"
 #include "pldamp/solvers/registry.hpp"
 
 #include <fmt/format.h>
@@ -150,6 +151,15 @@ SolverConfig base_config(const Reader& reader, const toml::table& entry, const c
       reader.fail(*precision, solvers::precision_refusal(*info, config.precision));
     }
   }
+  if (const toml::node* phases = entry.get("onset_phases")) {
+    const double n = reader.number(*phases, "onset_phases");
+    reader.require(n >= 1 && n <= 1000 && n == std::floor(n), *phases,
+                   "onset_phases must be an integer in [1, 1000]", n);
+    if (!info->fixed_step) {
+      reader.fail(*phases, "onset_phases is for fixed-step solvers (got " + config.name + ")");
+    }
+    config.onset_phases = static_cast<int>(n);
+  }
   if (const toml::node* atol = entry.get("atol")) {
     config.atol = reader.number(*atol, "atol");
     reader.require(*config.atol > 0, *atol, "atol must be > 0", *config.atol);
@@ -172,6 +182,27 @@ int steps_per_contact(const Reader& reader, const toml::node& node, double n) {
   return static_cast<int>(n);
 }
 
+// The contact ends of an entry's `end` key (a word or a list), none when absent.
+std::vector<std::optional<solvers::End>> read_ends(const Reader& reader, const toml::table& entry) {
+  const toml::node* node = entry.get("end");
+  if (node == nullptr) {
+    return {std::nullopt};
+  }
+  std::vector<std::optional<solvers::End>> ends;
+  for (const std::string& name : reader.strings(*node, "end")) {
+    const std::optional<solvers::End> end = value_named(contact_ends, name);
+    if (!end) {
+      reader.fail(*node, "unknown contact end, expected " + names_of(contact_ends) + " (got " +
+                             name + ")");
+    }
+    ends.push_back(end);
+  }
+  if (ends.empty()) {
+    reader.fail(*node, "end is an empty list");
+  }
+  return ends;
+}
+
 void read_solvers(const Reader& reader, const toml::node& node, Scene& scene) {
   const toml::array* entries = node.as_array();
   if (entries == nullptr) {
@@ -179,43 +210,85 @@ void read_solvers(const Reader& reader, const toml::node& node, Scene& scene) {
   }
   for (const toml::node& item : *entries) {
     const toml::table& entry = reader.table(item, "[[solver]]");
-    reader.only(entry, {"name", "rtol", "atol", "precision", "steps_per_contact"}, "[[solver]]");
-    const SolverConfig base = base_config(reader, entry, "name", "[[solver]]", item);
-    const solvers::SolverInfo& info = solvers::solver_named(base.name);
+    reader.only(entry,
+                {"name", "rtol", "atol", "precision", "steps_per_contact", "end", "onset_phases"},
+                "[[solver]]");
+    const SolverConfig first = base_config(reader, entry, "name", "[[solver]]", item);
+    const solvers::SolverInfo& info = solvers::solver_named(first.name);
     const bool fixed_step = info.fixed_step;
-    if (fixed_step && entry.get("rtol") != nullptr) {
-      reader.fail(*entry.get("rtol"),
-                  base.name + " takes a fixed step: give steps_per_contact (got rtol)");
-    }
-    if (const toml::node* steps = entry.get("steps_per_contact")) {
-      if (!fixed_step) {
-        reader.fail(*steps, "steps_per_contact is for fixed-step solvers (got " + base.name + ")");
+    for (const std::optional<solvers::End>& end : read_ends(reader, entry)) {
+      SolverConfig base = first;
+      base.end = end;
+      if (fixed_step && entry.get("rtol") != nullptr) {
+        reader.fail(*entry.get("rtol"),
+                    base.name + " takes a fixed step: give steps_per_contact (got rtol)");
       }
-      for (const double n : reader.numbers(*steps, "steps_per_contact")) {
-        SolverConfig config = base;
-        config.steps_per_contact = steps_per_contact(reader, *steps, n);
-        scene.configs.push_back(config);
+      if (const toml::node* steps = entry.get("steps_per_contact")) {
+        if (!fixed_step) {
+          reader.fail(*steps,
+                      "steps_per_contact is for fixed-step solvers (got " + base.name + ")");
+        }
+        for (const double n : reader.numbers(*steps, "steps_per_contact")) {
+          SolverConfig config = base;
+          config.steps_per_contact = steps_per_contact(reader, *steps, n);
+          scene.configs.push_back(config);
+        }
+        continue;
       }
-      continue;
-    }
-    if (const toml::node* rtol = entry.get("rtol")) {
-      for (const double value : reader.numbers(*rtol, "rtol")) {
-        check_rtol(reader, *rtol, value);
-        SolverConfig config = base;
-        config.rtol = value;
-        scene.configs.push_back(config);
+      if (const toml::node* rtol = entry.get("rtol")) {
+        for (const double value : reader.numbers(*rtol, "rtol")) {
+          check_rtol(reader, *rtol, value);
+          SolverConfig config = base;
+          config.rtol = value;
+          scene.configs.push_back(config);
+        }
+        continue;
       }
-      continue;
+      if (info.default_tolerance != solvers::DefaultTolerance::epsilon && !fixed_step) {
+        reader.fail(item, "[[solver]] " + base.name + " needs rtol (a number or a list)");
+      }
+      SolverConfig config = base;
+      if (fixed_step) {
+        config.steps_per_contact = 50;
+      }
+      scene.configs.push_back(config);
     }
-    if (info.default_tolerance != solvers::DefaultTolerance::epsilon && !fixed_step) {
-      reader.fail(item, "[[solver]] " + base.name + " needs rtol (a number or a list)");
-    }
-    SolverConfig config = base;
-    if (fixed_step) {
-      config.steps_per_contact = 50;
-    }
-    scene.configs.push_back(config);
   }
+}
+
+// A claim on a DEM code's calibration: the e it gives for the grid's target e (needs them, and a
+// p the code has a model for).
+void read_convention_claim(const Reader& reader, const toml::table& entry, const toml::node& item,
+                           const toml::node& node, Scene& scene, Claim& claim) {
+  reader.only(entry, {"name", "observable", "convention", "limit_damping", "bound"}, "[[claim]]");
+  const std::string name = reader.string(node, "convention");
+  const analytic::Convention* convention = analytic::find_convention(name);
+  if (convention == nullptr) {
+    reader.fail(node, "unknown convention, expected " + analytic::convention_names() + " (got " +
+                          name + ")");
+  }
+  if (claim.observable != "e") {
+    reader.fail(*entry.get("observable"),
+                "a convention's claim is about the e it gives: observable must be e (got " +
+                    claim.observable + ")");
+  }
+  if (const toml::node* limit = entry.get("limit_damping")) {
+    if (!limit->is_boolean()) {
+      reader.fail(*limit, "limit_damping must be true or false");
+    }
+    claim.limit_damping = *limit->value<bool>();
+  }
+  const bool targets = std::any_of(scene.damping.begin(), scene.damping.end(),
+                                   [](const Damping& d) { return d.kind == Damping::Kind::e; });
+  const bool models = std::any_of(scene.p.begin(), scene.p.end(), [&](double p) {
+    return (convention->linear && p == 1) || (convention->hertz && p == 1.5);
+  });
+  if (!targets || !models) {
+    reader.fail(item, "[[claim]] " + claim.name + " needs target e in [grid] and a p " + name +
+                          " has a model for (" + (convention->linear ? "1 or 1.5" : "1.5") + ")");
+  }
+  claim.convention = name;
+  scene.claims.push_back(claim);
 }
 
 void read_claims(const Reader& reader, const toml::node& node, Scene& scene) {
@@ -225,12 +298,7 @@ void read_claims(const Reader& reader, const toml::node& node, Scene& scene) {
   }
   for (const toml::node& item : *entries) {
     const toml::table& entry = reader.table(item, "[[claim]]");
-    reader.only(
-        entry,
-        {"name", "observable", "solver", "rtol", "atol", "precision", "steps_per_contact", "bound"},
-        "[[claim]]");
     Claim claim;
-    claim.config = base_config(reader, entry, "solver", "[[claim]]", item);
     for (const char* key : {"name", "observable", "bound"}) {
       if (entry.get(key) == nullptr) {
         reader.fail(item, std::string("[[claim]] needs ") + key);
@@ -238,6 +306,22 @@ void read_claims(const Reader& reader, const toml::node& node, Scene& scene) {
     }
     claim.name = reader.string(*entry.get("name"), "claim name");
     claim.observable = reader.string(*entry.get("observable"), "observable");
+    claim.bound = reader.number(*entry.get("bound"), "bound");
+    reader.require(claim.bound > 0, *entry.get("bound"), "bound must be > 0", claim.bound);
+    if (const toml::node* convention = entry.get("convention")) {
+      read_convention_claim(reader, entry, item, *convention, scene, claim);
+      continue;
+    }
+    reader.only(entry,
+                {"name", "observable", "solver", "rtol", "atol", "precision", "steps_per_contact",
+                 "end", "onset_phases", "bound"},
+                "[[claim]]");
+    claim.config = base_config(reader, entry, "solver", "[[claim]]", item);
+    const std::vector<std::optional<solvers::End>> ends = read_ends(reader, entry);
+    if (ends.size() != 1) {
+      reader.fail(*entry.get("end"), "a claim's end is one contact end (got a list)");
+    }
+    claim.config.end = ends.front();
     const std::vector<const Observable*> wanted = observables_of(scene.want);
     if (std::none_of(wanted.begin(), wanted.end(), [&](const Observable* observable) {
           return observable->key == claim.observable;
@@ -264,8 +348,6 @@ void read_claims(const Reader& reader, const toml::node& node, Scene& scene) {
       reader.fail(item, std::string("[[claim]] needs the ") +
                             (fixed_step ? "steps_per_contact" : "rtol") + " of its solver");
     }
-    claim.bound = reader.number(*entry.get("bound"), "bound");
-    reader.require(claim.bound > 0, *entry.get("bound"), "bound must be > 0", claim.bound);
     scene.claims.push_back(claim);
   }
 }
@@ -385,7 +467,20 @@ std::string SolverConfig::label() const {
   if (steps_per_contact) {
     out += fmt::format(" n={}", *steps_per_contact);
   }
+  if (end) {
+    out += " end=" + std::string(name_of(contact_ends, *end));
+  }
+  if (onset_phases > 1) {
+    out += fmt::format(" phases={}", onset_phases);
+  }
   return out;
+}
+
+std::string SolverConfig::line() const {
+  SolverConfig unswept = *this;
+  unswept.rtol.reset();
+  unswept.steps_per_contact.reset();
+  return unswept.label();
 }
 
 Scene load_scene(const std::string& path) {
@@ -407,10 +502,12 @@ Scene load_scene(const std::string& path) {
   scene.name = root.get("name") ? reader.string(*root.get("name"), "name") : path;
   if (const toml::node* end = root.get("end")) {
     const std::string value = reader.string(*end, "end");
-    if (value != "overlap" && value != "force") {
-      reader.fail(*end, "unknown contact end, expected overlap|force (got " + value + ")");
+    const std::optional<solvers::End> known = value_named(contact_ends, value);
+    if (!known) {
+      reader.fail(*end, "unknown contact end, expected " + names_of(contact_ends) + " (got " +
+                            value + ")");
     }
-    scene.end = value == "force" ? solvers::End::force : solvers::End::overlap;
+    scene.end = *known;
   }
   if (const toml::node* want = root.get("want")) {
     scene.want = read_want(reader, *want);

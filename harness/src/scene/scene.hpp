@@ -7,8 +7,11 @@
 //     [grid]      p, e and/or alpha_eff, v0, m (default [1]), k (default [1]): numbers or lists
 //     [[solver]]  name; rtol (number or list; a reference solver without it: its precision's
 //                 epsilon); atol; precision (double|long|quad|50, where the solver runs in it);
-//                 steps_per_contact (fixed-step solvers, list)
-//     [[claim]]   name, observable, solver, rtol, atol, precision, bound (max abs error)
+//                 steps_per_contact (fixed-step solvers, list); end (overlap|force, or both
+//                 as a list: the contact-end rule when not the scene's); onset_phases (an
+//                 integer n: fixed-step runs at the onset phases k/n, the worst reported)
+//     [[claim]]   name, observable, solver, rtol, atol, precision, bound (max abs error); or
+//                 name, observable = "e", convention (a DEM code's), limit_damping, bound
 //     [[figure]]  kind (figures.hpp), solver, rtol, atol, p, e, alpha_eff: the seed's figures
 //     [report]    formats = ["json", "csv", "md", "html"]
 //     [timing]    repeats = 3   (wall time of a run: the minimum over repeats)
@@ -46,15 +49,26 @@ struct SolverConfig {
   std::optional<double> rtol; // none: the solver's default (a reference: its precision's epsilon)
   std::optional<double> atol;
   std::optional<int> steps_per_contact; // fixed-step solvers
-  std::string label() const;            // "cvode-bdf rtol=1e-08", "taylor quad", "verlet n=50"
+  std::optional<solvers::End> end;      // the contact-end rule, when not the scene's
+  int onset_phases = 1; // fixed-step solvers: evenly spaced onset phases k/n, worst reported
+  // "cvode-bdf rtol=1e-08", "taylor quad", "dem-verlet n=50 end=force phases=16"
+  std::string label() const;
+  // The label without its sweep value (rtol, steps per contact): the line of a work-precision
+  // plot, the sweep of a time-step study.
+  std::string line() const;
   bool operator==(const SolverConfig&) const = default;
 };
 
+// A claim on a solver configuration's error, or on what a DEM code's calibration gives.
 struct Claim {
   std::string name;
   std::string observable; // a key of the observable table the scene wants
-  SolverConfig config;
-  double bound; // on the largest absolute error over the grid
+  SolverConfig config;    // the solver's claims
+  // A DEM code's convention (analytic/conventions.hpp): the claim is that the e it really gives
+  // for each target e of the grid is within the bound (closed forms, no solver).
+  std::optional<std::string> convention;
+  bool limit_damping = false; // the convention's optional force cap switched on
+  double bound;               // on the largest absolute error over the grid
 };
 
 // The seed's figures (judge/figures.hpp).
@@ -88,6 +102,10 @@ inline constexpr NameTable<ReportFormat, 4> report_formats{{{ReportFormat::json,
                                                             {ReportFormat::md, "md"},
                                                             {ReportFormat::html, "html"}}};
 
+// "overlap", "force".
+inline constexpr NameTable<solvers::End, 2> contact_ends{
+    {{solvers::End::overlap, "overlap"}, {solvers::End::force, "force"}}};
+
 struct Scene {
   std::string path, name;
   solvers::End end = solvers::End::overlap;
@@ -101,6 +119,11 @@ struct Scene {
                                     ReportFormat::html};
   int repeats = 1;
 };
+
+// The contact-end rule a configuration runs under: its own, or the scene's.
+inline solvers::End end_of(const Scene& scene, const SolverConfig& config) {
+  return config.end.value_or(scene.end);
+}
 
 // Reads and validates a scene; throws SceneError.
 Scene load_scene(const std::string& path);

@@ -14,20 +14,24 @@ namespace {
 using analytic::Contact;
 using analytic::ContactEnd;
 
-// The closed forms of the plan's observables at `c`.
+// The closed forms of the plan's observables at `c`, at every contact end the plan uses.
 template <SupportedReal Real>
 analytic::Observables<Real> closed_forms(const Contact<Real>& c, const Plan& plan) {
-  return analytic::observables(c, analytic_want_of(plan.scene.want, plan.scene.end));
+  unsigned want = 0;
+  for (const solvers::End end : plan.ends) {
+    want |= analytic_want_of(plan.scene.want, end);
+  }
+  return analytic::observables(c, want);
 }
 
 // The plan's observables from the closed forms, in its order; e and tau are e_cap and t_cut under
 // the force end.
 template <SupportedReal Real>
 std::vector<std::optional<Real>> values_of(const analytic::Observables<Real>& closed,
-                                           const Plan& plan) {
+                                           const Plan& plan, solvers::End end) {
   std::vector<std::optional<Real>> out;
   for (const Observable* observable : plan.observables) {
-    out.push_back(observable->exact(closed, plan.scene.end));
+    out.push_back(observable->exact(closed, end));
   }
   return out;
 }
@@ -117,14 +121,18 @@ Plan make_plan(const Scene& scene) {
   plan.observables = observables_of(scene.want);
   plan.configs = scene.configs;
   for (const Claim& claim : scene.claims) {
-    if (std::find(plan.configs.begin(), plan.configs.end(), claim.config) == plan.configs.end()) {
+    if (!claim.convention &&
+        std::find(plan.configs.begin(), plan.configs.end(), claim.config) == plan.configs.end()) {
       plan.configs.push_back(claim.config);
     }
   }
   std::set<std::string> precisions;
+  std::set<solvers::End> ends{scene.end};
   for (const SolverConfig& config : plan.configs) {
     precisions.insert(alpha_precision(config));
+    ends.insert(end_of(scene, config));
   }
+  plan.ends.assign(ends.begin(), ends.end());
   const ContactEnd end = scene.end == solvers::End::force ? ContactEnd::force : ContactEnd::overlap;
   for (const double p : scene.p) {
     for (const Damping& damping : scene.damping) {
@@ -143,7 +151,9 @@ Plan make_plan(const Scene& scene) {
             rounded == point.alpha ? calibrated
                                    : Contact<Exact>::from_alpha(Exact(p), rounded, Exact(1)),
             plan);
-        point.reference[precision] = values_of(closed, plan);
+        for (const solvers::End config_end : plan.ends) {
+          point.reference[{precision, config_end}] = values_of(closed, plan, config_end);
+        }
         if (rounded == Exact(alpha)) {
           at_double_alpha = closed;
         }
@@ -174,9 +184,9 @@ Plan make_plan(const Scene& scene) {
 }
 
 std::optional<Exact> reference_at(const Plan& plan, const Cell& cell, std::size_t observable,
-                                  const std::string& alpha_precision) {
-  const std::optional<Exact>& unit =
-      plan.points[cell.point].reference.at(alpha_precision)[observable];
+                                  const SolverConfig& config) {
+  const std::optional<Exact>& unit = plan.points[cell.point].reference.at(
+      {alpha_precision(config), end_of(plan.scene, config)})[observable];
   if (!unit) {
     return std::nullopt;
   }

@@ -56,8 +56,8 @@ struct Point {
   double alpha_eff; // the damping as α_eff (computed for a target e)
   Exact alpha;      // calibrated in Exact
   bool overdamped;  // α_eff ≥ 1: no return
-  // Per α precision (alpha_precision): the observables in plan order, in Exact.
-  std::map<std::string, std::vector<std::optional<Exact>>> reference;
+  // Per α precision (alpha_precision) and contact end: the observables in plan order, in Exact.
+  std::map<std::pair<std::string, solvers::End>, std::vector<std::optional<Exact>>> reference;
   // The analytic layer in double against Exact, per observable (plan order).
   std::vector<AnalyticCheck> analytic;
   // What the closed forms cost in double for the observables wanted, per cell (contact and
@@ -71,14 +71,16 @@ struct Plan {
   std::vector<Point> points;
   std::vector<Cell> cells;
   std::vector<SolverConfig> configs; // the scene's, then claim-only ones
+  std::vector<solvers::End> ends;    // the contact ends the configurations run under
 };
 
 // Expands the scene and computes the references (Exact work, once per point).
 Plan make_plan(const Scene& scene);
 
-// The Exact reference of an observable (its index in Plan::observables) at a cell.
+// The Exact reference of an observable (its index in Plan::observables) at a cell, for a
+// configuration (α as its precision receives it, its contact end).
 std::optional<Exact> reference_at(const Plan& plan, const Cell& cell, std::size_t observable,
-                                  const std::string& alpha_precision);
+                                  const SolverConfig& config);
 
 // The precision α is rounded to for a configuration: its own, or Exact's for a solver running
 // wider than the truth (taylor in 50 digits gets the float128 α).

@@ -74,11 +74,16 @@ struct Options {
   std::optional<Real> horizon;
   // Times at which to record (t, δ, v); only those inside the contact are recorded.
   std::vector<Real> sample_times;
-  // A fixed step instead of error control: arkode-* (for convergence-order tests) and verlet.
+  // A fixed step instead of error control: arkode-* (for convergence-order tests) and the
+  // fixed-step schemes.
   std::optional<Real> fixed_step;
-  // verlet without fixed_step: Δt = (π δ_u / v0) / steps_per_contact; π δ_u/v0 is the undamped
-  // contact duration for p = 1 and within 20% of it for 1 ≤ p ≤ 5.
+  // Fixed-step schemes without fixed_step: Δt = (π δ_u / v0) / steps_per_contact; π δ_u/v0 is the
+  // undamped contact duration for p = 1 and within 20% of it for 1 ≤ p ≤ 5.
   int steps_per_contact = 50;
+  // Fixed-step solvers: the contact begins this fraction of a step before the first step position
+  // in contact (free flight at v0 until then), in [0, 1); 0 puts a step position exactly at the
+  // moment of contact. A simulation's step grid falls anywhere relative to that moment.
+  Real onset_phase = 0;
   long max_steps = 1000000;
 
   void validate() const {
@@ -94,6 +99,8 @@ struct Options {
       require_positive("dt", *fixed_step);
     }
     require(steps_per_contact >= 1, "steps per contact must be >= 1", Real(steps_per_contact));
+    require_finite("onset phase", onset_phase);
+    require(onset_phase >= 0 && onset_phase < 1, "onset phase must be in [0, 1)", onset_phase);
     require(max_steps >= 1, "max steps must be >= 1", Real(max_steps));
     require(want != 0 && (want & ~unsigned(want_all)) == 0, "want must name an observable",
             Real(want));
@@ -144,7 +151,7 @@ template <SupportedReal Real>
 struct Result {
   Outcome outcome = Outcome::step_limit;
   std::optional<Real> e, delta_max, t_peak, tau, energy_load, energy_unload;
-  std::optional<Real> fixed_step; // the step of a fixed-step run (verlet, or Options::fixed_step)
+  std::optional<Real> fixed_step; // the step of a fixed-step run (or Options::fixed_step)
   long steps = 0;
   long rhs_evals = 0; // every right-hand-side evaluation, Jacobian difference quotients included
   long jacobian_evals = 0; // analytic Jacobians of the implicit methods (each ~ one rhs)
