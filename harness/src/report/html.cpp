@@ -146,6 +146,11 @@ ClosedForm closed_form_at(const Plan& plan, std::size_t p_index) {
 
 enum class Axis { time, rhs_evals };
 
+// A plot's height with its legend below it, two entries a row: the plot keeps 400 pixels.
+int key_height(int entries) {
+  return 400 + 18 * ((entries + 1) / 2);
+}
+
 // Error against time (or rhs evaluations) at one p, one line per solver of the chosen panel
 // (double or extended precision), with the closed forms as references: their cost per cell (a
 // vertical line, on time axes) and their own error in double (a horizontal line).
@@ -154,7 +159,7 @@ std::string work_precision_plot(const Gnuplot& gnuplot, const RunReport& report,
   const Plan& plan = report.plan;
   std::ostringstream script;
   script << "set logscale xy\nset format y '10^{%L}'\nset format x '10^{%L}'\nset grid\n"
-         << "set key outside right top noenhanced\nset xlabel "
+         << "set key outside below left Left reverse maxcols 2 noenhanced\nset xlabel "
          << (axis == Axis::time ? "'wall time per collision [s]'"
                                 : "'rhs evaluations per collision'")
          << "\nset ylabel 'largest relative error'\nset title "
@@ -218,7 +223,7 @@ std::string work_precision_plot(const Gnuplot& gnuplot, const RunReport& report,
   script << fmt::format("set xrange [{:.17g}:{:.17g}]\nset yrange [{:.17g}:{:.17g}]\n", x_low / 3,
                         x_high * 3, y_low / 3, y_high * 10);
   script << plot << "\n";
-  return gnuplot.svg(script.str(), 640, 400);
+  return gnuplot.svg(script.str(), 640, key_height(block));
 }
 
 // The time-step study at one p, one observable: the worst error against Δt/τ per sweep, with
@@ -229,7 +234,8 @@ std::string step_study_plot(const Gnuplot& gnuplot, const RunReport& report, std
   const StepStudy& study = report.budgets.steps;
   std::ostringstream script;
   script << "set logscale xy\nset format y '10^{%L}'\nset format x '10^{%L}'\nset grid\n"
-         << "set key outside right top noenhanced\nset xlabel 'Δt / τ'\nset ylabel "
+         << "set key outside below left Left reverse maxcols 2 noenhanced\nset xlabel 'Δt / "
+            "τ'\nset ylabel "
          << gnuplot_string("worst relative error in " +
                            std::string(plan.observables[observable]->key))
          << " noenhanced\nset title "
@@ -237,6 +243,7 @@ std::string step_study_plot(const Gnuplot& gnuplot, const RunReport& report, std
                                        plan.observables[observable]->key))
          << " noenhanced\n";
   std::string plot;
+  int lines = 0;
   double x_low = std::numeric_limits<double>::infinity(), x_high = 0;
   for (std::size_t k = 0; k < study.sweeps.size(); ++k) {
     const StepSweep& sweep = study.sweeps[k];
@@ -252,6 +259,7 @@ std::string step_study_plot(const Gnuplot& gnuplot, const RunReport& report, std
       continue;
     }
     const Style style = style_of(k);
+    ++lines;
     script << "$s" << k << " << EOD\n" << data << "EOD\n";
     plot += fmt::format("{}$s{} with linespoints lw 2 lc rgb '{}' pt {} ps 0.9 dt {} title {}",
                         plot.empty() ? "plot " : ", ", k, style.colour, style.marker, style.dash,
@@ -273,7 +281,7 @@ std::string step_study_plot(const Gnuplot& gnuplot, const RunReport& report, std
                           x, gnuplot_string(name), leftmost, height);
   }
   script << fmt::format("set xrange [{:.17g}:{:.17g}]\n", x_low / 2, x_high * 2) << plot << "\n";
-  return gnuplot.svg(script.str(), 640, 400);
+  return gnuplot.svg(script.str(), 640, key_height(lines));
 }
 
 // The viridis palette at 5 stops (perceptually ordered, legible in grey).
