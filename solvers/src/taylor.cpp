@@ -111,7 +111,10 @@ private:
     return *exit_;
   }
   bool with_work() const { return collision_.with_work(); }
-  bool force_end() const { return collision_.options().end == End::force; }
+  // Without damping the total force is the spring's, k δ^p, and first reaches 0 at δ = 0: the
+  // force end is the overlap end, found by the exit series (cut_ = κ δ^b never changes sign
+  // within a step, as no step crosses δ = 0).
+  bool force_end() const { return collision_.options().end == End::force && gamma_ > 0; }
   std::span<const Real> span_of(const std::vector<Real>& series) const { return series; }
 
   StateOf<Real> physical(const Scaled& y) const {

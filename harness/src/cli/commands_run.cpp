@@ -2,8 +2,10 @@
 #include "cli/commands.hpp"
 #include "report/report.hpp"
 
+#include <filesystem>
 #include <fstream>
 #include <iostream>
+#include <sstream>
 #include <thread>
 #include <unistd.h>
 
@@ -19,26 +21,15 @@ void draw_progress(std::size_t done, std::size_t total) {
             << total << (done == total ? "\n" : "") << std::flush;
 }
 
-nlohmann::json read_report(const std::string& path) {
-  std::ifstream in(path);
-  if (!in) {
+// The report at `path`, read whole and checked (judge/diff.hpp).
+nlohmann::json read_report_file(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in || std::filesystem::is_directory(path)) {
     throw InputError("cannot read report (got " + path + ")");
   }
-  nlohmann::json report;
-  try {
-    report = nlohmann::json::parse(in);
-  } catch (const nlohmann::json::exception&) {
-    throw InputError("not a JSON report (got " + path + ")");
-  }
-  if (!report.is_object() || !report.contains("schema") || !report.contains("records") ||
-      !report.contains("claims")) {
-    throw InputError("not a pldamp report.json (got " + path + ")");
-  }
-  if (report.at("schema") != report_schema) {
-    throw InputError("report schema " + report.at("schema").dump() + " is not " +
-                     std::to_string(report_schema) + " (got " + path + ")");
-  }
-  return report;
+  std::ostringstream text;
+  text << in.rdbuf();
+  return read_report(text.str(), path);
 }
 
 } // namespace
@@ -80,8 +71,8 @@ void run_scene(const RunArgs& args, std::ostream& out, std::ostream& err) {
 }
 
 int run_diff(const std::string& old_path, const std::string& new_path, std::ostream& out) {
-  const nlohmann::json old_report = read_report(old_path);
-  const nlohmann::json new_report = read_report(new_path);
+  const nlohmann::json old_report = read_report_file(old_path);
+  const nlohmann::json new_report = read_report_file(new_path);
   const std::vector<std::string> found = regressions(old_report, new_report);
   for (const std::string& line : found) {
     out << line << "\n";

@@ -1,5 +1,7 @@
 #include "judge/diff.hpp"
 
+#include "common/input.hpp"
+
 #include <fmt/format.h>
 
 #include <limits>
@@ -17,7 +19,89 @@ double precision_noise(const std::string& precision) {
   return 16 * epsilon;
 }
 
+// `where` in `report` must hold a value `is` accepts; else "PATH: WHERE must be WHAT".
+template <class Check>
+void expect(const nlohmann::json& value, Check is, const std::string& path,
+            const std::string& where, const std::string& what) {
+  if (!is(value)) {
+    throw InputError(path + ": " + where + " must be " + what + " (got " +
+                     value.dump(-1, ' ', true).substr(0, 40) + ")");
+  }
+}
+
+const nlohmann::json& member(const nlohmann::json& object, const char* key, const std::string& path,
+                             const std::string& where) {
+  const auto found = object.find(key);
+  if (found == object.end()) {
+    throw InputError(path + ": " + where + " has no \"" + key + "\"");
+  }
+  return *found;
+}
+
 } // namespace
+
+nlohmann::json read_report(std::string_view text, const std::string& path) {
+  nlohmann::json report = nlohmann::json::parse(text, nullptr, false);
+  if (report.is_discarded()) {
+    throw InputError("not a JSON report (got " + path + ")");
+  }
+  if (!report.is_object() || !report.contains("schema") || !report.contains("records") ||
+      !report.contains("claims")) {
+    throw InputError("not a pldamp report.json (got " + path + ")");
+  }
+  if (report.at("schema") != report_schema) {
+    throw InputError(path + ": report schema " + report.at("schema").dump().substr(0, 40) +
+                     " is not " + std::to_string(report_schema));
+  }
+  const auto is_string = [](const nlohmann::json& j) { return j.is_string(); };
+  const auto is_object = [](const nlohmann::json& j) { return j.is_object(); };
+  const auto is_array = [](const nlohmann::json& j) { return j.is_array(); };
+  expect(report.at("claims"), is_array, path, "claims", "an array");
+  expect(report.at("records"), is_array, path, "records", "an array");
+  std::size_t i = 0;
+  for (const nlohmann::json& claim : report.at("claims")) {
+    const std::string where = "claims[" + std::to_string(i++) + "]";
+    expect(claim, is_object, path, where, "an object");
+    expect(member(claim, "name", path, where), is_string, path, where + ".name", "a string");
+    expect(member(claim, "verdict", path, where), is_string, path, where + ".verdict", "a string");
+  }
+  i = 0;
+  for (const nlohmann::json& record : report.at("records")) {
+    const std::string where = "records[" + std::to_string(i++) + "]";
+    expect(record, is_object, path, where, "an object");
+    expect(member(record, "key", path, where), is_string, path, where + ".key", "a string");
+    expect(member(record, "outcome", path, where), is_string, path, where + ".outcome", "a string");
+    expect(
+        member(record, "failed", path, where),
+        [](const nlohmann::json& j) { return j.is_boolean(); }, path, where + ".failed",
+        "true or false");
+    const nlohmann::json& errors = member(record, "rel_error", path, where);
+    expect(errors, is_object, path, where + ".rel_error", "an object");
+    for (const auto& [name, error] : errors.items()) {
+      expect(
+          error,
+          [](const nlohmann::json& j) {
+            return j.is_null() || (j.is_number() && !(j.get<double>() < 0));
+          },
+          path, where + ".rel_error." + name, "null or a number >= 0");
+    }
+    if (const auto precision = record.find("precision"); precision != record.end()) {
+      expect(
+          *precision,
+          [](const nlohmann::json& j) {
+            bool known = false;
+            if (j.is_string()) {
+              for_each_precision([&]<class Real>() {
+                known = known || precision_name<Real>() == j.get<std::string>();
+              });
+            }
+            return known;
+          },
+          path, where + ".precision", "one of " + precision_names());
+    }
+  }
+  return report;
+}
 
 std::vector<std::string> regressions(const nlohmann::json& old_report,
                                      const nlohmann::json& new_report) {

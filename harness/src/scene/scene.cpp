@@ -9,7 +9,11 @@
 #include <toml++/toml.h>
 
 #include <algorithm>
+#include <cerrno>
 #include <cmath>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
 #include <initializer_list>
 #include <sstream>
 #include <string_view>
@@ -483,15 +487,86 @@ std::string SolverConfig::line() const {
   return unswept.label();
 }
 
+namespace {
+
+// Refuses nesting toml++ would recurse into without bound (max_scene_nesting): arrays and
+// inline tables inside each other, and dotted keys or table headers with many parts. A lexical
+// pass that skips strings and comments; a dot between two digits is a number's, not a key's.
+void check_nesting(const Reader& reader, std::string_view text) {
+  int depth = 0, dots = 0;
+  std::size_t line = 1;
+  auto deeper_than_allowed = [&](int levels) {
+    if (levels > max_scene_nesting) {
+      reader.fail_at(line, "nested deeper than " + std::to_string(max_scene_nesting) +
+                               " levels (arrays, inline tables or dotted keys)");
+    }
+  };
+  auto digit = [&](std::size_t i) { return i < text.size() && text[i] >= '0' && text[i] <= '9'; };
+  for (std::size_t i = 0; i < text.size(); ++i) {
+    const char c = text[i];
+    if (c == '\n') {
+      ++line;
+      dots = 0;
+    } else if (c == '#') {
+      while (i + 1 < text.size() && text[i + 1] != '\n') {
+        ++i;
+      }
+    } else if (c == '"' || c == '\'') {
+      const bool multiline = text.substr(i, 3) == std::string(3, c);
+      const std::string_view close = multiline ? text.substr(i, 3) : text.substr(i, 1);
+      i += close.size();
+      while (i < text.size() && text.substr(i, close.size()) != close) {
+        if (text[i] == '\n') {
+          if (!multiline) {
+            break; // an unterminated string: toml++ says so
+          }
+          ++line;
+        } else if (c == '"' && text[i] == '\\') {
+          ++i; // an escaped character
+        }
+        ++i;
+      }
+      i += close.size() - 1;
+    } else if (c == '[' || c == '{') {
+      deeper_than_allowed(++depth);
+    } else if (c == ']' || c == '}') {
+      depth = std::max(depth - 1, 0);
+    } else if (c == '.' && !(i > 0 && digit(i - 1) && digit(i + 1))) {
+      deeper_than_allowed(++dots + 1);
+    }
+  }
+}
+
+} // namespace
+
 Scene load_scene(const std::string& path) {
+  std::error_code error;
+  if (std::filesystem::is_directory(path, error)) {
+    throw SceneError(path + ":0: is a directory, not a scene file");
+  }
+  std::ifstream in(path, std::ios::binary);
+  if (!in) {
+    throw SceneError(path + ":0: cannot read the scene (" + std::strerror(errno) + ")");
+  }
+  std::string text;
+  char buffer[65536];
+  while (in.read(buffer, sizeof buffer) || in.gcount() > 0) {
+    text.append(buffer, static_cast<std::size_t>(in.gcount()));
+    if (text.size() > max_scene_bytes) {
+      throw SceneError(path + ":0: a scene is at most " + std::to_string(max_scene_bytes) +
+                       " bytes; this file is larger");
+    }
+  }
+  return parse_scene(text, path);
+}
+
+Scene parse_scene(std::string_view text, const std::string& path) {
   const Reader reader(path);
+  check_nesting(reader, text);
   toml::table root;
   try {
-    root = toml::parse_file(path);
+    root = toml::parse(text, path);
   } catch (const toml::parse_error& e) {
-    if (e.source().begin.line == 0) { // not a parse error inside the file: it cannot be read
-      throw SceneError(path + ":0: cannot read the scene (" + std::string(e.description()) + ")");
-    }
     reader.fail_at(e.source().begin.line, std::string(e.description()));
   }
   reader.only(root,

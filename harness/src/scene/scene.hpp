@@ -125,7 +125,15 @@ inline solvers::End end_of(const Scene& scene, const SolverConfig& config) {
   return config.end.value_or(scene.end);
 }
 
-// Reads and validates a scene; throws SceneError.
+// Reads and validates a scene file; throws SceneError.
 Scene load_scene(const std::string& path);
+// The same from the file's text (`path` names it in messages).
+Scene parse_scene(std::string_view text, const std::string& path);
+
+// A scene file larger than this is refused before parsing (the largest shipped is ~3 kB).
+inline constexpr std::size_t max_scene_bytes = 1 << 20;
+// Keys, tables, arrays and inline tables nested deeper than this are refused before parsing:
+// toml++ parses them recursively, and 100 000 levels overflowed the stack.
+inline constexpr int max_scene_nesting = 32;
 
 } // namespace pldamp::harness
