@@ -135,7 +135,7 @@ public:
     t_start_ = t_;
     y_start_ = y_now_;
     const int flag = ERKStepEvolve(memory_.get(), t_stop, y_.get(), &t_, ARK_ONE_STEP);
-    last_.check(flag, "ERKStepEvolve");
+    last_.check_step(flag, "ERKStepEvolve");
     y = y_now_ = to_state(y_.get());
     return t_;
   }
@@ -218,7 +218,8 @@ public:
 
   double step(double t_stop, State& y) override {
     double t = 0;
-    last_.check(ARKStepEvolve(memory_.get(), t_stop, y_.get(), &t, ARK_ONE_STEP), "ARKStepEvolve");
+    last_.check_step(ARKStepEvolve(memory_.get(), t_stop, y_.get(), &t, ARK_ONE_STEP),
+                     "ARKStepEvolve");
     y = to_state(y_.get());
     return t;
   }

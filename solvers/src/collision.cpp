@@ -13,7 +13,7 @@ BasicCollision<Real>::BasicCollision(const Problem<Real>& problem, const Options
     : ode_(problem), options_(options),
       horizon_(options.horizon.value_or(1000 * ode_.time_scale())),
       sample_times_(options.sample_times) {
-  options_.validate();
+  validate_against(problem, options_);
   std::sort(sample_times_.begin(), sample_times_.end());
   // An "exit" at a speed within the tolerances (of v, and of δ per time unit) is an overdamped
   // overlap that decayed into the integration noise and crossed 0 there: not a return the solver
@@ -88,13 +88,92 @@ bool BasicCollision<Real>::record(EventKind kind, const Real& t, const State& y)
   tau_ = t;
   exit_speed_ = abs(y[1]);
   work_exit_ = y[2];
+  exit_overlap_ = y[0];
   return true;
 }
 
 template <SupportedReal Real>
-Result<Real> BasicCollision<Real>::finish(Outcome outcome, long steps) {
+std::optional<Outcome> BasicCollision<Real>::out_of_budget(long steps, bool every_call) const {
+  if (steps >= options_.max_steps) {
+    return Outcome::step_limit;
+  }
+  if (every_call || steps % 256 == 0) {
+    const double elapsed =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
+    if (elapsed > options_.max_seconds || (options_.stop != nullptr && options_.stop->load())) {
+      return Outcome::time_limit;
+    }
+  }
+  return std::nullopt;
+}
+
+template <SupportedReal Real>
+std::string BasicCollision<Real>::violated_invariant() const {
+  using std::isfinite;
+  using std::max;
+  using std::sqrt;
+  if (peak_found_ && !(isfinite(delta_max_) && delta_max_ >= 0 && isfinite(t_peak_))) {
+    return "delta_max " + to_string_full(delta_max_);
+  }
+  if (!exit_found_) {
+    return {};
+  }
+  if (!(isfinite(exit_speed_) && isfinite(tau_) && isfinite(work_exit_))) {
+    return "exit state not finite";
+  }
+  const Real e = exit_speed_ / ode_.v0();
+  if (options_.fixed_step) {
+    // No tolerance is asked of a fixed step; a stable second-order step can still gain energy by
+    // its truncation, ~(ωΔt)² relative with ω² = k p δ_max^(p−1)/m the contact's stiffest
+    // linearised frequency (at α = 0, 10 steps per contact: e = 1.002 at p = 1, 1.0013 at
+    // p = 1.5). More than (ωΔt)²/8, or a quarter whatever the step, is the scheme's instability
+    // (Δt = 10 gave e = 324; arkode-dp5 at Δt = 5, e = 1.87).
+    const Real omega_squared = ode_.k() * ode_.p() * ode_.dashpot_factor(delta_max_) *
+                               ode_.dashpot_factor(delta_max_) / ode_.m();
+    const Real step = *options_.fixed_step;
+    const Real allowance = std::min(Real(omega_squared * step * step / 8), Real(1) / 4);
+    return e > 1 + allowance ? "energy gained: e = " + to_string_full(e) : std::string();
+  }
+  // Error control: e and the energy balance ½mv0² = ½mv² + kδ^(p+1)/(p+1) + W (at the force
+  // end δ > 0 at the cut) hold to the tolerance asked, with room for its global accumulation:
+  // CVODE's balance was off by up to 400 rtol at rtol 1e-12 (stress scene), so 1e4 tol, and at
+  // most √tol, where a loose tolerance would otherwise excuse anything.
+  Real tolerance = options_.rtol;
+  if (options_.atol) {
+    const Real atol = *options_.atol;
+    tolerance = max(max(tolerance, Real(atol / ode_.delta_scale())),
+                    max(Real(atol / ode_.v0()), Real(atol / ode_.energy_scale())));
+  }
+  using std::min;
+  const Real allowance = min(Real(10000 * tolerance), Real(sqrt(tolerance))) +
+                         1000 * std::numeric_limits<Real>::epsilon();
+  if (e > 1 + allowance) {
+    return "energy gained: e = " + to_string_full(e);
+  }
+  if (with_work()) {
+    const Real left = ode_.mechanical_energy(exit_overlap_, exit_speed_) + work_exit_;
+    const Real imbalance = (left - ode_.energy_scale()) / ode_.energy_scale();
+    using std::abs;
+    if (!(abs(imbalance) <= allowance)) {
+      return "energy balance off by " + to_string_full(imbalance) + " of m v0^2/2";
+    }
+  }
+  return {};
+}
+
+template <SupportedReal Real>
+Result<Real> BasicCollision<Real>::finish(Outcome outcome, long steps, const std::string& reason) {
   Result<Real> r;
   r.outcome = outcome;
+  if (outcome == Outcome::unstable) {
+    r.invariant = reason.empty() ? "the state is no longer finite" : reason;
+  } else {
+    r.invariant = violated_invariant();
+  }
+  if (!r.invariant.empty()) {
+    r.outcome = outcome = Outcome::unstable;
+    peak_found_ = exit_found_ = false; // nothing below is filled
+  }
   const unsigned want = options_.want;
   if (peak_found_) {
     if (want & want_delta_max) {
@@ -128,6 +207,7 @@ Result<Real> BasicCollision<Real>::finish(Outcome outcome, long steps) {
     }
   }
   r.fixed_step = options_.fixed_step;
+  r.horizon = horizon_;
   r.steps = steps;
   r.rhs_evals = rhs_evals_;
   r.jacobian_evals = jacobian_evals_;
@@ -172,9 +252,11 @@ Result<double> run_one_step_method(OneStepMethod& method, Collision& collision) 
   double t = 0;
   collision.sample_through(t, [&](double) { return y; });
   const double horizon = collision.horizon();
-  const long max_steps = collision.options().max_steps;
   const ExitApproach approach(method, collision);
-  while (method.steps() < max_steps) {
+  for (;;) {
+    if (const auto spent = collision.out_of_budget(method.steps())) {
+      return collision.finish(*spent, method.steps());
+    }
     // Only while a return can still be told from the noise: once a critical or overdamped
     // overlap has decayed into it, δ hovers about 0 and the cap κ δ/|v| would creep (odeint-rkf78
     // ran into its step limit at p = 1, z = 1).
@@ -185,7 +267,14 @@ Result<double> run_one_step_method(OneStepMethod& method, Collision& collision) 
     }
     double t_from = t;
     State y_from = y;
-    t = method.step(horizon, y);
+    try {
+      t = method.step(horizon, y);
+    } catch (const StepFailed& failure) {
+      return collision.finish(Outcome::unstable, method.steps(), failure.what());
+    }
+    if (Collision::diverged(y)) {
+      return collision.finish(Outcome::unstable, method.steps());
+    }
     for (const EventKind kind : {EventKind::peak, EventKind::exit}) {
       if (!collision.pending(kind)) {
         continue;
@@ -231,7 +320,57 @@ Result<double> run_one_step_method(OneStepMethod& method, Collision& collision) 
       return collision.finish(Outcome::no_exit, method.steps());
     }
   }
-  return collision.finish(Outcome::step_limit, method.steps());
 }
 
 } // namespace pldamp::solvers::detail
+
+namespace pldamp::solvers {
+
+template <SupportedReal Real>
+void validate_against(const Problem<Real>& problem, const Options<Real>& options) {
+  options.validate();
+  const ContactOde<Real> ode(problem);
+  using std::min;
+  const Real epsilon = std::numeric_limits<Real>::epsilon();
+  const Real time_scale = ode.time_scale();
+  if (options.atol) {
+    // atol applies literally to δ, v and W (problem.hpp): at or above the smallest of their
+    // natural scales it lets any answer through (atol 1e300 gave δ_max = −338); far below it the
+    // first steps out of δ = 0 cannot meet it (at scale 1, CVODE and ARKODE's error tests failed
+    // at t = 0 from atol 1e-60, and met 1e-30): the floor is ε² times that scale.
+    const bool with_work = (options.want & want_energy) != 0;
+    const Real scale =
+        min(min(ode.delta_scale(), ode.v0()), with_work ? ode.energy_scale() : ode.v0());
+    const Real floor = epsilon * epsilon * scale;
+    require(*options.atol < scale && *options.atol >= floor,
+            "atol must be in [" + to_string_full(floor) + ", " + to_string_full(scale) +
+                "), epsilon^2 times and once the smallest natural scale of the state (delta_u, " +
+                "v0" + (with_work ? ", m v0^2/2" : "") + ")",
+            *options.atol);
+  }
+  // The horizon: at least ε of the time scale (CVODE refused a stop time of 1e-300 as behind
+  // t = 0), at most 1e9 of it (an overdamped contact's steps then grew to 1e133 and CVODE's
+  // corrector failed; the default is 1000).
+  const Real horizon = options.horizon.value_or(1000 * time_scale);
+  require(horizon >= epsilon * time_scale && horizon <= 1000000000 * time_scale,
+          "horizon must be in [" + to_string_full(Real(epsilon * time_scale)) + ", " +
+              to_string_full(Real(1000000000 * time_scale)) +
+              "], epsilon and 1e9 times the time scale delta_u/v0",
+          horizon);
+  // A fixed step below ε of the time scale does not advance time; one beyond the horizon never
+  // sees the contact at all.
+  if (options.fixed_step) {
+    require(*options.fixed_step >= epsilon * time_scale && *options.fixed_step < horizon,
+            "dt must be in [" + to_string_full(Real(epsilon * time_scale)) + ", " +
+                to_string_full(horizon) + "), epsilon times the time scale delta_u/v0 and the " +
+                "horizon",
+            *options.fixed_step);
+  }
+}
+
+#define PLDAMP_INSTANTIATE(Real, name)                                                             \
+  template void validate_against(const Problem<Real>&, const Options<Real>&);
+PLDAMP_FOR_EACH_PRECISION(PLDAMP_INSTANTIATE)
+#undef PLDAMP_INSTANTIATE
+
+} // namespace pldamp::solvers

@@ -11,6 +11,7 @@
 
 #include <cvode/cvode.h>
 
+#include <algorithm>
 #include <array>
 #include <string>
 
@@ -69,7 +70,10 @@ Result<double> solve_cvode(CvodeMethod method, const Problem<double>& problem,
   w.last_message.check(CVodeSVtolerances(cvode, options.rtol, w.atol.get()), "CVodeSVtolerances");
   w.last_message.check(CVodeSetUserData(cvode, &collision), "CVodeSetUserData");
   w.last_message.check(CVodeSetStopTime(cvode, collision.horizon()), "CVodeSetStopTime");
-  w.last_message.check(CVodeSetMaxNumSteps(cvode, options.max_steps), "CVodeSetMaxNumSteps");
+  // At most this many steps per call, so that the budget (steps, wall time, a stop request) is
+  // looked at between calls; CV_TOO_MUCH_WORK then means "call again".
+  const long steps_per_call = std::min(options.max_steps, 4096L);
+  w.last_message.check(CVodeSetMaxNumSteps(cvode, steps_per_call), "CVodeSetMaxNumSteps");
 
   auto steps = [&] {
     long n = 0;
@@ -88,10 +92,17 @@ Result<double> solve_cvode(CvodeMethod method, const Problem<double>& problem,
   for (;;) {
     double t = 0;
     const int flag = CVode(cvode, collision.horizon(), w.y.get(), &t, mode);
-    if (flag == CV_TOO_MUCH_WORK || steps() >= options.max_steps) {
-      return collision.finish(Outcome::step_limit, steps());
+    if (const auto spent = collision.out_of_budget(steps(), true)) {
+      return collision.finish(*spent, steps());
     }
-    w.last_message.check(flag, "CVode");
+    if (flag == CV_TOO_MUCH_WORK) {
+      continue;
+    }
+    try {
+      w.last_message.check_step(flag, "CVode");
+    } catch (const StepFailed& failure) {
+      return collision.finish(Outcome::unstable, steps(), failure.what());
+    }
     const State y = to_state(w.y.get());
     collision.sample_through(t, state_at);
     if (flag == CV_ROOT_RETURN) {

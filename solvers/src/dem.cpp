@@ -99,8 +99,12 @@ public:
       outcome = Outcome::no_exit;
       return true;
     }
-    if (steps >= stepped_.max_steps) {
-      outcome = Outcome::step_limit;
+    if (Collision::diverged(y)) {
+      outcome = Outcome::unstable;
+      return true;
+    }
+    if (const auto spent = collision_.out_of_budget(steps)) {
+      outcome = *spent;
       return true;
     }
     return false;
@@ -138,6 +142,9 @@ Result<double> solve_dem(DemScheme scheme, const Problem<double>& problem,
   double t = contact.start_time();
   double delta = contact.start_overlap(), v = collision.ode().v0();
   long steps = 0;
+  if (const auto spent = collision.out_of_budget(steps)) { // the loops look after each step
+    return collision.finish(*spent, steps);
+  }
   Outcome outcome = Outcome::step_limit;
   switch (scheme) {
   case DemScheme::verlet: {

@@ -16,10 +16,14 @@
 
 // Odeint's controlled stepper copies a default-constructed RKF78 whose std::array scratch states
 // are not yet written; GCC 12 flags the copy (a false positive inside Boost 1.74).
+#if defined(__GNUC__) && !defined(__clang__)
 #pragma GCC diagnostic push
 #pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
+#endif
 #include <boost/numeric/odeint.hpp>
+#if defined(__GNUC__) && !defined(__clang__)
 #pragma GCC diagnostic pop
+#endif
 
 #include <algorithm>
 
@@ -79,10 +83,19 @@ public:
     u_start_ = u_;
     dudt_start_ = dudt_;
     t_start_ = t_;
-    for (;;) {
+    // A step of a coasting stretch (p = 50: no force left) grows towards the horizon and its
+    // stages overflow |δ|^p far beyond the exit; NaN errors compare false with the tolerance, so
+    // odeint accepts such a step. Retried from its start with half the size, up to 64 times.
+    for (int halvings = 0;;) {
       dt_ = std::min(dt_, t_stop - t_);
+      const double tried = dt_;
       if (controlled_.try_step(system_, u_, dudt_start_, t_, dt_) == odeint::success) {
-        break;
+        if (!Collision::diverged(system_.physical(u_)) || ++halvings > 64) {
+          break;
+        }
+        u_ = u_start_;
+        t_ = t_start_;
+        dt_ = tried / 2;
       }
     }
     ++steps_;

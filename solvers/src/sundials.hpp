@@ -119,6 +119,12 @@ struct LastMessage {
       throw std::runtime_error(std::string(call) + " failed: " + text);
     }
   }
+  // A failure of the integration itself (not of its set-up): StepFailed (collision.hpp).
+  void check_step(int flag, const char* call) const {
+    if (flag < 0) {
+      throw StepFailed(std::string(call) + " failed: " + text);
+    }
+  }
 };
 
 // A dense 3×3 Newton solver: the matrix and its LU solver.

@@ -245,8 +245,8 @@ Result<Real> TaylorContact<Real>::run() {
   sample_through(t, [&](const Real& s) { return entry_state(s); });
   long steps = 0;
   while (t < horizon_) {
-    if (steps == collision_.options().max_steps) {
-      return collision_.finish(Outcome::step_limit, steps);
+    if (const auto spent = collision_.out_of_budget(steps, true)) {
+      return collision_.finish(*spent, steps);
     }
     compute_coefficients(y);
     const Real estimate = step_size();

@@ -57,7 +57,10 @@ Result<double> solve_verlet(const Problem<double>& problem, const Options<double
   };
   double power = dashpot_power(y[0], y[1]);
   long steps = 0;
-  while (steps < options.max_steps) {
+  for (;;) {
+    if (const auto spent = collision.out_of_budget(steps)) {
+      return collision.finish(*spent, steps);
+    }
     const State y_old = y;
     const double t_old = t;
     const double v_half = y[1] + a * dt / 2;
@@ -69,6 +72,9 @@ Result<double> solve_verlet(const Problem<double>& problem, const Options<double
     const double power_new = dashpot_power(delta, v);
     y = {delta, v, y[2] + dt / 2 * (power + power_new)};
     power = power_new;
+    if (Collision::diverged(y)) {
+      return collision.finish(Outcome::unstable, steps);
+    }
     auto between = [&](double s) { return interpolate((s - t_old) / dt, dt, y_old, y); };
     if (collision.pending(EventKind::peak) && y_old[1] > 0 && y[1] <= 0) {
       const double t_peak = t_old + dt * y_old[1] / (y_old[1] - y[1]);
@@ -93,7 +99,6 @@ Result<double> solve_verlet(const Problem<double>& problem, const Options<double
       return collision.finish(Outcome::no_exit, steps);
     }
   }
-  return collision.finish(Outcome::step_limit, steps);
 }
 
 } // namespace pldamp::solvers::detail

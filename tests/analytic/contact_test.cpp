@@ -29,17 +29,26 @@ TYPED_TEST(ContactTest, BadInputNamesTheParameterAndValue) {
   const Real one(1);
   const Real nan = std::numeric_limits<Real>::quiet_NaN();
   const Real inf = std::numeric_limits<Real>::infinity();
-  EXPECT_EQ(message_of([&] { C::from_e(Real(1) / 2, one / 2, one); }), "p must be >= 1 (got 0.5)");
+  EXPECT_EQ(message_of([&] { C::from_e(Real(1) / 2, one / 2, one); }),
+            "p must be in [1, 1000] (got 0.5)");
+  EXPECT_EQ(message_of([&] { C::from_e(Real(1001), one / 2, one); }),
+            "p must be in [1, 1000] (got 1001)");
   EXPECT_EQ(message_of([&] { C::from_e(nan, one / 2, one); }), "p must be finite (got nan)");
   EXPECT_EQ(message_of([&] { C::from_e(one, Real(0), one); }), "e must be in (0, 1] (got 0)");
   EXPECT_EQ(message_of([&] { C::from_e(one, Real(2), one); }), "e must be in (0, 1] (got 2)");
-  EXPECT_EQ(message_of([&] { C::from_e(one, one / 2, Real(-1)); }), "v0 must be > 0 (got -1)");
+  EXPECT_EQ(message_of([&] { C::from_e(one, one / 2, Real(-1)); }),
+            "v0 must be in [1e-30, 1e30] (got -1)");
+  EXPECT_EQ(message_of([&] { C::from_e(one, one / 2, one, Real(-2)); }),
+            "m must be in [1e-30, 1e30] (got -2)");
   EXPECT_EQ(message_of([&] { C::from_e(one, one / 2, one, nan); }), "m must be finite (got nan)");
   EXPECT_EQ(message_of([&] { C::from_e(one, one / 2, one, one, inf); }),
             "k must be finite (got inf)");
   EXPECT_EQ(message_of([&] { C::from_e(one, one / 2, one, one, Real(0)); }),
-            "k must be > 0 (got 0)");
-  EXPECT_EQ(message_of([&] { C::from_alpha(one, Real(-1), one); }), "alpha must be >= 0 (got -1)");
+            "k must be in [1e-30, 1e30] (got 0)");
+  EXPECT_EQ(message_of([&] { C::from_alpha(one, Real(-1), one); }),
+            "alpha must be in [0, 1e8] (got -1)");
+  EXPECT_EQ(message_of([&] { C::from_alpha_eff(one, Real(-1), one); }),
+            "alpha_eff must be in [0, 1e6] (got -1)");
   EXPECT_EQ(message_of([&] { C::from_alpha_eff(one, nan, one); }),
             "alpha_eff must be finite (got nan)");
   EXPECT_EQ(message_of([&] { C::from_e(one, Real(0), one, one, one, ContactEnd::force); }),

@@ -123,7 +123,14 @@ TEST_P(EverySolver, LooseTolerancesStillReturn) {
     Options<double> options;
     options.rtol = rtol;
     const Result<double> r = solve(GetParam(), problem_of(c), options);
-    EXPECT_EQ(r.outcome, Outcome::exited) << rtol;
+    if (rtol > 0.1 && r.outcome == Outcome::unstable) {
+      // So loose a tolerance may give an impossible answer (CVODE's energy balance off by 116%
+      // at rtol 0.5): called so, never a no_exit.
+      EXPECT_FALSE(r.invariant.empty());
+      EXPECT_FALSE(r.e);
+      continue;
+    }
+    ASSERT_EQ(r.outcome, Outcome::exited) << rtol;
     EXPECT_LT(rel(*r.e, 0.5), rtol < 0.1 ? 0.05 : 1.0) << rtol;
   }
 }
@@ -193,12 +200,20 @@ TEST_P(EverySolver, PhysicalUnitsNeedNoAbsoluteTolerance) {
   const auto c = Contact<double>::from_e(1.5, 0.5, 0.5, 1.2e-5, 7e9);
   Options<double> options;
   options.rtol = 1e-10;
-  EXPECT_LT(worst_error(solve(GetParam(), problem_of(c), options), c), 1e-7);
+  const double natural = worst_error(solve(GetParam(), problem_of(c), options), c);
+  EXPECT_LT(natural, 1e-7);
   if (!solver_named(GetParam()).takes_atol) {
     return; // its error control is relative to each state (taylor.cpp)
   }
-  options.atol = 1e-3;
-  EXPECT_GT(worst_error(solve(GetParam(), problem_of(c), options), c), 1e-7);
+  options.atol = 1e-3; // far above δ_u ~ 8e-7 m: refused, it would let any answer through
+  try {
+    solve(GetParam(), problem_of(c), options);
+    ADD_FAILURE() << "atol 1e-3 above the overlap scale was accepted";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_EQ(std::string(e.what()).rfind("atol must be in [3.84", 0), 0u) << e.what();
+  }
+  options.atol = 3e-7; // δ_u / 3: accepted, and it costs accuracy
+  EXPECT_GT(worst_error(solve(GetParam(), problem_of(c), options), c), 10 * natural);
 }
 
 } // namespace

@@ -119,15 +119,28 @@ TEST(Validation, BadProblemsAndOptionsNameTheParameter) {
   };
   const Problem<double> good{1.5, 1, 1, 1, 0.5};
   Options<double> options;
-  EXPECT_EQ(message({0.5, 1, 1, 1, 0.5}, options), "p must be >= 1 (got 0.5)");
-  EXPECT_EQ(message({1.5, 1, 1, 0, 0.5}, options), "v0 must be > 0 (got 0)");
-  EXPECT_EQ(message({1.5, 1, 1, 1, -1}, options), "alpha must be >= 0 (got -1)");
+  EXPECT_EQ(message({0.5, 1, 1, 1, 0.5}, options), "p must be in [1, 1000] (got 0.5)");
+  EXPECT_EQ(message({1.5, 1, 1, 0, 0.5}, options), "v0 must be in [1e-30, 1e30] (got 0)");
+  EXPECT_EQ(message({1.5, 1e300, 1e-300, 1, 0.5}, options),
+            "m must be in [1e-30, 1e30] (got 1e+300)");
+  EXPECT_EQ(message({1.5, 1, 1, 1, -1}, options), "alpha must be in [0, 1e8] (got -1)");
   EXPECT_EQ(message({1.5, 1, NAN, 1, 0.5}, options), "k must be finite (got nan)");
   options.rtol = 0;
   EXPECT_EQ(message(good, options), "rtol must be > 0 (got 0)");
+  options.rtol = 1e-16; // below double's epsilon: CVODE would stop "too much accuracy"
+  EXPECT_EQ(message(good, options),
+            "rtol must be >= 2.220446049250313e-16, the epsilon of double (got 1e-16)");
   options.rtol = 1e-8;
   options.atol = -1;
   EXPECT_EQ(message(good, options), "atol must be > 0 (got -1)");
+  options.atol = 1e300; // δ_max was −338
+  EXPECT_EQ(message(good, options).rfind("atol must be in [2.46", 0), 0u);
+  options.atol = 1e-300; // CVODE's error test failed at t = 0
+  EXPECT_EQ(message(good, options).rfind("atol must be in [2.46", 0), 0u);
+  options.atol.reset();
+  options.horizon = 1e-300;
+  EXPECT_EQ(message(good, options).rfind("horizon must be in [", 0), 0u);
+  options.horizon.reset();
   options.atol.reset();
   options.sample_times = {-1};
   EXPECT_EQ(message(good, options), "sample time must be >= 0 (got -1)");

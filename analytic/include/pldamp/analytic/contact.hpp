@@ -7,6 +7,7 @@
 #pragma once
 
 #include "pldamp/analytic/special.hpp"
+#include "pldamp/core/domain.hpp"
 #include "pldamp/core/validate.hpp"
 
 #include <boost/math/constants/constants.hpp>
@@ -57,8 +58,7 @@ Damping<Real> damping_from_one_minus_e(const Real& one_minus_e) {
 
 template <SupportedReal Real>
 Damping<Real> damping_from_alpha_eff(const Real& z) {
-  require_finite("alpha_eff", z);
-  require(z >= 0, "alpha_eff must be >= 0", z);
+  domain::require_alpha_eff(z);
   return {z, (1 - z) * (1 + z)};
 }
 
@@ -156,27 +156,26 @@ class Contact {
 public:
   static Contact from_alpha(const Real& p, const Real& alpha, const Real& v0,
                             const Real& m = Real(1), const Real& k = Real(1)) {
-    check_p(p);
-    require_finite("alpha", alpha);
-    require(alpha >= 0, "alpha must be >= 0", alpha);
+    domain::require_p(p);
+    domain::require_alpha(alpha);
     return Contact(p, damping_from_alpha_eff(Real(alpha / alpha_per_alpha_eff(p))), v0, m, k);
   }
   static Contact from_alpha_eff(const Real& p, const Real& z, const Real& v0,
                                 const Real& m = Real(1), const Real& k = Real(1)) {
-    check_p(p);
+    domain::require_p(p);
     return Contact(p, damping_from_alpha_eff(z), v0, m, k);
   }
   // e is the restitution the contact really gives under `end`: at the overlap end the closed-form
   // inverse of §3, at the force end the numeric inverse of e_cap (§4).
   static Contact from_e(const Real& p, const Real& e, const Real& v0, const Real& m = Real(1),
                         const Real& k = Real(1), ContactEnd end = ContactEnd::overlap) {
-    check_p(p);
+    domain::require_p(p);
     return Contact(p, end == ContactEnd::overlap ? damping_from_e(e) : damping_from_e_cap(e), v0, m,
                    k);
   }
   static Contact from_damping(const Real& p, const Damping<Real>& d, const Real& v0,
                               const Real& m = Real(1), const Real& k = Real(1)) {
-    check_p(p);
+    domain::require_p(p);
     return Contact(p, d, v0, m, k);
   }
 
@@ -202,9 +201,9 @@ private:
     using std::log;
     using std::pow;
     using std::sqrt;
-    require_positive("v0", v0);
-    require_positive("m", m);
-    require_positive("k", k);
+    domain::require_scale("v0", v0);
+    domain::require_scale("m", m);
+    domain::require_scale("k", k);
     q_ = 2 / (p + 1);
     A_ = pow((p + 1) / 2, 1 / (p + 1));
     omega0_ = sqrt(k / m);
@@ -213,11 +212,6 @@ private:
     // intermediate that leaves the range of the type for extreme v0, m, k (MATH.md §8).
     log_L_ = log(L_);
   }
-  static void check_p(const Real& p) {
-    require_finite("p", p);
-    require(p >= 1, "p must be >= 1", p);
-  }
-
   Real p_, m_, k_, v0_;
   Damping<Real> damping_;
   Real q_, A_, omega0_, L_, log_L_;

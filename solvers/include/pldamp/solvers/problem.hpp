@@ -6,11 +6,15 @@
 // and nothing in solvers/ knows its closed-form solution: the values here are measured.
 #pragma once
 
+#include "pldamp/core/domain.hpp"
 #include "pldamp/core/real_types.hpp"
 #include "pldamp/core/validate.hpp"
 
+#include <atomic>
 #include <cmath>
+#include <limits>
 #include <optional>
+#include <string>
 #include <string_view>
 #include <vector>
 
@@ -23,13 +27,11 @@ struct Problem {
   Real p, m, k, v0, alpha;
 
   void validate() const {
-    require_finite("p", p);
-    require(p >= 1, "p must be >= 1", p);
-    require_positive("m", m);
-    require_positive("k", k);
-    require_positive("v0", v0);
-    require_finite("alpha", alpha);
-    require(alpha >= 0, "alpha must be >= 0", alpha);
+    domain::require_p(p);
+    domain::require_scale("m", m);
+    domain::require_scale("k", k);
+    domain::require_scale("v0", v0);
+    domain::require_alpha(alpha);
   }
 };
 
@@ -84,14 +86,28 @@ struct Options {
   // in contact (free flight at v0 until then), in [0, 1); 0 puts a step position exactly at the
   // moment of contact. A simulation's step grid falls anywhere relative to that moment.
   Real onset_phase = 0;
+  // The budget of one solve: steps, and wall-clock seconds (checked every few hundred steps).
+  // Whichever comes first ends the solve as step_limit or time_limit with what was reached.
   long max_steps = 1000000;
+  double max_seconds = 60;
+  // Another thread's request to stop (a signal handler's flag): the solve ends as time_limit.
+  const std::atomic<bool>* stop = nullptr;
 
   void validate() const {
+    using std::numeric_limits;
     require_positive("rtol", rtol);
     require(rtol < 1, "rtol must be < 1", rtol);
+    // Below the working precision's ε no integrator can meet the tolerance (CVODE and ARKODE
+    // stop with "too much accuracy requested"; taylor would silently give ε).
+    require(rtol >= numeric_limits<Real>::epsilon(),
+            "rtol must be >= " + to_string_full(Real(numeric_limits<Real>::epsilon())) +
+                ", the epsilon of " + std::string(precision_name<Real>()),
+            rtol);
     if (atol) {
       require_positive("atol", *atol);
     }
+    require(std::isfinite(max_seconds) && max_seconds > 0, "max seconds must be > 0",
+            Real(max_seconds));
     if (horizon) {
       require_positive("horizon", *horizon);
     }
@@ -111,11 +127,21 @@ struct Options {
   }
 };
 
+// What Options::validate cannot check alone, against the problem's natural scales (δ_u, v0,
+// ½mv0², the time δ_u/v0): atol, the fixed step, the horizon. Every solve runs it; scenes run it
+// on their grid before any work. Throws std::invalid_argument.
+template <SupportedReal Real>
+void validate_against(const Problem<Real>& problem, const Options<Real>& options);
+
 enum class Outcome {
   exited,     // the contact ended: everything wanted is filled
   peak,       // stopped at the peak, as asked (only peak quantities were wanted)
   no_exit,    // the horizon came first (critical or overdamped): e = 0, τ = ∞, loading measured
   step_limit, // max_steps came first: whatever was reached is filled
+  time_limit, // max_seconds (or a stop request) came first: whatever was reached is filled
+  unstable,   // an impossible answer: a state not finite, δ_max < 0, energy gained (e > 1 beyond
+              // the solve's accuracy) or an energy balance off by more than the tolerance asked;
+              // nothing is filled (collision.hpp, BasicCollision::finish)
 };
 
 constexpr std::string_view outcome_name(Outcome outcome) {
@@ -127,9 +153,13 @@ constexpr std::string_view outcome_name(Outcome outcome) {
   case Outcome::no_exit:
     return "no_exit";
   case Outcome::step_limit:
+    return "step_limit";
+  case Outcome::time_limit:
+    return "time_limit";
+  case Outcome::unstable:
     break;
   }
-  return "step_limit";
+  return "unstable";
 }
 
 enum class EventKind { peak, exit };
@@ -150,8 +180,10 @@ struct Sample {
 template <SupportedReal Real>
 struct Result {
   Outcome outcome = Outcome::step_limit;
+  std::string invariant; // unstable: the invariant the answer broke, e.g. "energy gained: e = 2.7"
   std::optional<Real> e, delta_max, t_peak, tau, energy_load, energy_unload;
   std::optional<Real> fixed_step; // the step of a fixed-step run (or Options::fixed_step)
+  Real horizon = 0;               // where a contact not yet ended was given up (no_exit)
   long steps = 0;
   long rhs_evals = 0; // every right-hand-side evaluation, Jacobian difference quotients included
   long jacobian_evals = 0; // analytic Jacobians of the implicit methods (each ~ one rhs)

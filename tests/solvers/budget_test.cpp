@@ -1,0 +1,111 @@
+// Every solve bounded and checked before it leaves solvers/ (problem.hpp, Outcome): the budgets
+// (steps, wall time, a stop request), the invariants that turn an impossible answer into
+// `unstable`, and the inputs that once crashed, hung or answered wrongly.
+#include "every_solver.hpp"
+
+#include <atomic>
+#include <chrono>
+#include <stdexcept>
+
+namespace pldamp::solvers::testing {
+namespace {
+
+const auto hertz = Contact<double>::from_e(1.5, 0.5, 1.0);
+
+TEST(Invariants, AStepBeyondStabilityIsUnstableNotANumber) {
+  // Once: e = 323.8 (verlet-predicted, dem-verlet at Δt = 10), e = 1.87 (arkode-dp5, Δt = 5),
+  // δ_max = −1.7e15 (arkode-erk8, Δt = 3), all with outcome exited or no_exit.
+  for (const auto& [solver, dt] :
+       std::vector<std::pair<std::string, double>>{{"verlet-predicted", 10},
+                                                   {"dem-verlet", 10},
+                                                   {"dem-leapfrog", 10},
+                                                   {"dem-symplectic-euler", 10},
+                                                   {"arkode-dp5", 5},
+                                                   {"arkode-erk8", 3}}) {
+    Options<double> options;
+    options.fixed_step = dt;
+    const Result<double> r = solve(solver, problem_of(hertz), options);
+    EXPECT_EQ(r.outcome, Outcome::unstable) << solver;
+    EXPECT_FALSE(r.invariant.empty()) << solver;
+    EXPECT_FALSE(r.e || r.delta_max || r.tau) << solver << ": nothing is filled";
+  }
+}
+
+TEST(Invariants, AnImplicitStepThatCannotConvergeIsUnstableNotAnException) {
+  Options<double> options;
+  options.fixed_step = 10;
+  const Result<double> r = solve("arkode-dirk", problem_of(hertz), options);
+  EXPECT_EQ(r.outcome, Outcome::unstable);
+  EXPECT_NE(r.invariant.find("ARKStepEvolve failed"), std::string::npos) << r.invariant;
+}
+
+TEST(Invariants, StableStepsKeepTheirAnswer) {
+  // At 10 steps per contact no scheme gains more energy than its truncation: not unstable.
+  for (const std::string solver : {"verlet-predicted", "dem-verlet", "dem-leapfrog"}) {
+    for (const double p : {1.0, 1.5, 3.0}) {
+      Options<double> options;
+      options.steps_per_contact = 10;
+      const Result<double> r =
+          solve(solver, problem_of(Contact<double>::from_alpha(p, 0.0, 1.0)), options);
+      EXPECT_EQ(r.outcome, Outcome::exited) << solver << " p=" << p << " " << r.invariant;
+      EXPECT_NEAR(*r.e, 1.0, 3e-3) << solver << " p=" << p;
+    }
+  }
+}
+
+TEST(Invariants, ACoastingStretchNoLongerOverflowsIntoNoExit) {
+  // p = 50, e ≈ 1: the force vanishes well before the exit, odeint's step grew to the horizon
+  // and its stages overflowed |δ|^p; NaN errors were accepted and the answer was no_exit, e = 0.
+  const auto c = Contact<double>::from_e(50.0, 0.999999, 1.0);
+  for (const std::string solver : {"odeint-rkf78", "odeint-bs", "cvode-bdf", "arkode-dp5"}) {
+    const Result<double> r = solve(solver, problem_of(c), Options<double>{});
+    ASSERT_EQ(r.outcome, Outcome::exited) << solver;
+    EXPECT_NEAR(*r.e, 0.999999, 2e-6) << solver;
+  }
+}
+
+TEST(Budget, TheWallClockEndsASolveAsTimeLimit) {
+  Options<double> options;
+  options.fixed_step = 1e-9; // ~3e9 steps: far beyond any patience
+  options.max_steps = std::numeric_limits<long>::max();
+  options.max_seconds = 0.05;
+  const auto start = std::chrono::steady_clock::now();
+  const Result<double> r = solve("dem-verlet", problem_of(hertz), options);
+  const double seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  EXPECT_EQ(r.outcome, Outcome::time_limit);
+  EXPECT_LT(seconds, 5.0); // generous: the point is that it ends
+  EXPECT_GT(r.steps, 0);
+}
+
+TEST(Budget, AStopRequestEndsEverySolverAsTimeLimit) {
+  std::atomic<bool> stop{true};
+  for (const SolverInfo& info : registry()) {
+    Options<double> options;
+    options.stop = &stop;
+    const Result<double> r = solve(info.name, problem_of(hertz), options);
+    EXPECT_EQ(r.outcome, Outcome::time_limit) << info.name;
+  }
+}
+
+TEST(Budget, TheForceEndWithoutDampingIsTheOverlapEnd) {
+  // taylor looked for a sign change of the spring force, which no step reaches (no step crosses
+  // δ = 0): no_exit in double, a hang in 50 digits. The truth is e_cap = 1.
+  const Problem<bin50> undamped{bin50(3) / 2, bin50(1), bin50(1), bin50(1), bin50(0)};
+  Options<bin50> options;
+  options.rtol = std::numeric_limits<bin50>::epsilon();
+  options.end = End::force;
+  const Result<bin50> r = solve("taylor", undamped, options);
+  ASSERT_EQ(r.outcome, Outcome::exited);
+  EXPECT_LT(abs(*r.e - 1), bin50(1e-45));
+  for (const SolverInfo& info : registry()) {
+    Options<double> d;
+    d.end = End::force;
+    const Result<double> rd =
+        solve(info.name, problem_of(Contact<double>::from_alpha(1.5, 0.0, 1.0)), d);
+    EXPECT_EQ(rd.outcome, Outcome::exited) << info.name;
+  }
+}
+
+} // namespace
+} // namespace pldamp::solvers::testing
