@@ -211,16 +211,19 @@ struct BadInput {
 
 TEST(Cli, BadInputIsOneLineAndExitTwo) {
   const std::vector<BadInput> cases = {
-      {{"observables", "--p", "0.5", "--e", "0.5", "--v0", "1"}, "p must be >= 1 (got 0.5)"},
+      {{"observables", "--p", "0.5", "--e", "0.5", "--v0", "1"},
+       "p must be in [1, 1000] (got 0.5)"},
       {{"observables", "--p", "2", "--e", "1.5", "--v0", "1"}, "e must be in (0, 1] (got 1.5)"},
       {{"observables", "--p", "2", "--e", "0", "--v0", "1"}, "e must be in (0, 1] (got 0)"},
-      {{"observables", "--p", "2", "--e", "0.5", "--v0", "0"}, "v0 must be > 0 (got 0)"},
+      {{"observables", "--p", "2", "--e", "0.5", "--v0", "0"},
+       "v0 must be in [1e-30, 1e30] (got 0)"},
       {{"observables", "--p", "2", "--e", "0.5", "--v0", "1", "--m", "-3"},
-       "m must be > 0 (got -3)"},
+       "m must be in [1e-30, 1e30] (got -3)"},
       {{"observables", "--p", "2", "--e", "0.5", "--v0", "1", "--k", "inf"},
        "k must be finite (got inf)"},
       {{"observables", "--p", "nan", "--e", "0.5", "--v0", "1"}, "p must be finite (got nan)"},
-      {{"observables", "--p", "2", "--alpha", "-1", "--v0", "1"}, "alpha must be >= 0 (got -1)"},
+      {{"observables", "--p", "2", "--alpha", "-1", "--v0", "1"},
+       "alpha must be in [0, 1e8] (got -1)"},
       {{"observables", "--p", "2x", "--e", "0.5", "--v0", "1"}, "--p is not a number (got 2x)"},
       {{"observables", "--p", "2", "--e", "0.5", "--v0", "1", "--precision", "float"},
        "unknown precision, expected " + precision_names() + " (got float)"},
@@ -268,7 +271,7 @@ TEST(Cli, BadInputIsOneLineAndExitTwo) {
         "0"},
        "horizon must be > 0 (got 0)"},
       {{"solve", "--solver", "cvode-bdf", "--p", "0.9", "--e", "0.5", "--v0", "1"},
-       "p must be >= 1 (got 0.9)"},
+       "p must be in [1, 1000] (got 0.9)"},
       {{"solve", "--solver", "cvode-bdf", "--p", "1.5", "--e", "0.5", "--v0", "1", "--precision",
         "long"},
        "solver cvode-bdf runs in double precision only; taylor runs in any (got --precision "
@@ -308,7 +311,7 @@ TEST(Cli, BadInputIsOneLineAndExitTwo) {
     const CliRun r =
         run({"observables", "--p", "0.5", "--e", "0.5", "--v0", "1", "--precision", precision});
     EXPECT_EQ(r.code, 2);
-    EXPECT_EQ(r.err, "error: p must be >= 1 (got 0.5)\n") << precision;
+    EXPECT_EQ(r.err, "error: p must be in [1, 1000] (got 0.5)\n") << precision;
   });
 }
 

@@ -1,12 +1,19 @@
 // What every harness stage shares: the observable table (each row reads the field its key names,
 // in the solver result and in the closed forms at either contact end), the want words, the
-// answers' JSON (escaped strings, exact numbers in their own precision), and enumeration names.
+// answers' JSON (escaped strings, exact numbers in their own precision), enumeration names, and
+// files written whole or not at all.
 #include "common/answer.hpp"
+#include "common/files.hpp"
+#include "common/input.hpp"
 #include "common/names.hpp"
 #include "common/observables.hpp"
+#include "fixtures.hpp"
 
 #include <gtest/gtest.h>
 
+#include <filesystem>
+#include <fstream>
+#include <iterator>
 #include <limits>
 #include <map>
 #include <string>
@@ -106,6 +113,55 @@ TEST(Names, OneTableGivesNamesValuesAndTheList) {
   EXPECT_EQ(value_named(colours, "red"), Colour::red);
   EXPECT_FALSE(value_named(colours, "blue"));
   EXPECT_EQ(names_of(colours), "red|green");
+}
+
+namespace fs = std::filesystem;
+
+std::string contents(const fs::path& path) {
+  std::ifstream in(path);
+  return std::string(std::istreambuf_iterator<char>(in), {});
+}
+
+// The folder's entries other than `keep`: a temporary left behind would show here.
+std::vector<std::string> others(const fs::path& folder, const std::string& keep) {
+  std::vector<std::string> names;
+  for (const auto& entry : fs::directory_iterator(folder)) {
+    if (entry.path().filename() != keep) {
+      names.push_back(entry.path().filename().string());
+    }
+  }
+  return names;
+}
+
+TEST(Files, AFileIsReplacedWholeAndNoTemporaryStays) {
+  const fs::path folder = testing::scratch() / "atomic";
+  fs::remove_all(folder);
+  fs::create_directories(folder);
+  const fs::path file = folder / "report.md";
+  write_file_atomically(file, "old\n");
+  write_file_atomically(file, "new, and longer\n");
+  EXPECT_EQ(contents(file), "new, and longer\n");
+  EXPECT_EQ(others(folder, "report.md"), std::vector<std::string>{});
+  // A target that cannot be replaced (a directory): refused, the temporary removed.
+  fs::create_directories(folder / "report.html");
+  try {
+    write_file_atomically(folder / "report.html", "x");
+    ADD_FAILURE() << "a directory was replaced";
+  } catch (const InputError& e) {
+    EXPECT_EQ(std::string(e.what()).rfind("cannot write " + (folder / "report.html").string(), 0),
+              0u)
+        << e.what();
+  }
+  EXPECT_EQ(others(folder, "report.md"), std::vector<std::string>{"report.html"});
+}
+
+TEST(Files, AFolderThatCannotHoldAFileIsRefusedBeforeTheWork) {
+  const fs::path file = testing::scratch() / "a-file";
+  write_file_atomically(file, "x");
+  EXPECT_THROW(require_writable_folder(file / "sub"), InputError);
+  EXPECT_THROW(require_writable_folder("/proc/pldamp"), InputError);
+  require_writable_folder(testing::scratch() / "fresh" / "folder"); // created
+  EXPECT_TRUE(fs::is_directory(testing::scratch() / "fresh" / "folder"));
 }
 
 } // namespace

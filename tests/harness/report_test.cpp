@@ -32,7 +32,7 @@ TEST(Figures, OneThatFailsIsReportedAndTheOthersStand) {
   scene.figures = {bad, good};
   const std::vector<Figure> figures = make_figures(scene);
   ASSERT_EQ(figures.size(), 2u);
-  EXPECT_EQ(figures[0].failure, "p must be >= 1 (got 0.5)");
+  EXPECT_EQ(figures[0].failure, "p must be in [1, 1000] (got 0.5)");
   EXPECT_TRUE(figures[0].series.empty());
   EXPECT_TRUE(figures[1].failure.empty());
   EXPECT_LT(figures[1].deviation, 1e-12);
@@ -45,16 +45,17 @@ TEST(Figures, OneThatFailsIsReportedAndTheOthersStand) {
   const RunTotals totals{400, 4, 1.0};
   const fs::path out = scratch() / "failed-figure";
   fs::remove_all(out);
-  const std::vector<std::string> written =
-      write_reports({plan, h.records, b, totals, figures}, out.string());
-  EXPECT_EQ(written, (std::vector<std::string>{(out / "report.json").string(),
-                                               (out / "report.md").string()}));
+  const WrittenReports files = write_reports({plan, h.records, b, totals, figures}, out.string());
+  EXPECT_TRUE(files.failures.empty());
+  EXPECT_EQ(files.written, (std::vector<std::string>{(out / "report.json").string(),
+                                                     (out / "report.md").string()}));
   EXPECT_FALSE(fs::exists(out / "report.html"));
   const auto json = nlohmann::json::parse(read(out / "report.json"));
-  EXPECT_EQ(json["figures"][0]["failure"], "p must be >= 1 (got 0.5)");
+  EXPECT_EQ(json["figures"][0]["failure"], "p must be in [1, 1000] (got 0.5)");
   EXPECT_TRUE(json["figures"][0]["max_deviation"].is_null());
   EXPECT_FALSE(json["figures"][1].contains("failure"));
-  EXPECT_NE(read(out / "report.md").find("failed: p must be >= 1 (got 0.5)"), std::string::npos);
+  EXPECT_NE(read(out / "report.md").find("failed: p must be in [1, 1000] (got 0.5)"),
+            std::string::npos);
 }
 
 TEST(Diff, CatchesInjectedRegressions) {

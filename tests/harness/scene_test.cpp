@@ -18,7 +18,7 @@ TEST(Scene, EveryErrorNamesFileAndLineBeforeAnyWork) {
   const std::vector<BadScene> cases{
       {"colour = 1\n" + valid_scene,
        "1: unknown key in the scene, expected name|end|want|grid|solver|claim|figure|report|"
-       "timing (got colour)"},
+       "timing|limits (got colour)"},
       {R"(name = "t"
 [grid]
 p = ["one"]
@@ -37,7 +37,7 @@ p = [1.5, 0.5]
 e = [0.5]
 v0 = [1.0]
 )",
-       "2: p must be >= 1 (got 0.5)"},
+       "2: p must be in [1, 1000] (got 0.5)"},
       {R"([grid]
 p = [1.5]
 e = [1.5]
@@ -63,6 +63,35 @@ v0 = [1.0]
        "12: taylor controls its error relative to each state and takes no atol (got 1e-12)"},
       {valid_scene + "[[solver]]\nname = \"verlet-predicted\"\natol = 1e-12\n",
        "12: verlet-predicted takes a fixed step and no atol (got 1e-12)"},
+      // Tolerances the solver could not meet, or that let any answer through, before any work.
+      {valid_scene + "[[solver]]\nname = \"cvode-bdf\"\nrtol = 1e-17\n",
+       "12: cvode-bdf rtol=1e-17: rtol must be >= 2.220446049250313e-16, the epsilon of double "
+       "(got 1e-17)"},
+      {valid_scene + "[[solver]]\nname = \"arkode-dp5\"\nrtol = 1e-6\natol = 1e300\n",
+       "12: arkode-dp5 rtol=1e-06 atol=1e+300: atol must be in [2.465190328815662e-32, 0.5), "
+       "epsilon^2 times and once the smallest natural scale of the state (delta_u, v0, "
+       "m v0^2/2) (got 1e+300)"},
+      {valid_scene + "[report]\nformats = []\n",
+       "11: formats names no report format, expected some of json|csv|md|html"},
+      {valid_scene + "[limits]\nmax_steps = 0\n",
+       "11: max_steps must be an integer in [1, 1e12] (got 0)"},
+      {valid_scene + "[limits]\nmax_seconds = -1\n",
+       "11: max_seconds must be in (0, 86400] (got -1)"},
+      {valid_scene +
+           [] {
+             std::string key = "a"; // a.a.a...: 40 parts
+             for (int i = 1; i < 40; ++i) {
+               key += ".a";
+             }
+             return key + " = 1\n";
+           }(),
+       "10: nested deeper than 32 levels (arrays, inline tables or dotted keys)"},
+      {valid_scene + "x = " + std::string(40, '[') + std::string(40, ']') + "\n",
+       "10: nested deeper than 32 levels (arrays, inline tables or dotted keys)"},
+      {valid_scene + "name\xc3\x9f = 1\n",
+       "10: a character beyond ASCII outside a comment (in a string, write it as \\uXXXX)"},
+      {valid_scene + "# a comment may say \xc3\x9f\nx = \"\xc3\x9f\"\n",
+       "11: a character beyond ASCII outside a comment (in a string, write it as \\uXXXX)"},
       {valid_scene + "[[solver]]\nname = \"cvode-adams\"\nrtl = 1e-6\n",
        "12: unknown key in [[solver]], expected "
        "name|rtol|atol|precision|steps_per_contact|end|onset_phases (got rtl)"},

@@ -8,12 +8,32 @@
 #include "pldamp/solvers/registry.hpp"
 
 #include <CLI/CLI.hpp>
+#include <fmt/format.h>
 
 #include <string>
 #include <vector>
 
 namespace pldamp::harness {
 namespace {
+
+// A message as one line: control characters (a newline typed into an option) shown escaped, so
+// that stderr holds exactly one line per error whatever the input.
+std::string one_line(std::string_view message) {
+  std::string out;
+  for (const char c : message) {
+    const auto byte = static_cast<unsigned char>(c);
+    if (c == '\n') {
+      out += "\\n";
+    } else if (c == '\t') {
+      out += "\\t";
+    } else if (byte < 0x20 || byte == 0x7f) {
+      out += fmt::format("\\x{:02x}", byte);
+    } else {
+      out += c;
+    }
+  }
+  return out;
+}
 
 // "double | long | quad | 50"
 std::string precision_choices() {
@@ -116,6 +136,8 @@ int run_cli(int argc, const char* const* argv, std::ostream& out, std::ostream& 
   solve->add_option("--sample-times", solve_args.sample_times, "comma list of times to sample")
       ->delimiter(',');
   solve->add_option("--max-steps", solve_args.max_steps, "step limit (default 1e6)");
+  solve->add_option("--max-seconds", solve_args.max_seconds,
+                    "wall-clock limit of the solve (default 60): outcome time_limit beyond it");
 
   RunArgs run_args;
   CLI::App* run = app.add_subcommand("run", "run a scene: solvers against the closed forms, "
@@ -124,6 +146,12 @@ int run_cli(int argc, const char* const* argv, std::ostream& out, std::ostream& 
       ->required();
   run->add_option("--out", run_args.out, "report folder (default: report)");
   run->add_option("--jobs", run_args.jobs, "parallel solver runs (default: the cores)");
+  run->add_option("--max-steps", run_args.max_steps,
+                  "each solve's step limit (default: the scene's [limits], else 1e6)");
+  run->add_option("--max-seconds", run_args.max_seconds,
+                  "each solve's wall-clock limit (default: the scene's [limits], else 30)");
+  run->add_option("--max-runs", run_args.max_runs,
+                  "refuse a plan of more solver runs (default: the scene's [limits], else 1e6)");
 
   std::string diff_old, diff_new;
   CLI::App* diff =
@@ -167,21 +195,24 @@ int run_cli(int argc, const char* const* argv, std::ostream& out, std::ostream& 
     } else if (showcase->parsed()) {
       run_showcase(showcase_precision, out);
     } else if (run->parsed()) {
-      run_scene(run_args, out, err);
+      return run_scene(run_args, out, err);
     } else if (diff->parsed()) {
       return run_diff(diff_old, diff_new, out);
     }
   } catch (const SceneError& e) { // already "file:line: message"
-    err << e.what() << "\n";
+    err << one_line(e.what()) << "\n";
     return 2;
   } catch (const InternalError& e) {
-    err << "error: internal: " << e.what() << "\n";
+    err << "error: internal: " << one_line(e.what()) << "\n";
     return 3;
   } catch (const std::invalid_argument& e) { // InputError and the library's validation
-    err << "error: " << e.what() << "\n";
+    err << "error: " << one_line(e.what()) << "\n";
     return 2;
-  } catch (const std::runtime_error& e) { // an integrator that failed
-    err << "error: internal: " << e.what() << "\n";
+  } catch (const std::exception& e) { // an integrator that failed; anything unforeseen
+    err << "error: internal: " << one_line(e.what()) << "\n";
+    return 3;
+  } catch (...) {
+    err << "error: internal: an unknown exception\n";
     return 3;
   }
   return 0;

@@ -28,9 +28,10 @@ struct SolveArgs {
   std::optional<std::string> atol, dt, horizon;
   std::string want = "e,delta_max,t_peak,tau,energy";
   std::vector<std::string> sample_times;
-  std::string steps_per_contact = "50";
-  std::optional<std::string> onset_phase; // fixed-step solvers, in [0, 1)
+  std::optional<std::string> steps_per_contact; // fixed-step solvers without --dt (default 50)
+  std::optional<std::string> onset_phase;       // fixed-step solvers, in [0, 1)
   std::string max_steps = "1000000";
+  std::string max_seconds = "60";
 };
 
 // `pldamp run`: a scene, its plan, its reports.
@@ -38,13 +39,16 @@ struct RunArgs {
   std::string scene;
   std::string out = "report";
   std::optional<std::string> jobs; // default: the cores
+  // The scene's [limits], overridden.
+  std::optional<std::string> max_steps, max_seconds, max_runs;
 };
 
 void run_calibrate(const ContactArgs& args, std::ostream& out);
 void run_observables(const ContactArgs& args, std::ostream& out);
 void run_showcase(const std::string& precision, std::ostream& out);
 void run_solve(const SolveArgs& args, std::ostream& out);
-void run_scene(const RunArgs& args, std::ostream& out, std::ostream& err);
+// Returns the exit code: 0, or 128 + the signal that stopped the run (no report written then).
+int run_scene(const RunArgs& args, std::ostream& out, std::ostream& err);
 // Returns the exit code: 1 if NEW regressed against OLD, else 0.
 int run_diff(const std::string& old_path, const std::string& new_path, std::ostream& out);
 

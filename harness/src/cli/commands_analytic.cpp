@@ -27,8 +27,7 @@ void calibrate_for_code(const ContactArgs& args, std::ostream& out) {
   with_precision(args.precision, [&]<SupportedReal Real>() {
     const Real p = parse_real<Real>("--p", args.p);
     const Real target = parse_real<Real>("--e", *args.e);
-    require_finite("p", p);
-    require(p >= 1, "p must be >= 1", p);
+    domain::require_p(p);
     const bool cut = analytic::capped(*convention, args.limit_damping);
     const Real alpha = analytic::alpha_set(*convention, p, target);
     const std::optional<Real> enter =

@@ -1,10 +1,15 @@
 // `pldamp run SCENE.toml [--out DIR] [--jobs N]` and `pldamp diff OLD.json NEW.json`.
 #include "cli/commands.hpp"
+#include "common/files.hpp"
 #include "report/report.hpp"
 
+#include <fmt/format.h>
+
+#include <csignal>
 #include <filesystem>
 #include <fstream>
 #include <iostream>
+#include <optional>
 #include <sstream>
 #include <thread>
 #include <unistd.h>
@@ -12,13 +17,91 @@
 namespace pldamp::harness {
 namespace {
 
-// A one-line progress bar, redrawn in place (only when stderr is a terminal).
-void draw_progress(std::size_t done, std::size_t total) {
-  constexpr int width = 40;
-  const int filled = static_cast<int>(width * done / total);
-  std::cerr << "\r[" << std::string(static_cast<std::size_t>(filled), '#')
-            << std::string(static_cast<std::size_t>(width - filled), ' ') << "] " << done << "/"
-            << total << (done == total ? "\n" : "") << std::flush;
+// Progress on stderr: a bar redrawn in place on a terminal; otherwise (a CI log) a line every
+// 5 s with the rate so far and the time left at that rate.
+class ProgressLines {
+public:
+  explicit ProgressLines(bool terminal) : terminal_(terminal) {}
+
+  void operator()(std::size_t done, std::size_t total) {
+    if (terminal_) {
+      constexpr int width = 40;
+      const int filled = static_cast<int>(width * done / total);
+      std::cerr << "\r[" << std::string(static_cast<std::size_t>(filled), '#')
+                << std::string(static_cast<std::size_t>(width - filled), ' ') << "] " << done << "/"
+                << total << (done == total ? "\n" : "") << std::flush;
+      return;
+    }
+    const double elapsed = seconds_since(start_);
+    if (elapsed - last_ < 5 || done == total) {
+      return;
+    }
+    last_ = elapsed;
+    std::cerr << fmt::format("{:.0f} s: {}/{} records, about {:.0f} s left\n", elapsed, done, total,
+                             elapsed / double(done) * double(total - done))
+              << std::flush;
+  }
+
+private:
+  static double seconds_since(std::chrono::steady_clock::time_point t) {
+    return std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
+  }
+  bool terminal_;
+  std::chrono::steady_clock::time_point start_ = std::chrono::steady_clock::now();
+  double last_ = 0;
+};
+
+// SIGINT and SIGTERM during a run: the handler only records the signal and asks the run to stop
+// (run/run.hpp); the previous handlers come back when the run is over.
+std::atomic<int> caught_signal{0};
+
+extern "C" void on_stop_signal(int signal) {
+  caught_signal.store(signal);
+  stop_requested().store(true);
+}
+
+class StopOnSignals {
+public:
+  StopOnSignals() {
+    caught_signal = 0;
+    stop_requested() = false;
+    struct sigaction action {};
+    action.sa_handler = on_stop_signal;
+    sigemptyset(&action.sa_mask);
+    sigaction(SIGINT, &action, &previous_int_);
+    sigaction(SIGTERM, &action, &previous_term_);
+  }
+  ~StopOnSignals() {
+    sigaction(SIGINT, &previous_int_, nullptr);
+    sigaction(SIGTERM, &previous_term_, nullptr);
+  }
+  StopOnSignals(const StopOnSignals&) = delete;
+  StopOnSignals& operator=(const StopOnSignals&) = delete;
+
+  // 128 + the signal once one came (the shell's convention: 130 for SIGINT, 143 for SIGTERM).
+  std::optional<int> exit_code() const {
+    const int signal = caught_signal.load();
+    return signal != 0 ? std::optional<int>(128 + signal) : std::nullopt;
+  }
+
+private:
+  struct sigaction previous_int_ {};
+  struct sigaction previous_term_ {};
+};
+
+// The solver runs a scene asks for, counted before any of it is built: cells × (each
+// configuration's onset phases) × repeats, claim configurations included.
+double planned_runs(const Scene& scene) {
+  const double cells = double(scene.p.size()) * double(scene.damping.size()) *
+                       double(scene.v0.size()) * double(scene.m.size()) * double(scene.k.size());
+  double per_cell = 0;
+  for (const SolverConfig& config : scene.configs) {
+    per_cell += config.onset_phases;
+  }
+  for (const Claim& claim : scene.claims) {
+    per_cell += claim.convention ? 0 : claim.config.onset_phases;
+  }
+  return cells * per_cell * scene.repeats;
 }
 
 // The report at `path`, read whole and checked (judge/diff.hpp).
@@ -34,24 +117,70 @@ nlohmann::json read_report_file(const std::string& path) {
 
 } // namespace
 
-void run_scene(const RunArgs& args, std::ostream& out, std::ostream& err) {
-  const Scene scene = load_scene(args.scene); // every scene error before any work
+int run_scene(const RunArgs& args, std::ostream& out, std::ostream& err) {
+  Scene scene = load_scene(args.scene); // every scene error before any work
   const long jobs = args.jobs
                         ? parse_integer("--jobs", *args.jobs)
                         : static_cast<long>(std::max(1u, std::thread::hardware_concurrency()));
   if (jobs < 1 || jobs > 1024) {
     throw InputError("--jobs must be in [1, 1024] (got " + std::to_string(jobs) + ")");
   }
-  create_report_folder(args.out); // a folder that cannot be written fails before the work
+  auto limit = [](const char* flag, const std::optional<std::string>& text, long& into) {
+    if (text) {
+      into = parse_integer(flag, *text);
+      if (into < 1 || into > 1000000000000L) {
+        throw InputError(std::string(flag) + " must be in [1, 1e12] (got " + *text + ")");
+      }
+    }
+  };
+  limit("--max-steps", args.max_steps, scene.limits.max_steps);
+  limit("--max-runs", args.max_runs, scene.limits.max_runs);
+  if (args.max_seconds) {
+    const double seconds = parse_real<double>("--max-seconds", *args.max_seconds);
+    if (!(seconds > 0 && seconds <= 86400)) {
+      throw InputError("--max-seconds must be in (0, 86400] (got " + *args.max_seconds + ")");
+    }
+    scene.limits.max_seconds = seconds;
+  }
+  // The plan's size, refused beyond the limit before anything is built, else printed first.
+  const double runs = planned_runs(scene);
+  const double cells = double(scene.p.size()) * double(scene.damping.size()) *
+                       double(scene.v0.size()) * double(scene.m.size()) * double(scene.k.size());
+  const double configs = double(scene.configs.size() + scene.claims.size());
+  const double megabytes =
+      (cells * configs *
+           (sizeof(Record) + 4 * sizeof(std::optional<double>) * observable_table().size()) +
+       cells * sizeof(Cell)) /
+      1e6;
+  if (runs > double(scene.limits.max_runs)) {
+    throw InputError(fmt::format("the plan has {:.0f} solver runs, above the limit of {}: shrink "
+                                 "the grid, or raise the limit with --max-runs or [limits] "
+                                 "max_runs (got {})",
+                                 runs, scene.limits.max_runs, args.scene));
+  }
+  require_writable_folder(args.out); // a folder that cannot be written fails before the work
+  out << fmt::format("{}: {:.0f} cells x {:.0f} solver configurations: {:.0f} solver runs (onset "
+                     "phases and repeats included), about {:.3g} MB of records\n",
+                     scene.name, cells, double(scene.configs.size()), runs, megabytes)
+      << std::flush;
+  const StopOnSignals signals;
   const Plan plan = make_plan(scene);
   const bool terminal = &err == &std::cerr && isatty(STDERR_FILENO) == 1;
   RunTotals totals;
   const std::vector<Record> records =
-      run_plan(plan, static_cast<int>(jobs), totals, terminal ? Progress(draw_progress) : nullptr);
+      run_plan(plan, static_cast<int>(jobs), totals, Progress(ProgressLines(terminal)));
+  if (const std::optional<int> code = signals.exit_code()) {
+    err << "stopped by a signal: no report written, " << args.out << " left as it was\n";
+    return *code;
+  }
   const Budgets budgets = make_budgets(plan, records);
   const std::vector<Figure> figures = make_figures(scene);
   const RunReport report{plan, records, budgets, totals, figures};
-  const std::vector<std::string> written = write_reports(report, args.out);
+  if (const std::optional<int> code = signals.exit_code()) {
+    err << "stopped by a signal: no report written, " << args.out << " left as it was\n";
+    return *code;
+  }
+  const WrittenReports files = write_reports(report, args.out);
   out << scene.name << ": " << plan.cells.size() << " cells x " << plan.configs.size()
       << " solver configurations, " << totals.solver_runs << " solver runs, " << totals.rhs_evals
       << " rhs evaluations in " << totals.wall_seconds << " s; " << budgets.failed_records
@@ -65,9 +194,14 @@ void run_scene(const RunArgs& args, std::ostream& out, std::ostream& err) {
       out << "figure " << figure.title << " failed: " << figure.failure << "\n";
     }
   }
-  for (const std::string& file : written) {
+  for (const std::string& file : files.written) {
     out << "report: " << file << "\n";
   }
+  if (!files.failures.empty()) {
+    throw InputError(files.failures.front() +
+                     (files.written.empty() ? "" : "; the other formats were written"));
+  }
+  return 0;
 }
 
 int run_diff(const std::string& old_path, const std::string& new_path, std::ostream& out) {

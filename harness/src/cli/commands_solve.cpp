@@ -64,13 +64,16 @@ void solve_in(const SolveArgs& args, const solvers::SolverInfo* solver, std::ost
   options.want = parse_want_list(args.want);
   options.end = parse_end(args.contact.end) == ContactEnd::force ? solvers::End::force
                                                                  : solvers::End::overlap;
-  const long steps_per_contact = parse_integer("--steps-per-contact", args.steps_per_contact);
-  if (steps_per_contact < 1 || steps_per_contact > 1000000000) {
-    throw InputError("--steps-per-contact must be in [1, 1e9] (got " + args.steps_per_contact +
-                     ")");
+  if (args.steps_per_contact) {
+    const long steps_per_contact = parse_integer("--steps-per-contact", *args.steps_per_contact);
+    if (steps_per_contact < 1 || steps_per_contact > 1000000000) {
+      throw InputError("--steps-per-contact must be in [1, 1e9] (got " + *args.steps_per_contact +
+                       ")");
+    }
+    options.steps_per_contact = int(steps_per_contact);
   }
-  options.steps_per_contact = int(steps_per_contact);
   options.max_steps = parse_integer("--max-steps", args.max_steps);
+  options.max_seconds = static_cast<double>(parse_real<double>("--max-seconds", args.max_seconds));
 
   const solvers::Result<Real> r = solvers::solve(args.solver, problem, options);
 
@@ -83,6 +86,9 @@ void solve_in(const SolveArgs& args, const solvers::SolverInfo* solver, std::ost
     put_number(o, "atol", options.atol);
   }
   o["outcome"] = solvers::outcome_name(r.outcome);
+  if (!r.invariant.empty()) {
+    o["invariant"] = r.invariant; // what made the answer impossible
+  }
   for (const Observable& observable : observable_table()) {
     put_number(o, std::string(observable.key_at(options.end)), observable.measured(r));
   }
@@ -110,6 +116,14 @@ void run_solve(const SolveArgs& args, std::ostream& out) {
   if (solver != nullptr && args.rtol && !solver->takes_rtol()) {
     throw InputError(args.solver + " takes a fixed step: give --dt or --steps-per-contact (got " +
                      "--rtol " + *args.rtol + ")");
+  }
+  if (solver != nullptr && args.steps_per_contact && !solver->fixed_step) {
+    throw InputError(args.solver + " does not step a fixed number of steps per contact (got " +
+                     "--steps-per-contact " + *args.steps_per_contact + ")");
+  }
+  if (args.steps_per_contact && args.dt) {
+    throw InputError("give --dt or --steps-per-contact, not both (got --steps-per-contact " +
+                     *args.steps_per_contact + ")");
   }
   with_precision(args.contact.precision,
                  [&]<SupportedReal Real>() { solve_in<Real>(args, solver, out); });

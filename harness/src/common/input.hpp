@@ -9,6 +9,7 @@
 #include "pldamp/core/real_types.hpp"
 #include "pldamp/core/validate.hpp"
 
+#include <cctype>
 #include <charconv>
 #include <cmath>
 #include <cstdlib>
@@ -42,6 +43,10 @@ std::string format_number(const Real& value) {
 template <SupportedReal Real>
 Real parse_real(const std::string& option, const std::string& text) {
   const std::string what = option + " is not a number";
+  // strtod and the multiprecision parsers skip leading blanks: "\t1" is not a number as typed.
+  if (!text.empty() && std::isspace(static_cast<unsigned char>(text.front()))) {
+    throw InputError(what + " (got " + text + ")");
+  }
   if constexpr (std::is_floating_point_v<Real>) {
     char* end = nullptr;
     const Real value = std::is_same_v<Real, double> ? Real(std::strtod(text.c_str(), &end))

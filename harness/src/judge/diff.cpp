@@ -19,13 +19,21 @@ double precision_noise(const std::string& precision) {
   return 16 * epsilon;
 }
 
+// A value for a message: a scalar as written (at most 40 characters), else its type. Never
+// dump() a container: it recurses once per level, and 80 000 levels overflowed the stack.
+std::string shown(const nlohmann::json& value) {
+  if (value.is_structured()) {
+    return std::string("an ") + value.type_name();
+  }
+  return value.dump(-1, ' ', true).substr(0, 40);
+}
+
 // `where` in `report` must hold a value `is` accepts; else "PATH: WHERE must be WHAT".
 template <class Check>
 void expect(const nlohmann::json& value, Check is, const std::string& path,
             const std::string& where, const std::string& what) {
   if (!is(value)) {
-    throw InputError(path + ": " + where + " must be " + what + " (got " +
-                     value.dump(-1, ' ', true).substr(0, 40) + ")");
+    throw InputError(path + ": " + where + " must be " + what + " (got " + shown(value) + ")");
   }
 }
 
@@ -50,8 +58,8 @@ nlohmann::json read_report(std::string_view text, const std::string& path) {
     throw InputError("not a pldamp report.json (got " + path + ")");
   }
   if (report.at("schema") != report_schema) {
-    throw InputError(path + ": report schema " + report.at("schema").dump().substr(0, 40) +
-                     " is not " + std::to_string(report_schema));
+    throw InputError(path + ": report schema " + shown(report.at("schema")) + " is not " +
+                     std::to_string(report_schema));
   }
   const auto is_string = [](const nlohmann::json& j) { return j.is_string(); };
   const auto is_object = [](const nlohmann::json& j) { return j.is_object(); };

@@ -1,5 +1,7 @@
 #include "report/report.hpp"
 
+#include "common/files.hpp"
+
 #include <fmt/format.h>
 
 #include <algorithm>
@@ -534,43 +536,34 @@ std::string report_markdown(const RunReport& report) {
   return out.str();
 }
 
-void create_report_folder(const std::string& folder) {
-  std::error_code failed;
-  std::filesystem::create_directories(folder, failed);
-  if (failed) {
-    throw InputError("cannot create the report folder, " + failed.message() + " (got " + folder +
-                     ")");
-  }
-}
-
-std::vector<std::string> write_reports(const RunReport& report, const std::string& folder) {
+WrittenReports write_reports(const RunReport& report, const std::string& folder) {
   namespace fs = std::filesystem;
-  create_report_folder(folder);
-  std::vector<std::string> written;
+  require_writable_folder(folder);
+  WrittenReports out;
   for (const ReportFormat format : report.plan.scene.formats) {
     const fs::path path =
         fs::path(folder) / ("report." + std::string(name_of(report_formats, format)));
-    std::ofstream file(path);
-    switch (format) {
-    case ReportFormat::json:
-      file << report_json(report).dump(1) << "\n";
-      break;
-    case ReportFormat::csv:
-      file << report_csv(report);
-      break;
-    case ReportFormat::md:
-      file << report_markdown(report);
-      break;
-    case ReportFormat::html:
-      file << report_html(report, "gnuplot");
-      break;
+    try {
+      switch (format) {
+      case ReportFormat::json:
+        write_file_atomically(path, report_json(report).dump(1) + "\n");
+        break;
+      case ReportFormat::csv:
+        write_file_atomically(path, report_csv(report));
+        break;
+      case ReportFormat::md:
+        write_file_atomically(path, report_markdown(report));
+        break;
+      case ReportFormat::html:
+        write_file_atomically(path, report_html(report, "gnuplot"));
+        break;
+      }
+      out.written.push_back(path.string());
+    } catch (const InputError& e) { // the other formats are still written
+      out.failures.push_back(e.what());
     }
-    if (!file) {
-      throw InputError("cannot write the report (got " + path.string() + ")");
-    }
-    written.push_back(path.string());
   }
-  return written;
+  return out;
 }
 
 } // namespace pldamp::harness

@@ -53,11 +53,14 @@ std::string report_markdown(const RunReport& report);
 // `gnuplot` is the program to draw with; empty or missing: no plots.
 std::string report_html(const RunReport& report, const std::string& gnuplot);
 
-// Creates `folder` if needed; throws InputError if it cannot (checked before a run's work).
-void create_report_folder(const std::string& folder);
+struct WrittenReports {
+  std::vector<std::string> written;  // the files now in place
+  std::vector<std::string> failures; // "cannot write PATH (reason)", one per format that failed
+};
 
-// Writes the scene's formats into `folder` (created if needed); returns the files written.
-std::vector<std::string> write_reports(const RunReport& report, const std::string& folder);
+// Writes the scene's formats into `folder` (created if needed), each atomically
+// (common/files.hpp): a format that fails leaves its previous file and the others are written.
+WrittenReports write_reports(const RunReport& report, const std::string& folder);
 
 // A table over p (rows) × damping (columns), underdamped by α_eff, then the overdamped (sinh
 // branch) columns after an empty separator column; `cell` gives each point's text.

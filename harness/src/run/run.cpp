@@ -2,6 +2,8 @@
 
 #include "pldamp/solvers/registry.hpp"
 
+#include <fmt/format.h>
+
 #include <algorithm>
 #include <atomic>
 #include <chrono>
@@ -13,6 +15,12 @@
 
 namespace pldamp::harness {
 namespace {
+
+// Outcomes that are no answer: the budget ran out, or the answer was impossible.
+bool failing(solvers::Outcome outcome) {
+  return outcome == solvers::Outcome::step_limit || outcome == solvers::Outcome::time_limit ||
+         outcome == solvers::Outcome::unstable;
+}
 
 // |value − reference| and its relative size (see Record).
 std::pair<std::optional<double>, std::optional<double>> errors(const Exact& value,
@@ -79,6 +87,9 @@ void solve_record(const Plan& plan, Record& record) {
   }
   options.want = plan.scene.want;
   options.end = end_of(plan.scene, config);
+  options.max_steps = plan.scene.limits.max_steps;
+  options.max_seconds = plan.scene.limits.max_seconds;
+  options.stop = &stop_requested();
   if (config.steps_per_contact) {
     options.steps_per_contact = *config.steps_per_contact;
   }
@@ -97,9 +108,21 @@ void solve_record(const Plan& plan, Record& record) {
     for (int repeat = 1; repeat < plan.scene.repeats; ++repeat) {
       fastest = std::min(fastest, solvers::solve(config.name, problem, options).wall_seconds);
     }
-    // A failed phase (step limit) fails the record; the outcome kept is the worst seen.
-    if (!record.outcome || result.outcome == solvers::Outcome::step_limit) {
+    // A failed phase fails the record; the outcome kept is the worst seen.
+    if (!record.outcome || failing(result.outcome)) {
       record.outcome = result.outcome;
+    }
+    if (result.outcome == solvers::Outcome::unstable && record.failure.empty()) {
+      record.failure = result.invariant;
+    }
+    if (result.outcome == solvers::Outcome::no_exit && record.failure.empty()) {
+      // An honest no_exit is a return beyond the horizon (or none at all).
+      const Exact tau = exp(point.log_duration) * cell.scale(Dimension::time);
+      if (tau < Exact(result.horizon)) {
+        record.failure = fmt::format("no_exit, yet the contact returns at tau = {:.6g}, before "
+                                     "the horizon {:.6g}",
+                                     static_cast<double>(tau), static_cast<double>(result.horizon));
+      }
     }
     if (result.fixed_step) {
       record.dt = static_cast<double>(*result.fixed_step);
@@ -141,7 +164,7 @@ void solve_record(const Plan& plan, Record& record) {
 } // namespace
 
 bool Record::failed() const {
-  if (!outcome || *outcome == solvers::Outcome::step_limit) {
+  if (!outcome || failing(*outcome) || !failure.empty()) {
     return true;
   }
   return std::any_of(rel_error.begin(), rel_error.end(),
@@ -150,6 +173,12 @@ bool Record::failed() const {
 
 std::string_view Record::outcome_name() const {
   return outcome ? solvers::outcome_name(*outcome) : "error";
+}
+
+std::atomic<bool>& stop_requested() {
+  static std::atomic<bool> stop{false};
+  static_assert(std::atomic<bool>::is_always_lock_free);
+  return stop;
 }
 
 std::vector<Record> run_plan(const Plan& plan, int jobs, RunTotals& totals,
@@ -168,7 +197,7 @@ std::vector<Record> run_plan(const Plan& plan, int jobs, RunTotals& totals,
   std::mutex report;
   std::size_t done = 0;
   auto work = [&] {
-    for (std::size_t i = next++; i < records.size(); i = next++) {
+    for (std::size_t i = next++; i < records.size() && !stop_requested(); i = next++) {
       Record& record = records[i];
       try {
         with_precision(plan.configs[record.config].precision,

@@ -5,6 +5,7 @@
 
 #include "truth/plan.hpp"
 
+#include <atomic>
 #include <functional>
 #include <optional>
 #include <string>
@@ -16,11 +17,13 @@ namespace pldamp::harness {
 struct Record {
   std::size_t cell = 0, config = 0;
   std::optional<solvers::Outcome> outcome; // none: the solver threw
-  std::string failure;                     // the solver's message when it threw
-  long steps = 0, rhs_evals = 0;           // per collision (the mean over onset phases)
-  double wall_seconds = 0;  // per collision: the minimum over the repeats, mean over phases
-  int phases = 1;           // onset phases run (fixed-step configurations)
-  std::optional<double> dt; // the fixed step a fixed-step run used
+  // Why the record failed beyond its outcome: the solver's message when it threw, the invariant
+  // an unstable answer broke, or a no_exit where the truth returns before the solver's horizon.
+  std::string failure;
+  long steps = 0, rhs_evals = 0; // per collision (the mean over onset phases)
+  double wall_seconds = 0;       // per collision: the minimum over the repeats, mean over phases
+  int phases = 1;                // onset phases run (fixed-step configurations)
+  std::optional<double> dt;      // the fixed step a fixed-step run used
   // Per observable (Plan::observables): the value (rounded to double for the report) and its
   // absolute and relative errors against the reference, computed in Exact. The relative error
   // of a reference 0 (e of a contact that never returns) is the absolute one; of an infinite
@@ -29,7 +32,9 @@ struct Record {
   // Over several onset phases: the phase with the largest relative error, and the spread of the
   // values over the phases relative to the reference.
   std::vector<std::optional<double>> value, abs_error, rel_error, spread;
-  // Failed: the solver threw, stopped at its step limit, or returned a non-finite error.
+  // Failed: the solver threw, ran out of its budget (step_limit, time_limit), gave an impossible
+  // answer (unstable), gave up before a return the truth has in its horizon, or returned a
+  // non-finite error.
   bool failed() const;
   // The outcome's name, or "error" when the solver threw.
   std::string_view outcome_name() const;
@@ -42,6 +47,11 @@ struct RunTotals {
 };
 
 using Progress = std::function<void(std::size_t done, std::size_t total)>;
+
+// A request to stop the run (a signal handler sets it, lock-free): workers take no new record and
+// the solves in flight end within 256 steps, as time_limit. Whoever installs the handler clears
+// it first (cli/commands_run.cpp).
+std::atomic<bool>& stop_requested();
 
 // Runs every record of the plan; `progress` (if set) is called from the workers, serialised.
 std::vector<Record> run_plan(const Plan& plan, int jobs, RunTotals& totals,

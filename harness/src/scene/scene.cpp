@@ -3,6 +3,7 @@
 #include "common/observables.hpp"
 
 #include "pldamp/analytic/conventions.hpp"
+#include "pldamp/core/domain.hpp"
 #include "pldamp/solvers/registry.hpp"
 
 #include <fmt/format.h>
@@ -120,8 +121,9 @@ private:
 
 unsigned read_want(const Reader& reader, const toml::node& node) {
   unsigned want = 0;
+  const std::vector<std::string> words = reader.strings(node, "want");
   try {
-    want = parse_want(reader.strings(node, "want"), "want", false);
+    want = parse_want(words, "want", false);
   } catch (const std::invalid_argument& e) {
     reader.fail(node, e.what());
   }
@@ -207,6 +209,39 @@ std::vector<std::optional<solvers::End>> read_ends(const Reader& reader, const t
   return ends;
 }
 
+// A configuration's tolerances against the precision it runs in (rtol >= its epsilon) and, for a
+// literal atol, against the natural scales of every grid cell: the solvers' own checks
+// (solvers::validate_against), before any work.
+void check_config(const Reader& reader, const toml::node& node, const Scene& scene,
+                  const SolverConfig& config) {
+  try {
+    with_precision(config.precision, [&]<SupportedReal Real>() {
+      solvers::Options<Real> options;
+      if (config.rtol) {
+        options.rtol = Real(*config.rtol);
+      }
+      options.want = scene.want;
+      options.validate();
+      if (!config.atol) {
+        return;
+      }
+      options.atol = Real(*config.atol);
+      for (const double p : scene.p) {
+        for (const double v0 : scene.v0) {
+          for (const double m : scene.m) {
+            for (const double k : scene.k) {
+              solvers::validate_against(
+                  solvers::Problem<Real>{Real(p), Real(m), Real(k), Real(v0), Real(0)}, options);
+            }
+          }
+        }
+      }
+    });
+  } catch (const std::invalid_argument& e) {
+    reader.fail(node, config.label() + ": " + e.what());
+  }
+}
+
 void read_solvers(const Reader& reader, const toml::node& node, Scene& scene) {
   const toml::array* entries = node.as_array();
   if (entries == nullptr) {
@@ -235,6 +270,7 @@ void read_solvers(const Reader& reader, const toml::node& node, Scene& scene) {
         for (const double n : reader.numbers(*steps, "steps_per_contact")) {
           SolverConfig config = base;
           config.steps_per_contact = steps_per_contact(reader, *steps, n);
+          check_config(reader, item, scene, config);
           scene.configs.push_back(config);
         }
         continue;
@@ -244,6 +280,7 @@ void read_solvers(const Reader& reader, const toml::node& node, Scene& scene) {
           check_rtol(reader, *rtol, value);
           SolverConfig config = base;
           config.rtol = value;
+          check_config(reader, *rtol, scene, config);
           scene.configs.push_back(config);
         }
         continue;
@@ -255,6 +292,7 @@ void read_solvers(const Reader& reader, const toml::node& node, Scene& scene) {
       if (fixed_step) {
         config.steps_per_contact = 50;
       }
+      check_config(reader, item, scene, config);
       scene.configs.push_back(config);
     }
   }
@@ -352,6 +390,9 @@ void read_claims(const Reader& reader, const toml::node& node, Scene& scene) {
       reader.fail(item, std::string("[[claim]] needs the ") +
                             (fixed_step ? "steps_per_contact" : "rtol") + " of its solver");
     }
+    if (!claim.convention) {
+      check_config(reader, item, scene, claim.config);
+    }
     scene.claims.push_back(claim);
   }
 }
@@ -392,7 +433,7 @@ void read_figures(const Reader& reader, const toml::node& node, Scene& scene) {
     const toml::node& ps = *entry.get("p");
     figure.p = reader.numbers(ps, "p");
     for (const double p : figure.p) {
-      reader.require(p >= 1, ps, "p must be >= 1", p);
+      reader.require(p >= 1 && p <= domain::p_max, ps, "p must be in [1, 1000]", p);
     }
     if (const toml::node* es = entry.get("e")) {
       figure.e = reader.numbers(*es, "e");
@@ -421,31 +462,33 @@ void read_grid(const Reader& reader, const toml::node& node, Scene& scene) {
   if (grid.get("e") == nullptr && grid.get("alpha_eff") == nullptr) {
     reader.fail(node, "[grid] needs e or alpha_eff");
   }
-  auto list = [&](const char* key, auto&& valid, const char* rule) {
+  // A grid list, each value checked by `check` (the domain of core/domain.hpp), which throws.
+  auto list = [&](const char* key, auto&& check) {
     std::vector<double> values{1.0};
     if (const toml::node* at = grid.get(key)) {
       values = reader.numbers(*at, key);
       for (const double value : values) {
-        reader.require(valid(value), *at, std::string(key) + rule, value);
+        try {
+          check(value);
+        } catch (const std::invalid_argument& e) {
+          reader.fail(*at, e.what());
+        }
       }
     }
     return values;
   };
-  const auto positive = [](double x) { return x > 0; };
-  scene.p = list(
-      "p", [](double x) { return x >= 1; }, " must be >= 1");
-  scene.v0 = list("v0", positive, " must be > 0");
-  scene.m = list("m", positive, " must be > 0");
-  scene.k = list("k", positive, " must be > 0");
+  scene.p = list("p", [](double p) { domain::require_p(p); });
+  scene.v0 = list("v0", [](double x) { domain::require_scale("v0", x); });
+  scene.m = list("m", [](double x) { domain::require_scale("m", x); });
+  scene.k = list("k", [](double x) { domain::require_scale("k", x); });
   if (grid.get("e") != nullptr) {
-    for (const double e : list(
-             "e", [](double x) { return x > 0 && x <= 1; }, " must be in (0, 1]")) {
+    for (const double e :
+         list("e", [](double x) { require(x > 0 && x <= 1, "e must be in (0, 1]", x); })) {
       scene.damping.push_back({Damping::Kind::e, e});
     }
   }
   if (grid.get("alpha_eff") != nullptr) {
-    for (const double z : list(
-             "alpha_eff", [](double x) { return x >= 0; }, " must be >= 0")) {
+    for (const double z : list("alpha_eff", [](double z) { domain::require_alpha_eff(z); })) {
       scene.damping.push_back({Damping::Kind::alpha_eff, z});
     }
   }
@@ -489,10 +532,15 @@ std::string SolverConfig::line() const {
 
 namespace {
 
-// Refuses nesting toml++ would recurse into without bound (max_scene_nesting): arrays and
-// inline tables inside each other, and dotted keys or table headers with many parts. A lexical
-// pass that skips strings and comments; a dot between two digits is a number's, not a key's.
-void check_nesting(const Reader& reader, std::string_view text) {
+// Refuses, before toml++ sees the text, what it handles badly (max_scene_nesting):
+// - nesting it would recurse into without bound: arrays and inline tables inside each other,
+//   table headers and dotted keys with many parts (counted together: a dotted key inside nested
+//   arrays is as deep as both);
+// - a byte beyond ASCII outside comments: toml++ 3.3.0 reaches __builtin_unreachable on such
+//   bytes in keys, after a string's backslash and in its error paths (marzer/tomlplusplus#295,
+//   #190), found by tests/fuzz; in a string, \uXXXX says the same.
+// A lexical pass that skips strings and comments; a dot between two digits is a number's.
+void check_text(const Reader& reader, std::string_view text) {
   int depth = 0, dots = 0;
   std::size_t line = 1;
   auto deeper_than_allowed = [&](int levels) {
@@ -501,6 +549,9 @@ void check_nesting(const Reader& reader, std::string_view text) {
                                " levels (arrays, inline tables or dotted keys)");
     }
   };
+  auto non_ascii = [](char c) { return static_cast<unsigned char>(c) >= 0x80; };
+  const std::string beyond_ascii =
+      "a character beyond ASCII outside a comment (in a string, write it as \\uXXXX)";
   auto digit = [&](std::size_t i) { return i < text.size() && text[i] >= '0' && text[i] <= '9'; };
   for (std::size_t i = 0; i < text.size(); ++i) {
     const char c = text[i];
@@ -521,18 +572,22 @@ void check_nesting(const Reader& reader, std::string_view text) {
             break; // an unterminated string: toml++ says so
           }
           ++line;
+        } else if (non_ascii(text[i])) {
+          reader.fail_at(line, beyond_ascii);
         } else if (c == '"' && text[i] == '\\') {
           ++i; // an escaped character
         }
         ++i;
       }
       i += close.size() - 1;
+    } else if (non_ascii(c)) {
+      reader.fail_at(line, beyond_ascii);
     } else if (c == '[' || c == '{') {
-      deeper_than_allowed(++depth);
+      deeper_than_allowed(++depth + dots);
     } else if (c == ']' || c == '}') {
       depth = std::max(depth - 1, 0);
     } else if (c == '.' && !(i > 0 && digit(i - 1) && digit(i + 1))) {
-      deeper_than_allowed(++dots + 1);
+      deeper_than_allowed(depth + ++dots + 1);
     }
   }
 }
@@ -562,16 +617,17 @@ Scene load_scene(const std::string& path) {
 
 Scene parse_scene(std::string_view text, const std::string& path) {
   const Reader reader(path);
-  check_nesting(reader, text);
+  check_text(reader, text);
   toml::table root;
   try {
     root = toml::parse(text, path);
   } catch (const toml::parse_error& e) {
     reader.fail_at(e.source().begin.line, std::string(e.description()));
   }
-  reader.only(root,
-              {"name", "end", "want", "grid", "solver", "claim", "figure", "report", "timing"},
-              "the scene");
+  reader.only(
+      root,
+      {"name", "end", "want", "grid", "solver", "claim", "figure", "report", "timing", "limits"},
+      "the scene");
   Scene scene;
   scene.path = path;
   scene.name = root.get("name") ? reader.string(*root.get("name"), "name") : path;
@@ -616,6 +672,30 @@ Scene parse_scene(std::string_view text, const std::string& path) {
         }
         scene.formats.push_back(*format);
       }
+      if (scene.formats.empty()) {
+        reader.fail(*formats,
+                    "formats names no report format, expected some of " + names_of(report_formats));
+      }
+    }
+  }
+  if (const toml::node* limits = root.get("limits")) {
+    const toml::table& table = reader.table(*limits, "[limits]");
+    reader.only(table, {"max_steps", "max_seconds", "max_runs"}, "[limits]");
+    auto count = [&](const char* key, long& into) {
+      if (const toml::node* node = table.get(key)) {
+        const double n = reader.number(*node, key);
+        reader.require(n >= 1 && n <= 1e12 && n == std::floor(n), *node,
+                       std::string(key) + " must be an integer in [1, 1e12]", n);
+        into = static_cast<long>(n);
+      }
+    };
+    count("max_steps", scene.limits.max_steps);
+    count("max_runs", scene.limits.max_runs);
+    if (const toml::node* node = table.get("max_seconds")) {
+      const double seconds = reader.number(*node, "max_seconds");
+      reader.require(seconds > 0 && seconds <= 86400, *node, "max_seconds must be in (0, 86400]",
+                     seconds);
+      scene.limits.max_seconds = seconds;
     }
   }
   if (const toml::node* timing = root.get("timing")) {

@@ -15,6 +15,9 @@
 //     [[figure]]  kind (figures.hpp), solver, rtol, atol, p, e, alpha_eff: the seed's figures
 //     [report]    formats = ["json", "csv", "md", "html"]
 //     [timing]    repeats = 3   (wall time of a run: the minimum over repeats)
+//     [limits]    max_steps = 1000000, max_seconds = 30 (each solve's budget: a solve that spends
+//                 it is a failed record, step_limit or time_limit, and the run goes on);
+//                 max_runs = 1000000 (a larger plan is refused before any work)
 #pragma once
 
 #include "common/input.hpp"
@@ -106,6 +109,13 @@ inline constexpr NameTable<ReportFormat, 4> report_formats{{{ReportFormat::json,
 inline constexpr NameTable<solvers::End, 2> contact_ends{
     {{solvers::End::overlap, "overlap"}, {solvers::End::force, "force"}}};
 
+// What one run may spend ([limits]; `pldamp run --max-steps/--max-seconds/--max-runs`).
+struct Limits {
+  long max_steps = 1000000; // per solve
+  double max_seconds = 30;  // per solve, wall clock
+  long max_runs = 1000000;  // solver runs of the plan (onset phases and repeats included)
+};
+
 struct Scene {
   std::string path, name;
   solvers::End end = solvers::End::overlap;
@@ -118,6 +128,7 @@ struct Scene {
   std::vector<ReportFormat> formats{ReportFormat::json, ReportFormat::csv, ReportFormat::md,
                                     ReportFormat::html};
   int repeats = 1;
+  Limits limits;
 };
 
 // The contact-end rule a configuration runs under: its own, or the scene's.
@@ -132,8 +143,8 @@ Scene parse_scene(std::string_view text, const std::string& path);
 
 // A scene file larger than this is refused before parsing (the largest shipped is ~3 kB).
 inline constexpr std::size_t max_scene_bytes = 1 << 20;
-// Keys, tables, arrays and inline tables nested deeper than this are refused before parsing:
-// toml++ parses them recursively, and 100 000 levels overflowed the stack.
+// Arrays, inline tables and dotted keys nested deeper than this (together) are refused before
+// parsing: toml++ parses them recursively, and 100 000 levels overflowed the stack.
 inline constexpr int max_scene_nesting = 32;
 
 } // namespace pldamp::harness

@@ -136,11 +136,12 @@ Plan make_plan(const Scene& scene) {
   const ContactEnd end = scene.end == solvers::End::force ? ContactEnd::force : ContactEnd::overlap;
   for (const double p : scene.p) {
     for (const Damping& damping : scene.damping) {
-      Point point{p, damping, 0, 0, false, {}, {}, {}};
+      Point point{p, damping, 0, 0, false, 0, {}, {}, {}};
       const Contact<Exact> calibrated = contact_of<Exact>(point, end);
       point.alpha = calibrated.alpha();
       point.alpha_eff = static_cast<double>(calibrated.alpha_eff());
       point.overdamped = calibrated.alpha_eff() >= 1;
+      point.log_duration = *analytic::observables(calibrated, analytic::want_tau).log_tau;
       // The closed forms at α as each precision receives it; the double one also judges the
       // analytic layer in double.
       const double alpha = static_cast<double>(point.alpha);

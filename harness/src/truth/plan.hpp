@@ -56,6 +56,9 @@ struct Point {
   double alpha_eff; // the damping as α_eff (computed for a target e)
   Exact alpha;      // calibrated in Exact
   bool overdamped;  // α_eff ≥ 1: no return
+  // ln τ at the overlap end (+∞ when overdamped): a solver's no_exit is an answer only where the
+  // contact returns after its horizon (the force end's cut comes no later than this).
+  Exact log_duration;
   // Per α precision (alpha_precision) and contact end: the observables in plan order, in Exact.
   std::map<std::pair<std::string, solvers::End>, std::vector<std::optional<Exact>>> reference;
   // The analytic layer in double against Exact, per observable (plan order).

@@ -1,0 +1,96 @@
+#include "common/files.hpp"
+
+#include "common/input.hpp"
+
+#include <cerrno>
+#include <cstdlib>
+#include <cstring>
+#include <fcntl.h>
+#include <sys/stat.h>
+#include <unistd.h>
+#include <vector>
+
+namespace pldamp::harness {
+namespace {
+
+// A file descriptor closed on every path out.
+struct Descriptor {
+  int fd = -1;
+  ~Descriptor() {
+    if (fd >= 0) {
+      ::close(fd);
+    }
+  }
+};
+
+// mkstemp on ".NAME.XXXXXX" beside `path`: O_CREAT | O_EXCL, mode 0600.
+// Throws InputError "`what` (reason)".
+std::string create_temporary(const std::filesystem::path& path, Descriptor& file,
+                             const std::string& what) {
+  const std::filesystem::path folder = path.has_parent_path() ? path.parent_path() : ".";
+  // Appended piece by piece: GCC 12 warns (-Wrestrict, falsely) on "." + name + ".XXXXXX".
+  std::string name = folder.string();
+  name.append("/.");
+  name.append(path.filename().string());
+  name.append(".XXXXXX");
+  std::vector<char> buffer(name.begin(), name.end());
+  buffer.push_back('\0');
+  file.fd = ::mkstemp(buffer.data());
+  if (file.fd < 0) {
+    throw InputError(what + " (" + std::strerror(errno) + ")");
+  }
+  return std::string(buffer.data());
+}
+
+} // namespace
+
+void write_file_atomically(const std::filesystem::path& path, std::string_view content) {
+  Descriptor file;
+  const std::string temporary = create_temporary(path, file, "cannot write " + path.string());
+  auto fail = [&](int error) {
+    ::unlink(temporary.c_str());
+    throw InputError("cannot write " + path.string() + " (" + std::strerror(error) + ")");
+  };
+  // The permissions a new file of this user gets (mkstemp's are 0600).
+  const mode_t mask = ::umask(0);
+  ::umask(mask);
+  if (::fchmod(file.fd, 0666 & ~mask) != 0) {
+    fail(errno);
+  }
+  for (std::size_t done = 0; done < content.size();) {
+    const ssize_t n = ::write(file.fd, content.data() + done, content.size() - done);
+    if (n < 0) {
+      if (errno == EINTR) {
+        continue;
+      }
+      fail(errno);
+    }
+    done += static_cast<std::size_t>(n);
+  }
+  if (::fsync(file.fd) != 0) {
+    fail(errno);
+  }
+  const int descriptor = file.fd;
+  file.fd = -1;
+  if (::close(descriptor) != 0) {
+    fail(errno);
+  }
+  if (::rename(temporary.c_str(), path.c_str()) != 0) {
+    fail(errno);
+  }
+}
+
+void require_writable_folder(const std::filesystem::path& folder) {
+  std::error_code failed;
+  std::filesystem::create_directories(folder, failed);
+  if (failed) {
+    throw InputError("cannot create the report folder, " + failed.message() + " (got " +
+                     folder.string() + ")");
+  }
+  Descriptor probe;
+  const std::string name = create_temporary(folder / "report", probe,
+                                            "cannot write in the report folder " + folder.string());
+  ::unlink(name.c_str());
+}
+
+} // namespace pldamp::harness

@@ -1,0 +1,20 @@
+// Files a person reads, written so that a reader sees the old file or the new one, never a torn
+// one: the content goes to a fresh temporary name beside the target (created exclusively, so no
+// planted symlink is followed), is flushed to the disk, and is renamed into place.
+#pragma once
+
+#include <filesystem>
+#include <string>
+#include <string_view>
+
+namespace pldamp::harness {
+
+// Throws InputError "cannot write PATH (reason)"; the temporary is removed on failure.
+void write_file_atomically(const std::filesystem::path& path, std::string_view content);
+
+// Creates `folder` if needed and checks that a file can be created in it (and removes that
+// file): a read-only mount or a folder of another user fails here, before any work. Throws
+// InputError.
+void require_writable_folder(const std::filesystem::path& folder);
+
+} // namespace pldamp::harness
