@@ -4,15 +4,16 @@
 #   scripts/run.sh test   install what is missing, build with -Werror and run every test, rebuild
 #                         and rerun them under ASan+UBSan, check the reference table regenerates
 #                         bit for bit, that the sources are clang-formatted and that the library
-#                         and CLI build without float128
+#                         and CLI build without float128, and fuzz the scene and report readers
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
 # Debian 12 packages; README "Dependencies" says why each is here. The tests also render
-# report.html in a browser: chromium and libpng for them only.
+# report.html in a browser: chromium and libpng for them only; the fuzzing step needs Clang and
+# its libFuzzer (clang, libclang-rt-14-dev).
 packages=(cmake make g++ libboost-dev libsundials-dev libcli11-dev libfmt-dev nlohmann-json3-dev libgtest-dev
   libbenchmark-dev libtomlplusplus-dev gnuplot-nox clang-format)
-test_packages=(chromium libpng-dev)
+test_packages=(chromium libpng-dev clang libclang-rt-14-dev)
 
 install_missing() { # install_missing PACKAGE...
   local missing=() p
@@ -73,6 +74,16 @@ test)
   build build-sanitize -DPLDAMP_WERROR=ON -DPLDAMP_SANITIZE=ON -DPLDAMP_BUILD_BENCHMARKS=OFF \
     -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O1 -g1 -DNDEBUG"
   ctest --test-dir build-sanitize -j "$(nproc)" --output-on-failure
+  echo "== fuzzing the scene and report parsers (libFuzzer)"
+  # Clang, everything under ASan+UBSan with libFuzzer's coverage, -O1 -g1 as above but with the
+  # libraries' assertions (nlohmann::json's catch misuse), without float128 (Clang does not find
+  # GCC's quadmath.h); only the two fuzz targets and what they link (about 1 minute on 2 cores),
+  # then each for 45 s, side by side, over a copy of tests/fuzz/corpus (tests/fuzz/run.sh; the
+  # input behind a finding is kept in build-fuzz/fuzz-artifacts).
+  CC=clang CXX=clang++ BUILD_TARGET=fuzz build build-fuzz -DPLDAMP_FUZZ=ON -DPLDAMP_WITH_QUAD=OFF \
+    -DPLDAMP_BUILD_TESTS=OFF -DPLDAMP_BUILD_BENCHMARKS=OFF -DCMAKE_BUILD_TYPE=RelWithDebInfo \
+    -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O1 -g1"
+  tests/fuzz/run.sh build-fuzz 45
   ;;
 *)
   echo "usage: scripts/run.sh main|test" >&2

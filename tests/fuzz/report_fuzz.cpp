@@ -1,0 +1,75 @@
+// libFuzzer target: pldamp::harness::read_report (judge/diff.hpp), the reader of a report.json,
+// on arbitrary bytes; when it accepts them, `regressions` between that report and itself and
+// between it and a small valid report, both ways (what `pldamp diff OLD NEW` computes). An
+// InputError (an std::invalid_argument) is the answer to bad input; any other exception escapes
+// and aborts, and libFuzzer reports it with a crash, a hang (-timeout), a leak or an ASan/UBSan
+// report.
+//
+// Build (Clang; float128 off, Clang has no GCC quadmath.h) and run, from the source tree:
+//   CC=clang CXX=clang++ cmake -S . -B /tmp/build-fuzz -DPLDAMP_FUZZ=ON -DPLDAMP_WITH_QUAD=OFF \
+//       -DPLDAMP_BUILD_TESTS=OFF -DPLDAMP_BUILD_BENCHMARKS=OFF -DCMAKE_BUILD_TYPE=RelWithDebInfo
+//   cmake --build /tmp/build-fuzz --target fuzz             # scene_fuzz and report_fuzz
+//   tests/fuzz/run.sh /tmp/build-fuzz 60      # both, 60 s each, on a copy of tests/fuzz/corpus
+//   F=/tmp/build-fuzz/tests/fuzz/report_fuzz; mkdir -p /tmp/report-corpus
+//   $F -dict=tests/fuzz/report.dict /tmp/report-corpus tests/fuzz/corpus/report   # until Ctrl-C
+//   $F tests/fuzz/corpus/report/crash-...                  # replays one input
+#include "judge/diff.hpp"
+
+#include <nlohmann/json.hpp>
+
+#include <cstddef>
+#include <cstdint>
+#include <stdexcept>
+#include <string_view>
+
+namespace {
+
+// A valid report (in a build with or without float128) with keys of records in corpus/report,
+// so that a fuzzed report's records are found, gone, newly failed or grown against it.
+constexpr std::string_view other_text = R"({
+  "schema": 1,
+  "claims": [{"name": "seed Table II", "verdict": "holds"},
+             {"name": "too tight", "verdict": "fails"}],
+  "records": [
+    {"key": "cvode-bdf rtol=1e-06 | p=1 e=0.9 v0=0.1 m=1 k=1", "precision": "double",
+     "outcome": "exited", "failed": false,
+     "rel_error": {"e": 1e-06, "delta_max": 2e-07, "tau": null}},
+    {"key": "taylor long | p=1.5 e=0.5 v0=1 m=1 k=1", "precision": "long",
+     "outcome": "exited", "failed": false, "rel_error": {"e": 1e-19, "tau": 0}},
+    {"key": "dem-verlet n=1 end=overlap phases=2 | p=1.5 z=1 v0=1 m=1 k=1",
+     "precision": "double", "outcome": "exited", "failed": false, "rel_error": {"e": 0.1}},
+    {"key": "verlet-predicted n=1000 | p=2.5 z=2 v0=10 m=1 k=1", "outcome": "no_exit",
+     "failed": true, "rel_error": {}}
+  ]
+})";
+
+const nlohmann::json& other_report() {
+  static const nlohmann::json report = pldamp::harness::read_report(other_text, "other.json");
+  return report;
+}
+
+} // namespace
+
+extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
+  const std::string_view text(reinterpret_cast<const char*>(data), size);
+  nlohmann::json report;
+  try {
+    report = pldamp::harness::read_report(text, "fuzz.json");
+  } catch (const std::invalid_argument&) {
+    return 0; // InputError: a damaged or foreign file, the expected answer
+  }
+  // read_report checked everything regressions reads: nothing may throw now but InputError.
+  try {
+    (void)pldamp::harness::regressions(report, report);
+  } catch (const std::invalid_argument&) {
+  }
+  try {
+    (void)pldamp::harness::regressions(other_report(), report);
+  } catch (const std::invalid_argument&) {
+  }
+  try {
+    (void)pldamp::harness::regressions(report, other_report());
+  } catch (const std::invalid_argument&) {
+  }
+  return 0;
+}
