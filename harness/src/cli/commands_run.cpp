@@ -5,6 +5,7 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <csignal>
 #include <filesystem>
 #include <fstream>
@@ -89,19 +90,25 @@ private:
   struct sigaction previous_term_ {};
 };
 
-// The solver runs a scene asks for, counted before any of it is built: cells × (each
-// configuration's onset phases) × repeats, claim configurations included.
+// The grid's cells, counted before any is built (as a double: a hostile grid overflows long).
+double grid_cells(const Scene& scene) {
+  return double(scene.p.size()) * double(scene.damping.size()) * double(scene.v0.size()) *
+         double(scene.m.size()) * double(scene.k.size());
+}
+
+// The solver runs a scene asks for: cells × (each configuration's onset phases) × repeats, claim
+// configurations included.
 double planned_runs(const Scene& scene) {
-  const double cells = double(scene.p.size()) * double(scene.damping.size()) *
-                       double(scene.v0.size()) * double(scene.m.size()) * double(scene.k.size());
   double per_cell = 0;
   for (const SolverConfig& config : scene.configs) {
     per_cell += config.onset_phases;
   }
-  for (const Claim& claim : scene.claims) {
-    per_cell += claim.convention ? 0 : claim.config.onset_phases;
+  for (const Claim& claim : scene.claims) { // a configuration of its own, as make_plan adds it
+    const bool own = !claim.convention && std::find(scene.configs.begin(), scene.configs.end(),
+                                                    claim.config) == scene.configs.end();
+    per_cell += own ? claim.config.onset_phases : 0;
   }
-  return cells * per_cell * scene.repeats;
+  return grid_cells(scene) * per_cell * scene.repeats;
 }
 
 // The report at `path`, read whole and checked (judge/diff.hpp).
@@ -144,8 +151,7 @@ int run_scene(const RunArgs& args, std::ostream& out, std::ostream& err) {
   }
   // The plan's size, refused beyond the limit before anything is built, else printed first.
   const double runs = planned_runs(scene);
-  const double cells = double(scene.p.size()) * double(scene.damping.size()) *
-                       double(scene.v0.size()) * double(scene.m.size()) * double(scene.k.size());
+  const double cells = grid_cells(scene);
   const double configs = double(scene.configs.size() + scene.claims.size());
   const double megabytes =
       (cells * configs *
