@@ -30,20 +30,24 @@ public:
       const int filled = static_cast<int>(width * done / total);
       std::cerr << "\r[" << std::string(static_cast<std::size_t>(filled), '#')
                 << std::string(static_cast<std::size_t>(width - filled), ' ') << "] " << done << "/"
-                << total << (done == total ? "\n" : "") << std::flush;
+                << total << fmt::format(", about {:.0f} s left  ", left(done, total))
+                << (done == total ? "\n" : "") << std::flush;
       return;
     }
     const double elapsed = seconds_since(start_);
-    if (elapsed - last_ < 5 || done == total) {
+    if (elapsed - last_ < (last_ == 0 ? 1 : 5) || done == total) {
       return;
     }
     last_ = elapsed;
     std::cerr << fmt::format("{:.0f} s: {}/{} records, about {:.0f} s left\n", elapsed, done, total,
-                             elapsed / double(done) * double(total - done))
+                             left(done, total))
               << std::flush;
   }
 
 private:
+  double left(std::size_t done, std::size_t total) const {
+    return seconds_since(start_) / double(done) * double(total - done);
+  }
   static double seconds_since(std::chrono::steady_clock::time_point t) {
     return std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
   }
