@@ -32,8 +32,7 @@ solvers::Result<double> solve(const SolverConfig& config, double p, double alpha
   options.sample_times = std::move(sample_times);
   const solvers::Result<double> r =
       solvers::solve(config.name, solvers::Problem<double>{p, 1, 1, 1, alpha}, options);
-  if (r.outcome == solvers::Outcome::step_limit || r.outcome == solvers::Outcome::time_limit ||
-      r.outcome == solvers::Outcome::unstable) {
+  if (solvers::failing(r.outcome)) {
     throw std::runtime_error(config.label() + " ended as " +
                              std::string(solvers::outcome_name(r.outcome)) +
                              " at p = " + to_string_full(p) + ", alpha = " + to_string_full(alpha));

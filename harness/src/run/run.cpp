@@ -16,12 +16,6 @@
 namespace pldamp::harness {
 namespace {
 
-// Outcomes that are no answer: the budget ran out, or the answer was impossible.
-bool failing(solvers::Outcome outcome) {
-  return outcome == solvers::Outcome::step_limit || outcome == solvers::Outcome::time_limit ||
-         outcome == solvers::Outcome::unstable;
-}
-
 // |value − reference| and its relative size (see Record).
 std::pair<std::optional<double>, std::optional<double>> errors(const Exact& value,
                                                                const Exact& reference) {
@@ -109,7 +103,7 @@ void solve_record(const Plan& plan, Record& record) {
       fastest = std::min(fastest, solvers::solve(config.name, problem, options).wall_seconds);
     }
     // A failed phase fails the record; the outcome kept is the worst seen.
-    if (!record.outcome || failing(result.outcome)) {
+    if (!record.outcome || solvers::failing(result.outcome)) {
       record.outcome = result.outcome;
     }
     if (result.outcome == solvers::Outcome::unstable && record.failure.empty()) {
@@ -164,7 +158,7 @@ void solve_record(const Plan& plan, Record& record) {
 } // namespace
 
 bool Record::failed() const {
-  if (!outcome || failing(*outcome) || !failure.empty()) {
+  if (!outcome || solvers::failing(*outcome) || !failure.empty()) {
     return true;
   }
   return std::any_of(rel_error.begin(), rel_error.end(),

@@ -144,6 +144,12 @@ enum class Outcome {
               // nothing is filled (collision.hpp, BasicCollision::finish)
 };
 
+// An outcome that carries no answer: the budget ran out, or the answer was impossible.
+constexpr bool failing(Outcome outcome) {
+  return outcome == Outcome::step_limit || outcome == Outcome::time_limit ||
+         outcome == Outcome::unstable;
+}
+
 constexpr std::string_view outcome_name(Outcome outcome) {
   switch (outcome) {
   case Outcome::exited:
