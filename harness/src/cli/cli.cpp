@@ -152,6 +152,9 @@ int run_cli(int argc, const char* const* argv, std::ostream& out, std::ostream& 
                   "each solve's wall-clock limit (default: the scene's [limits], else 30)");
   run->add_option("--max-runs", run_args.max_runs,
                   "refuse a plan of more solver runs (default: the scene's [limits], else 1e6)");
+  run->add_flag("--strict", run_args.strict,
+                "exit 1 when a claim's verdict is not the one expected (a failing claim, or one "
+                "pinned with expect = \"fails\" that now holds)");
 
   std::string diff_old, diff_new;
   CLI::App* diff =

@@ -41,13 +41,16 @@ struct RunArgs {
   std::optional<std::string> jobs; // default: the cores
   // The scene's [limits], overridden.
   std::optional<std::string> max_steps, max_seconds, max_runs;
+  bool strict = false; // exit 1 when a claim's verdict is not the one expected (a CI gate)
 };
 
 void run_calibrate(const ContactArgs& args, std::ostream& out);
 void run_observables(const ContactArgs& args, std::ostream& out);
 void run_showcase(const std::string& precision, std::ostream& out);
 void run_solve(const SolveArgs& args, std::ostream& out);
-// Returns the exit code: 0, or 128 + the signal that stopped the run (no report written then).
+// Returns the exit code: 0; 1 under --strict when a claim's verdict is not the one expected
+// (a failing claim is otherwise a finding, not an error); or 128 + the signal that stopped the run
+// (no report written then).
 int run_scene(const RunArgs& args, std::ostream& out, std::ostream& err);
 // Returns the exit code: 1 if NEW regressed against OLD, else 0.
 int run_diff(const std::string& old_path, const std::string& new_path, std::ostream& out);

@@ -1,6 +1,7 @@
 // `pldamp run SCENE.toml [--out DIR] [--jobs N]` and `pldamp diff OLD.json NEW.json`.
 #include "cli/commands.hpp"
 #include "common/files.hpp"
+#include "judge/claims.hpp"
 #include "report/report.hpp"
 
 #include <fmt/format.h>
@@ -100,19 +101,41 @@ double grid_cells(const Scene& scene) {
          double(scene.m.size()) * double(scene.k.size());
 }
 
+double claim_grid_cells(const ClaimGrid& grid) {
+  return double(grid.p.size()) * double(grid.damping.size()) * double(grid.v0.size()) *
+         double(grid.m.size()) * double(grid.k.size());
+}
+
 // The solver runs a scene asks for: cells × (each configuration's onset phases) × repeats, claim
-// configurations included.
+// configurations included; and the claims judged on grids of their own, at what each costs per
+// cell (claims.hpp): a solve or two per cell of a solver's relation, a bisection (about 20
+// solves) for a recovered α, a scan and bisection (about 40) for a largest stable step.
 double planned_runs(const Scene& scene) {
   double per_cell = 0;
   for (const SolverConfig& config : scene.configs) {
     per_cell += config.onset_phases;
   }
+  double claim_runs = 0;
   for (const Claim& claim : scene.claims) { // a configuration of its own, as make_plan adds it
-    const bool own = !claim.convention && std::find(scene.configs.begin(), scene.configs.end(),
-                                                    claim.config) == scene.configs.end();
+    const bool own = claim.on_plan() && std::find(scene.configs.begin(), scene.configs.end(),
+                                                  claim.config) == scene.configs.end();
     per_cell += own ? claim.config.onset_phases : 0;
+    if (claim.kind == ClaimKind::bound) {
+      continue;
+    }
+    const double solves = claim.kind == ClaimKind::recovered_parameter ? 20
+                          : claim.kind == ClaimKind::stability         ? 40
+                          : claim.of_truth                             ? 0
+                          : claim.quantity == Quantity::tau_ratio      ? 2
+                                                                       : 1;
+    auto cells = [&](const ClaimGrid& grid) {
+      return claim.kind == ClaimKind::asymptotic ? double(grid.p.size()) * claim.points
+                                                 : claim_grid_cells(grid);
+    };
+    claim_runs +=
+        solves * (cells(claim.grid) + (claim.denser ? cells(denser_grid(claim.grid)) : 0));
   }
-  return grid_cells(scene) * per_cell * scene.repeats;
+  return grid_cells(scene) * per_cell * scene.repeats + claim_runs;
 }
 
 // The report at `path`, read whole and checked (judge/diff.hpp).
@@ -195,9 +218,18 @@ int run_scene(const RunArgs& args, std::ostream& out, std::ostream& err) {
       << " solver configurations, " << totals.solver_runs << " solver runs, " << totals.rhs_evals
       << " rhs evaluations in " << totals.wall_seconds << " s; " << budgets.failed_records
       << " failed\n";
+  long unexpected = 0;
   for (const Verdict& v : budgets.claims) {
-    out << "claim " << v.name << ": " << (v.holds ? "holds" : "fails") << " (measured "
-        << v.measured << ", bound " << v.bound << ")\n";
+    unexpected += v.unexpected() ? 1 : 0;
+    out << "claim " << v.name << ": " << (v.holds ? "holds" : "fails")
+        << (v.unexpected() ? (v.expect_holds ? " (UNEXPECTED)" : " (UNEXPECTED: pinned as fails)")
+                           : (v.holds ? "" : " (expected)"))
+        << fmt::format(" (measured {:.4g}, bound {:.4g}", v.measured, v.bound)
+        << (v.worst.empty() ? "" : "; worst at " + v.worst) << ")";
+    if (v.denser && v.denser->holds != v.holds) {
+      out << "; on the denser grid it " << (v.denser->holds ? "holds" : "fails");
+    }
+    out << "\n";
   }
   for (const Figure& figure : figures) {
     if (!figure.failure.empty()) {
@@ -210,6 +242,11 @@ int run_scene(const RunArgs& args, std::ostream& out, std::ostream& err) {
   if (!files.failures.empty()) {
     throw InputError(files.failures.front() +
                      (files.written.empty() ? "" : "; the other formats were written"));
+  }
+  if (args.strict && unexpected > 0) {
+    err << "--strict: " << unexpected << " claim"
+        << (unexpected == 1 ? "'s verdict is" : "s' verdicts are") << " not the one expected\n";
+    return 1;
   }
   return 0;
 }

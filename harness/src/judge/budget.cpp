@@ -1,6 +1,10 @@
 #include "judge/budget.hpp"
 
+#include "judge/claims.hpp"
+
 #include "pldamp/analytic/conventions.hpp"
+
+#include <fmt/format.h>
 
 #include <algorithm>
 #include <cmath>
@@ -15,7 +19,8 @@ void raise(std::optional<double>& slot, const std::optional<double>& value) {
   }
 }
 
-void conclude(Verdict& verdict, const std::optional<double>& measured) {
+void conclude(Verdict& verdict, const std::optional<double>& measured, const Scene& scene) {
+  verdict.grid = grid_text(ClaimGrid{scene.p, scene.v0, scene.m, scene.k, scene.damping});
   verdict.measured = measured.value_or(std::numeric_limits<double>::infinity());
   verdict.holds = verdict.failed_cells == 0 && verdict.measured <= verdict.bound;
   if (verdict.measured > 0 && std::isfinite(verdict.measured)) {
@@ -28,11 +33,7 @@ void conclude(Verdict& verdict, const std::optional<double>& measured) {
 // (and the p it has a model for).
 Verdict judge_convention(const Plan& plan, const Claim& claim) {
   const analytic::Convention& convention = *analytic::find_convention(*claim.convention);
-  Verdict verdict;
-  verdict.name = claim.name;
-  verdict.observable = claim.observable;
-  verdict.config = *claim.convention + (claim.limit_damping ? " limit_damping" : "");
-  verdict.bound = claim.bound;
+  Verdict verdict = verdict_of(claim);
   const bool cut = analytic::capped(convention, claim.limit_damping);
   std::optional<double> measured;
   for (const Point& point : plan.points) {
@@ -42,9 +43,13 @@ Verdict judge_convention(const Plan& plan, const Claim& claim) {
     }
     const Exact p(point.p), target(point.damping.value);
     const Exact given = analytic::e_given(p, analytic::alpha_set(convention, p, target), cut);
-    raise(measured, static_cast<double>(abs(given - target)));
+    const double error = static_cast<double>(abs(given - target));
+    if (!measured || error > *measured) {
+      verdict.worst = "p = " + to_string_full(point.p) + ", " + point.damping.label();
+    }
+    raise(measured, error);
   }
-  conclude(verdict, measured);
+  conclude(verdict, measured, plan.scene);
   return verdict;
 }
 
@@ -52,11 +57,7 @@ Verdict judge(const Plan& plan, const std::vector<Record>& records, const Claim&
   if (claim.convention) {
     return judge_convention(plan, claim);
   }
-  Verdict verdict;
-  verdict.name = claim.name;
-  verdict.observable = claim.observable;
-  verdict.config = claim.config.label();
-  verdict.bound = claim.bound;
+  Verdict verdict = verdict_of(claim);
   const auto config = static_cast<std::size_t>(
       std::find(plan.configs.begin(), plan.configs.end(), claim.config) - plan.configs.begin());
   const auto observable = static_cast<std::size_t>(
@@ -71,9 +72,16 @@ Verdict judge(const Plan& plan, const std::vector<Record>& records, const Claim&
     if (record.failed()) {
       ++verdict.failed_cells;
     }
-    raise(measured, record.abs_error[observable]);
+    const std::optional<double>& error = record.abs_error[observable];
+    if (error && (!measured || !(*error <= *measured))) {
+      const Cell& cell = plan.cells[record.cell];
+      const Point& point = plan.points[cell.point];
+      verdict.worst = fmt::format("p = {:g}, {}, v0 = {:g}, m = {:g}, k = {:g}", point.p,
+                                  point.damping.label(), cell.v0, cell.m, cell.k);
+    }
+    raise(measured, error);
   }
-  conclude(verdict, measured);
+  conclude(verdict, measured, plan.scene);
   return verdict;
 }
 
@@ -172,7 +180,8 @@ Budgets make_budgets(const Plan& plan, const std::vector<Record>& records) {
     }
   }
   for (const Claim& claim : plan.scene.claims) {
-    budgets.claims.push_back(judge(plan, records, claim));
+    budgets.claims.push_back(claim.kind == ClaimKind::bound ? judge(plan, records, claim)
+                                                            : judge_on_grid(plan.scene, claim));
   }
   budgets.steps = make_step_study(plan, records);
   return budgets;

@@ -27,13 +27,37 @@ struct WorkPoint {
 // observables: the mean over p of its time per cell, over the same mean of the closed forms'.
 double times_analytic(const std::vector<WorkPoint>& work);
 
-struct Verdict {
-  std::string name, observable, config;
+// A claim judged over one grid. What `measured` and `margin` mean depends on the claim's kind
+// (claims.hpp, measure_meaning).
+struct Judgement {
   bool holds = false;
-  double measured = 0, bound = 0;
-  std::optional<double> margin;    // bound / measured
-  std::optional<double> supported; // the tightest power of ten at or above the measurement
-  long failed_cells = 0;           // cells where the claim's solver failed (the claim then fails)
+  double measured = 0;
+  std::optional<double> margin;
+  std::string worst;     // the cell where the claim comes closest to failing, or fails worst
+  std::string grid;      // what it was judged over, "p in {1, 2} x e in [0.1, 0.99] (10): 20 cells"
+  std::string note;      // what else the kind measured (ties, per-p orders, e at the Δt bound)
+  long failed_cells = 0; // cells without an answer (the solver failed): the claim then fails
+};
+
+// The order in α_eff at which an asymptotic claim's two sides agree, per p, and the coefficient
+// of that leading term (|difference| ≈ coefficient · α_eff^round(order)).
+struct MeasuredOrder {
+  double p = 0;
+  std::optional<double> order; // none: equal within the tolerance over the whole range
+  double coefficient = 0;
+};
+
+struct Verdict : Judgement {
+  std::string name, kind, observable, config, where, quote, figure;
+  std::string meaning; // what measured and margin are for this kind (claims.hpp)
+  bool expect_holds = true;
+  double bound = 0;
+  std::optional<double> supported; // bound: the tightest power of ten at or above the measurement
+  std::optional<Judgement> denser; // the same claim on a grid ten times denser
+  std::vector<MeasuredOrder> orders;
+  // A verdict other than the one expected (expect = "fails" pins a known-false claim): what
+  // `run --strict` exits 1 on.
+  bool unexpected() const { return holds != expect_holds; }
 };
 
 struct Budgets {

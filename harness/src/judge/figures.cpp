@@ -1,9 +1,11 @@
 #include "judge/figures.hpp"
 
+#include "judge/solve.hpp"
+
 #include "pldamp/analytic.hpp"
 #include "pldamp/solvers/registry.hpp"
 
-#include <boost/math/tools/toms748_solve.hpp>
+#include <fmt/format.h>
 
 #include <algorithm>
 #include <cmath>
@@ -15,55 +17,21 @@ namespace {
 
 using analytic::Contact;
 
-solvers::Options<double> options_of(const SolverConfig& config, unsigned want) {
-  solvers::Options<double> options;
-  options.rtol = config.rtol.value_or(std::numeric_limits<double>::epsilon());
-  options.atol = config.atol;
-  options.want = want;
-  if (config.steps_per_contact) {
-    options.steps_per_contact = *config.steps_per_contact;
-  }
-  return options;
-}
+// Figures are drawn at v0 = m = k = 1, within the default limits of a solve.
+const Limits figure_limits{};
 
 solvers::Result<double> solve(const SolverConfig& config, double p, double alpha, unsigned want,
                               std::vector<double> sample_times = {}) {
-  solvers::Options<double> options = options_of(config, want);
-  options.sample_times = std::move(sample_times);
-  const solvers::Result<double> r =
-      solvers::solve(config.name, solvers::Problem<double>{p, 1, 1, 1, alpha}, options);
-  if (solvers::failing(r.outcome)) {
-    throw std::runtime_error(config.label() + " ended as " +
-                             std::string(solvers::outcome_name(r.outcome)) +
-                             " at p = " + to_string_full(p) + ", alpha = " + to_string_full(alpha));
-  }
-  return r;
+  return solve_once(config, {p, alpha}, want, figure_limits, std::move(sample_times));
 }
 
-// One measured value; a run that ended without it (no exit where τ was wanted) fails the figure.
 double measured(const SolverConfig& config, double p, double alpha, unsigned want,
                 std::optional<double> solvers::Result<double>::*value, const char* name) {
-  const solvers::Result<double> r = solve(config, p, alpha, want);
-  if (!(r.*value)) {
-    throw std::runtime_error(config.label() + " gave no " + name + " at p = " + to_string_full(p) +
-                             ", alpha = " + to_string_full(alpha) + " (" +
-                             std::string(solvers::outcome_name(r.outcome)) + ")");
-  }
-  return *(r.*value);
+  return solved_value(config, {p, alpha}, want, value, name, figure_limits);
 }
 
-// α for which the solver returns with restitution e: TOMS 748 on α ↦ e_solver(α) − e over
-// [0, α at α_eff = 1), where e falls from 1 to 0 (the seed's "bisection on the ODE solver").
 double alpha_by_bisection(const SolverConfig& config, double p, double e) {
-  const double critical = Contact<double>::from_alpha_eff(p, 1.0, 1.0).alpha();
-  auto gap = [&](double alpha) {
-    return measured(config, p, alpha, solvers::want_e, &solvers::Result<double>::e, "e") - e;
-  };
-  std::uintmax_t iterations = 100;
-  const auto [lo, hi] =
-      boost::math::tools::toms748_solve(gap, 0.0, critical * (1 - 1e-9), 1 - e, -e,
-                                        boost::math::tools::eps_tolerance<double>(40), iterations);
-  return lo + (hi - lo) / 2;
+  return harness::alpha_by_bisection(config, {p, 0}, e, figure_limits);
 }
 
 std::string p_title(double p) {
@@ -186,23 +154,48 @@ Figure delta_max_vs_e(const FigureSpec& spec) {
 Figure tau_ratio(const FigureSpec& spec) {
   Figure f = figure(FigureKind::tau_ratio, "Fig. 4: τ(α)/τ(0) against α_eff", "α_eff",
                     "τ(α) / τ(0)", "τ ratio (relative)");
-  Series linear{"1/√(1 − α_eff²) (exact for p = 1)", {}, true};
+  Series linear{"1/√(1 − α_eff²) (the seed's curve, exact for p = 1)", {}, true};
   for (const double z : fine(0, 0.95, 60)) {
     linear.points.emplace_back(z, 1 / std::sqrt(1 - z * z));
   }
   f.series.push_back(linear);
-  curve_and_points(
-      f, spec, fine(0, 0.95, 40), spec.alpha_eff,
-      [](double p, double z) {
-        const auto c = Contact<double>::from_alpha_eff(p, z, 1.0);
-        return *analytic::observables(c, analytic::want_tau).tau_ratio;
-      },
-      [&](double p, double z) {
-        const double alpha = Contact<double>::from_alpha_eff(p, z, 1.0).alpha();
-        const auto tau = &solvers::Result<double>::tau;
-        return measured(spec.config, p, alpha, solvers::want_tau, tau, "tau") /
-               measured(spec.config, p, 0.0, solvers::want_tau, tau, "tau");
-      });
+  auto closed = [](double p, double z) {
+    const auto c = Contact<double>::from_alpha_eff(p, z, 1.0);
+    return *analytic::observables(c, analytic::want_tau).tau_ratio;
+  };
+  curve_and_points(f, spec, fine(0, 0.95, 40), spec.alpha_eff, closed, [&](double p, double z) {
+    const double alpha = Contact<double>::from_alpha_eff(p, z, 1.0).alpha();
+    const auto tau = &solvers::Result<double>::tau;
+    return measured(spec.config, p, alpha, solvers::want_tau, tau, "tau") /
+           measured(spec.config, p, 0.0, solvers::want_tau, tau, "tau");
+  });
+  // Each p's first order, measured on the closed form as (τ/τ0 − 1)/α_eff at α_eff = 1e-6 (the
+  // z² term moves it by 1e-6 of itself), drawn after its pair so that it takes its colour.
+  // Each p's line and points, then its first order: 1 + s·α_eff with s = (τ/τ0 − 1)/α_eff measured
+  // on the closed form at α_eff = 1e-6 (the z² term moves it by 1e-6 of itself), drawn up to the
+  // largest α_eff where it stays within the plot.
+  std::vector<Series> series{f.series.front()};
+  const double z_max = spec.alpha_eff.empty()
+                           ? 0.5
+                           : *std::max_element(spec.alpha_eff.begin(), spec.alpha_eff.end());
+  for (std::size_t i = 0; i < spec.p.size(); ++i) {
+    series.push_back(f.series[1 + 2 * i]);
+    series.push_back(f.series[2 + 2 * i]);
+    const double p = spec.p[i], small = 1e-6;
+    const double slope = (closed(p, small) - 1) / small;
+    if (slope < 1e-3) {
+      continue; // p = 1: no first order, the seed's curve is exact
+    }
+    Series first{fmt::format("p = {}: 1 + {:.3f} α_eff (first order)", to_string_full(p), slope),
+                 {},
+                 false,
+                 true};
+    for (const double z : fine(0, std::min(z_max, 0.6), 20)) {
+      first.points.emplace_back(z, 1 + slope * z);
+    }
+    series.push_back(first);
+  }
+  f.series = series;
   return f;
 }
 

@@ -4,7 +4,8 @@
 //   alpha_vs_e      Fig. 1: α found by bisection on the solver for target e, per p
 //   force_history   Fig. 2: F/F_max against t/τ at e (first of the list), per p
 //   delta_max_vs_e  Fig. 3: δ_max against e at v0 = 1, per p
-//   tau_ratio       Fig. 4: τ(α)/τ(0) against α_eff, per p, with 1/√(1 − α_eff²)
+//   tau_ratio       Fig. 4: τ(α)/τ(0) against α_eff, per p, with 1/√(1 − α_eff²) and each p's
+//                   first order 1 + s·α_eff, s measured on the closed form (MATH.md §3)
 //   phase_portrait  Fig. 5: v/v0 against δ/δ_max(e) at p (first of the list), per e
 //   f_of_p          Fig. 6: α/ξ_L by bisection at e (first of the list) against √(2(p+1))
 #pragma once
@@ -21,6 +22,8 @@ struct Series {
   std::string title;
   std::vector<std::pair<double, double>> points;
   bool closed_form = false; // drawn as a line; the solver's as points
+  // A thin dashed line in the colour of the p before it: Fig. 4's measured first order.
+  bool first_order = false;
 };
 
 struct Figure {

@@ -377,10 +377,12 @@ std::string figure_plot(const Gnuplot& gnuplot, const Figure& figure) {
       script << fmt::format("{:.17g} {:.17g}\n", x, y);
     }
     script << "EOD\n";
-    plot += fmt::format("{}$s{} {} lc rgb '{}' title {}", i ? ", " : "", i,
-                        series.closed_form ? fmt::format("with lines lw 2 dt {}", style.dash)
-                                           : fmt::format("with points pt {} ps 0.9", style.marker),
-                        style.colour, gnuplot_string(series.title));
+    plot +=
+        fmt::format("{}$s{} {} lc rgb '{}' title {}", i ? ", " : "", i,
+                    series.closed_form   ? fmt::format("with lines lw 2 dt {}", style.dash)
+                    : series.first_order ? std::string("with lines lw 1 dt 2")
+                                         : fmt::format("with points pt {} ps 0.9", style.marker),
+                    style.colour, gnuplot_string(series.title));
   }
   script << plot << "\n";
   return gnuplot.svg(script.str(), 720, 440);
@@ -479,19 +481,37 @@ std::string report_html(const RunReport& report, const std::string& gnuplot_prog
   if (!gnuplot.available()) {
     out << "<p><strong>gnuplot was not found: the plots were skipped.</strong></p>\n";
   }
-  out << "<h2>Claims</h2>\n<table><tr><th>claim</th><th>observable</th><th>solver</th><th>bound</"
-         "th><th>measured</th><th>verdict</th><th>margin</th><th>supported</th></tr>\n";
-  for (const Verdict& v : budgets.claims) {
-    out << "<tr><td>" << escape(v.name) << "</td><td>" << escape(v.observable) << "</td><td>"
-        << escape(v.config) << "</td><td>" << short_number(v.bound) << "</td><td>"
-        << short_number(v.measured) << "</td><td class='"
-        << (v.holds ? "holds'>holds" : "fails'>fails") << "</td><td>" << short_number(v.margin)
-        << "</td><td>" << short_number(v.supported, 0) << "</td></tr>\n";
+  if (!budgets.claims.empty()) {
+    out << "<h2 id='claims'>Claims</h2>\n<table><tr><th>claim</th><th>where</th><th>verdict</th>"
+           "<th>worst case</th><th>measured</th><th>bound</th><th>margin</th><th>ten times "
+           "denser</th></tr>\n";
+    const std::vector<ClaimRow> rows = claim_rows(report);
+    for (std::size_t i = 0; i < rows.size(); ++i) {
+      const ClaimRow& row = rows[i];
+      // The claim's name links to its figure, or else to its details below the table.
+      const std::string target =
+          row.figure.empty() ? fmt::format("claim-{}", i) : fmt::format("fig-{}", row.figure);
+      out << "<tr><td><a href='#" << target << "'>" << escape(row.name) << "</a></td><td>"
+          << escape(row.where) << "</td><td class='" << (row.holds ? "holds" : "fails") << "'>"
+          << escape(row.verdict) << "</td><td>" << escape(row.worst) << "</td><td>" << row.measured
+          << "</td><td>" << row.bound << "</td><td>" << row.margin << "</td><td>"
+          << escape(row.denser) << "</td></tr>\n";
+    }
+    out << "</table>\n<ul class='claims'>\n";
+    for (std::size_t i = 0; i < rows.size(); ++i) {
+      const ClaimRow& row = rows[i];
+      out << "<li id='claim-" << i << "'><strong>" << escape(row.name) << "</strong> ("
+          << escape(row.kind) << "; " << escape(row.subject) << "). "
+          << (row.quote.empty() ? "" : fmt::format("<q>{}</q> ", escape(row.quote)))
+          << "Judged over " << escape(row.grid) << ". Measured: " << escape(row.meaning) << "."
+          << (row.note.empty() ? "" : fmt::format(" {}.", escape(row.note))) << "</li>\n";
+    }
+    out << "</ul>\n";
   }
   const bool any_extended =
       std::any_of(plan.configs.begin(), plan.configs.end(),
                   [](const SolverConfig& c) { return c.precision != "double"; });
-  out << "</table>\n<h2>Work-precision</h2>\n<p>Each line is a solver, each point one of its "
+  out << "<h2>Work-precision</h2>\n<p>Each line is a solver, each point one of its "
          "configurations: the mean cost per cell against the largest relative error of any "
          "observable at that p. The dashed grey lines are the closed forms: their time per cell "
          "in double and their own error in double.</p>\n";
@@ -556,9 +576,11 @@ std::string report_html(const RunReport& report, const std::string& gnuplot_prog
             << "</p>\n";
         continue;
       }
-      out << figure_html(figure_plot(gnuplot, figure), "largest deviation " +
+      out << "<div id='fig-" << escape(figure.kind) << "'>"
+          << figure_html(figure_plot(gnuplot, figure), "largest deviation " +
                                                            short_number(figure.deviation) + " in " +
-                                                           escape(figure.deviation_of));
+                                                           escape(figure.deviation_of))
+          << "</div>\n";
     }
   }
   out << "<p>Every configuration's maps and each record are in report.json and report.csv.</p>\n"

@@ -267,15 +267,41 @@ ordered_json report_json(const RunReport& report) {
                    {"failed_records", budgets.failed_records}};
   out["claims"] = ordered_json::array();
   for (const Verdict& v : budgets.claims) {
-    out["claims"].push_back({{"name", v.name},
-                             {"verdict", v.holds ? "holds" : "fails"},
-                             {"measured", number_or_null(v.measured)},
-                             {"bound", v.bound},
-                             {"observable", v.observable},
-                             {"solver", v.config},
-                             {"margin", number_or_null(v.margin)},
-                             {"supported", number_or_null(v.supported)},
-                             {"failed_cells", v.failed_cells}});
+    ordered_json claim{{"name", v.name},
+                       {"verdict", v.holds ? "holds" : "fails"},
+                       {"expect", v.expect_holds ? "holds" : "fails"},
+                       {"kind", v.kind},
+                       {"where", v.where},
+                       {"quote", v.quote},
+                       {"figure", v.figure},
+                       {"measured", number_or_null(v.measured)},
+                       {"bound", v.bound},
+                       {"margin", number_or_null(v.margin)},
+                       {"meaning", v.meaning},
+                       {"worst", v.worst},
+                       {"grid", v.grid},
+                       {"note", v.note},
+                       {"observable", v.observable},
+                       {"solver", v.config},
+                       {"supported", number_or_null(v.supported)},
+                       {"failed_cells", v.failed_cells}};
+    if (v.denser) {
+      claim["denser"] = {{"verdict", v.denser->holds ? "holds" : "fails"},
+                         {"measured", number_or_null(v.denser->measured)},
+                         {"margin", number_or_null(v.denser->margin)},
+                         {"worst", v.denser->worst},
+                         {"grid", v.denser->grid},
+                         {"note", v.denser->note},
+                         {"failed_cells", v.denser->failed_cells}};
+    }
+    if (!v.orders.empty()) {
+      claim["orders"] = ordered_json::array();
+      for (const MeasuredOrder& o : v.orders) {
+        claim["orders"].push_back(
+            {{"p", o.p}, {"order", number_or_null(o.order)}, {"coefficient", o.coefficient}});
+      }
+    }
+    out["claims"].push_back(claim);
   }
   ordered_json worst = ordered_json::array(), maps = ordered_json::array(),
                work = ordered_json::array();
@@ -442,6 +468,51 @@ std::string report_csv(const RunReport& report) {
   return out.str();
 }
 
+std::vector<ClaimRow> claim_rows(const RunReport& report) {
+  const std::vector<Verdict>& claims = report.budgets.claims;
+  std::vector<std::size_t> order(claims.size());
+  for (std::size_t i = 0; i < order.size(); ++i) {
+    order[i] = i;
+  }
+  // An unexpected verdict first, then the failing claims, then those that hold.
+  std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) {
+    auto rank = [&](const Verdict& v) { return v.unexpected() ? 0 : v.holds ? 2 : 1; };
+    return rank(claims[a]) < rank(claims[b]);
+  });
+  std::vector<ClaimRow> rows;
+  for (const std::size_t i : order) {
+    const Verdict& v = claims[i];
+    ClaimRow row;
+    row.name = v.name;
+    row.kind = v.kind;
+    row.subject = v.observable + ", " + v.config;
+    row.where = v.where.empty() ? "–" : v.where;
+    row.quote = v.quote;
+    row.figure = v.figure;
+    row.holds = v.holds;
+    row.unexpected = v.unexpected();
+    row.verdict =
+        std::string(v.holds ? "holds" : "fails") +
+        (v.unexpected() ? (v.expect_holds ? ", unexpected" : ", unexpected: pinned as fails")
+                        : (v.holds ? "" : " (expected)"));
+    row.worst = v.worst.empty() ? "–" : v.worst;
+    row.measured = short_number(v.measured, 3);
+    row.bound = short_number(v.bound);
+    row.margin = short_number(v.margin);
+    row.denser = !v.denser ? "–"
+                 : v.denser->holds == v.holds
+                     ? std::string(v.denser->holds ? "holds" : "fails") + ", unchanged (" +
+                           short_number(v.denser->measured, 3) + ")"
+                     : std::string(v.denser->holds ? "holds" : "fails") + ": CHANGED (" +
+                           short_number(v.denser->measured, 3) + " at " + v.denser->worst + ")";
+    row.grid = v.grid + (v.denser ? "; denser: " + v.denser->grid : "");
+    row.note = v.note;
+    row.meaning = v.meaning;
+    rows.push_back(row);
+  }
+  return rows;
+}
+
 std::string report_markdown(const RunReport& report) {
   const Plan& plan = report.plan;
   const Budgets& budgets = report.budgets;
@@ -455,16 +526,21 @@ std::string report_markdown(const RunReport& report) {
       << budgets.failed_records << " failed records.\n\n**How to read this report.** "
       << how_to_read << "\n\n";
   if (!budgets.claims.empty()) {
-    out << "## Claims\n\n| claim | observable | solver | bound | measured | verdict | margin | "
-           "supported |\n|---|---|---|---|---|---|---|---|\n";
-    for (const Verdict& v : budgets.claims) {
-      out << "| " << v.name << " | " << v.observable << " | " << v.config << " | "
-          << short_number(v.bound) << " | " << short_number(v.measured) << " | "
-          << (v.holds ? "**holds**" : "**fails**") << " | " << short_number(v.margin) << " | "
-          << short_number(v.supported, 0) << " |\n";
+    out << "## Claims\n\n| claim | where | verdict | worst case | measured | bound | margin | ten "
+           "times denser |\n|---|---|---|---|---|---|---|---|\n";
+    for (const ClaimRow& row : claim_rows(report)) {
+      out << "| " << row.name << " | " << row.where << " | **" << row.verdict << "** | "
+          << row.worst << " | " << row.measured << " | " << row.bound << " | " << row.margin
+          << " | " << row.denser << " |\n";
     }
-    out << "\nmeasured: the largest absolute error over the grid; supported: the tightest power "
-           "of ten the data supports.\n\n";
+    out << "\n";
+    for (const ClaimRow& row : claim_rows(report)) {
+      out << "- **" << row.name << "** (" << row.kind << "; " << row.subject << "). "
+          << (row.quote.empty() ? "" : "\"" + row.quote + "\" ") << "Judged over " << row.grid
+          << ". Measured: " << row.meaning << "." << (row.note.empty() ? "" : " " + row.note + ".")
+          << "\n";
+    }
+    out << "\n";
   }
   out << "## Worst relative error over the grid\n\n| configuration |";
   for (const Observable* observable : plan.observables) {

@@ -83,6 +83,15 @@ double mean_analytic_seconds(const Plan& plan);
 // One line per observable out of double's range at a point, with its logarithm's error.
 std::string unrepresentable_note(const Plan& plan);
 
+// A claim as the reports show it, in the table's order: an unexpected verdict first, then the
+// failing claims, then those that hold.
+struct ClaimRow {
+  std::string name, kind, subject, where, quote, figure, verdict, worst, measured, bound, margin,
+      denser, grid, note, meaning;
+  bool holds = false, unexpected = false;
+};
+std::vector<ClaimRow> claim_rows(const RunReport& report);
+
 // A record's identity across runs: "configuration | p=.. damping v0=.. m=.. k=.." (diff's key).
 std::string record_key(const Plan& plan, const Record& record);
 

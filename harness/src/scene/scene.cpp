@@ -41,6 +41,10 @@ public:
   // Every key of `table` must be one of `allowed`.
   void only(const toml::table& table, std::initializer_list<std::string_view> allowed,
             const std::string& where) const {
+    only(table, std::vector<std::string_view>(allowed), where);
+  }
+  void only(const toml::table& table, const std::vector<std::string_view>& allowed,
+            const std::string& where) const {
     for (const auto& [key, node] : table) {
       if (std::find(allowed.begin(), allowed.end(), key.str()) == allowed.end()) {
         std::string names;
@@ -302,7 +306,10 @@ void read_solvers(const Reader& reader, const toml::node& node, Scene& scene) {
 // p the code has a model for).
 void read_convention_claim(const Reader& reader, const toml::table& entry, const toml::node& item,
                            const toml::node& node, Scene& scene, Claim& claim) {
-  reader.only(entry, {"name", "observable", "convention", "limit_damping", "bound"}, "[[claim]]");
+  reader.only(entry,
+              {"name", "kind", "where", "quote", "figure", "expect", "observable", "convention",
+               "limit_damping", "bound"},
+              "[[claim]]");
   const std::string name = reader.string(node, "convention");
   const analytic::Convention* convention = analytic::find_convention(name);
   if (convention == nullptr) {
@@ -333,6 +340,221 @@ void read_convention_claim(const Reader& reader, const toml::table& entry, const
   scene.claims.push_back(claim);
 }
 
+// A keyword of a NameTable, or the one-line refusal naming the choices.
+template <class Enum, std::size_t N>
+Enum keyword(const Reader& reader, const toml::node& node, const NameTable<Enum, N>& table,
+             const std::string& what) {
+  const std::string name = reader.string(node, what);
+  const std::optional<Enum> value = value_named(table, name);
+  if (!value) {
+    reader.fail(node, "unknown " + what + ", expected " + names_of(table) + " (got " + name + ")");
+  }
+  return *value;
+}
+
+bool boolean(const Reader& reader, const toml::node& node, const std::string& what) {
+  if (!node.is_boolean()) {
+    reader.fail(node, what + " must be true or false");
+  }
+  return *node.value<bool>();
+}
+
+// The grid lists of a [grid] or a claim (p, e, alpha_eff, v0, m, k) that `table` has, each
+// value checked against the domain (core/domain.hpp); the others stay as they are in `grid`. e
+// and alpha_eff replace its damping together.
+void read_grid_lists(const Reader& reader, const toml::table& table, ClaimGrid& grid) {
+  auto list = [&](const char* key, std::vector<double>& into, auto&& check) {
+    if (const toml::node* at = table.get(key)) {
+      into = reader.numbers(*at, key);
+      for (const double value : into) {
+        try {
+          check(value);
+        } catch (const std::invalid_argument& e) {
+          reader.fail(*at, e.what());
+        }
+      }
+    }
+  };
+  list("p", grid.p, [](double p) { domain::require_p(p); });
+  list("v0", grid.v0, [](double x) { domain::require_scale("v0", x); });
+  list("m", grid.m, [](double x) { domain::require_scale("m", x); });
+  list("k", grid.k, [](double x) { domain::require_scale("k", x); });
+  std::vector<double> es, zs;
+  list("e", es, [](double x) { require(x > 0 && x <= 1, "e must be in (0, 1]", x); });
+  list("alpha_eff", zs, [](double z) { domain::require_alpha_eff(z); });
+  if (!es.empty() || !zs.empty()) {
+    grid.damping.clear();
+    for (const double e : es) {
+      grid.damping.push_back({Damping::Kind::e, e});
+    }
+    for (const double z : zs) {
+      grid.damping.push_back({Damping::Kind::alpha_eff, z});
+    }
+  }
+}
+
+// The solver of a claim of the new kinds, in double (the seed's own runs were double): name,
+// rtol (error-controlled) or steps_per_contact (fixed-step; stability needs none), atol.
+SolverConfig claim_solver(const Reader& reader, const toml::table& entry, const toml::node& item,
+                          const Scene& scene, ClaimKind kind) {
+  SolverConfig config = base_config(reader, entry, "solver", "[[claim]]", item);
+  const solvers::SolverInfo& info = solvers::solver_named(config.name);
+  if (kind == ClaimKind::stability) {
+    if (!info.fixed_step) {
+      reader.fail(*entry.get("solver"), "a stability claim is about a fixed-step scheme (got " +
+                                            config.name + ", which controls its error)");
+    }
+    return config;
+  }
+  if (info.fixed_step) {
+    const toml::node* steps = entry.get("steps_per_contact");
+    config.steps_per_contact =
+        steps ? steps_per_contact(reader, *steps, reader.number(*steps, "steps_per_contact")) : 50;
+  } else if (const toml::node* rtol = entry.get("rtol")) {
+    config.rtol = reader.number(*rtol, "rtol");
+    check_rtol(reader, *rtol, *config.rtol);
+  } else if (info.default_tolerance != solvers::DefaultTolerance::epsilon) {
+    reader.fail(item, "[[claim]] needs the rtol of its solver");
+  }
+  check_config(reader, item, scene, config);
+  return config;
+}
+
+// relation, asymptotic, recovered_parameter, stability: a claim judged on a grid of its own.
+void read_grid_claim(const Reader& reader, const toml::table& entry, const toml::node& item,
+                     Scene& scene, Claim& claim) {
+  static constexpr std::array common{"name",   "kind", "where", "quote", "figure", "expect",
+                                     "denser", "p",    "v0",    "m",     "k"};
+  std::vector<std::string_view> allowed(common.begin(), common.end());
+  auto allow = [&](std::initializer_list<std::string_view> keys) {
+    allowed.insert(allowed.end(), keys.begin(), keys.end());
+  };
+  auto need = [&](const char* key) -> const toml::node& {
+    if (entry.get(key) == nullptr) {
+      reader.fail(item, "[[claim]] " + claim.name + " (" +
+                            std::string(name_of(claim_kinds, claim.kind)) + ") needs " + key);
+    }
+    return *entry.get(key);
+  };
+  auto formula = [&]() {
+    const toml::node& node = need("formula");
+    const std::string name = reader.string(node, "formula");
+    const analytic::seed::FormulaInfo* found = analytic::seed::find_formula(name);
+    if (found == nullptr) {
+      std::string names;
+      for (const analytic::seed::FormulaInfo& info : analytic::seed::formulas) {
+        names += (names.empty() ? "" : "|") + std::string(info.name);
+      }
+      reader.fail(node, "unknown formula, expected " + names + " (got " + name + ")");
+    }
+    claim.formula = found->formula;
+  };
+  const bool solver = entry.get("solver") != nullptr;
+  auto truth_or_solver = [&]() {
+    allow({"quantity", "formula", "of", "solver", "rtol", "atol", "steps_per_contact"});
+    claim.quantity = keyword(reader, need("quantity"), quantities, "quantity");
+    formula();
+    if (const toml::node* of = entry.get("of")) {
+      if (reader.string(*of, "of") != "truth" || solver) {
+        reader.fail(*of, "of = \"truth\" (the closed forms) or a solver = NAME, not both");
+      }
+      claim.of_truth = true;
+    } else if (!solver) {
+      reader.fail(item, "[[claim]] " + claim.name + " needs of = \"truth\" or a solver");
+    }
+  };
+  switch (claim.kind) {
+  case ClaimKind::relation: {
+    truth_or_solver();
+    allow({"relation", "tolerance", "absolute", "e", "alpha_eff"});
+    claim.relation = keyword(reader, need("relation"), relations, "relation");
+    // The truth's own accuracy in float128 when no tolerance is given.
+    claim.bound = 1e-25;
+    if (const toml::node* tolerance = entry.get("tolerance")) {
+      claim.bound = reader.number(*tolerance, "tolerance");
+      reader.require(claim.bound >= 0 && claim.bound < 1e300, *tolerance, "tolerance must be >= 0",
+                     claim.bound);
+    } else if (!claim.of_truth || claim.relation == Relation::equal_within) {
+      need("tolerance");
+    }
+    if (const toml::node* absolute = entry.get("absolute")) {
+      claim.absolute = boolean(reader, *absolute, "absolute");
+    }
+    break;
+  }
+  case ClaimKind::asymptotic: {
+    truth_or_solver();
+    allow({"order", "range", "points"});
+    claim.bound = reader.number(need("order"), "order");
+    reader.require(claim.bound > 0 && claim.bound <= 20, need("order"), "order must be in (0, 20]",
+                   claim.bound);
+    if (const toml::node* range = entry.get("range")) {
+      const std::vector<double> ends = reader.numbers(*range, "range");
+      if (ends.size() != 2 || !(ends[0] > 0 && ends[1] < 1 && ends[1] >= 100 * ends[0])) {
+        reader.fail(*range, "range must be [from, to] in alpha_eff with 0 < from, to < 1 and at "
+                            "least two decades (to >= 100 from)");
+      }
+      claim.range = {ends[0], ends[1]};
+    }
+    if (const toml::node* points = entry.get("points")) {
+      const double n = reader.number(*points, "points");
+      reader.require(n >= 3 && n <= 1000 && n == std::floor(n), *points,
+                     "points must be an integer in [3, 1000]", n);
+      claim.points = static_cast<int>(n);
+    }
+    break;
+  }
+  case ClaimKind::recovered_parameter:
+    allow({"solver", "rtol", "atol", "steps_per_contact", "bound", "e"});
+    claim.bound = reader.number(need("bound"), "bound");
+    reader.require(claim.bound > 0, need("bound"), "bound must be > 0", claim.bound);
+    need("solver");
+    break;
+  case ClaimKind::stability:
+    allow({"solver", "formula", "fraction", "e", "alpha_eff"});
+    formula();
+    if (const toml::node* fraction = entry.get("fraction")) {
+      claim.fraction = reader.number(*fraction, "fraction");
+      reader.require(claim.fraction > 0 && claim.fraction <= 10, *fraction,
+                     "fraction must be in (0, 10]", claim.fraction);
+    }
+    if (claim.formula != analytic::seed::Formula::dt_crit) {
+      reader.fail(*entry.get("formula"), "a stability claim compares with a time step: formula "
+                                         "must be seed_dt_crit");
+    }
+    claim.bound = 1;
+    need("solver");
+    break;
+  case ClaimKind::bound:
+    break;
+  }
+  reader.only(entry, allowed, "[[claim]] of kind " + std::string(name_of(claim_kinds, claim.kind)));
+  claim.grid = ClaimGrid{scene.p, scene.v0, scene.m, scene.k, scene.damping};
+  read_grid_lists(reader, entry, claim.grid);
+  if (solver || claim.kind == ClaimKind::recovered_parameter ||
+      claim.kind == ClaimKind::stability) {
+    // The solver's tolerances are checked against the claim's own cells.
+    Scene cells = scene;
+    cells.p = claim.grid.p;
+    cells.v0 = claim.grid.v0;
+    cells.m = claim.grid.m;
+    cells.k = claim.grid.k;
+    claim.config = claim_solver(reader, entry, item, cells, claim.kind);
+  }
+  const bool targets =
+      std::all_of(claim.grid.damping.begin(), claim.grid.damping.end(),
+                  [](const Damping& d) { return d.kind == Damping::Kind::e && d.value < 1; });
+  if (claim.kind == ClaimKind::recovered_parameter && !targets) {
+    reader.fail(item, "[[claim]] " + claim.name +
+                          " recovers alpha for target e: its grid needs "
+                          "e in (0, 1), not alpha_eff");
+  }
+  if (const toml::node* denser = entry.get("denser")) {
+    claim.denser = boolean(reader, *denser, "denser");
+  }
+  scene.claims.push_back(claim);
+}
+
 void read_claims(const Reader& reader, const toml::node& node, Scene& scene) {
   const toml::array* entries = node.as_array();
   if (entries == nullptr) {
@@ -341,12 +563,38 @@ void read_claims(const Reader& reader, const toml::node& node, Scene& scene) {
   for (const toml::node& item : *entries) {
     const toml::table& entry = reader.table(item, "[[claim]]");
     Claim claim;
-    for (const char* key : {"name", "observable", "bound"}) {
+    if (entry.get("name") == nullptr) {
+      reader.fail(item, "[[claim]] needs name");
+    }
+    claim.name = reader.string(*entry.get("name"), "claim name");
+    if (const toml::node* kind = entry.get("kind")) {
+      claim.kind = keyword(reader, *kind, claim_kinds, "claim kind");
+    }
+    for (const char* key : {"where", "quote"}) {
+      if (const toml::node* text = entry.get(key)) {
+        (key[0] == 'w' ? claim.where : claim.quote) = reader.string(*text, key);
+      }
+    }
+    if (const toml::node* figure = entry.get("figure")) {
+      claim.figure =
+          std::string(name_of(figure_kinds, keyword(reader, *figure, figure_kinds, "figure")));
+    }
+    if (const toml::node* expect = entry.get("expect")) {
+      const std::string word = reader.string(*expect, "expect");
+      if (word != "holds" && word != "fails") {
+        reader.fail(*expect, "expect must be holds or fails (got " + word + ")");
+      }
+      claim.expect_holds = word == "holds";
+    }
+    if (claim.kind != ClaimKind::bound) {
+      read_grid_claim(reader, entry, item, scene, claim);
+      continue;
+    }
+    for (const char* key : {"observable", "bound"}) {
       if (entry.get(key) == nullptr) {
         reader.fail(item, std::string("[[claim]] needs ") + key);
       }
     }
-    claim.name = reader.string(*entry.get("name"), "claim name");
     claim.observable = reader.string(*entry.get("observable"), "observable");
     claim.bound = reader.number(*entry.get("bound"), "bound");
     reader.require(claim.bound > 0, *entry.get("bound"), "bound must be > 0", claim.bound);
@@ -355,8 +603,8 @@ void read_claims(const Reader& reader, const toml::node& node, Scene& scene) {
       continue;
     }
     reader.only(entry,
-                {"name", "observable", "solver", "rtol", "atol", "precision", "steps_per_contact",
-                 "end", "onset_phases", "bound"},
+                {"name", "kind", "where", "quote", "figure", "expect", "observable", "solver",
+                 "rtol", "atol", "precision", "steps_per_contact", "end", "onset_phases", "bound"},
                 "[[claim]]");
     claim.config = base_config(reader, entry, "solver", "[[claim]]", item);
     const std::vector<std::optional<solvers::End>> ends = read_ends(reader, entry);
@@ -462,36 +710,13 @@ void read_grid(const Reader& reader, const toml::node& node, Scene& scene) {
   if (grid.get("e") == nullptr && grid.get("alpha_eff") == nullptr) {
     reader.fail(node, "[grid] needs e or alpha_eff");
   }
-  // A grid list, each value checked by `check` (the domain of core/domain.hpp), which throws.
-  auto list = [&](const char* key, auto&& check) {
-    std::vector<double> values{1.0};
-    if (const toml::node* at = grid.get(key)) {
-      values = reader.numbers(*at, key);
-      for (const double value : values) {
-        try {
-          check(value);
-        } catch (const std::invalid_argument& e) {
-          reader.fail(*at, e.what());
-        }
-      }
-    }
-    return values;
-  };
-  scene.p = list("p", [](double p) { domain::require_p(p); });
-  scene.v0 = list("v0", [](double x) { domain::require_scale("v0", x); });
-  scene.m = list("m", [](double x) { domain::require_scale("m", x); });
-  scene.k = list("k", [](double x) { domain::require_scale("k", x); });
-  if (grid.get("e") != nullptr) {
-    for (const double e :
-         list("e", [](double x) { require(x > 0 && x <= 1, "e must be in (0, 1]", x); })) {
-      scene.damping.push_back({Damping::Kind::e, e});
-    }
-  }
-  if (grid.get("alpha_eff") != nullptr) {
-    for (const double z : list("alpha_eff", [](double z) { domain::require_alpha_eff(z); })) {
-      scene.damping.push_back({Damping::Kind::alpha_eff, z});
-    }
-  }
+  ClaimGrid lists{{}, {1.0}, {1.0}, {1.0}, {}};
+  read_grid_lists(reader, grid, lists);
+  scene.p = lists.p;
+  scene.v0 = lists.v0;
+  scene.m = lists.m;
+  scene.k = lists.k;
+  scene.damping = lists.damping;
 }
 
 } // namespace
@@ -655,6 +880,15 @@ Scene parse_scene(std::string_view text, const std::string& path) {
   }
   if (const toml::node* figures = root.get("figure")) {
     read_figures(reader, *figures, scene);
+  }
+  for (const Claim& claim : scene.claims) {
+    if (claim.figure &&
+        std::none_of(scene.figures.begin(), scene.figures.end(), [&](const FigureSpec& figure) {
+          return name_of(figure_kinds, figure.kind) == *claim.figure;
+        })) {
+      reader.fail(*root.get("claim"), "[[claim]] " + claim.name + " links to figure " +
+                                          *claim.figure + ", which the scene does not draw");
+    }
   }
   if (scene.configs.empty() && scene.claims.empty()) {
     reader.fail_at(1, "the scene names no [[solver]] and no [[claim]]");

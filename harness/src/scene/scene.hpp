@@ -10,8 +10,19 @@
 //                 steps_per_contact (fixed-step solvers, list); end (overlap|force, or both
 //                 as a list: the contact-end rule when not the scene's); onset_phases (an
 //                 integer n: fixed-step runs at the onset phases k/n, the worst reported)
-//     [[claim]]   name, observable, solver, rtol, atol, precision, bound (max abs error); or
-//                 name, observable = "e", convention (a DEM code's), limit_damping, bound
+//     [[claim]]   name; kind (default bound); where, quote (the source's section and words);
+//                 figure (a [[figure]] kind that shows it); expect = "holds" | "fails" (pins a
+//                 known-false claim); then by kind:
+//                 bound: observable, solver, rtol, atol, precision, bound (max abs error); or
+//                   observable = "e", convention (a DEM code's), limit_damping, bound
+//                 relation: quantity, of = "truth" | solver (rtol, atol), formula, relation
+//                   (lower_bound|upper_bound|equal_within), tolerance, absolute
+//                 asymptotic: quantity, of | solver, formula, order, range = [from, to], points
+//                 recovered_parameter: solver, rtol, atol, bound (relative, on alpha)
+//                 stability: solver (fixed-step), formula = "seed_dt_crit", fraction (of
+//                   it, default 1: DEM practice runs a fraction of a critical step)
+//                 and for all but bound, a grid of its own (p, e, alpha_eff, v0, m, k; each
+//                 defaults to [grid]'s) and denser = true (also judged ten times denser)
 //     [[figure]]  kind (figures.hpp), solver, rtol, atol, p, e, alpha_eff: the seed's figures
 //     [report]    formats = ["json", "csv", "md", "html"]
 //     [timing]    repeats = 3   (wall time of a run: the minimum over repeats)
@@ -23,8 +34,10 @@
 #include "common/input.hpp"
 #include "common/names.hpp"
 
+#include "pldamp/analytic/seed.hpp"
 #include "pldamp/solvers/problem.hpp"
 
+#include <array>
 #include <optional>
 #include <string>
 #include <string_view>
@@ -62,16 +75,73 @@ struct SolverConfig {
   bool operator==(const SolverConfig&) const = default;
 };
 
-// A claim on a solver configuration's error, or on what a DEM code's calibration gives.
+// What a claim states (judge/claims.hpp says how each is judged):
+//   bound                a solver configuration's largest absolute error of an observable over
+//                        the scene's grid (or a DEM code's calibration, by `convention`)
+//   relation             a quantity of the truth or of a solver against a named formula of the
+//                        inputs: lower_bound, upper_bound or equal_within
+//   asymptotic           the order in α_eff at which a quantity and a formula agree as α_eff → 0
+//   recovered_parameter  α found by bisection on a solver's e, against the seed's α(e)
+//   stability            a fixed-step scheme's largest stable Δt against a named Δt bound
+enum class ClaimKind { bound, relation, asymptotic, recovered_parameter, stability };
+inline constexpr NameTable<ClaimKind, 5> claim_kinds{
+    {{ClaimKind::bound, "bound"},
+     {ClaimKind::relation, "relation"},
+     {ClaimKind::asymptotic, "asymptotic"},
+     {ClaimKind::recovered_parameter, "recovered_parameter"},
+     {ClaimKind::stability, "stability"}}};
+
+// What a relation or asymptotic claim measures, of the truth (closed forms in float128) or of a
+// solver in double: an observable, or τ(α)/τ(0) (a solver: two solves).
+enum class Quantity { e, delta_max, t_peak, tau, tau_ratio, energy_load, energy_unload };
+inline constexpr NameTable<Quantity, 7> quantities{{{Quantity::e, "e"},
+                                                    {Quantity::delta_max, "delta_max"},
+                                                    {Quantity::t_peak, "t_peak"},
+                                                    {Quantity::tau, "tau"},
+                                                    {Quantity::tau_ratio, "tau_ratio"},
+                                                    {Quantity::energy_load, "energy_load"},
+                                                    {Quantity::energy_unload, "energy_unload"}}};
+
+enum class Relation { lower_bound, upper_bound, equal_within };
+inline constexpr NameTable<Relation, 3> relations{{{Relation::lower_bound, "lower_bound"},
+                                                   {Relation::upper_bound, "upper_bound"},
+                                                   {Relation::equal_within, "equal_within"}}};
+
+// The cells a claim of the new kinds is judged over: its own lists, else the scene's grid.
+struct ClaimGrid {
+  std::vector<double> p, v0, m, k;
+  std::vector<Damping> damping;
+};
+
 struct Claim {
   std::string name;
-  std::string observable; // a key of the observable table the scene wants
-  SolverConfig config;    // the solver's claims
+  ClaimKind kind = ClaimKind::bound;
+  std::string where, quote;          // the source's section and its words (shown in reports)
+  std::optional<std::string> figure; // the kind of the scene's figure that shows it
+  bool expect_holds = true;          // expect = "fails": a known-false claim, pinned
+  std::string observable;            // bound: an observable key the scene wants
+  Quantity quantity = Quantity::e;   // relation, asymptotic
+  SolverConfig config;               // the solver's claims
+  bool of_truth = false; // relation, asymptotic: the closed forms' quantity, not a solver's
   // A DEM code's convention (analytic/conventions.hpp): the claim is that the e it really gives
   // for each target e of the grid is within the bound (closed forms, no solver).
   std::optional<std::string> convention;
   bool limit_damping = false; // the convention's optional force cap switched on
-  double bound;               // on the largest absolute error over the grid
+  // relation, asymptotic, stability: the formula of analytic/seed.hpp compared against
+  analytic::seed::Formula formula = analytic::seed::Formula::tau_ratio_curve;
+  Relation relation = Relation::equal_within;
+  bool absolute = false; // equal_within: |a − b| ≤ bound rather than |a/b − 1| ≤ bound
+  // bound: on the largest absolute error; relation: equal_within's tolerance, or how far a
+  // lower/upper bound may be crossed (relative: rounding); asymptotic: the order the claim
+  // implies; recovered_parameter: on the largest relative error of α; stability: 1 (Δt ratio).
+  double bound = 0;
+  ClaimGrid grid;
+  bool denser = false;                     // also judged on a grid ten times denser
+  std::array<double, 2> range{1e-4, 1e-2}; // asymptotic: α_eff from, to (log-spaced)
+  int points = 9;                          // asymptotic: points over the range, per p
+  double fraction = 1; // stability: the bound is this fraction of the formula's Δt
+  // Judged from the plan's records (a bound on a solver's error), not on a grid of its own.
+  bool on_plan() const { return kind == ClaimKind::bound && !convention; }
 };
 
 // The seed's figures (judge/figures.hpp).

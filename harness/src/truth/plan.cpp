@@ -121,7 +121,7 @@ Plan make_plan(const Scene& scene) {
   plan.observables = observables_of(scene.want);
   plan.configs = scene.configs;
   for (const Claim& claim : scene.claims) {
-    if (!claim.convention &&
+    if (claim.on_plan() &&
         std::find(plan.configs.begin(), plan.configs.end(), claim.config) == plan.configs.end()) {
       plan.configs.push_back(claim.config);
     }

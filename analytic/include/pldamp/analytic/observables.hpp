@@ -10,6 +10,7 @@
 #include "pldamp/analytic/time.hpp"
 
 #include <boost/math/special_functions/expm1.hpp>
+#include <boost/math/special_functions/trigamma.hpp>
 
 #include <cmath>
 #include <limits>
@@ -177,6 +178,24 @@ Real contact_duration(const Contact<Real>& c) {
 template <SupportedReal Real>
 Real duration_ratio(const Contact<Real>& c) {
   return detail::duration_and_ratio(c, Real(0)).ratio;
+}
+
+// Small damping (MATH.md §3): ln(τ/τ0) = s1·z + s2·z² + O(z³) with s1 = (π/2)(1 − q), the first
+// order that makes τ/τ0 grow linearly in α_eff for p > 1, and s2 = q/2 + (1 − q)²ψ'(a)/4,
+// a = (1 + q)/2. So τ/τ0 = 1 + s1·z + (s2 + s1²/2)·z² + O(z³).
+template <SupportedReal Real>
+Real duration_ratio_slope(const Real& p) {
+  const Real q = 2 / (p + 1);
+  return boost::math::constants::half_pi<Real>() * (1 - q);
+}
+
+// The z² coefficient of τ/τ0 itself: s2 + s1²/2.
+template <SupportedReal Real>
+Real duration_ratio_curvature(const Real& p) {
+  const Real q = 2 / (p + 1);
+  const Real s1 = duration_ratio_slope(p);
+  const Real one_minus_q = 1 - q;
+  return q / 2 + one_minus_q * one_minus_q * boost::math::trigamma((1 + q) / 2) / 4 + s1 * s1 / 2;
 }
 
 template <SupportedReal Real>

@@ -1,0 +1,679 @@
+#include "judge/claims.hpp"
+
+#include "judge/solve.hpp"
+#include "truth/plan.hpp"
+
+#include "pldamp/analytic/observables.hpp"
+#include "pldamp/analytic/seed.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <map>
+#include <stdexcept>
+
+namespace pldamp::harness {
+namespace {
+
+using analytic::Contact;
+namespace seed = analytic::seed;
+
+struct ClaimCell {
+  double p;
+  Damping damping;
+  double v0, m, k;
+};
+
+std::vector<ClaimCell> cells_of(const ClaimGrid& grid) {
+  std::vector<ClaimCell> cells;
+  for (const double p : grid.p) {
+    for (const Damping& damping : grid.damping) {
+      for (const double v0 : grid.v0) {
+        for (const double m : grid.m) {
+          for (const double k : grid.k) {
+            cells.push_back({p, damping, v0, m, k});
+          }
+        }
+      }
+    }
+  }
+  return cells;
+}
+
+std::string number(double x) {
+  return fmt::format("{:.6g}", x);
+}
+
+std::string list_text(const std::vector<double>& values);
+
+std::string damping_text(const Damping& d) {
+  return (d.kind == Damping::Kind::e ? "e = " : "alpha_eff = ") + number(d.value);
+}
+
+// "p = 1.5, e = 0.5", with v0, m and k where the grid varies them.
+std::string cell_text(const ClaimGrid& grid, const ClaimCell& cell) {
+  std::string out = "p = " + number(cell.p) + ", " + damping_text(cell.damping);
+  const std::pair<const std::vector<double>*, const char*> scales[] = {
+      {&grid.v0, "v0"}, {&grid.m, "m"}, {&grid.k, "k"}};
+  const double values[] = {cell.v0, cell.m, cell.k};
+  for (std::size_t i = 0; i < 3; ++i) {
+    if (scales[i].first->size() > 1) {
+      out += fmt::format(", {} = {}", scales[i].second, number(values[i]));
+    }
+  }
+  return out;
+}
+
+Contact<Exact> truth_contact(const ClaimCell& cell) {
+  const Exact p(cell.p), value(cell.damping.value), v0(cell.v0), m(cell.m), k(cell.k);
+  return cell.damping.kind == Damping::Kind::e ? Contact<Exact>::from_e(p, value, v0, m, k)
+                                               : Contact<Exact>::from_alpha_eff(p, value, v0, m, k);
+}
+
+struct QuantityWants {
+  unsigned analytic, solver;
+  std::optional<double> solvers::Result<double>::*value;
+};
+
+QuantityWants wants_of(Quantity quantity) {
+  using R = solvers::Result<double>;
+  switch (quantity) {
+  case Quantity::e:
+    return {analytic::want_e, solvers::want_e, &R::e};
+  case Quantity::delta_max:
+    return {analytic::want_delta_max, solvers::want_delta_max, &R::delta_max};
+  case Quantity::t_peak:
+    return {analytic::want_t_peak, solvers::want_t_peak, &R::t_peak};
+  case Quantity::tau:
+  case Quantity::tau_ratio:
+    return {analytic::want_tau, solvers::want_tau, &R::tau};
+  case Quantity::energy_load:
+    return {analytic::want_energy, solvers::want_energy, &R::energy_load};
+  case Quantity::energy_unload:
+    break;
+  }
+  return {analytic::want_energy, solvers::want_energy, &R::energy_unload};
+}
+
+Exact truth_value(Quantity quantity, const Contact<Exact>& c) {
+  const analytic::Observables<Exact> o = analytic::observables(c, wants_of(quantity).analytic);
+  switch (quantity) {
+  case Quantity::e:
+    return *o.e;
+  case Quantity::delta_max:
+    return *o.delta_max;
+  case Quantity::t_peak:
+    return *o.t_peak;
+  case Quantity::tau:
+    return *o.tau;
+  case Quantity::tau_ratio:
+    return *o.tau_ratio;
+  case Quantity::energy_load:
+    return *o.energy_load;
+  case Quantity::energy_unload:
+    break;
+  }
+  return *o.energy_unload;
+}
+
+// The claim's quantity at a contact: the closed form in Exact, or the solver's in double (its
+// τ(α)/τ(0) from two solves). Throws std::runtime_error when the solver gives none.
+Exact quantity_value(const Scene& scene, const Claim& claim, const Contact<Exact>& c) {
+  if (claim.of_truth) {
+    return truth_value(claim.quantity, c);
+  }
+  const QuantityWants wants = wants_of(claim.quantity);
+  const char* name = name_of(quantities, claim.quantity).data();
+  Inputs in{static_cast<double>(c.p()), static_cast<double>(c.alpha()), static_cast<double>(c.v0()),
+            static_cast<double>(c.m()), static_cast<double>(c.k())};
+  const double value =
+      solved_value(claim.config, in, wants.solver, wants.value, name, scene.limits);
+  if (claim.quantity != Quantity::tau_ratio) {
+    return Exact(value);
+  }
+  in.alpha = 0;
+  return Exact(value) /
+         Exact(solved_value(claim.config, in, wants.solver, wants.value, name, scene.limits));
+}
+
+// The largest (Most) or smallest (Least) value seen over a grid, and the cell it came from. NaN
+// counts as the most extreme.
+enum class Keep { most, least };
+template <Keep keep>
+class Extreme {
+public:
+  void see(double value, const std::string& where) {
+    const bool beyond = keep == Keep::most ? !(value <= value_) : !(value >= value_);
+    if (!seen_ || beyond) {
+      seen_ = true;
+      value_ = value;
+      where_ = where;
+    }
+  }
+  explicit operator bool() const { return seen_; }
+  double value() const { return seen_ ? value_ : 0; }
+  const std::string& where() const { return where_; }
+
+private:
+  bool seen_ = false;
+  double value_ = 0;
+  std::string where_;
+};
+using Largest = Extreme<Keep::most>;
+using Smallest = Extreme<Keep::least>;
+
+// At most a bound: measured = the largest, margin = bound / measured.
+void conclude_at_most(Judgement& j, const Largest& largest, double bound) {
+  j.measured = largest.value();
+  j.holds = j.measured <= bound;
+  if (j.measured > 0) {
+    j.margin = bound / j.measured;
+  }
+  j.worst = largest.where();
+}
+
+// Failed cells: their count in the judgement, the first reason in its note.
+class Failures {
+public:
+  void add(const std::string& cell, const std::string& why) {
+    if (count_++ == 0) {
+      first_ = cell + ": " + why;
+    }
+  }
+  void into(Judgement& j) const {
+    j.failed_cells = count_;
+    if (count_ > 0) {
+      j.holds = false;
+      j.note += fmt::format("{}no answer at {} cell{} (first: {})", j.note.empty() ? "" : "; ",
+                            count_, count_ == 1 ? "" : "s", first_);
+    }
+  }
+
+private:
+  long count_ = 0;
+  std::string first_;
+};
+
+// The cells where a relation's two sides are equal within its tolerance, described by p: "p = 1
+// (every cell); p = 1.5, 2 at alpha_eff = 0".
+class Ties {
+public:
+  void add(const ClaimCell& cell) { by_p_[cell.p].push_back(damping_text(cell.damping)); }
+  long count() const {
+    long n = 0;
+    for (const auto& [p, dampings] : by_p_) {
+      n += static_cast<long>(dampings.size());
+    }
+    return n;
+  }
+  std::string text(std::size_t cells_per_p) const {
+    std::vector<std::pair<std::string, std::string>> groups; // (ps, where)
+    for (const auto& [p, dampings] : by_p_) {
+      std::string where;
+      if (dampings.size() < cells_per_p) {
+        std::vector<std::string> unique = dampings;
+        unique.erase(std::unique(unique.begin(), unique.end()), unique.end());
+        where = " at " + fmt::format("{}", fmt::join(unique, ", "));
+      } else {
+        where = " (every cell)";
+      }
+      if (!groups.empty() && groups.back().second == where) {
+        groups.back().first += ", " + number(p);
+      } else {
+        groups.emplace_back("p = " + number(p), where);
+      }
+    }
+    std::string out;
+    for (const auto& [ps, where] : groups) {
+      out += (out.empty() ? "" : "; ") + ps + where;
+    }
+    return out;
+  }
+
+private:
+  std::map<double, std::vector<std::string>> by_p_;
+};
+
+Judgement judge_relation(const Scene& scene, const Claim& claim, const ClaimGrid& grid) {
+  Judgement j;
+  j.grid = grid_text(grid);
+  const std::vector<ClaimCell> cells = cells_of(grid);
+  const double tolerance = claim.bound;
+  const bool equal_within = claim.relation == Relation::equal_within;
+  Failures failures;
+  Ties ties;
+  // equal_within: the largest difference; bounds: the smallest gap of all, and of the cells
+  // that are not ties.
+  Largest largest;
+  Smallest smallest, smallest_apart;
+  // equal_within, relative: the range of formula / quantity, which says how a formula is wrong.
+  Smallest lowest_ratio;
+  Largest highest_ratio;
+  for (const ClaimCell& cell : cells) {
+    const std::string where = cell_text(grid, cell);
+    try {
+      const Contact<Exact> c = truth_contact(cell);
+      const Exact a = quantity_value(scene, claim, c);
+      const Exact f = seed::evaluate(claim.formula, c);
+      if (!isfinite(a) || !isfinite(f) || (f == 0 && !claim.absolute)) {
+        failures.add(where, fmt::format("{} = {:.6g}, the formula {:.6g}",
+                                        name_of(quantities, claim.quantity), static_cast<double>(a),
+                                        static_cast<double>(f)));
+        continue;
+      }
+      if (equal_within) {
+        if (!claim.absolute && a != 0) {
+          const double ratio = static_cast<double>(f / a);
+          lowest_ratio.see(ratio, where);
+          highest_ratio.see(ratio, where);
+        }
+        const double d = static_cast<double>(claim.absolute ? abs(a - f) : abs(a / f - 1));
+        largest.see(d, where);
+        continue;
+      }
+      const Exact difference = claim.relation == Relation::lower_bound ? a - f : f - a;
+      const double gap = static_cast<double>(claim.absolute ? difference : difference / abs(f));
+      smallest.see(gap, where);
+      if (std::abs(gap) <= tolerance) {
+        ties.add(cell);
+      } else {
+        smallest_apart.see(gap, where);
+      }
+    } catch (const std::exception& e) {
+      failures.add(where, e.what());
+    }
+  }
+  if (equal_within) {
+    conclude_at_most(j, largest, tolerance);
+    if (lowest_ratio && !j.holds) {
+      j.note = fmt::format("formula / {} from {:.4g} ({}) to {:.4g} ({})",
+                           name_of(quantities, claim.quantity), lowest_ratio.value(),
+                           lowest_ratio.where(), highest_ratio.value(), highest_ratio.where());
+    }
+  } else {
+    j.measured = smallest.value();
+    j.holds = j.measured >= -tolerance;
+    if (smallest_apart) {
+      j.margin = smallest_apart.value();
+    }
+    j.worst = !j.holds || !smallest_apart ? smallest.where() : smallest_apart.where();
+    if (ties.count() > 0) {
+      const std::size_t per_p =
+          grid.damping.size() * grid.v0.size() * grid.m.size() * grid.k.size();
+      j.note = fmt::format("equal within {:g} at {} of {} cells: {}", tolerance, ties.count(),
+                           cells.size(), ties.text(per_p));
+    }
+  }
+  failures.into(j);
+  return j;
+}
+
+// Least-squares slope of y against x.
+double slope(const std::vector<double>& x, const std::vector<double>& y) {
+  const double n = double(x.size());
+  double sx = 0, sy = 0, sxx = 0, sxy = 0;
+  for (std::size_t i = 0; i < x.size(); ++i) {
+    sx += x[i];
+    sy += y[i];
+    sxx += x[i] * x[i];
+    sxy += x[i] * y[i];
+  }
+  return (n * sxy - sx * sy) / (n * sxx - sx * sx);
+}
+
+Judgement judge_asymptotic(const Scene& scene, const Claim& claim, const ClaimGrid& grid,
+                           std::vector<MeasuredOrder>& orders) {
+  Judgement j;
+  const auto [from, to] = claim.range;
+  j.grid = fmt::format("p in {} x {} alpha_eff log-spaced over [{:g}, {:g}]: {} cells",
+                       list_text(grid.p), claim.points, from, to, grid.p.size() * claim.points);
+  // Below this relative difference the two sides are equal to the comparison's accuracy: the
+  // truth's, or ten times a solver's tolerance.
+  const double equal = claim.of_truth ? 1e-25 : 10 * claim.config.rtol.value_or(1e-8);
+  Failures failures;
+  orders.clear();
+  std::vector<std::string> notes;
+  for (const double p : grid.p) {
+    std::vector<double> log_z, log_difference;
+    double smallest_z = 0, its_difference = 0;
+    const ClaimCell at_p{
+        p, {Damping::Kind::alpha_eff, from}, grid.v0.front(), grid.m.front(), grid.k.front()};
+    try {
+      for (int i = 0; i < claim.points; ++i) {
+        ClaimCell cell = at_p;
+        cell.damping.value = from * std::pow(to / from, double(i) / (claim.points - 1));
+        const Contact<Exact> c = truth_contact(cell);
+        const Exact a = quantity_value(scene, claim, c);
+        const Exact f = seed::evaluate(claim.formula, c);
+        const double difference = static_cast<double>(abs(a - f));
+        if (!std::isfinite(difference)) {
+          throw std::runtime_error("a side is not finite at alpha_eff = " +
+                                   number(cell.damping.value));
+        }
+        if (difference <= equal * static_cast<double>(abs(f))) {
+          continue;
+        }
+        if (log_z.empty()) {
+          smallest_z = cell.damping.value;
+          its_difference = difference;
+        }
+        log_z.push_back(std::log(cell.damping.value));
+        log_difference.push_back(std::log(difference));
+      }
+    } catch (const std::exception& e) {
+      failures.add("p = " + number(p), e.what());
+      continue;
+    }
+    MeasuredOrder measured{p, std::nullopt, 0};
+    if (log_z.size() >= 2) {
+      measured.order = slope(log_z, log_difference);
+      const double leading = std::max(1.0, std::round(*measured.order));
+      measured.coefficient = its_difference / std::pow(smallest_z, leading);
+      notes.push_back(fmt::format("p = {}: order {:.3f}, |difference| ~ {:.4g} alpha_eff^{:g}",
+                                  number(p), *measured.order, measured.coefficient, leading));
+    } else {
+      notes.push_back(fmt::format("p = {}: equal within {:g}", number(p), equal));
+    }
+    orders.push_back(measured);
+  }
+  j.measured = std::numeric_limits<double>::infinity();
+  for (const MeasuredOrder& o : orders) {
+    if (o.order && *o.order < j.measured) {
+      j.measured = *o.order;
+      j.worst = "p = " + number(o.p);
+    }
+  }
+  j.holds = j.measured >= claim.bound - 0.05;
+  if (std::isfinite(j.measured)) {
+    j.margin = j.measured - claim.bound;
+  }
+  j.note = fmt::format("{}", fmt::join(notes, "; "));
+  failures.into(j);
+  return j;
+}
+
+Judgement judge_recovered(const Scene& scene, const Claim& claim, const ClaimGrid& grid) {
+  Judgement j;
+  j.grid = grid_text(grid);
+  Failures failures;
+  Largest worst;
+  for (const ClaimCell& cell : cells_of(grid)) {
+    const std::string where = cell_text(grid, cell);
+    try {
+      const double found = alpha_by_bisection(claim.config, {cell.p, 0, cell.v0, cell.m, cell.k},
+                                              cell.damping.value, scene.limits);
+      const Exact formula = seed::alpha_of_e(Exact(cell.p), Exact(cell.damping.value));
+      const double d = static_cast<double>(abs(Exact(found) / formula - 1));
+      worst.see(d, where);
+    } catch (const std::exception& e) {
+      failures.add(where, e.what());
+    }
+  }
+  conclude_at_most(j, worst, claim.bound);
+  failures.into(j);
+  return j;
+}
+
+Judgement judge_stability(const Scene& scene, const Claim& claim, const ClaimGrid& grid) {
+  Judgement j;
+  j.grid = grid_text(grid);
+  Failures failures;
+  Smallest smallest;
+  Largest largest, worst_e;
+  long unstable_at_bound = 0;
+  const std::vector<ClaimCell> cells = cells_of(grid);
+  for (const ClaimCell& cell : cells) {
+    const std::string where = cell_text(grid, cell);
+    const Contact<Exact> c = truth_contact(cell);
+    if (c.mu() <= 0) {
+      failures.add(where, "alpha_eff >= 1: the contact does not return");
+      continue;
+    }
+    const double tau = static_cast<double>(analytic::contact_duration(c));
+    const double bound = claim.fraction * static_cast<double>(seed::evaluate(claim.formula, c));
+    const double e = static_cast<double>(analytic::restitution(c));
+    const Inputs in{cell.p, static_cast<double>(c.alpha()), cell.v0, cell.m, cell.k};
+    std::string limit;
+    // Stable: the contact ends, with no energy gained. A budget spent is no verdict at all.
+    auto run = [&](double dt) {
+      const solvers::Result<double> r =
+          solve_unchecked(claim.config, in, solvers::want_e, scene.limits, {}, dt);
+      if (r.outcome == solvers::Outcome::step_limit || r.outcome == solvers::Outcome::time_limit) {
+        limit = fmt::format("{} at dt = {:.4g}", solvers::outcome_name(r.outcome), dt);
+      }
+      return r;
+    };
+    auto stable = [&](double dt) {
+      const solvers::Result<double> r = run(dt);
+      return r.outcome == solvers::Outcome::exited && r.e && *r.e <= 1;
+    };
+    double lo = tau / 1000, hi = lo;
+    if (!stable(lo)) {
+      lo = 0;
+    } else {
+      while (hi < 50 * tau && stable(hi)) {
+        lo = hi;
+        hi *= 1.5;
+      }
+      if (hi < 50 * tau) {
+        for (int i = 0; i < 12; ++i) {
+          const double mid = std::sqrt(lo * hi);
+          (stable(mid) ? lo : hi) = mid;
+        }
+      }
+    }
+    const solvers::Result<double> at_bound = run(bound);
+    if (!limit.empty()) {
+      failures.add(where, limit);
+      continue;
+    }
+    const double ratio = lo / bound;
+    smallest.see(ratio, where);
+    largest.see(ratio, where);
+    if (at_bound.outcome == solvers::Outcome::exited && at_bound.e && *at_bound.e <= 1) {
+      worst_e.see(std::abs(*at_bound.e / e - 1), where);
+    } else {
+      ++unstable_at_bound;
+    }
+  }
+  j.measured = smallest.value();
+  j.holds = j.measured >= 1;
+  j.margin = j.measured;
+  j.worst = smallest.where();
+  if (smallest) {
+    const std::string bound_name =
+        (claim.fraction != 1 ? fmt::format("{:g} ", claim.fraction) : std::string()) +
+        std::string(seed::info_of(claim.formula).name);
+    j.note = fmt::format(
+        "largest stable dt / {} from {:.3g} ({}) to {:.3g} ({}); at dt = {}: ", bound_name,
+        smallest.value(), smallest.where(), largest.value(), largest.where(), bound_name);
+    if (unstable_at_bound > 0) {
+      j.note += fmt::format("unstable (no return, or energy gained) in {} of {} cells",
+                            unstable_at_bound, cells.size());
+    }
+    if (worst_e) {
+      j.note += fmt::format("{}e off by up to {:.3g} ({})", unstable_at_bound > 0 ? "; " : "",
+                            worst_e.value(), worst_e.where());
+    }
+  }
+  failures.into(j);
+  return j;
+}
+
+Judgement judge_kind(const Scene& scene, const Claim& claim, const ClaimGrid& grid,
+                     std::vector<MeasuredOrder>& orders) {
+  switch (claim.kind) {
+  case ClaimKind::relation:
+    return judge_relation(scene, claim, grid);
+  case ClaimKind::asymptotic:
+    return judge_asymptotic(scene, claim, grid, orders);
+  case ClaimKind::recovered_parameter:
+    return judge_recovered(scene, claim, grid);
+  case ClaimKind::stability:
+    return judge_stability(scene, claim, grid);
+  case ClaimKind::bound:
+    break;
+  }
+  throw std::logic_error("a bound claim is judged from the plan's records (judge/budget.cpp)");
+}
+
+// A list for the grid text: "{1, 1.5, 2}", or "[0.1, 0.99] (10 values)".
+std::string list_text(const std::vector<double>& values) {
+  if (values.size() <= 6) {
+    std::vector<std::string> parts;
+    for (const double x : values) {
+      parts.push_back(number(x));
+    }
+    return fmt::format("{{{}}}", fmt::join(parts, ", "));
+  }
+  const auto [lo, hi] = std::minmax_element(values.begin(), values.end());
+  return fmt::format("[{}, {}] ({} values)", number(*lo), number(*hi), values.size());
+}
+
+// A list refined by `between` points between each pair of neighbours.
+std::vector<double> refined(const std::vector<double>& values, int between) {
+  if (values.size() < 2) {
+    return values;
+  }
+  const auto [lo, hi] = std::minmax_element(values.begin(), values.end());
+  const bool logarithmic = *lo > 0 && *hi > 10 * *lo;
+  std::vector<double> out;
+  for (std::size_t i = 0; i + 1 < values.size(); ++i) {
+    for (int j = 0; j <= between; ++j) {
+      const double t = double(j) / (between + 1);
+      const double a = values[i], b = values[i + 1];
+      out.push_back(logarithmic ? a * std::pow(b / a, t) : a + (b - a) * t);
+    }
+  }
+  out.push_back(values.back());
+  return out;
+}
+
+} // namespace
+
+Verdict verdict_of(const Claim& claim) {
+  Verdict v;
+  v.name = claim.name;
+  v.kind = std::string(name_of(claim_kinds, claim.kind));
+  v.where = claim.where;
+  v.quote = claim.quote;
+  v.figure = claim.figure.value_or("");
+  v.expect_holds = claim.expect_holds;
+  v.bound = claim.bound;
+  v.meaning = std::string(measure_meaning(claim));
+  switch (claim.kind) {
+  case ClaimKind::bound:
+    v.observable = claim.observable;
+    v.config = claim.convention ? *claim.convention + (claim.limit_damping ? " limit_damping" : "")
+                                : claim.config.label();
+    break;
+  case ClaimKind::relation:
+  case ClaimKind::asymptotic:
+    v.observable =
+        fmt::format("{} {} {}", name_of(quantities, claim.quantity),
+                    claim.kind == ClaimKind::asymptotic ? "vs" : name_of(relations, claim.relation),
+                    seed::info_of(claim.formula).name);
+    v.config = claim.of_truth ? "truth (closed forms, float128)" : claim.config.label();
+    break;
+  case ClaimKind::recovered_parameter:
+    v.observable = "alpha by bisection vs seed alpha(e)";
+    v.config = claim.config.label();
+    break;
+  case ClaimKind::stability:
+    v.observable = "largest stable dt vs " +
+                   (claim.fraction != 1 ? fmt::format("{:g} ", claim.fraction) : std::string()) +
+                   std::string(seed::info_of(claim.formula).name);
+    v.config = claim.config.label();
+    break;
+  }
+  return v;
+}
+
+std::string_view measure_meaning(const Claim& claim) {
+  switch (claim.kind) {
+  case ClaimKind::bound:
+    return "the largest absolute error over the grid; margin = bound / measured";
+  case ClaimKind::relation:
+    if (claim.relation == Relation::equal_within) {
+      return claim.absolute ? "the largest |quantity - formula|; margin = tolerance / measured"
+                            : "the largest |quantity / formula - 1|; margin = tolerance / measured";
+    }
+    return "the smallest gap (quantity - formula) / |formula| (formula - quantity for an upper "
+           "bound), negative where the bound is crossed; margin = the smallest gap among cells "
+           "not equal within the tolerance";
+  case ClaimKind::asymptotic:
+    return "the smallest order over p at which the two sides agree as alpha_eff -> 0; margin = "
+           "measured - the order the claim implies";
+  case ClaimKind::recovered_parameter:
+    return "the largest |alpha found / seed alpha(e) - 1|; margin = bound / measured";
+  case ClaimKind::stability:
+    break;
+  }
+  return "the smallest ratio largest stable dt / the formula's dt; margin = that ratio (>= 1: "
+         "the bound is conservative)";
+}
+
+std::string grid_text(const ClaimGrid& grid) {
+  std::string out = "p in " + list_text(grid.p);
+  std::vector<double> es, zs;
+  for (const Damping& d : grid.damping) {
+    (d.kind == Damping::Kind::e ? es : zs).push_back(d.value);
+  }
+  if (!es.empty()) {
+    out += " x e in " + list_text(es);
+  }
+  if (!zs.empty()) {
+    out += (es.empty() ? " x " : " and ") + std::string("alpha_eff in ") + list_text(zs);
+  }
+  const std::pair<const std::vector<double>*, const char*> scales[] = {
+      {&grid.v0, "v0"}, {&grid.m, "m"}, {&grid.k, "k"}};
+  for (const auto& [values, name] : scales) {
+    if (values->size() > 1) {
+      out += fmt::format(" x {} in {}", name, list_text(*values));
+    }
+  }
+  const std::size_t cells =
+      grid.p.size() * grid.damping.size() * grid.v0.size() * grid.m.size() * grid.k.size();
+  return out + fmt::format(": {} cells", cells);
+}
+
+ClaimGrid denser_grid(const ClaimGrid& grid) {
+  std::vector<double> es, zs;
+  for (const Damping& d : grid.damping) {
+    (d.kind == Damping::Kind::e ? es : zs).push_back(d.value);
+  }
+  const std::vector<const std::vector<double>*> lists{&grid.p,  &es,     &zs,
+                                                      &grid.v0, &grid.m, &grid.k};
+  const auto varied = std::count_if(lists.begin(), lists.end(),
+                                    [](const std::vector<double>* l) { return l->size() > 1; });
+  // Each interval of each varied list cut into (between + 1): (between + 1)^varied ≥ 10 cells
+  // per square of the grid.
+  const int between =
+      varied == 0 ? 0 : static_cast<int>(std::ceil(std::pow(10.0, 1.0 / double(varied)))) - 1;
+  ClaimGrid out{refined(grid.p, between),
+                refined(grid.v0, between),
+                refined(grid.m, between),
+                refined(grid.k, between),
+                {}};
+  for (const double e : refined(es, between)) {
+    out.damping.push_back({Damping::Kind::e, e});
+  }
+  for (const double z : refined(zs, between)) {
+    out.damping.push_back({Damping::Kind::alpha_eff, z});
+  }
+  return out;
+}
+
+Verdict judge_on_grid(const Scene& scene, const Claim& claim) {
+  Verdict verdict = verdict_of(claim);
+  static_cast<Judgement&>(verdict) = judge_kind(scene, claim, claim.grid, verdict.orders);
+  if (claim.denser) {
+    std::vector<MeasuredOrder> orders;
+    verdict.denser = judge_kind(scene, claim, denser_grid(claim.grid), orders);
+  }
+  return verdict;
+}
+
+} // namespace pldamp::harness

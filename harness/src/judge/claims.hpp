@@ -1,0 +1,54 @@
+// Claims judged on grids of their own (scene.hpp ClaimKind), each into a verdict, the cell where
+// it comes closest to failing, and a margin:
+//
+//   relation             per cell, a quantity (the truth in float128, or a solver in double)
+//                        against a formula of the seed (analytic/seed.hpp) at the cell's inputs.
+//                        equal_within: measured = the largest |a/f − 1| (|a − f| if absolute),
+//                        holds if ≤ tolerance, margin = tolerance/measured. lower_bound (f ≤ a):
+//                        measured = the smallest gap (a − f)/|f|, holds if ≥ −tolerance; cells
+//                        equal within the tolerance are counted apart, and the margin is the
+//                        smallest gap among the others (upper_bound the same with f − a).
+//   asymptotic           per p, |a − f| at `points` α_eff log-spaced over `range` and the slope
+//                        of its logarithm against log α_eff by least squares: the order at which
+//                        the two agree; measured = the smallest order over p, holds if
+//                        ≥ order − 0.05, margin = measured − order.
+//   recovered_parameter  per cell, α found by TOMS 748 on the solver's e for the target e,
+//                        against the seed's α(e): measured = the largest |α/α(e) − 1|, margin =
+//                        bound/measured.
+//   stability            per cell, the largest Δt at which the fixed-step scheme's contact ends
+//                        without energy gained (e ≤ 1), scanning up from τ/1000 by 1.5× and
+//                        then bisecting to 0.1 %, against the formula's Δt: measured = the
+//                        smallest ratio, holds (the bound is conservative) if ≥ 1, margin =
+//                        that ratio. Also e's relative error at the formula's Δt, in the note.
+//
+// A cell without an answer (a solver out of its limits, a formula not finite) fails the claim.
+#pragma once
+
+#include "judge/budget.hpp"
+#include "scene/scene.hpp"
+
+#include <string>
+#include <string_view>
+
+namespace pldamp::harness {
+
+// A claim's verdict with what the scene says of it (name, kind, source, expectation), not yet
+// judged.
+Verdict verdict_of(const Claim& claim);
+
+// What a claim kind's measured value and margin are, for the reports.
+std::string_view measure_meaning(const Claim& claim);
+
+// The grid text of a verdict: "p in {1, 1.5, 2} x e in [0.1, 0.99] (10 values): 30 cells".
+std::string grid_text(const ClaimGrid& grid);
+
+// The grid with each list of more than one value refined (log-spaced where it spans more than a
+// decade of positive values) so that every square of the grid holds at least ten cells: with d
+// varied lists, ⌈10^(1/d)⌉ − 1 values between each pair of neighbours.
+ClaimGrid denser_grid(const ClaimGrid& grid);
+
+// Judges a claim of the kinds relation, asymptotic, recovered_parameter or stability over its
+// grid, and over the denser grid when the claim asks for it.
+Verdict judge_on_grid(const Scene& scene, const Claim& claim);
+
+} // namespace pldamp::harness

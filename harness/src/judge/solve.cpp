@@ -1,0 +1,79 @@
+#include "judge/solve.hpp"
+
+#include "common/input.hpp"
+
+#include "pldamp/analytic/contact.hpp"
+#include "pldamp/solvers/registry.hpp"
+
+#include <boost/math/tools/toms748_solve.hpp>
+
+#include <limits>
+#include <stdexcept>
+
+namespace pldamp::harness {
+namespace {
+
+std::string where(const Inputs& in) {
+  return " at p = " + to_string_full(in.p) + ", alpha = " + to_string_full(in.alpha) +
+         (in.v0 != 1 ? ", v0 = " + to_string_full(in.v0) : "") +
+         (in.m != 1 ? ", m = " + to_string_full(in.m) : "") +
+         (in.k != 1 ? ", k = " + to_string_full(in.k) : "");
+}
+
+} // namespace
+
+solvers::Result<double> solve_unchecked(const SolverConfig& config, const Inputs& in, unsigned want,
+                                        const Limits& limits, std::vector<double> sample_times,
+                                        std::optional<double> fixed_step) {
+  solvers::Options<double> options;
+  options.rtol =
+      config.rtol.value_or(solvers::solver_named(config.name).template default_rtol<double>());
+  options.atol = config.atol;
+  options.want = want;
+  options.max_steps = limits.max_steps;
+  options.max_seconds = limits.max_seconds;
+  options.fixed_step = fixed_step;
+  if (config.steps_per_contact && !fixed_step) {
+    options.steps_per_contact = *config.steps_per_contact;
+  }
+  options.sample_times = std::move(sample_times);
+  return solvers::solve(config.name, solvers::Problem<double>{in.p, in.m, in.k, in.v0, in.alpha},
+                        options);
+}
+
+solvers::Result<double> solve_once(const SolverConfig& config, const Inputs& in, unsigned want,
+                                   const Limits& limits, std::vector<double> sample_times) {
+  const solvers::Result<double> r =
+      solve_unchecked(config, in, want, limits, std::move(sample_times));
+  if (solvers::failing(r.outcome)) {
+    throw std::runtime_error(config.label() + " ended as " +
+                             std::string(solvers::outcome_name(r.outcome)) + where(in));
+  }
+  return r;
+}
+
+double solved_value(const SolverConfig& config, const Inputs& in, unsigned want,
+                    std::optional<double> solvers::Result<double>::*value, const char* name,
+                    const Limits& limits) {
+  const solvers::Result<double> r = solve_once(config, in, want, limits);
+  if (!(r.*value)) {
+    throw std::runtime_error(config.label() + " gave no " + name + where(in) + " (" +
+                             std::string(solvers::outcome_name(r.outcome)) + ")");
+  }
+  return *(r.*value);
+}
+
+double alpha_by_bisection(const SolverConfig& config, Inputs in, double e, const Limits& limits) {
+  const double critical = analytic::Contact<double>::from_alpha_eff(in.p, 1.0, 1.0).alpha();
+  auto gap = [&](double alpha) {
+    in.alpha = alpha;
+    return solved_value(config, in, solvers::want_e, &solvers::Result<double>::e, "e", limits) - e;
+  };
+  std::uintmax_t iterations = 100;
+  const auto [lo, hi] =
+      boost::math::tools::toms748_solve(gap, 0.0, critical * (1 - 1e-9), 1 - e, -e,
+                                        boost::math::tools::eps_tolerance<double>(40), iterations);
+  return lo + (hi - lo) / 2;
+}
+
+} // namespace pldamp::harness

@@ -1,0 +1,41 @@
+// One solver run outside a plan, for the figures and the claims judged on grids of their own
+// (judge/figures.hpp, judge/claims.hpp): double precision, the configuration's tolerances, the
+// scene's limits; a run whose outcome carries no answer throws with what happened.
+#pragma once
+
+#include "scene/scene.hpp"
+
+#include "pldamp/solvers/problem.hpp"
+
+#include <optional>
+#include <vector>
+
+namespace pldamp::harness {
+
+// What to solve: p, α, v0, m, k (the physical parameters of solvers::Problem).
+struct Inputs {
+  double p, alpha, v0 = 1, m = 1, k = 1;
+};
+
+// Solves once, whatever the outcome. A fixed step, when given, replaces the configuration's steps
+// per contact.
+solvers::Result<double> solve_unchecked(const SolverConfig& config, const Inputs& in, unsigned want,
+                                        const Limits& limits, std::vector<double> sample_times = {},
+                                        std::optional<double> fixed_step = std::nullopt);
+
+// Solves once; throws std::runtime_error on step_limit, time_limit or unstable.
+solvers::Result<double> solve_once(const SolverConfig& config, const Inputs& in, unsigned want,
+                                   const Limits& limits, std::vector<double> sample_times = {});
+
+// One value of a run (e.g. &Result::tau); a run that ended without it (no exit where τ was
+// wanted) throws, naming it.
+double solved_value(const SolverConfig& config, const Inputs& in, unsigned want,
+                    std::optional<double> solvers::Result<double>::*value, const char* name,
+                    const Limits& limits);
+
+// α for which the solver returns with restitution e: TOMS 748 on α ↦ e_solver(α) − e over
+// [0, α at α_eff = 1), where e falls from 1 to 0 (the seed's "bisection on the ODE solver").
+// `in.alpha` is ignored.
+double alpha_by_bisection(const SolverConfig& config, Inputs in, double e, const Limits& limits);
+
+} // namespace pldamp::harness

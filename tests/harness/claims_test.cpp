@@ -1,0 +1,279 @@
+// The claim kinds judged on grids of their own (judge/claims.hpp), each with a claim that holds
+// and one that fails, their measured values against independent computations, the denser grid,
+// and `run --strict` with expect = "fails".
+#include "fixtures.hpp"
+#include "judge/claims.hpp"
+
+#include "pldamp/analytic/observables.hpp"
+#include "pldamp/analytic/seed.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+namespace pldamp::harness {
+namespace {
+
+using testing::run;
+using testing::write_file;
+
+const std::string grid = R"(name = "claims"
+[grid]
+p = [1.5]
+e = [0.5]
+v0 = [1.0]
+)";
+
+// The scene's one claim, judged.
+Verdict judged(const std::string& claim) {
+  const Scene scene = parse_scene(grid + "[[claim]]\n" + claim, "claims.toml");
+  return judge_on_grid(scene, scene.claims.front());
+}
+
+// τ/τ0 − 1/√(1 − z²) over 1/√(1 − z²), in 50 digits (the judge computes in float128).
+double gap_in_bin50(double p, double z) {
+  const auto c = analytic::Contact<bin50>::from_alpha_eff(bin50(p), bin50(z), bin50(1));
+  const bin50 curve = analytic::seed::evaluate(analytic::seed::Formula::tau_ratio_curve, c);
+  return static_cast<double>((analytic::duration_ratio(c) - curve) / curve);
+}
+
+TEST(Claims, RelationLowerBoundHoldsWithItsSmallestGapAndTies) {
+  const Verdict v = judged(R"(name = "lower"
+kind = "relation"
+of = "truth"
+quantity = "tau_ratio"
+formula = "seed_tau_ratio_curve"
+relation = "lower_bound"
+p = [1.0, 1.5, 3.0]
+alpha_eff = [0.0, 0.1, 0.5]
+)");
+  EXPECT_TRUE(v.holds);
+  EXPECT_EQ(v.failed_cells, 0);
+  // Equal at p = 1 (every cell) and at α_eff = 0; the smallest gap elsewhere is at p = 1.5, 0.1.
+  EXPECT_EQ(v.worst, "p = 1.5, alpha_eff = 0.1");
+  ASSERT_TRUE(v.margin);
+  EXPECT_NEAR(*v.margin, gap_in_bin50(1.5, 0.1), 1e-20);
+  EXPECT_NE(v.note.find("equal within 1e-25 at 5 of 9 cells: p = 1 (every cell); p = 1.5, 3 at "
+                        "alpha_eff = 0"),
+            std::string::npos)
+      << v.note;
+}
+
+TEST(Claims, RelationUpperBoundFailsWhereCrossedMost) {
+  const Verdict v = judged(R"(name = "upper"
+kind = "relation"
+of = "truth"
+quantity = "tau_ratio"
+formula = "seed_tau_ratio_curve"
+relation = "upper_bound"
+p = [1.5, 3.0]
+alpha_eff = [0.1, 0.5]
+)");
+  EXPECT_FALSE(v.holds);
+  EXPECT_EQ(v.worst, "p = 3, alpha_eff = 0.5");
+  EXPECT_NEAR(v.measured, -gap_in_bin50(3.0, 0.5), 1e-20);
+}
+
+TEST(Claims, RelationOfASolverHoldsAtItsAccuracyAndFailsBelowIt) {
+  const std::string claim = R"(name = "table II"
+kind = "relation"
+solver = "arkode-dp5"
+rtol = 1e-10
+quantity = "e"
+formula = "seed_restitution"
+relation = "equal_within"
+absolute = true
+v0 = [0.1, 10.0]
+)";
+  const Verdict loose = judged(claim + "tolerance = 1e-6\n");
+  EXPECT_TRUE(loose.holds);
+  EXPECT_GT(loose.measured, 1e-14); // a real solve, not the closed form
+  EXPECT_LT(loose.measured, 1e-7);
+  const Verdict tight = judged(claim + "tolerance = 1e-15\n");
+  EXPECT_FALSE(tight.holds);
+  EXPECT_EQ(tight.measured, loose.measured);
+}
+
+TEST(Claims, RelationSaysHowAWrongFormulaIsWrong) {
+  const Verdict v = judged(R"(name = "unloading"
+kind = "relation"
+of = "truth"
+quantity = "energy_unload"
+formula = "seed_energy_unload"
+relation = "equal_within"
+tolerance = 1e-3
+e = [0.5]
+)");
+  EXPECT_FALSE(v.holds);
+  // |truth / formula − 1| with the formula −0.45814 KE0 and the truth 0.30028 KE0 (seed_test.cpp
+  // has both from mpmath).
+  EXPECT_NEAR(v.measured, 0.30028316962711574 / 0.45813687319742549 + 1, 1e-12);
+  EXPECT_NE(v.note.find("formula / energy_unload from -1.526"), std::string::npos) << v.note;
+}
+
+TEST(Claims, AsymptoticMeasuresTheFirstOrderOfTheDurationRatio) {
+  const std::string claim = R"(name = "limit"
+kind = "asymptotic"
+of = "truth"
+quantity = "tau_ratio"
+formula = "seed_tau_ratio_curve"
+p = [1.0, 2.0]
+)";
+  const Verdict linear = judged(claim + "order = 1\n");
+  EXPECT_TRUE(linear.holds);
+  ASSERT_EQ(linear.orders.size(), 2u);
+  EXPECT_FALSE(linear.orders[0].order); // p = 1: equal over the whole range
+  ASSERT_TRUE(linear.orders[1].order);
+  EXPECT_NEAR(*linear.orders[1].order, 1.0, 5e-3);
+  // The coefficient of α_eff is (π/2)(p − 1)/(p + 1), MATH.md §3, up to the z² term at 1e-4.
+  EXPECT_NEAR(linear.orders[1].coefficient, analytic::duration_ratio_slope(2.0), 1e-4);
+  const Verdict limit = judged(claim + "order = 3\n");
+  EXPECT_FALSE(limit.holds);
+  EXPECT_EQ(limit.worst, "p = 2");
+  EXPECT_NEAR(*limit.margin, -2.0, 5e-3);
+}
+
+TEST(Claims, RecoveredParameterHoldsAtTheSolversAccuracyNotBeyond) {
+  const std::string claim = R"(name = "fig 1"
+kind = "recovered_parameter"
+solver = "arkode-dp5"
+rtol = 1e-10
+p = [1.0, 2.0]
+e = [0.2, 0.9]
+)";
+  const Verdict loose = judged(claim + "bound = 1e-3\n");
+  EXPECT_TRUE(loose.holds);
+  EXPECT_GT(loose.measured, 1e-13);
+  EXPECT_LT(loose.measured, 1e-6);
+  const Verdict tight = judged(claim + "bound = 1e-14\n");
+  EXPECT_FALSE(tight.holds);
+}
+
+TEST(Claims, StabilityOfVelocityVerletAgainstTheSeedsCriticalStep) {
+  const std::string claim = R"(name = "dt_crit"
+kind = "stability"
+solver = "dem-verlet"
+formula = "seed_dt_crit"
+p = [1.0, 2.0]
+e = [0.5]
+)";
+  const Verdict full = judged(claim);
+  EXPECT_FALSE(full.holds); // the seed's step gains energy (MATH.md §11.6)
+  EXPECT_GT(full.measured, 0.2);
+  EXPECT_LT(full.measured, 1.0);
+  EXPECT_NE(full.note.find("unstable (no return, or energy gained) in 2 of 2 cells"),
+            std::string::npos)
+      << full.note;
+  // A fifth of it, as DEM practice runs: stable, and the ratio scales by exactly 5.
+  const Verdict fifth = judged(claim + "fraction = 0.2\n");
+  EXPECT_TRUE(fifth.holds);
+  EXPECT_NEAR(fifth.measured, 5 * full.measured, 1e-12);
+  EXPECT_NE(fifth.note.find("e off by up to"), std::string::npos) << fifth.note;
+}
+
+TEST(Claims, DenserGridHasTenTimesTheCells) {
+  const ClaimGrid one{{1.0, 2.0, 3.0}, {1.0}, {1.0}, {1.0}, {{Damping::Kind::e, 0.5}}};
+  const ClaimGrid dense_one = denser_grid(one);
+  EXPECT_EQ(dense_one.p.size(), 21u); // 9 between each pair
+  EXPECT_DOUBLE_EQ(dense_one.p[10], 2.0);
+  const ClaimGrid two{{1.0, 3.0}, {0.1, 10.0}, {1.0}, {1.0}, {{Damping::Kind::e, 0.5}}};
+  const ClaimGrid dense_two = denser_grid(two);
+  EXPECT_EQ(dense_two.p.size(), 5u); // 3 between: (3 + 1)² = 16 ≥ 10 cells per grid square
+  ASSERT_EQ(dense_two.v0.size(), 5u);
+  EXPECT_NEAR(dense_two.v0[2], 1.0, 1e-15); // log-spaced over two decades
+  const Verdict v = judged(R"(name = "dense"
+kind = "relation"
+of = "truth"
+quantity = "tau_ratio"
+formula = "seed_tau_ratio_curve"
+relation = "equal_within"
+tolerance = 1e-2
+p = [1.0, 3.0]
+alpha_eff = [0.0, 0.2]
+denser = true
+)");
+  ASSERT_TRUE(v.denser);
+  EXPECT_FALSE(v.holds);
+  EXPECT_FALSE(v.denser->holds);
+  EXPECT_NE(v.denser->grid.find(": 25 cells"), std::string::npos) << v.denser->grid;
+}
+
+TEST(Claims, SceneErrorsNameTheLine) {
+  auto error_of = [](const std::string& claim) {
+    try {
+      parse_scene(grid + "[[claim]]\n" + claim, "claims.toml");
+    } catch (const SceneError& e) {
+      return std::string(e.what());
+    }
+    return std::string("no error");
+  };
+  EXPECT_EQ(error_of("name = \"x\"\nkind = \"theorem\"\n"),
+            "claims.toml:8: unknown claim kind, expected bound|relation|asymptotic|"
+            "recovered_parameter|stability (got theorem)");
+  EXPECT_NE(error_of("name = \"x\"\nkind = \"relation\"\nof = \"truth\"\nquantity = \"e\"\n"
+                     "formula = \"seed_e\"\nrelation = \"lower_bound\"\n")
+                .find("unknown formula, expected seed_tau_ratio_curve|"),
+            std::string::npos);
+  EXPECT_NE(error_of("name = \"x\"\nkind = \"relation\"\nquantity = \"e\"\n"
+                     "formula = \"seed_restitution\"\nrelation = \"lower_bound\"\n")
+                .find("needs of = \"truth\" or a solver"),
+            std::string::npos);
+  EXPECT_NE(error_of("name = \"x\"\nkind = \"stability\"\nsolver = \"cvode-bdf\"\n"
+                     "formula = \"seed_dt_crit\"\n")
+                .find("a stability claim is about a fixed-step scheme"),
+            std::string::npos);
+  EXPECT_NE(error_of("name = \"x\"\nkind = \"recovered_parameter\"\nsolver = \"arkode-dp5\"\n"
+                     "rtol = 1e-8\nbound = 1e-3\nalpha_eff = [0.5]\n")
+                .find("of kind recovered_parameter, expected name|"),
+            std::string::npos);
+  EXPECT_NE(error_of("name = \"x\"\nkind = \"asymptotic\"\nof = \"truth\"\nquantity = "
+                     "\"tau_ratio\"\nformula = \"seed_tau_ratio_curve\"\norder = 2\nrange = "
+                     "[1e-3, 1e-2]\n")
+                .find("at least two decades"),
+            std::string::npos);
+  EXPECT_NE(error_of("name = \"x\"\nkind = \"relation\"\nof = \"truth\"\nquantity = "
+                     "\"tau\"\nformula = \"seed_dt_crit\"\nrelation = \"lower_bound\"\n"
+                     "figure = \"tau_ratio\"\n")
+                .find("links to figure tau_ratio, which the scene does not draw"),
+            std::string::npos);
+  EXPECT_NE(error_of("name = \"x\"\nkind = \"relation\"\nof = \"truth\"\nquantity = "
+                     "\"tau\"\nformula = \"seed_dt_crit\"\nrelation = \"lower_bound\"\n"
+                     "bound = 1\n")
+                .find("unknown key in [[claim]] of kind relation"),
+            std::string::npos);
+  EXPECT_NE(error_of("name = \"x\"\nexpect = \"maybe\"\nobservable = \"e\"\nbound = 1\n")
+                .find("expect must be holds or fails (got maybe)"),
+            std::string::npos);
+}
+
+// A failing claim is a finding (exit 0); --strict exits 1 on a verdict other than the expected
+// one, either way round.
+TEST(Claims, StrictExitsOneOnAnUnexpectedVerdict) {
+  auto scene_with = [](const std::string& expect, double tolerance) {
+    return write_file("strict.toml", grid + R"([[claim]]
+name = "collapse"
+kind = "relation"
+of = "truth"
+quantity = "tau_ratio"
+formula = "seed_tau_ratio_curve"
+relation = "equal_within"
+alpha_eff = [0.2]
+p = [3.0]
+)" + "tolerance = " + std::to_string(tolerance) +
+                                         "\n" + expect);
+  };
+  const std::string out = (testing::scratch() / "strict-report").string();
+  const std::string failing = scene_with("", 1e-2);
+  EXPECT_EQ(run({"run", failing, "--out", out}).code, 0);
+  const testing::CliRun strict = run({"run", failing, "--out", out, "--strict"});
+  EXPECT_EQ(strict.code, 1);
+  EXPECT_NE(strict.out.find("claim collapse: fails (UNEXPECTED)"), std::string::npos) << strict.out;
+  EXPECT_EQ(run({"run", scene_with("expect = \"fails\"\n", 1e-2), "--out", out, "--strict"}).code,
+            0);
+  // Pinned as failing, yet it holds: a change of verdict, which is what --strict is for.
+  EXPECT_EQ(run({"run", scene_with("expect = \"fails\"\n", 0.5), "--out", out, "--strict"}).code,
+            1);
+}
+
+} // namespace
+} // namespace pldamp::harness
