@@ -469,6 +469,10 @@ std::string report_html(const RunReport& report, const std::string& gnuplot_prog
          "figure{display:inline-block;vertical-align:top;margin:0.5em}"
          "figure svg{display:block;max-width:100%;height:auto}"
          "p.read{max-width:60em;line-height:1.4}"
+         // The claim table's words wrap, left-aligned; its numbers stay on one line.
+         "table.claims td{text-align:left;white-space:normal;vertical-align:top}"
+         "table.claims td.number{text-align:right;white-space:nowrap}"
+         "ul.claims{max-width:75em;line-height:1.35}ul.claims li{margin:0.4em 0}"
          "@media print{body{margin:0;max-width:none}figure{break-inside:avoid}"
          "h2{break-after:avoid}}</style></head><body>\n";
   out << "<h1>pldamp report: " << escape(plan.scene.name) << "</h1>\n<p>Scene <code>"
@@ -482,7 +486,8 @@ std::string report_html(const RunReport& report, const std::string& gnuplot_prog
     out << "<p><strong>gnuplot was not found: the plots were skipped.</strong></p>\n";
   }
   if (!budgets.claims.empty()) {
-    out << "<h2 id='claims'>Claims</h2>\n<table><tr><th>claim</th><th>where</th><th>verdict</th>"
+    out << "<h2 id='claims'>Claims</h2>\n<table class='claims'><tr><th>claim</th><th>where</th>"
+           "<th>verdict</th>"
            "<th>worst case</th><th>measured</th><th>bound</th><th>margin</th><th>ten times "
            "denser</th></tr>\n";
     const std::vector<ClaimRow> rows = claim_rows(report);
@@ -493,9 +498,9 @@ std::string report_html(const RunReport& report, const std::string& gnuplot_prog
           row.figure.empty() ? fmt::format("claim-{}", i) : fmt::format("fig-{}", row.figure);
       out << "<tr><td><a href='#" << target << "'>" << escape(row.name) << "</a></td><td>"
           << escape(row.where) << "</td><td class='" << (row.holds ? "holds" : "fails") << "'>"
-          << escape(row.verdict) << "</td><td>" << escape(row.worst) << "</td><td>" << row.measured
-          << "</td><td>" << row.bound << "</td><td>" << row.margin << "</td><td>"
-          << escape(row.denser) << "</td></tr>\n";
+          << escape(row.verdict) << "</td><td>" << escape(row.worst) << "</td><td class='number'>"
+          << row.measured << "</td><td class='number'>" << row.bound << "</td><td class='number'>"
+          << row.margin << "</td><td>" << escape(row.denser) << "</td></tr>\n";
     }
     out << "</table>\n<ul class='claims'>\n";
     for (std::size_t i = 0; i < rows.size(); ++i) {

@@ -29,12 +29,15 @@ inline constexpr std::string_view how_to_read =
     "every cell once, and its values are compared with the closed forms, computed in float128 "
     "from the damping coefficient exactly as the solver received it. Errors are relative unless "
     "a column says otherwise; a dash is an observable not asked for or not produced, inf an "
-    "answer that should have been finite. A claim's measured value is its largest absolute "
-    "error over the grid, its margin the bound divided by that, and supported the tightest "
-    "power of ten the data supports. '× analytic' is a configuration's time per cell as a "
-    "multiple of the closed forms' time for the same observables in double. Every record (one "
-    "cell, one configuration) is in report.json and report.csv; `pldamp diff OLD.json NEW.json` "
-    "lists what regressed between two runs.";
+    "answer that should have been finite. A claim is judged over a grid (the scene's, or its "
+    "own) into a verdict, the cell where it comes closest to failing, and a margin; what its "
+    "measured value and margin are depends on its kind and is said in its line below the "
+    "claim table (for a bound on a solver's error: its largest absolute error, the bound "
+    "divided by that). A failing claim is a finding: pinned with expect = \"fails\", it is "
+    "expected; `run --strict` fails on any verdict other than the expected one. '× analytic' "
+    "is a configuration's time per cell as a multiple of the closed forms' time for the same "
+    "observables in double. Every record (one cell, one configuration) is in report.json and "
+    "report.csv; `pldamp diff OLD.json NEW.json` lists what regressed between two runs.";
 
 // A number for a table: `digits` + 1 significant digits, "inf", or "–" when absent.
 std::string short_number(const std::optional<double>& x, int digits = 2);
