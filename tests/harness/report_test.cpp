@@ -83,6 +83,23 @@ TEST(Diff, CatchesInjectedRegressions) {
   EXPECT_EQ(found[2].rfind("now fails: cvode-bdf rtol=1e-08 | p=2 z=2 v0=1", 0), 0u) << found[2];
   EXPECT_EQ(found[3].rfind("record gone: cvode-bdf rtol=1e-08 | p=2 z=2 v0=10", 0), 0u) << found[3];
 
+  // A claim pinned as failing regresses when it holds, and a pinned one that still fails does
+  // not; a report before the claim kinds (no expect) counts as expecting holds.
+  nlohmann::json pinned = old_report;
+  pinned["claims"][0]["verdict"] = "fails";
+  pinned["claims"][0]["expect"] = "fails";
+  EXPECT_TRUE(regressions(pinned, pinned).empty());
+  nlohmann::json now_holds = pinned;
+  now_holds["claims"][0]["verdict"] = "holds";
+  EXPECT_EQ(regressions(pinned, now_holds),
+            std::vector<std::string>{"claim flipped: tight failed as pinned, now holds"});
+  nlohmann::json before = old_report;
+  before["claims"][0].erase("expect");
+  EXPECT_EQ(regressions(before, worse).front(), "claim flipped: tight held, now fails");
+  nlohmann::json hostile = old_report;
+  hostile["claims"][0]["expect"] = 7;
+  EXPECT_THROW(read_report(hostile.dump(), "hostile.json"), InputError);
+
   // Through the command line: exit 1 with regressions, 0 without, 2 for what is not a report.
   const std::string a = write_file("old.json", old_report.dump());
   const std::string c = write_file("new.json", worse.dump());

@@ -192,9 +192,14 @@ int run_scene(const RunArgs& args, std::ostream& out, std::ostream& err) {
                                  runs, scene.limits.max_runs, args.scene));
   }
   require_writable_folder(args.out); // a folder that cannot be written fails before the work
-  out << fmt::format("{}: {:.0f} cells x {:.0f} solver configurations: {:.0f} solver runs (onset "
-                     "phases and repeats included), about {:.3g} MB of records\n",
-                     scene.name, cells, double(scene.configs.size()), runs, megabytes)
+  const auto grid_claims = std::count_if(scene.claims.begin(), scene.claims.end(),
+                                         [](const Claim& c) { return c.kind != ClaimKind::bound; });
+  out << fmt::format("{}: {:.0f} cells x {:.0f} solver configurations{}: {:.0f} solver runs (onset "
+                     "phases, repeats{} included), about {:.3g} MB of records\n",
+                     scene.name, cells, double(scene.configs.size()),
+                     grid_claims > 0 ? fmt::format(", {} claims on grids of their own", grid_claims)
+                                     : "",
+                     runs, grid_claims > 0 ? " and the claims' solves, estimated" : "", megabytes)
       << std::flush;
   const StopOnSignals signals;
   const Plan plan = make_plan(scene);

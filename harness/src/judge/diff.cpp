@@ -72,6 +72,11 @@ nlohmann::json read_report(std::string_view text, const std::string& path) {
     expect(claim, is_object, path, where, "an object");
     expect(member(claim, "name", path, where), is_string, path, where + ".name", "a string");
     expect(member(claim, "verdict", path, where), is_string, path, where + ".verdict", "a string");
+    if (claim.contains("expect")) { // reports before the claim kinds have none
+      expect(
+          claim.at("expect"), [](const nlohmann::json& j) { return j == "holds" || j == "fails"; },
+          path, where + ".expect", "holds or fails");
+    }
   }
   i = 0;
   for (const nlohmann::json& record : report.at("records")) {
@@ -114,16 +119,31 @@ nlohmann::json read_report(std::string_view text, const std::string& path) {
 std::vector<std::string> regressions(const nlohmann::json& old_report,
                                      const nlohmann::json& new_report) {
   std::vector<std::string> found;
-  std::map<std::string, bool> new_claims;
+  // A claim regresses when its verdict leaves the expected one: one that held now fails, or one
+  // pinned as failing (expect = "fails", reports since the claim kinds) now holds.
+  auto expected = [](const nlohmann::json& claim) {
+    return claim.value("expect", std::string("holds"));
+  };
+  std::map<std::string, const nlohmann::json*> new_claims;
   for (const auto& claim : new_report.at("claims")) {
-    new_claims[claim.at("name").get<std::string>()] = claim.at("verdict") == "holds";
+    new_claims[claim.at("name").get<std::string>()] = &claim;
   }
   for (const auto& claim : old_report.at("claims")) {
     const std::string name = claim.at("name").get<std::string>();
+    const std::string was = claim.at("verdict").get<std::string>();
+    if (was != expected(claim)) {
+      continue;
+    }
     const auto now = new_claims.find(name);
-    if (claim.at("verdict") == "holds" && (now == new_claims.end() || !now->second)) {
-      found.push_back("claim flipped: " + name + " held, now " +
-                      (now == new_claims.end() ? "missing" : "fails"));
+    if (now == new_claims.end()) {
+      found.push_back("claim flipped: " + name + " " + (was == "holds" ? "held" : "failed") +
+                      ", now missing");
+      continue;
+    }
+    const std::string is = now->second->at("verdict").get<std::string>();
+    if (is != expected(*now->second)) {
+      found.push_back("claim flipped: " + name +
+                      (was == "holds" ? " held, now fails" : " failed as pinned, now holds"));
     }
   }
   std::map<std::string, const nlohmann::json*> new_records;
