@@ -154,8 +154,13 @@ Figure delta_max_vs_e(const FigureSpec& spec) {
 Figure tau_ratio(const FigureSpec& spec) {
   Figure f = figure(FigureKind::tau_ratio, "Fig. 4: τ(α)/τ(0) against α_eff", "α_eff",
                     "τ(α) / τ(0)", "τ ratio (relative)");
+  f.log_y = true;
+  // The curves run as far as the solver's points (the ratio grows without bound as α_eff → 1).
+  const double z_max = spec.alpha_eff.empty()
+                           ? 0.9
+                           : *std::max_element(spec.alpha_eff.begin(), spec.alpha_eff.end());
   Series linear{"1/√(1 − α_eff²) (the seed's curve, exact for p = 1)", {}, true};
-  for (const double z : fine(0, 0.95, 60)) {
+  for (const double z : fine(0, z_max, 60)) {
     linear.points.emplace_back(z, 1 / std::sqrt(1 - z * z));
   }
   f.series.push_back(linear);
@@ -163,7 +168,7 @@ Figure tau_ratio(const FigureSpec& spec) {
     const auto c = Contact<double>::from_alpha_eff(p, z, 1.0);
     return *analytic::observables(c, analytic::want_tau).tau_ratio;
   };
-  curve_and_points(f, spec, fine(0, 0.95, 40), spec.alpha_eff, closed, [&](double p, double z) {
+  curve_and_points(f, spec, fine(0, z_max, 40), spec.alpha_eff, closed, [&](double p, double z) {
     const double alpha = Contact<double>::from_alpha_eff(p, z, 1.0).alpha();
     const auto tau = &solvers::Result<double>::tau;
     return measured(spec.config, p, alpha, solvers::want_tau, tau, "tau") /
@@ -175,9 +180,6 @@ Figure tau_ratio(const FigureSpec& spec) {
   // on the closed form at α_eff = 1e-6 (the z² term moves it by 1e-6 of itself), drawn up to the
   // largest α_eff where it stays within the plot.
   std::vector<Series> series{f.series.front()};
-  const double z_max = spec.alpha_eff.empty()
-                           ? 0.5
-                           : *std::max_element(spec.alpha_eff.begin(), spec.alpha_eff.end());
   for (std::size_t i = 0; i < spec.p.size(); ++i) {
     series.push_back(f.series[1 + 2 * i]);
     series.push_back(f.series[2 + 2 * i]);

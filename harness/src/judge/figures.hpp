@@ -32,6 +32,7 @@ struct Figure {
   double deviation = 0; // the largest |solver − closed form| in the figure's units
   std::string deviation_of;
   std::string failure; // not empty: the figure could not be drawn, and why
+  bool log_y = false;  // Fig. 4: ratios from 1 to ~15, its first orders visible near 1
 };
 
 // Computes every figure of the scene (double precision, the figure's solver configuration). A

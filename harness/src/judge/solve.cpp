@@ -1,6 +1,7 @@
 #include "judge/solve.hpp"
 
 #include "common/input.hpp"
+#include "run/run.hpp"
 
 #include "pldamp/analytic/contact.hpp"
 #include "pldamp/solvers/registry.hpp"
@@ -32,6 +33,7 @@ solvers::Result<double> solve_unchecked(const SolverConfig& config, const Inputs
   options.want = want;
   options.max_steps = limits.max_steps;
   options.max_seconds = limits.max_seconds;
+  options.stop = &stop_requested(); // a signal ends these solves too (cli/commands_run.cpp)
   options.fixed_step = fixed_step;
   if (config.steps_per_contact && !fixed_step) {
     options.steps_per_contact = *config.steps_per_contact;
