@@ -45,7 +45,7 @@ Verdict judge_convention(const Plan& plan, const Claim& claim) {
     const Exact given = analytic::e_given(p, analytic::alpha_set(convention, p, target), cut);
     const double error = static_cast<double>(abs(given - target));
     if (!measured || error > *measured) {
-      verdict.worst = "p = " + to_string_full(point.p) + ", " + point.damping.label();
+      verdict.worst = fmt::format("p = {:g}, {}", point.p, damping_text(point.damping));
     }
     raise(measured, error);
   }
@@ -77,7 +77,7 @@ Verdict judge(const Plan& plan, const std::vector<Record>& records, const Claim&
       const Cell& cell = plan.cells[record.cell];
       const Point& point = plan.points[cell.point];
       verdict.worst = fmt::format("p = {:g}, {}, v0 = {:g}, m = {:g}, k = {:g}", point.p,
-                                  point.damping.label(), cell.v0, cell.m, cell.k);
+                                  damping_text(point.damping), cell.v0, cell.m, cell.k);
     }
     raise(measured, error);
   }

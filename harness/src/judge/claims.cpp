@@ -48,10 +48,6 @@ std::string number(double x) {
 
 std::string list_text(const std::vector<double>& values);
 
-std::string damping_text(const Damping& d) {
-  return (d.kind == Damping::Kind::e ? "e = " : "alpha_eff = ") + number(d.value);
-}
-
 // "p = 1.5, e = 0.5", with v0, m and k where the grid varies them.
 std::string cell_text(const ClaimGrid& grid, const ClaimCell& cell) {
   std::string out = "p = " + number(cell.p) + ", " + damping_text(cell.damping);
@@ -552,6 +548,10 @@ std::vector<double> refined(const std::vector<double>& values, int between) {
 }
 
 } // namespace
+
+std::string damping_text(const Damping& d) {
+  return (d.kind == Damping::Kind::e ? "e = " : "alpha_eff = ") + number(d.value);
+}
 
 Verdict verdict_of(const Claim& claim) {
   Verdict v;

@@ -32,6 +32,9 @@
 
 namespace pldamp::harness {
 
+// A damping as a claim's cells name it: "e = 0.5", "alpha_eff = 1.5".
+std::string damping_text(const Damping& d);
+
 // A claim's verdict with what the scene says of it (name, kind, source, expectation), not yet
 // judged.
 Verdict verdict_of(const Claim& claim);
