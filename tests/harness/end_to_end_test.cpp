@@ -66,8 +66,8 @@ TEST(EndToEnd, QuickSceneWritesEveryReportWithItsPlots) {
     ++plots;
   }
   // Per p: time and rhs evaluations in double, time in extended precision, and the time-step
-  // study of verlet-predicted's sweep in e, δ_max and τ; a map per solver.
-  EXPECT_EQ(plots, 3u * 3u + 3u * 3u + 5u);
+  // study of verlet-predicted's sweep in e, δ_max and τ; a map per configuration (13).
+  EXPECT_EQ(plots, 3u * 3u + 3u * 3u + 13u);
   EXPECT_NE(html.str().find("seed Table II"), std::string::npos);
   EXPECT_EQ(html.str().find("nan"), std::string::npos);
   // The cost against the closed forms: a multiple in every work point and table.

@@ -5,6 +5,7 @@
 
 #include "report/report.hpp"
 
+#include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
 #include <gtest/gtest.h>
@@ -58,59 +59,207 @@ TEST(Figures, OneThatFailsIsReportedAndTheOthersStand) {
             std::string::npos);
 }
 
-TEST(Diff, CatchesInjectedRegressions) {
+nlohmann::json hand_made_report() {
   const HandMade h = hand_made();
   const Budgets b = make_budgets(h.plan, h.records);
   const RunTotals totals{400, 4, 1.0};
-  const nlohmann::json old_report = report_json({h.plan, h.records, b, totals, {}});
-  EXPECT_TRUE(regressions(old_report, old_report).empty());
+  return report_json({h.plan, h.records, b, totals, {}});
+}
 
+// The lines of a diff that start with `prefix`.
+std::vector<std::string> lines_starting(const DiffResult& result, std::string_view prefix) {
+  std::vector<std::string> out;
+  for (const std::string& line : result.lines) {
+    if (line.rfind(prefix, 0) == 0) {
+      out.push_back(line);
+    }
+  }
+  return out;
+}
+
+TEST(Diff, SameReportHasNothingToSay) {
+  const nlohmann::json report = hand_made_report();
+  const DiffResult same = diff_reports(report, report);
+  EXPECT_EQ(same.lines, std::vector<std::string>{"0 regressions, 0 changes"});
+  EXPECT_EQ(same.regressions, 0);
+  EXPECT_EQ(report["scene"]["fingerprint"].get<std::string>().size(), 16u);
+}
+
+TEST(Diff, EachInjectedRegressionIsOneGroupedLine) {
+  const nlohmann::json old_report = hand_made_report();
   nlohmann::json worse = old_report;
+  // Records: (e=0.5, v0=1), (e=0.5, v0=10), (z=2, v0=1), (z=2, v0=10), all cvode-bdf rtol=1e-08.
   worse["records"][0]["rel_error"]["delta_max"] = 3e-4; // 100x
   worse["records"][1]["rel_error"]["delta_max"] = 9e-6; // 9x: not a regression
   worse["records"][2]["failed"] = true;
   worse["records"][2]["outcome"] = "step_limit";
   worse["claims"][0]["verdict"] = "fails";
   worse["records"].erase(3);
-  const std::vector<std::string> found = regressions(old_report, worse);
-  ASSERT_EQ(found.size(), 4u);
-  EXPECT_EQ(found[0], "claim flipped: tight held, now fails");
-  EXPECT_EQ(found[1].rfind("error grew: cvode-bdf rtol=1e-08 | p=2 e=0.5 v0=1 m=1 k=1 delta_max "
-                           "3e-06 -> 0.0003",
-                           0),
-            0u)
-      << found[1];
-  EXPECT_EQ(found[2].rfind("now fails: cvode-bdf rtol=1e-08 | p=2 z=2 v0=1", 0), 0u) << found[2];
-  EXPECT_EQ(found[3].rfind("record gone: cvode-bdf rtol=1e-08 | p=2 z=2 v0=10", 0), 0u) << found[3];
+  worse["records"][1]["reference"]["e"] = nullptr; // a reference that disappeared
+  worse["records"][0]["rhs_evals"] = 160;          // 100 -> 160: more than 1.5x
+  worse["records"][1]["rhs_evals"] = 210;          // 200 -> 210: listed, not a regression
+  worse["budgets"]["worst"][1]["max_rel"] = 1e-9;  // delta_max's budget: was 7e-6
+  worse["budgets"]["analytic_double"][0]["max_rel"]["e"] = 5.5e-12;
+  worse["claims"][0]["measured"] = 0;
+  const DiffResult result = diff_reports(old_report, worse);
+  const std::string config = "cvode-bdf rtol=1e-08";
+  const double analytic_e = old_report["budgets"]["analytic_double"][0]["max_rel"]["e"];
+  const std::string analytic_grew =
+      fmt::format("{:.3g} -> 5.5e-12{} at p=2 e=0.5", analytic_e,
+                  analytic_e > 0 ? fmt::format(" (x{:.3g})", 5.5e-12 / analytic_e) : "");
+  EXPECT_EQ(
+      lines_starting(result, "REGRESSION"),
+      (std::vector<std::string>{
+          "REGRESSION claim_flipped | tight | verdict | 1 claim | held, now fails",
+          "REGRESSION claim_measured_vanished | tight | measured | 1 claim | 0.00025 -> 0 (x0)",
+          "REGRESSION error_grew | " + config +
+              " | delta_max | 1 record | 3e-06 -> 0.0003 (x100) at p=2 e=0.5 v0=1 m=1 k=1",
+          "REGRESSION work_grew | " + config +
+              " | rhs_evals | 1 record | 100 -> 160 (x1.6) at p=2 e=0.5 v0=1 m=1 k=1",
+          "REGRESSION number_lost | " + config +
+              " | e | 1 record | reference 0.5 -> null at p=2 e=0.5 v0=10 m=1 k=1",
+          "REGRESSION now_fails | " + config +
+              " | outcome | 1 record | no_exit -> step_limit at p=2 z=2 v0=1 m=1 k=1",
+          "REGRESSION record_gone | " + config +
+              " | record | 1 record | present -> missing at p=2 z=2 v0=10 m=1 k=1",
+          "REGRESSION budget_inconsistent | " + config +
+              " | delta_max | 1 budget | budget 1e-09, its records' largest 0.0003",
+          "REGRESSION analytic_grew | closed forms in double | e | 1 point | " + analytic_grew}));
+  EXPECT_EQ(lines_starting(result, "CHANGE"),
+            (std::vector<std::string>{
+                "CHANGE work_changed | " + config +
+                    " | rhs_evals | 1 record | 200 -> 210 (x1.05) at p=2 e=0.5 v0=10 m=1 k=1",
+                "CHANGE budget_fell | " + config +
+                    " | delta_max | 1 budget | 7e-06 -> 1e-09 (x0.000143)"}));
+  EXPECT_EQ(result.lines.back(), "9 regressions, 2 changes");
+  EXPECT_EQ(regressions(old_report, worse), lines_starting(result, "REGRESSION"));
 
+  // Grouped: two records of one configuration and observable are one line, with the worse; every
+  // record under it with --verbose.
+  nlohmann::json twice = old_report;
+  twice["records"][0]["rel_error"]["delta_max"] = 3e-4; // 100x
+  twice["records"][1]["rel_error"]["delta_max"] = 1e-3; // 1000x
+  twice["budgets"]["worst"][1]["max_rel"] = 1e-3;
+  DiffOptions verbose;
+  verbose.verbose = true;
+  EXPECT_EQ(
+      diff_reports(old_report, twice, verbose).lines,
+      (std::vector<std::string>{
+          "REGRESSION error_grew | " + config +
+              " | delta_max | 2 records | 1e-06 -> 0.001 (x1e+03) at p=2 e=0.5 "
+              "v0=10 m=1 k=1",
+          "  " + config + " | p=2 e=0.5 v0=1 m=1 k=1: 3e-06 -> 0.0003 (x100)",
+          "  " + config + " | p=2 e=0.5 v0=10 m=1 k=1: 1e-06 -> 0.001 (x1e+03)",
+          "REGRESSION budget_grew | " + config + " | delta_max | 1 budget | 7e-06 -> 0.001 (x143)",
+          "  " + config + " delta_max: 7e-06 -> 0.001 (x143)", "2 regressions, 0 changes"}));
+}
+
+TEST(Diff, ThresholdsComeFromTheSceneAndFlagsOverrideThem) {
+  const nlohmann::json old_report = hand_made_report();
+  nlohmann::json nine = old_report;
+  nine["records"][1]["rel_error"]["delta_max"] = 9e-6; // 9x
+  nine["budgets"]["worst"][1]["max_rel"] = 9e-6;
+  EXPECT_EQ(diff_reports(old_report, nine).regressions, 0);
+  nine["scene"]["diff"]["error_factor"] = 5;                // the new report's [diff]
+  EXPECT_EQ(diff_reports(old_report, nine).regressions, 1); // the record (its budget grew 1.3x)
+  DiffOptions flags;
+  flags.error_factor = 20;
+  EXPECT_EQ(diff_reports(old_report, nine, flags).regressions, 0);
+
+  // Time: a configuration's sum of fastest repeats, judged above the floor only.
+  nlohmann::json slower = old_report;
+  for (auto& record : slower["records"]) {
+    record["wall_seconds"] = 3 * record["wall_seconds"].get<double>(); // 12 ms -> 36 ms
+  }
+  const DiffResult slow = diff_reports(old_report, slower);
+  EXPECT_EQ(slow.lines,
+            (std::vector<std::string>{"REGRESSION time_grew | cvode-bdf rtol=1e-08 | wall_seconds "
+                                      "| 1 configuration | 0.012 s -> 0.036 s (x3) over 4 records",
+                                      "1 regression, 0 changes"}));
+  flags = {};
+  flags.time_floor = 0.02;
+  EXPECT_EQ(diff_reports(old_report, slower, flags).regressions, 0);
+  flags = {};
+  flags.time_factor = 4;
+  EXPECT_EQ(diff_reports(old_report, slower, flags).regressions, 0);
+}
+
+TEST(Diff, ADifferentSceneIsRefusedUnlessAllowedThenWhatChangedIsListed) {
+  const nlohmann::json old_report = hand_made_report();
+  nlohmann::json other = old_report;
+  other["scene"]["fingerprint"] = "0123456789abcdef";
+  other["scene"]["grid"]["v0"] = {1.0, 5.0};
+  other["scene"]["configs"][0]["label"] = "cvode-bdf rtol=1e-10";
+  nlohmann::json kept = nlohmann::json::array();
+  for (auto record : other["records"]) {
+    if (record["v0"] == 1.0) {
+      kept.push_back(record);
+    }
+  }
+  other["records"] = kept;
+  other["scene"]["configs"].push_back(old_report["scene"]["configs"][0]);
+  other["budgets"]["worst"][0]["max_rel"] = 2e-4; // e over the records kept
+  EXPECT_THROW(diff_reports(old_report, other), InputError);
+  DiffOptions allow;
+  allow.allow_scene_change = true;
+  // The v0 = 10 records are outside the new scene: listed as a removed value, not as gone.
+  EXPECT_EQ(diff_reports(old_report, other, allow).lines,
+            (std::vector<std::string>{"SCENE added configuration | cvode-bdf rtol=1e-10",
+                                      "SCENE added v0 | 5", "SCENE removed v0 | 10",
+                                      "0 regressions, 0 changes"}));
+}
+
+TEST(Diff, AClaimRegressesWhenItsVerdictLeavesTheExpectedOne) {
   // A claim pinned as failing regresses when it holds, and a pinned one that still fails does
   // not; a report before the claim kinds (no expect) counts as expecting holds.
+  const nlohmann::json old_report = hand_made_report();
   nlohmann::json pinned = old_report;
   pinned["claims"][0]["verdict"] = "fails";
   pinned["claims"][0]["expect"] = "fails";
   EXPECT_TRUE(regressions(pinned, pinned).empty());
   nlohmann::json now_holds = pinned;
   now_holds["claims"][0]["verdict"] = "holds";
-  EXPECT_EQ(regressions(pinned, now_holds),
-            std::vector<std::string>{"claim flipped: tight failed as pinned, now holds"});
+  EXPECT_EQ(
+      regressions(pinned, now_holds),
+      std::vector<std::string>{
+          "REGRESSION claim_flipped | tight | verdict | 1 claim | failed as pinned, now holds"});
   nlohmann::json before = old_report;
   before["claims"][0].erase("expect");
-  EXPECT_EQ(regressions(before, worse).front(), "claim flipped: tight held, now fails");
+  nlohmann::json fails = old_report;
+  fails["claims"][0]["verdict"] = "fails";
+  EXPECT_EQ(regressions(before, fails),
+            std::vector<std::string>{"REGRESSION claim_flipped | tight | verdict | 1 claim | held, "
+                                     "now fails"});
   nlohmann::json hostile = old_report;
   hostile["claims"][0]["expect"] = 7;
   EXPECT_THROW(read_report(hostile.dump(), "hostile.json"), InputError);
+}
 
-  // Through the command line: exit 1 with regressions, 0 without, 2 for what is not a report.
+TEST(Diff, ThroughTheCommandLine) {
+  // Exit 1 with regressions, 0 without, 2 for what is not a report, a different scene or a bad
+  // threshold.
+  const nlohmann::json old_report = hand_made_report();
+  nlohmann::json worse = old_report;
+  worse["records"][0]["rel_error"]["delta_max"] = 3e-4;
+  worse["budgets"]["worst"][1]["max_rel"] = 3e-4;
   const std::string a = write_file("old.json", old_report.dump());
   const std::string c = write_file("new.json", worse.dump());
   EXPECT_EQ(run({"diff", a, c}).code, 1);
+  EXPECT_EQ(run({"diff", a, c, "--error-factor", "1000"}).code, 0);
   const CliRun same = run({"diff", a, a});
   EXPECT_EQ(same.code, 0);
-  EXPECT_EQ(same.out, "0 regressions\n");
-  const CliRun bad = run({"diff", a, write_file("bad.json", "{\"schema\": 1}")});
+  EXPECT_EQ(same.out, "0 regressions, 0 changes\n");
+  const CliRun bad = run({"diff", a, write_file("bad.json", "{\"schema\": 2}")});
   EXPECT_EQ(bad.code, 2);
   EXPECT_NE(bad.err.find("not a pldamp report.json"), std::string::npos) << bad.err;
+  const CliRun factor = run({"diff", a, a, "--work-factor", "0.5"});
+  EXPECT_EQ(factor.code, 2);
+  EXPECT_EQ(factor.err, "error: --work-factor must be in (1, 1e6] (got 0.5)\n");
+  nlohmann::json other = old_report;
+  other["scene"]["fingerprint"] = "0123456789abcdef";
+  const CliRun scene = run({"diff", a, write_file("other.json", other.dump())});
+  EXPECT_EQ(scene.code, 2);
+  EXPECT_NE(scene.err.find("come from different scenes"), std::string::npos) << scene.err;
 }
-
 } // namespace
 } // namespace pldamp::harness

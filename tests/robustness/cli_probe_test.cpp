@@ -1892,7 +1892,7 @@ std::vector<Case> diff_cases() {
       write_reports(edit([](json& j) { j["records"][0]["precision"] = "float"; })));
   for (const auto& [name, schema] :
        std::vector<std::pair<std::string, json>>{{"0", json(0)},
-                                                 {"2", json(2)},
+                                                 {"1", json(1)},
                                                  {"string_1", json("1")},
                                                  {"null", json(nullptr)},
                                                  {"1_5", json(1.5)}}) {

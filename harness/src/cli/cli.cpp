@@ -156,11 +156,26 @@ int run_cli(int argc, const char* const* argv, std::ostream& out, std::ostream& 
                 "exit 1 when a claim's verdict is not the one expected (a failing claim, or one "
                 "pinned with expect = \"fails\" that now holds)");
 
-  std::string diff_old, diff_new;
-  CLI::App* diff =
-      app.add_subcommand("diff", "regressions between two report.json (exit 1 if any)");
-  diff->add_option("old", diff_old, "last night's report.json")->required();
-  diff->add_option("new", diff_new, "tonight's report.json")->required();
+  DiffArgs diff_args;
+  CLI::App* diff = app.add_subcommand(
+      "diff", "what changed between two report.json of one scene; exit 1 on a regression, 2 on "
+              "bad input or different scenes (docs/ci.md: the output's format)");
+  diff->add_option("old", diff_args.old_path, "last night's report.json")->required();
+  diff->add_option("new", diff_args.new_path, "tonight's report.json")->required();
+  diff->add_option("--error-factor", diff_args.error_factor,
+                   "an error grown more than this factor regresses (default: the scene's [diff], "
+                   "else 10)");
+  diff->add_option("--work-factor", diff_args.work_factor,
+                   "rhs_evals or steps grown more than this factor regress (default 1.5)");
+  diff->add_option("--time-factor", diff_args.time_factor,
+                   "a configuration's time (sum of fastest repeats) grown more than this factor "
+                   "regresses (default 2) ...");
+  diff->add_option("--time-floor", diff_args.time_floor,
+                   "... when it took at least this many seconds before (default 0.005)");
+  diff->add_flag("--allow-scene-change", diff_args.allow_scene_change,
+                 "compare reports of different scenes on what they share, listing what was added "
+                 "and removed");
+  diff->add_flag("--verbose", diff_args.verbose, "every record under its group's line");
 
   std::string showcase_precision = "double";
   CLI::App* showcase =
@@ -200,7 +215,7 @@ int run_cli(int argc, const char* const* argv, std::ostream& out, std::ostream& 
     } else if (run->parsed()) {
       return run_scene(run_args, out, err);
     } else if (diff->parsed()) {
-      return run_diff(diff_old, diff_new, out);
+      return run_diff(diff_args, out);
     }
   } catch (const SceneError& e) { // already "file:line: message"
     err << one_line(e.what()) << "\n";

@@ -52,7 +52,13 @@ void run_solve(const SolveArgs& args, std::ostream& out);
 // (a failing claim is otherwise a finding, not an error); or 128 + the signal that stopped the run
 // (no report written then).
 int run_scene(const RunArgs& args, std::ostream& out, std::ostream& err);
-// Returns the exit code: 1 if NEW regressed against OLD, else 0.
-int run_diff(const std::string& old_path, const std::string& new_path, std::ostream& out);
+// `pldamp diff OLD NEW`: the thresholds as typed (each overrides the new report's [diff]).
+struct DiffArgs {
+  std::string old_path, new_path;
+  std::optional<std::string> error_factor, work_factor, time_factor, time_floor;
+  bool allow_scene_change = false, verbose = false;
+};
+// Returns the exit code: 1 if NEW regressed against OLD, else 0 (judge/diff.hpp).
+int run_diff(const DiffArgs& args, std::ostream& out);
 
 } // namespace pldamp::harness

@@ -1,4 +1,4 @@
-// `pldamp run SCENE.toml [--out DIR] [--jobs N]` and `pldamp diff OLD.json NEW.json`.
+// `pldamp run SCENE.toml [--out DIR] [--jobs N]` and `pldamp diff OLD.json NEW.json [--verbose]`.
 #include "cli/commands.hpp"
 #include "common/files.hpp"
 #include "judge/claims.hpp"
@@ -257,15 +257,33 @@ int run_scene(const RunArgs& args, std::ostream& out, std::ostream& err) {
   return 0;
 }
 
-int run_diff(const std::string& old_path, const std::string& new_path, std::ostream& out) {
-  const nlohmann::json old_report = read_report_file(old_path);
-  const nlohmann::json new_report = read_report_file(new_path);
-  const std::vector<std::string> found = regressions(old_report, new_report);
-  for (const std::string& line : found) {
+int run_diff(const DiffArgs& args, std::ostream& out) {
+  DiffOptions options;
+  options.allow_scene_change = args.allow_scene_change;
+  options.verbose = args.verbose;
+  const auto threshold = [](const char* flag, const std::optional<std::string>& text, double least,
+                            bool inclusive) -> std::optional<double> {
+    if (!text) {
+      return std::nullopt;
+    }
+    const double value = parse_real<double>(flag, *text);
+    if (!(inclusive ? value >= least : value > least) || !(value <= 1e6)) {
+      throw InputError(fmt::format("{} must be in {}{}, 1e6] (got {})", flag, inclusive ? "[" : "(",
+                                   least, *text));
+    }
+    return value;
+  };
+  options.error_factor = threshold("--error-factor", args.error_factor, 1, false);
+  options.work_factor = threshold("--work-factor", args.work_factor, 1, false);
+  options.time_factor = threshold("--time-factor", args.time_factor, 1, false);
+  options.time_floor = threshold("--time-floor", args.time_floor, 0, true);
+  const nlohmann::json old_report = read_report_file(args.old_path);
+  const nlohmann::json new_report = read_report_file(args.new_path);
+  const DiffResult result = diff_reports(old_report, new_report, options);
+  for (const std::string& line : result.lines) {
     out << line << "\n";
   }
-  out << found.size() << " regression" << (found.size() == 1 ? "" : "s") << "\n";
-  return found.empty() ? 0 : 1;
+  return result.regressions > 0 ? 1 : 0;
 }
 
 } // namespace pldamp::harness

@@ -74,10 +74,7 @@ Verdict judge(const Plan& plan, const std::vector<Record>& records, const Claim&
     }
     const std::optional<double>& error = record.abs_error[observable];
     if (error && (!measured || !(*error <= *measured))) {
-      const Cell& cell = plan.cells[record.cell];
-      const Point& point = plan.points[cell.point];
-      verdict.worst = fmt::format("p = {:g}, {}, v0 = {:g}, m = {:g}, k = {:g}", point.p,
-                                  damping_text(point.damping), cell.v0, cell.m, cell.k);
+      verdict.worst = cell_text(plan, plan.cells[record.cell]);
     }
     raise(measured, error);
   }
@@ -86,6 +83,12 @@ Verdict judge(const Plan& plan, const std::vector<Record>& records, const Claim&
 }
 
 } // namespace
+
+std::string cell_text(const Plan& plan, const Cell& cell) {
+  const Point& point = plan.points[cell.point];
+  return fmt::format("p = {:g}, {}, v0 = {:g}, m = {:g}, k = {:g}", point.p,
+                     damping_text(point.damping), cell.v0, cell.m, cell.k);
+}
 
 std::optional<double> largest(const std::vector<std::optional<double>>& values) {
   std::optional<double> out;
@@ -146,6 +149,7 @@ Budgets make_budgets(const Plan& plan, const std::vector<Record>& records) {
   const std::vector<double>& ps = plan.scene.p;
   std::vector<std::vector<long>> counts(configs, std::vector<long>(ps.size(), 0));
   budgets.work.assign(configs, std::vector<WorkPoint>(ps.size()));
+  budgets.cost.assign(configs, Cost{});
   for (std::size_t c = 0; c < configs; ++c) {
     for (std::size_t i = 0; i < ps.size(); ++i) {
       budgets.work[c][i].p = ps[i];
@@ -161,13 +165,35 @@ Budgets make_budgets(const Plan& plan, const std::vector<Record>& records) {
     work.analytic_seconds += plan.points[cell.point].analytic_seconds;
     work.rhs_evals += double(record.rhs_evals);
     ++counts[record.config][p_index];
+    Cost& cost = budgets.cost[record.config];
+    RegimeCost& regime = plan.points[cell.point].overdamped ? cost.overdamped : cost.underdamped;
+    ++regime.cells;
+    regime.rhs_evals += double(record.rhs_evals);
+    regime.steps += double(record.steps);
+    regime.seconds += record.wall_seconds;
+    regime.seconds_slowest += record.wall_seconds_slowest;
     for (std::size_t o = 0; o < observables; ++o) {
       Worst& worst = budgets.worst[record.config][o];
       raise(worst.abs, record.abs_error[o]);
+      const std::optional<double> before = worst.rel;
       raise(worst.rel, record.rel_error[o]);
+      if (worst.rel != before || (worst.cell.empty() && worst.rel)) {
+        worst.cell = cell_text(plan, cell);
+      }
       raise(worst.spread, record.spread[o]);
       raise(budgets.map[record.config][o][cell.point], record.rel_error[o]);
       raise(work.error, record.rel_error[o]);
+    }
+  }
+  for (Cost& cost : budgets.cost) {
+    for (RegimeCost* regime : {&cost.underdamped, &cost.overdamped}) {
+      if (regime->cells > 0) {
+        const double cells = double(regime->cells);
+        regime->rhs_evals /= cells;
+        regime->steps /= cells;
+        regime->seconds /= cells;
+        regime->seconds_slowest /= cells;
+      }
     }
   }
   for (std::size_t c = 0; c < configs; ++c) {

@@ -13,6 +13,19 @@ namespace pldamp::harness {
 struct Worst {
   std::optional<double> abs, rel; // largest over the records (none: the observable never came)
   std::optional<double> spread;   // largest spread over onset phases (several phases run)
+  std::string cell;               // where the largest relative error is (cell_text)
+};
+
+// What a configuration costs per cell, underdamped and overdamped cells apart (an overdamped
+// contact never returns: its solve runs to the horizon, a different amount of work).
+struct RegimeCost {
+  long cells = 0;
+  double rhs_evals = 0, steps = 0; // per cell, deterministic
+  // Per cell: the mean of each record's fastest repeat, and of its slowest (the spread).
+  double seconds = 0, seconds_slowest = 0;
+};
+struct Cost {
+  RegimeCost underdamped, overdamped;
 };
 
 // What a solver configuration costs and achieves at one p: mean wall time and rhs_evals per
@@ -51,6 +64,9 @@ struct Verdict : Judgement {
   std::string name, kind, observable, config, where, quote, figure;
   std::string meaning; // what measured and margin are for this kind (claims.hpp)
   bool expect_holds = true;
+  // Whether a lower measurement is the worse one (an order, a gap, a ratio of steps), not a
+  // higher one (an error): how `pldamp diff` reads a change of it.
+  bool worse_when_lower = false;
   double bound = 0;
   std::optional<double> supported; // bound: the tightest power of ten at or above the measurement
   std::optional<Judgement> denser; // the same claim on a grid ten times denser
@@ -68,12 +84,16 @@ struct Budgets {
   std::vector<std::vector<std::vector<std::optional<double>>>> map;
   // work[config]: one point per p, in the scene's order.
   std::vector<std::vector<WorkPoint>> work;
+  std::vector<Cost> cost; // cost[config]
   std::vector<Verdict> claims;
   StepStudy steps; // the time-step study of fixed-step sweeps (empty without one)
   long failed_records = 0;
 };
 
 Budgets make_budgets(const Plan& plan, const std::vector<Record>& records);
+
+// A cell as reports name it: "p = 1.5, e = 0.5, v0 = 1, m = 1, k = 1".
+std::string cell_text(const Plan& plan, const Cell& cell);
 
 // The largest of the values present (NaN counts as infinite); none if none is.
 std::optional<double> largest(const std::vector<std::optional<double>>& values);

@@ -563,6 +563,9 @@ Verdict verdict_of(const Claim& claim) {
   v.expect_holds = claim.expect_holds;
   v.bound = claim.bound;
   v.meaning = std::string(measure_meaning(claim));
+  v.worse_when_lower =
+      claim.kind == ClaimKind::asymptotic || claim.kind == ClaimKind::stability ||
+      (claim.kind == ClaimKind::relation && claim.relation != Relation::equal_within);
   switch (claim.kind) {
   case ClaimKind::bound:
     v.observable = claim.observable;

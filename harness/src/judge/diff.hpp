@@ -1,26 +1,74 @@
-// `pldamp diff`: what regressed between two runs' report.json.
+// `pldamp diff OLD.json NEW.json`: what changed between two runs of one scene, and what of it is a
+// regression (docs/ci.md gives the output's grammar for CI scripts).
+//
+// Compared, record by record (same key: configuration and cell):
+//   errors      rel_error grown more than error_factor above the precision's noise (16 ε), or
+//               fallen to exactly 0 from above it (a value compared with itself): regressions;
+//               fallen by more than error_factor: a change
+//   numbers     a value, reference, error or spread that was a number and is now null or
+//               missing: a regression (a reference that silently disappears)
+//   outcomes    a record that now fails, or is gone: regressions
+//   work        rhs_evals and steps, deterministic: any change listed, growth above work_factor
+//               a regression
+//   time        per configuration, the sum of its records' fastest repeats: above time_factor a
+//               regression when the old sum is at least time_floor seconds (below it: noise)
+// and beyond the records: budgets.worst and the analytic layer's own budget like errors, a
+// budget that no longer matches its records (inconsistent), a claim whose verdict left the
+// expected one, a claim's measured value that moved the wrong way (more than error_factor for an
+// error, 10 % for an order, gap or ratio) or disappeared, a search that no longer finds a value.
+//
+// Output: one line per group (kind of finding, configuration, observable), then a summary.
+//   REGRESSION <what> | <configuration or claim> | <subject> | <n> record(s) | <worst> at <cell>
+//   CHANGE <what> | ...                                   (the same fields; not a regression)
+//   SCENE <added|removed> <configuration|p|damping|v0|m|k|claim> | <label or value>
+//   <N> regressions, <M> changes
+// Exit: 0 no regression, 1 regressions, 2 bad input (not a report, a different scene without
+// --allow-scene-change).
 #pragma once
+
+#include "scene/scene.hpp"
 
 #include "pldamp/core/real_types.hpp"
 
 #include <nlohmann/json.hpp>
 
+#include <optional>
 #include <string>
 #include <string_view>
 #include <vector>
 
 namespace pldamp::harness {
 
-// The version of report.json (report/ writes it, diff reads it).
-inline constexpr int report_schema = 1;
+// The version of report.json (report/ writes it, diff reads it). 2: scene fingerprints and diff
+// thresholds, records' reference and signed error, cost per regime, searches.
+inline constexpr int report_schema = 2;
 
-// A report.json's text, parsed and checked for everything `regressions` reads (schema, claims'
-// names and verdicts, records' keys, outcomes, failed flags and errors); throws InputError
-// naming `path` and the first thing amiss, so a damaged or foreign file is one line, exit 2.
+// The thresholds (scene/scene.hpp, DiffThresholds) come from the new report's scene (its [diff]
+// table, written into report.json), each overridden by its flag.
+struct DiffOptions {
+  std::optional<double> error_factor, work_factor, time_factor, time_floor; // flags
+  bool allow_scene_change = false; // compare what two different scenes share
+  bool verbose = false;            // every record under its group's line
+};
+
+struct DiffResult {
+  std::vector<std::string> lines; // the output, summary last
+  long regressions = 0, changes = 0;
+  DiffThresholds thresholds; // as applied
+};
+
+// A report.json's text, parsed and checked for what diff needs to trust (schema, claims' names,
+// verdicts and expectations, records' keys, outcomes, failed flags, errors and precisions);
+// everything else is read defensively. Throws InputError naming `path` and the first thing
+// amiss, so a damaged or foreign file is one line, exit 2.
 nlohmann::json read_report(std::string_view text, const std::string& path);
 
-// The regressions from OLD to NEW (an error grown more than tenfold above the precision's noise,
-// a claim that flipped from holds to fails, a record that now fails or is gone), one line each.
+// Compares two reports. Throws InputError when they come from different scenes (their
+// fingerprints differ) and `allow_scene_change` is off.
+DiffResult diff_reports(const nlohmann::json& old_report, const nlohmann::json& new_report,
+                        const DiffOptions& options = {});
+
+// The REGRESSION lines of diff_reports, scene changes allowed.
 std::vector<std::string> regressions(const nlohmann::json& old_report,
                                      const nlohmann::json& new_report);
 

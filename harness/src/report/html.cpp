@@ -472,6 +472,11 @@ std::string report_html(const RunReport& report, const std::string& gnuplot_prog
          "left}"
          ".holds{color:#070}.fails{color:#b00;font-weight:bold}"
          "figure{display:inline-block;vertical-align:top;margin:0.5em}"
+         "details.map{display:inline-block;vertical-align:top;margin:0.2em 0.5em}"
+         "details.map summary{cursor:pointer;font-family:monospace}"
+         // An inline-block sizes to its content: the plot keeps its natural size inside.
+         "details.map figure svg{max-width:none}"
+         "details.map:not([open]){margin:0.2em 0.5em 0.2em 0}"
          "figure svg{display:block;max-width:100%;height:auto}"
          "p.read{max-width:60em;line-height:1.4}"
          // The claim table's words wrap, left-aligned; its numbers stay on one line.
@@ -532,32 +537,32 @@ std::string report_html(const RunReport& report, const std::string& gnuplot_prog
       out << figure_html(work_precision_plot(gnuplot, report, i, Axis::time, true));
     }
   }
-  out << "<h2>Worst relative error over the grid</h2>\n<table><tr><th>configuration</th>";
-  for (const Observable* observable : plan.observables) {
-    out << "<th>" << observable->key << "</th>";
-  }
-  out << "<th>rhs_evals / cell</th><th>µs / cell</th><th>× analytic</th></tr>\n";
-  for (std::size_t c = 0; c < plan.configs.size(); ++c) {
-    out << "<tr><td>" << escape(plan.configs[c].label()) << "</td>";
-    for (std::size_t o = 0; o < plan.observables.size(); ++o) {
-      out << "<td>" << short_number(budgets.worst[c][o].rel) << "</td>";
-    }
-    double rhs = 0, seconds = 0;
-    for (const WorkPoint& w : budgets.work[c]) {
-      rhs += w.rhs_evals / double(budgets.work[c].size());
-      seconds += w.seconds / double(budgets.work[c].size());
-    }
-    out << "<td>" << short_number(rhs, 3) << "</td><td>" << short_number(seconds * 1e6, 3)
-        << "</td><td>" << short_number(times_analytic(budgets.work[c]), 2) << "</td></tr>\n";
-  }
-  out << "</table>\n";
+  out << "<h2>Worst relative error over the grid</h2>\n"
+      << html_table(error_table(report)) << "<h2>Cost per cell</h2>\n"
+      << html_table(cost_table(report));
+  out << "<p class='read'>" << escape(budget_table_note(plan)) << "</p>\n";
   if (!budgets.steps.sweeps.empty()) {
     out << step_study_html(report, gnuplot);
   }
-  out << "<h2>Error maps over p × damping (each solver's last configuration)</h2>\n";
-  for (std::size_t c = 0; c < plan.configs.size(); ++c) {
-    if (last_of_its_solver(plan, c)) {
-      out << figure_html(error_map_plot(gnuplot, report, c));
+  // Every configuration's map, each folded under its label; each solver's last (tightest)
+  // configuration open, the others a click away.
+  out << "<h2>Error maps over p × damping, per configuration</h2>\n<p>The largest relative "
+         "error of any observable at each p and damping (over v0, m, k). Each solver's last "
+         "configuration is shown; click a configuration to show or hide its map.</p>\n";
+  for (const bool last : {true, false}) {
+    const auto others =
+        std::count_if(plan.configs.begin(), plan.configs.end(), [&](const SolverConfig& config) {
+          return !last_of_its_solver(plan, std::size_t(&config - plan.configs.data()));
+        });
+    if (!last && others > 0) {
+      out << "<p>The other configurations:</p>\n";
+    }
+    for (std::size_t c = 0; c < plan.configs.size(); ++c) {
+      if (last_of_its_solver(plan, c) == last) {
+        out << "<details class='map'" << (last ? " open" : "") << "><summary>"
+            << escape(plan.configs[c].label()) << "</summary>"
+            << figure_html(error_map_plot(gnuplot, report, c)) << "</details>\n";
+      }
     }
   }
   out << "<h2>The closed forms in double against " << precision_name<Exact>()

@@ -24,6 +24,15 @@ ordered_json number_or_null(const std::optional<double>& x) {
   return x && std::isfinite(*x) ? ordered_json(*x) : ordered_json(nullptr);
 }
 
+// 64-bit FNV-1a of a text, in hex: a name for what a scene computes, not a security measure.
+std::string fingerprint(std::string_view text) {
+  std::uint64_t hash = 14695981039346656037ULL;
+  for (const char c : text) {
+    hash = (hash ^ static_cast<unsigned char>(c)) * 1099511628211ULL;
+  }
+  return fmt::format("{:016x}", hash);
+}
+
 } // namespace
 
 std::string short_number(const std::optional<double>& x, int digits) {
@@ -131,6 +140,30 @@ std::string unrepresentable_note(const Plan& plan) {
 
 namespace {
 
+bool any_overdamped(const Plan& plan) {
+  return std::any_of(plan.points.begin(), plan.points.end(),
+                     [](const Point& point) { return point.overdamped; });
+}
+
+// A table in Markdown.
+std::string markdown_table(const MapTable& table) {
+  std::string out = "|";
+  for (const std::string& head : table.header) {
+    out += " " + head + " |";
+  }
+  out += "\n|";
+  for (std::size_t c = 0; c < table.header.size(); ++c) {
+    out += "---|";
+  }
+  for (const std::vector<std::string>& row : table.rows) {
+    out += "\n|";
+    for (const std::string& entry : row) {
+      out += " " + entry + " |";
+    }
+  }
+  return out + "\n";
+}
+
 // The † footnote under the analytic map, one line per observable out of double's range.
 std::string analytic_footnote(const Plan& plan) {
   const std::string lines = unrepresentable_note(plan);
@@ -149,22 +182,7 @@ std::string analytic_footnote(const Plan& plan) {
 // A map as a Markdown table.
 std::string markdown_map(const Plan& plan,
                          const std::function<std::string(std::size_t point)>& cell) {
-  const MapTable table = map_table(plan, cell);
-  std::string out = "|";
-  for (const std::string& head : table.header) {
-    out += " " + head + " |";
-  }
-  out += "\n|";
-  for (std::size_t c = 0; c < table.header.size(); ++c) {
-    out += "---|";
-  }
-  for (const std::vector<std::string>& row : table.rows) {
-    out += "\n|";
-    for (const std::string& entry : row) {
-      out += " " + entry + " |";
-    }
-  }
-  return out + "\n";
+  return markdown_table(map_table(plan, cell));
 }
 
 ordered_json step_study_json(const Plan& plan, const StepStudy& study) {
@@ -235,8 +253,6 @@ ordered_json report_json(const RunReport& report) {
   ordered_json out;
   out["schema"] = report_schema;
   ordered_json scene;
-  scene["name"] = plan.scene.name;
-  scene["path"] = plan.scene.path;
   scene["end"] = plan.scene.end == solvers::End::force ? "force" : "overlap";
   for (const Observable* observable : plan.observables) {
     scene["observables"].push_back(observable->key);
@@ -259,7 +275,19 @@ ordered_json report_json(const RunReport& report) {
         config.steps_per_contact ? ordered_json(*config.steps_per_contact) : ordered_json(nullptr);
     scene["configs"].push_back(c);
   }
+  for (const Claim& claim : plan.scene.claims) {
+    scene["claims"].push_back(claim.name);
+  }
+  // What the scene computes, whatever its name, path, timing or report formats: two reports of
+  // one fingerprint can be diffed record by record.
+  scene["fingerprint"] = fingerprint(scene.dump());
+  scene["name"] = plan.scene.name;
+  scene["path"] = plan.scene.path;
   scene["repeats"] = plan.scene.repeats;
+  scene["diff"] = {{"error_factor", plan.scene.diff.error_factor},
+                   {"work_factor", plan.scene.diff.work_factor},
+                   {"time_factor", plan.scene.diff.time_factor},
+                   {"time_floor", plan.scene.diff.time_floor}};
   out["scene"] = scene;
   out["totals"] = {{"rhs_evals", report.totals.rhs_evals},
                    {"solver_runs", report.totals.solver_runs},
@@ -278,6 +306,7 @@ ordered_json report_json(const RunReport& report) {
                        {"bound", v.bound},
                        {"margin", number_or_null(v.margin)},
                        {"meaning", v.meaning},
+                       {"worse", v.worse_when_lower ? "lower" : "higher"},
                        {"worst", v.worst},
                        {"grid", v.grid},
                        {"note", v.note},
@@ -304,14 +333,25 @@ ordered_json report_json(const RunReport& report) {
     out["claims"].push_back(claim);
   }
   ordered_json worst = ordered_json::array(), maps = ordered_json::array(),
-               work = ordered_json::array();
+               work = ordered_json::array(), cost = ordered_json::array();
   for (std::size_t c = 0; c < plan.configs.size(); ++c) {
     const std::string label = plan.configs[c].label();
+    ordered_json regimes{{"config", label}};
+    for (const auto& [name, regime] : {std::pair{"underdamped", &budgets.cost[c].underdamped},
+                                       std::pair{"overdamped", &budgets.cost[c].overdamped}}) {
+      regimes[name] = {{"cells", regime->cells},
+                       {"rhs_evals", regime->rhs_evals},
+                       {"steps", regime->steps},
+                       {"seconds", regime->seconds},
+                       {"seconds_slowest", regime->seconds_slowest}};
+    }
+    cost.push_back(regimes);
     for (std::size_t o = 0; o < plan.observables.size(); ++o) {
       worst.push_back({{"config", label},
                        {"observable", plan.observables[o]->key},
                        {"max_abs", number_or_null(budgets.worst[c][o].abs)},
-                       {"max_rel", number_or_null(budgets.worst[c][o].rel)}});
+                       {"max_rel", number_or_null(budgets.worst[c][o].rel)},
+                       {"worst_cell", budgets.worst[c][o].cell}});
       if (plan.configs[c].onset_phases > 1) {
         worst.back()["max_phase_spread"] = number_or_null(budgets.worst[c][o].spread);
       }
@@ -355,6 +395,7 @@ ordered_json report_json(const RunReport& report) {
                     {"worst", worst},
                     {"maps", maps},
                     {"analytic_double", analytic},
+                    {"cost_per_cell", cost},
                     {"work_precision", work}};
   if (!budgets.steps.sweeps.empty()) {
     out["budgets"]["step_study"] = step_study_json(plan, budgets.steps);
@@ -376,15 +417,15 @@ ordered_json report_json(const RunReport& report) {
                    {"failed", record.failed()},
                    {"steps", record.steps},
                    {"rhs_evals", record.rhs_evals},
-                   {"wall_seconds", record.wall_seconds}};
+                   {"wall_seconds", record.wall_seconds},
+                   {"wall_seconds_slowest", record.wall_seconds_slowest}};
     if (record.dt) {
       r["dt"] = *record.dt;
     }
     const std::pair<const char*, const std::vector<std::optional<double>>*> columns[] = {
-        {"value", &record.value},
-        {"abs_error", &record.abs_error},
-        {"rel_error", &record.rel_error},
-        {"phase_spread", &record.spread}};
+        {"value", &record.value},         {"reference", &record.reference},
+        {"error", &record.error},         {"abs_error", &record.abs_error},
+        {"rel_error", &record.rel_error}, {"phase_spread", &record.spread}};
     for (const auto& [field, column] : columns) {
       if (column == &record.spread && record.phases == 1) {
         continue; // one phase: no spread
@@ -429,43 +470,36 @@ ordered_json report_json(const RunReport& report) {
 
 std::string report_csv(const RunReport& report) {
   const Plan& plan = report.plan;
-  std::ostringstream out;
-  out << std::setprecision(17);
-  out << "solver,precision,rtol,atol,steps_per_contact,p,damping,alpha_eff,v0,m,k,outcome,steps,"
-         "rhs_evals,wall_seconds";
+  std::string out = "solver,precision,rtol,atol,steps_per_contact,p,damping,alpha_eff,v0,m,k,"
+                    "outcome,steps,rhs_evals,wall_seconds,wall_seconds_slowest";
   for (const Observable* observable : plan.observables) {
-    const std::string name(observable->key);
-    out << "," << name << "," << name << "_abs_error," << name << "_rel_error";
+    const std::string_view name = observable->key;
+    out += fmt::format(",{0},{0}_reference,{0}_error,{0}_abs_error,{0}_rel_error", name);
   }
-  out << "\n";
-  auto cell = [&](const std::optional<double>& x) {
-    if (x) {
-      out << *x;
-    }
+  out += "\n";
+  // Numbers in the shortest form that reads back to the same double (0.05, not
+  // 0.050000000000000003); an empty field is a value absent.
+  const auto number = [](const std::optional<double>& x) {
+    return x ? fmt::format("{}", *x) : std::string();
   };
   for (const Record& record : report.records) {
     const SolverConfig& config = plan.configs[record.config];
     const Cell& c = plan.cells[record.cell];
     const Point& point = plan.points[c.point];
-    out << config.name << "," << config.precision << ",";
-    cell(config.rtol);
-    out << ",";
-    cell(config.atol);
-    out << "," << (config.steps_per_contact ? std::to_string(*config.steps_per_contact) : "") << ","
-        << point.p << "," << point.damping.label() << "," << point.alpha_eff << "," << c.v0 << ","
-        << c.m << "," << c.k << "," << record.outcome_name() << "," << record.steps << ","
-        << record.rhs_evals << "," << record.wall_seconds;
+    out += fmt::format("{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{}", config.name,
+                       config.precision, number(config.rtol), number(config.atol),
+                       config.steps_per_contact ? std::to_string(*config.steps_per_contact) : "",
+                       point.p, point.damping.label(), point.alpha_eff, c.v0, c.m, c.k,
+                       record.outcome_name(), record.steps, record.rhs_evals, record.wall_seconds,
+                       record.wall_seconds_slowest);
     for (std::size_t o = 0; o < plan.observables.size(); ++o) {
-      out << ",";
-      cell(record.value[o]);
-      out << ",";
-      cell(record.abs_error[o]);
-      out << ",";
-      cell(record.rel_error[o]);
+      out += fmt::format(",{},{},{},{},{}", number(record.value[o]), number(record.reference[o]),
+                         number(record.error[o]), number(record.abs_error[o]),
+                         number(record.rel_error[o]));
     }
-    out << "\n";
+    out += "\n";
   }
-  return out.str();
+  return out;
 }
 
 std::vector<ClaimRow> claim_rows(const RunReport& report) {
@@ -513,6 +547,88 @@ std::vector<ClaimRow> claim_rows(const RunReport& report) {
   return rows;
 }
 
+std::string budget_table_note(const Plan& plan) {
+  return fmt::format(
+      "Worst cell: where the configuration's largest relative error is (its observable in "
+      "brackets). rhs_evals / cell: the mean right-hand-side and Jacobian evaluations per "
+      "collision{}. µs / cell: the mean over the cells of each record's fastest repeat{}. "
+      "× analytic: the time per cell as a multiple of the closed forms' for the same observables "
+      "in double ({} µs per cell).",
+      any_overdamped(plan) ? ", underdamped and overdamped cells apart (an overdamped contact "
+                             "never returns: its solve runs to the horizon)"
+                           : "",
+      plan.scene.repeats > 1 ? "; slowest repeat: how much slower the slowest was (the noise of "
+                               "the machine)"
+                             : "",
+      short_number(mean_analytic_seconds(plan) * 1e6, 2));
+}
+
+MapTable error_table(const RunReport& report) {
+  const Plan& plan = report.plan;
+  MapTable table;
+  table.header.emplace_back("configuration");
+  for (const Observable* observable : plan.observables) {
+    table.header.emplace_back(observable->key);
+  }
+  table.header.emplace_back("worst cell");
+  for (std::size_t c = 0; c < plan.configs.size(); ++c) {
+    std::vector<std::string> row{plan.configs[c].label()};
+    std::optional<double> largest_error;
+    std::string worst_cell = "–";
+    for (std::size_t o = 0; o < plan.observables.size(); ++o) {
+      const Worst& worst = report.budgets.worst[c][o];
+      row.push_back(short_number(worst.rel));
+      if (worst.rel && (!largest_error || *worst.rel > *largest_error)) {
+        largest_error = worst.rel;
+        worst_cell = fmt::format("{} ({})", worst.cell, plan.observables[o]->key);
+      }
+    }
+    row.push_back(worst_cell);
+    table.rows.push_back(row);
+  }
+  return table;
+}
+
+MapTable cost_table(const RunReport& report) {
+  const Plan& plan = report.plan;
+  const bool overdamped = any_overdamped(plan), repeats = plan.scene.repeats > 1;
+  MapTable table;
+  table.header = {"configuration",
+                  overdamped ? "rhs_evals / cell, underdamped" : "rhs_evals / cell"};
+  if (overdamped) {
+    table.header.emplace_back("rhs_evals / cell, overdamped");
+  }
+  table.header.push_back(fmt::format("µs / cell (fastest of {})", plan.scene.repeats));
+  if (repeats) {
+    table.header.emplace_back("slowest repeat");
+  }
+  table.header.emplace_back("× analytic");
+  for (std::size_t c = 0; c < plan.configs.size(); ++c) {
+    const Cost& cost = report.budgets.cost[c];
+    const auto per_cell = [](const RegimeCost& regime) {
+      return regime.cells > 0 ? short_number(regime.rhs_evals, 3) : std::string("–");
+    };
+    std::vector<std::string> row{plan.configs[c].label(), per_cell(cost.underdamped)};
+    if (overdamped) {
+      row.push_back(per_cell(cost.overdamped));
+    }
+    const double cells = double(cost.underdamped.cells + cost.overdamped.cells);
+    const auto mean = [&](double RegimeCost::*seconds) {
+      return (cost.underdamped.*seconds * double(cost.underdamped.cells) +
+              cost.overdamped.*seconds * double(cost.overdamped.cells)) /
+             cells;
+    };
+    const double fastest = mean(&RegimeCost::seconds), slowest = mean(&RegimeCost::seconds_slowest);
+    row.push_back(short_number(fastest * 1e6, 3));
+    if (repeats) {
+      row.push_back(fastest > 0 ? fmt::format("+{:.0f} %", 100 * (slowest / fastest - 1)) : "–");
+    }
+    row.push_back(short_number(times_analytic(report.budgets.work[c]), 2));
+    table.rows.push_back(row);
+  }
+  return table;
+}
+
 std::string report_markdown(const RunReport& report) {
   const Plan& plan = report.plan;
   const Budgets& budgets = report.budgets;
@@ -542,43 +658,18 @@ std::string report_markdown(const RunReport& report) {
     }
     out << "\n";
   }
-  out << "## Worst relative error over the grid\n\n| configuration |";
-  for (const Observable* observable : plan.observables) {
-    out << " " << observable->key << " |";
-  }
-  out << " rhs_evals / cell | µs / cell | × analytic |\n|---|";
-  for (std::size_t o = 0; o < plan.observables.size(); ++o) {
-    out << "---|";
-  }
-  out << "---|---|---|\n";
-  for (std::size_t c = 0; c < plan.configs.size(); ++c) {
-    out << "| " << plan.configs[c].label() << " |";
-    for (std::size_t o = 0; o < plan.observables.size(); ++o) {
-      out << " " << short_number(budgets.worst[c][o].rel) << " |";
-    }
-    double rhs = 0, seconds = 0;
-    for (const WorkPoint& w : budgets.work[c]) {
-      rhs += w.rhs_evals / double(budgets.work[c].size());
-      seconds += w.seconds / double(budgets.work[c].size());
-    }
-    out << " " << short_number(rhs, 3) << " | " << short_number(seconds * 1e6, 3) << " | "
-        << short_number(times_analytic(budgets.work[c]), 2) << " |\n";
-  }
-  out << "\n× analytic: the time per cell as a multiple of the closed forms' for the same "
-         "observables in double ("
-      << short_number(mean_analytic_seconds(plan) * 1e6, 2) << " µs per cell).\n";
+  out << "## Worst relative error over the grid\n\n"
+      << markdown_table(error_table(report)) << "\n## Cost per cell\n\n"
+      << markdown_table(cost_table(report));
+  out << "\n" << budget_table_note(plan) << "\n";
   if (!budgets.steps.sweeps.empty()) {
     out << step_study_markdown(plan, budgets.steps);
   }
-  // Per solver, its tightest configuration (the last of its sweep) over p × α_eff.
-  out << "\n## Worst relative error per p × α_eff (each solver's last configuration)\n";
+  out << "\n## Worst relative error per p × α_eff, per configuration\n";
   for (std::size_t c = 0; c < plan.configs.size(); ++c) {
-    if (last_of_its_solver(plan, c)) {
-      out << "\n### " << plan.configs[c].label() << "\n\n"
-          << markdown_map(plan, [&](std::size_t point) {
-               return short_number(worst_at(budgets, c, point));
-             });
-    }
+    out << "\n### " << plan.configs[c].label() << "\n\n"
+        << markdown_map(
+               plan, [&](std::size_t point) { return short_number(worst_at(budgets, c, point)); });
   }
   out << "\n## The analytic layer in double against " << precision_name<Exact>()
       << " (relative error, worst observable)\n\n"

@@ -65,12 +65,13 @@ struct WrittenReports {
 // (common/files.hpp): a format that fails leaves its previous file and the others are written.
 WrittenReports write_reports(const RunReport& report, const std::string& folder);
 
-// A table over p (rows) × damping (columns), underdamped by α_eff, then the overdamped (sinh
-// branch) columns after an empty separator column; `cell` gives each point's text.
+// A table of text: a header and its rows.
 struct MapTable {
   std::vector<std::string> header;
   std::vector<std::vector<std::string>> rows;
 };
+// A table over p (rows) × damping (columns), underdamped by α_eff, then the overdamped (sinh
+// branch) columns after an empty separator column; `cell` gives each point's text.
 MapTable map_table(const Plan& plan, const std::function<std::string(std::size_t point)>& cell);
 
 // "230", "≤ 10" (reached at the coarsest step), "> 5000" (not within the sweep): the steps per
@@ -94,6 +95,14 @@ struct ClaimRow {
   bool holds = false, unexpected = false;
 };
 std::vector<ClaimRow> claim_rows(const RunReport& report);
+
+// The budget tables, one row per configuration: its worst relative error per observable and
+// the cell of its largest; its cost per cell (rhs evaluations by regime, the time of the fastest
+// repeat, the slowest's excess over it, the multiple of the closed forms' time).
+MapTable error_table(const RunReport& report);
+MapTable cost_table(const RunReport& report);
+// What the two tables' columns mean, a paragraph under them.
+std::string budget_table_note(const Plan& plan);
 
 // A record's identity across runs: "configuration | p=.. damping v0=.. m=.. k=.." (diff's key).
 std::string record_key(const Plan& plan, const Record& record);

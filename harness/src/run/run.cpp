@@ -11,27 +11,29 @@
 #include <limits>
 #include <mutex>
 #include <thread>
-#include <tuple>
 
 namespace pldamp::harness {
 namespace {
 
-// |value − reference| and its relative size (see Record).
-std::pair<std::optional<double>, std::optional<double>> errors(const Exact& value,
-                                                               const Exact& reference) {
-  if (isinf(reference) || isinf(value)) {
-    const double e = value == reference ? 0.0 : std::numeric_limits<double>::infinity();
-    return {e, e};
-  }
-  const Exact absolute = abs(value - reference);
-  const Exact relative = reference == 0 ? absolute : absolute / abs(reference);
-  return {static_cast<double>(absolute), static_cast<double>(relative)};
-}
-
-// One collision's errors against the reference, observable by observable (see Record).
+// One collision's value of an observable against its reference (see Record).
 struct Measured {
-  std::optional<double> value, abs_error, rel_error;
+  std::optional<double> value, reference, error, abs_error, rel_error;
 };
+
+// value − reference, its absolute and its relative size (see Record), into `m`.
+void compare(const Exact& value, const Exact& reference, Measured& m) {
+  if (isinf(reference) || isinf(value)) {
+    const double inf = std::numeric_limits<double>::infinity();
+    m.error = value == reference ? 0.0 : value > reference ? inf : -inf;
+    m.abs_error = m.rel_error = std::abs(*m.error);
+    return;
+  }
+  const Exact signed_error = value - reference;
+  const Exact relative = reference == 0 ? abs(signed_error) : abs(signed_error) / abs(reference);
+  m.error = static_cast<double>(signed_error);
+  m.abs_error = static_cast<double>(abs(signed_error));
+  m.rel_error = static_cast<double>(relative);
+}
 
 template <SupportedReal Real>
 std::vector<Measured> measure(const Plan& plan, const Cell& cell, const SolverConfig& config,
@@ -46,20 +48,23 @@ std::vector<Measured> measure(const Plan& plan, const Cell& cell, const SolverCo
     if (value) {
       m.value = static_cast<double>(*value);
     }
+    if (reference) {
+      m.reference = static_cast<double>(*reference);
+    }
     if (result.outcome == solvers::Outcome::no_exit && reference && !point.overdamped) {
       // The contact returns, but too late or too slowly for the solver to tell: no_exit is its
       // documented answer (common/observables.hpp, LateReturn).
       if (observable.late_return == LateReturn::unresolved) {
         reference.reset();
       } else if (observable.late_return == LateReturn::absolute && value) {
-        const double absolute = static_cast<double>(abs(static_cast<Exact>(*value) - *reference));
-        m.abs_error = m.rel_error = absolute;
+        compare(static_cast<Exact>(*value), *reference, m);
+        m.rel_error = m.abs_error;
         out.push_back(m);
         continue;
       }
     }
     if (value && reference) {
-      std::tie(m.abs_error, m.rel_error) = errors(static_cast<Exact>(*value), *reference);
+      compare(static_cast<Exact>(*value), *reference, m);
     }
     out.push_back(m);
   }
@@ -91,16 +96,18 @@ void solve_record(const Plan& plan, Record& record) {
   const std::size_t observables = plan.observables.size();
   record.phases = config.onset_phases;
   record.value.assign(observables, std::nullopt);
-  record.abs_error = record.rel_error = record.spread = record.value;
+  record.reference = record.error = record.abs_error = record.rel_error = record.spread =
+      record.value;
   std::vector<double> lowest(observables, std::numeric_limits<double>::infinity()),
       highest(observables, -std::numeric_limits<double>::infinity());
-  double steps = 0, rhs_evals = 0, seconds = 0;
+  double steps = 0, rhs_evals = 0, fastest_seconds = 0, slowest_seconds = 0;
   for (int phase = 0; phase < config.onset_phases; ++phase) {
     options.onset_phase = Real(phase) / Real(config.onset_phases);
     const solvers::Result<Real> result = solvers::solve(config.name, problem, options);
-    double fastest = result.wall_seconds;
+    RepeatTimes times;
+    times.add(result.wall_seconds);
     for (int repeat = 1; repeat < plan.scene.repeats; ++repeat) {
-      fastest = std::min(fastest, solvers::solve(config.name, problem, options).wall_seconds);
+      times.add(solvers::solve(config.name, problem, options).wall_seconds);
     }
     // A failed phase fails the record; the outcome kept is the worst seen.
     if (!record.outcome || solvers::failing(result.outcome)) {
@@ -123,7 +130,8 @@ void solve_record(const Plan& plan, Record& record) {
     }
     steps += double(result.steps);
     rhs_evals += double(result.rhs_evals + result.jacobian_evals);
-    seconds += fastest;
+    fastest_seconds += times.fastest;
+    slowest_seconds += times.slowest;
     const std::vector<Measured> measured = measure(plan, cell, config, result);
     for (std::size_t o = 0; o < observables; ++o) {
       const Measured& m = measured[o];
@@ -136,6 +144,8 @@ void solve_record(const Plan& plan, Record& record) {
           (m.rel_error && (!record.rel_error[o] || !(*m.rel_error <= *record.rel_error[o])));
       if (worse) {
         record.value[o] = m.value;
+        record.reference[o] = m.reference;
+        record.error[o] = m.error;
         record.abs_error[o] = m.abs_error;
         record.rel_error[o] = m.rel_error;
       }
@@ -144,7 +154,8 @@ void solve_record(const Plan& plan, Record& record) {
   const double runs = double(config.onset_phases);
   record.steps = std::lround(steps / runs);
   record.rhs_evals = std::lround(rhs_evals / runs);
-  record.wall_seconds = seconds / runs;
+  record.wall_seconds = fastest_seconds / runs;
+  record.wall_seconds_slowest = slowest_seconds / runs;
   if (config.onset_phases > 1) {
     for (std::size_t o = 0; o < observables; ++o) {
       const std::optional<Exact> reference = reference_at(plan, cell, o, config);
@@ -200,7 +211,8 @@ std::vector<Record> run_plan(const Plan& plan, int jobs, RunTotals& totals,
         record.outcome.reset();
         record.failure = e.what();
         record.value.assign(plan.observables.size(), std::nullopt);
-        record.abs_error = record.rel_error = record.spread = record.value;
+        record.reference = record.error = record.abs_error = record.rel_error = record.spread =
+            record.value;
       }
       if (progress) {
         const std::lock_guard lock(report);

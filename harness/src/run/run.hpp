@@ -5,8 +5,10 @@
 
 #include "truth/plan.hpp"
 
+#include <algorithm>
 #include <atomic>
 #include <functional>
+#include <limits>
 #include <optional>
 #include <string>
 #include <string_view>
@@ -21,23 +23,36 @@ struct Record {
   // an unstable answer broke, or a no_exit where the truth returns before the solver's horizon.
   std::string failure;
   long steps = 0, rhs_evals = 0; // per collision (the mean over onset phases)
-  double wall_seconds = 0;       // per collision: the minimum over the repeats, mean over phases
-  int phases = 1;                // onset phases run (fixed-step configurations)
-  std::optional<double> dt;      // the fixed step a fixed-step run used
-  // Per observable (Plan::observables): the value (rounded to double for the report) and its
-  // absolute and relative errors against the reference, computed in Exact. The relative error
+  // Per collision, the mean over onset phases of the fastest of the repeats (what a report
+  // compares: the least disturbed by other load) and of the slowest (its spread).
+  double wall_seconds = 0, wall_seconds_slowest = 0;
+  int phases = 1;           // onset phases run (fixed-step configurations)
+  std::optional<double> dt; // the fixed step a fixed-step run used
+  // Per observable (Plan::observables): the value and the reference (rounded to double for the
+  // report), the signed error value − reference and its absolute and relative size, computed in
+  // Exact (the signed error tells an overshoot from an undershoot). The relative error
   // of a reference 0 (e of a contact that never returns) is the absolute one; of an infinite
   // reference (its τ) 0 when the value is infinite too. A solver's no_exit where the contact does
   // return (just below critical damping) leaves τ unresolved and compares e absolutely.
   // Over several onset phases: the phase with the largest relative error, and the spread of the
   // values over the phases relative to the reference.
-  std::vector<std::optional<double>> value, abs_error, rel_error, spread;
+  std::vector<std::optional<double>> value, reference, error, abs_error, rel_error, spread;
   // Failed: the solver threw, ran out of its budget (step_limit, time_limit), gave an impossible
   // answer (unstable), gave up before a return the truth has in its horizon, or returned a
   // non-finite error.
   bool failed() const;
   // The outcome's name, or "error" when the solver threw.
   std::string_view outcome_name() const;
+};
+
+// The wall times of a solve's repeats: the fastest is the one reported (timing noise only ever
+// adds), the slowest shows how noisy the machine was.
+struct RepeatTimes {
+  double fastest = std::numeric_limits<double>::infinity(), slowest = 0;
+  void add(double seconds) {
+    fastest = std::min(fastest, seconds);
+    slowest = std::max(slowest, seconds);
+  }
 };
 
 struct RunTotals {

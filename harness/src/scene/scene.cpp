@@ -849,10 +849,10 @@ Scene parse_scene(std::string_view text, const std::string& path) {
   } catch (const toml::parse_error& e) {
     reader.fail_at(e.source().begin.line, std::string(e.description()));
   }
-  reader.only(
-      root,
-      {"name", "end", "want", "grid", "solver", "claim", "figure", "report", "timing", "limits"},
-      "the scene");
+  reader.only(root,
+              {"name", "end", "want", "grid", "solver", "claim", "search", "figure", "report",
+               "timing", "limits", "diff"},
+              "the scene");
   Scene scene;
   scene.path = path;
   scene.name = root.get("name") ? reader.string(*root.get("name"), "name") : path;
@@ -930,6 +930,25 @@ Scene parse_scene(std::string_view text, const std::string& path) {
       reader.require(seconds > 0 && seconds <= 86400, *node, "max_seconds must be in (0, 86400]",
                      seconds);
       scene.limits.max_seconds = seconds;
+    }
+  }
+  if (const toml::node* diff = root.get("diff")) {
+    const toml::table& table = reader.table(*diff, "[diff]");
+    reader.only(table, {"error_factor", "work_factor", "time_factor", "time_floor"}, "[diff]");
+    auto factor = [&](const char* key, double& into) {
+      if (const toml::node* node = table.get(key)) {
+        into = reader.number(*node, key);
+        reader.require(into > 1 && into <= 1e6, *node, std::string(key) + " must be in (1, 1e6]",
+                       into);
+      }
+    };
+    factor("error_factor", scene.diff.error_factor);
+    factor("work_factor", scene.diff.work_factor);
+    factor("time_factor", scene.diff.time_factor);
+    if (const toml::node* node = table.get("time_floor")) {
+      scene.diff.time_floor = reader.number(*node, "time_floor");
+      reader.require(scene.diff.time_floor >= 0 && scene.diff.time_floor <= 86400, *node,
+                     "time_floor must be in [0, 86400] seconds", scene.diff.time_floor);
     }
   }
   if (const toml::node* timing = root.get("timing")) {

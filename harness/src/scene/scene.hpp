@@ -26,6 +26,8 @@
 //     [[figure]]  kind (figures.hpp), solver, rtol, atol, p, e, alpha_eff: the seed's figures
 //     [report]    formats = ["json", "csv", "md", "html"]
 //     [timing]    repeats = 3   (wall time of a run: the minimum over repeats)
+//     [diff]      error_factor = 10, work_factor = 1.5, time_factor = 2, time_floor = 0.005:
+//                 when `pldamp diff` calls a change a regression (judge/diff.hpp)
 //     [limits]    max_steps = 1000000, max_seconds = 30 (each solve's budget: a solve that spends
 //                 it is a failed record, step_limit or time_limit, and the run goes on);
 //                 max_runs = 1000000 (a larger plan is refused before any work)
@@ -186,6 +188,14 @@ struct Limits {
   long max_runs = 1000000;  // solver runs of the plan (onset phases and repeats included)
 };
 
+// When `pldamp diff` calls a difference a regression ([diff]; its flags override).
+struct DiffThresholds {
+  double error_factor = 10; // an error grown more than this
+  double work_factor = 1.5; // rhs_evals or steps grown more than this
+  double time_factor = 2;   // a configuration's time grown more than this ...
+  double time_floor = 5e-3; // ... when it took at least this many seconds
+};
+
 struct Scene {
   std::string path, name;
   solvers::End end = solvers::End::overlap;
@@ -199,6 +209,7 @@ struct Scene {
                                     ReportFormat::html};
   int repeats = 1;
   Limits limits;
+  DiffThresholds diff;
 };
 
 // The contact-end rule a configuration runs under: its own, or the scene's.
