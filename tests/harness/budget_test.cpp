@@ -1,7 +1,16 @@
-// Budgets and claims: the arithmetic on records made by hand.
+// Budgets and claims: the arithmetic on records made by hand; the cost by regime, the worst cell,
+// the quantile of a bound claim; the timing of repeats; a search's answer checked by solves of
+// its own.
 #include "fixtures.hpp"
 
+#include "judge/search.hpp"
+#include "judge/solve.hpp"
+
+#include "pldamp/analytic/observables.hpp"
+
 #include <gtest/gtest.h>
+
+#include <cmath>
 
 namespace pldamp::harness {
 namespace {
@@ -35,6 +44,129 @@ TEST(Budgets, ArithmeticOnHandMadeRecords) {
   EXPECT_FALSE(f.claims[0].holds);
   EXPECT_EQ(f.claims[0].failed_cells, 1);
   EXPECT_EQ(f.failed_records, 1);
+}
+
+TEST(Budgets, NameTheirWorstCellAndSplitCostByRegime) {
+  const HandMade h = hand_made();
+  const Budgets b = make_budgets(h.plan, h.records);
+  // e's largest relative error 5e-4 is cell 1 (e = 0.5, v0 = 10); δ_max's 7e-6 is cell 2.
+  EXPECT_EQ(b.worst[0][0].cell, "p = 2, e = 0.5, v0 = 10, m = 1, k = 1");
+  EXPECT_EQ(b.worst[0][1].cell, "p = 2, alpha_eff = 2, v0 = 1, m = 1, k = 1");
+  // Cells 0, 1 underdamped (rhs 100, 200; 1 and 3 ms), 2, 3 overdamped (300, 400; 2 and 6 ms).
+  const Cost& cost = b.cost[0];
+  EXPECT_EQ(cost.underdamped.cells, 2);
+  EXPECT_EQ(cost.overdamped.cells, 2);
+  EXPECT_DOUBLE_EQ(cost.underdamped.rhs_evals, 150);
+  EXPECT_DOUBLE_EQ(cost.overdamped.rhs_evals, 350);
+  EXPECT_DOUBLE_EQ(cost.underdamped.seconds, 2e-3);
+  EXPECT_DOUBLE_EQ(cost.overdamped.seconds_slowest, 1.5 * 4e-3);
+}
+
+TEST(Budgets, ABoundClaimOnTheRelativeErrorAtAQuantile) {
+  HandMade h = hand_made();
+  Claim claim = h.plan.scene.claims.front();
+  claim.observable = "delta_max";
+  claim.relative = true;
+  claim.quantile = 0.5; // nearest rank: the 2nd smallest of {3e-6, 1e-6, 7e-6, 2e-6}
+  claim.bound = 2.5e-6;
+  h.plan.scene.claims = {claim};
+  const Budgets b = make_budgets(h.plan, h.records);
+  EXPECT_EQ(b.claims[0].measured, 2e-6);
+  EXPECT_TRUE(b.claims[0].holds);
+  EXPECT_EQ(b.claims[0].worst, "p = 2, alpha_eff = 2, v0 = 10, m = 1, k = 1");
+  EXPECT_EQ(b.claims[0].meaning,
+            "the 0.5 quantile of the relative error over the grid; margin = bound / measured");
+  h.plan.scene.claims.front().quantile = 0.75; // the 3rd: 3e-6, above the bound
+  EXPECT_FALSE(make_budgets(h.plan, h.records).claims[0].holds);
+}
+
+TEST(Budgets, NearestRankCountsNaNAsTheLargest) {
+  const std::vector<double> values{3, NAN, 1, 2};
+  EXPECT_EQ(nearest_rank(values, 1), 1u);
+  EXPECT_EQ(nearest_rank(values, 0.75), 0u);
+  EXPECT_EQ(nearest_rank(values, 0.5), 3u);
+  EXPECT_EQ(nearest_rank(values, 0.01), 2u);
+}
+
+TEST(Run, TheReportedTimeIsTheFastestRepeat) {
+  RepeatTimes times;
+  for (const double seconds : {3e-6, 1e-6, 2e-6}) {
+    times.add(seconds);
+  }
+  EXPECT_EQ(times.fastest, 1e-6);
+  EXPECT_EQ(times.slowest, 3e-6);
+  // Through a run of 5 repeats: each record's time is its fastest, never above its slowest, and
+  // over 20 records the two differ somewhere (timing noise is never zero).
+  Scene scene = parse_scene(R"(want = ["e"]
+[grid]
+p = [1.5, 2.0]
+e = [0.3, 0.9]
+v0 = [0.5, 1.0, 2.0, 4.0, 8.0]
+[[solver]]
+name = "cvode-bdf"
+rtol = 1e-8
+[timing]
+repeats = 5
+)",
+                            "repeats.toml");
+  const Plan plan = make_plan(scene);
+  RunTotals totals;
+  const std::vector<Record> records = run_plan(plan, 1, totals);
+  ASSERT_EQ(records.size(), 20u);
+  EXPECT_EQ(totals.solver_runs, 100);
+  long apart = 0;
+  for (const Record& record : records) {
+    EXPECT_GT(record.wall_seconds, 0);
+    EXPECT_LE(record.wall_seconds, record.wall_seconds_slowest);
+    apart += record.wall_seconds < record.wall_seconds_slowest ? 1 : 0;
+  }
+  EXPECT_GT(apart, 0);
+}
+
+// e's relative error of one solve against the closed form (α as the solver receives it).
+double e_error(const SolverConfig& config, double p, double e_target) {
+  const analytic::Contact<Exact> contact =
+      analytic::Contact<Exact>::from_e(Exact(p), Exact(e_target), Exact(1));
+  const double alpha = static_cast<double>(contact.alpha());
+  const analytic::Contact<Exact> received =
+      analytic::Contact<Exact>::from_alpha(Exact(p), Exact(alpha), Exact(1));
+  const Exact truth = *analytic::observables(received, analytic::want_e).e;
+  const solvers::Result<double> r = solve_once(config, Inputs{p, alpha}, solvers::want_e, Limits{});
+  return static_cast<double>(abs(Exact(*r.e) - truth) / truth);
+}
+
+TEST(Search, TheLoosestStepCountKeepsTheBoundAndOneFewerBreaksIt) {
+  Scene scene = parse_scene(R"(want = ["e"]
+[grid]
+p = [1.5, 2.5]
+e = [0.5]
+v0 = [1.0]
+[[search]]
+name = "verlet"
+solver = "verlet-predicted"
+parameter = "steps_per_contact"
+range = [10, 4000]
+observable = "e"
+bound_rel = 1e-3
+)",
+                            "search.toml");
+  const SearchResult result = run_search(scene, scene.searches.front(), 1);
+  ASSERT_EQ(result.groups.size(), 2u);
+  for (std::size_t i = 0; i < 2; ++i) {
+    const SearchGroup& group = result.groups[i];
+    const double p = scene.p[i];
+    ASSERT_TRUE(group.loosest && group.failing) << group.group << ": " << group.note;
+    EXPECT_EQ(*group.failing, *group.loosest - 1) << group.group; // neighbours
+    SolverConfig config = scene.searches.front().config;
+    config.steps_per_contact = static_cast<int>(*group.loosest);
+    const double kept = e_error(config, p, 0.5);
+    EXPECT_LE(kept, 1e-3) << group.group;
+    EXPECT_DOUBLE_EQ(kept, *group.measured) << group.group;
+    config.steps_per_contact = static_cast<int>(*group.failing);
+    EXPECT_GT(e_error(config, p, 0.5), 1e-3) << group.group;
+    EXPECT_EQ(group.solver_runs, group.trials); // one cell per group
+  }
+  EXPECT_EQ(result.solver_runs, result.groups[0].solver_runs + result.groups[1].solver_runs);
 }
 
 } // namespace

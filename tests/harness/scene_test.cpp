@@ -114,6 +114,27 @@ v0 = [1.0]
        "15: bound must be > 0 (got -1)"},
       {"end = \"sideways\"\n" + valid_scene,
        "1: unknown contact end, expected overlap|force (got sideways)"},
+      {valid_scene + "[[claim]]\nname = \"c\"\nobservable = \"e\"\nsolver = \"cvode-bdf\"\n"
+                     "rtol = 1e-6\nbound = 1e-5\nbound_rel = 1e-3\n",
+       "15: [[claim]] needs one of bound (absolute error) and bound_rel (relative error)"},
+      {valid_scene + "[[claim]]\nname = \"c\"\nobservable = \"e\"\nsolver = \"cvode-bdf\"\n"
+                     "rtol = 1e-6\nbound_rel = 1e-3\nquantile = 0\n",
+       "16: quantile must be in (0, 1] (got 0)"},
+      {valid_scene + "[diff]\nerror_factor = 1\n", "11: error_factor must be in (1, 1e6] (got 1)"},
+      {valid_scene + "[diff]\ntime_floor = -1\n",
+       "11: time_floor must be in [0, 86400] seconds (got -1)"},
+      {valid_scene + "[[search]]\nname = \"s\"\nsolver = \"verlet-predicted\"\nparameter = "
+                     "\"rtol\"\nrange = [1e-8, 1e-3]\nobservable = \"e\"\nbound = 1e-3\n",
+       "13: verlet-predicted takes a fixed step: search steps_per_contact or dt (got rtol)"},
+      {valid_scene + "[[search]]\nname = \"s\"\nsolver = \"cvode-bdf\"\nparameter = \"rtol\"\n"
+                     "range = [1e-8]\nobservable = \"e\"\nbound = 1e-3\n",
+       "14: range must be [from, to], two different values of rtol in (0, 1)"},
+      {valid_scene + "[[search]]\nname = \"s\"\nsolver = \"cvode-bdf\"\nparameter = \"rtol\"\n"
+                     "range = [1e-8, 1e-3]\nobservable = \"e\"\n",
+       "10: [[search]] needs one of bound (absolute error) and bound_rel (relative error)"},
+      {valid_scene + "[[search]]\nname = \"s\"\nsolver = \"cvode-bdf\"\nparameter = \"rtol\"\n"
+                     "range = [1e-8, 1e-3]\nobservable = \"e\"\nbound = 1e-3\nrtol = 1e-6\n",
+       "17: [[search]] sets rtol per trial: give its range, not a value"},
       {valid_scene + "[timing]\nrepeats = 0\n",
        "11: repeats must be an integer in [1, 100] (got 0)"},
       {valid_scene + "[[claim]]\nname = \"no solver\"\nobservable = \"e\"\nbound = 1e-5\n",

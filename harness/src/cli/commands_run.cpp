@@ -136,7 +136,11 @@ double planned_runs(const Scene& scene) {
     claim_runs +=
         solves * (cells(claim.grid) + (claim.denser ? cells(denser_grid(claim.grid)) : 0));
   }
-  return grid_cells(scene) * per_cell * scene.repeats + claim_runs;
+  double search_runs = 0;
+  for (const Search& search : scene.searches) {
+    search_runs += search_runs_estimate(search);
+  }
+  return grid_cells(scene) * per_cell * scene.repeats + claim_runs + search_runs;
 }
 
 // The report at `path`, read whole and checked (judge/diff.hpp).
@@ -200,7 +204,11 @@ int run_scene(const RunArgs& args, std::ostream& out, std::ostream& err) {
                      scene.name, cells, double(scene.configs.size()),
                      grid_claims > 0 ? fmt::format(", {} claims on grids of their own", grid_claims)
                                      : "",
-                     runs, grid_claims > 0 ? " and the claims' solves, estimated" : "", megabytes)
+                     runs,
+                     grid_claims > 0 || !scene.searches.empty()
+                         ? " and the claims' and searches' solves, estimated"
+                         : "",
+                     megabytes)
       << std::flush;
   const StopOnSignals signals;
   const Plan plan = make_plan(scene);
@@ -236,6 +244,16 @@ int run_scene(const RunArgs& args, std::ostream& out, std::ostream& err) {
       out << "; on the denser grid it " << (v.denser->holds ? "holds" : "fails");
     }
     out << "\n";
+  }
+  for (const SearchResult& search : budgets.searches) {
+    for (const SearchGroup& group : search.groups) {
+      out << "search " << search.name << ", " << group.group << ": "
+          << (group.loosest ? fmt::format("{} = {:.3g}", search.parameter, *group.loosest)
+                            : std::string("none in the range"))
+          << (group.failing ? fmt::format(" (breaks at {:.3g})", *group.failing) : "")
+          << fmt::format(", {} solver runs", group.solver_runs)
+          << (group.note.empty() ? "" : "; " + group.note) << "\n";
+    }
   }
   for (const Figure& figure : figures) {
     if (!figure.failure.empty()) {

@@ -9,6 +9,8 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <numeric>
+#include <thread>
 
 namespace pldamp::harness {
 namespace {
@@ -29,13 +31,27 @@ void conclude(Verdict& verdict, const std::optional<double>& measured, const Sce
   }
 }
 
-// A DEM code's calibration, by the closed forms: |e it gives − target| over the grid's targets
-// (and the p it has a model for).
+// The claim's measurement over its cells' errors (`where` names each cell): the largest, or the
+// quantile it asks for (nearest rank), and the cell it comes from.
+void conclude_errors(Verdict& verdict, const Claim& claim, const std::vector<double>& errors,
+                     const std::vector<std::string>& where, const Scene& scene) {
+  std::optional<double> measured;
+  if (!errors.empty()) {
+    const std::size_t at = nearest_rank(errors, claim.quantile);
+    measured = std::isnan(errors[at]) ? std::numeric_limits<double>::infinity() : errors[at];
+    verdict.worst = where[at];
+  }
+  conclude(verdict, measured, scene);
+}
+
+// A DEM code's calibration, by the closed forms: |e it gives − target| (relative: over the
+// target) over the grid's targets (and the p it has a model for).
 Verdict judge_convention(const Plan& plan, const Claim& claim) {
   const analytic::Convention& convention = *analytic::find_convention(*claim.convention);
   Verdict verdict = verdict_of(claim);
   const bool cut = analytic::capped(convention, claim.limit_damping);
-  std::optional<double> measured;
+  std::vector<double> errors;
+  std::vector<std::string> where;
   for (const Point& point : plan.points) {
     const bool model = (convention.linear && point.p == 1) || (convention.hertz && point.p == 1.5);
     if (!model || point.damping.kind != Damping::Kind::e) {
@@ -43,13 +59,11 @@ Verdict judge_convention(const Plan& plan, const Claim& claim) {
     }
     const Exact p(point.p), target(point.damping.value);
     const Exact given = analytic::e_given(p, analytic::alpha_set(convention, p, target), cut);
-    const double error = static_cast<double>(abs(given - target));
-    if (!measured || error > *measured) {
-      verdict.worst = fmt::format("p = {:g}, {}", point.p, damping_text(point.damping));
-    }
-    raise(measured, error);
+    const Exact error = abs(given - target);
+    errors.push_back(static_cast<double>(claim.relative ? error / target : error));
+    where.push_back(fmt::format("p = {:g}, {}", point.p, damping_text(point.damping)));
   }
-  conclude(verdict, measured, plan.scene);
+  conclude_errors(verdict, claim, errors, where, plan.scene);
   return verdict;
 }
 
@@ -64,7 +78,8 @@ Verdict judge(const Plan& plan, const std::vector<Record>& records, const Claim&
       std::find_if(plan.observables.begin(), plan.observables.end(),
                    [&](const Observable* o) { return o->key == claim.observable; }) -
       plan.observables.begin());
-  std::optional<double> measured;
+  std::vector<double> errors;
+  std::vector<std::string> where;
   for (const Record& record : records) {
     if (record.config != config) {
       continue;
@@ -72,17 +87,30 @@ Verdict judge(const Plan& plan, const std::vector<Record>& records, const Claim&
     if (record.failed()) {
       ++verdict.failed_cells;
     }
-    const std::optional<double>& error = record.abs_error[observable];
-    if (error && (!measured || !(*error <= *measured))) {
-      verdict.worst = cell_text(plan, plan.cells[record.cell]);
+    const std::optional<double>& error =
+        (claim.relative ? record.rel_error : record.abs_error)[observable];
+    if (error) {
+      errors.push_back(*error);
+      where.push_back(cell_text(plan, plan.cells[record.cell]));
     }
-    raise(measured, error);
   }
-  conclude(verdict, measured, plan.scene);
+  conclude_errors(verdict, claim, errors, where, plan.scene);
   return verdict;
 }
 
 } // namespace
+
+std::size_t nearest_rank(const std::vector<double>& values, double quantile) {
+  std::vector<std::size_t> order(values.size());
+  std::iota(order.begin(), order.end(), std::size_t{0});
+  const auto key = [&](std::size_t i) {
+    return std::isnan(values[i]) ? std::numeric_limits<double>::infinity() : values[i];
+  };
+  std::stable_sort(order.begin(), order.end(),
+                   [&](std::size_t a, std::size_t b) { return key(a) < key(b); });
+  const auto rank = static_cast<std::size_t>(std::ceil(quantile * double(values.size())));
+  return order[std::clamp<std::size_t>(rank, 1, values.size()) - 1];
+}
 
 std::string cell_text(const Plan& plan, const Cell& cell) {
   const Point& point = plan.points[cell.point];
@@ -208,6 +236,10 @@ Budgets make_budgets(const Plan& plan, const std::vector<Record>& records) {
   for (const Claim& claim : plan.scene.claims) {
     budgets.claims.push_back(claim.kind == ClaimKind::bound ? judge(plan, records, claim)
                                                             : judge_on_grid(plan.scene, claim));
+  }
+  const int jobs = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+  for (const Search& search : plan.scene.searches) {
+    budgets.searches.push_back(run_search(plan.scene, search, jobs));
   }
   budgets.steps = make_step_study(plan, records);
   return budgets;

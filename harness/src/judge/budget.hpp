@@ -1,6 +1,7 @@
 // Error budgets, work-precision points and claim verdicts from a run's records.
 #pragma once
 
+#include "judge/search.hpp"
 #include "judge/step_study.hpp"
 #include "run/run.hpp"
 
@@ -86,11 +87,16 @@ struct Budgets {
   std::vector<std::vector<WorkPoint>> work;
   std::vector<Cost> cost; // cost[config]
   std::vector<Verdict> claims;
+  std::vector<SearchResult> searches;
   StepStudy steps; // the time-step study of fixed-step sweeps (empty without one)
   long failed_records = 0;
 };
 
 Budgets make_budgets(const Plan& plan, const std::vector<Record>& records);
+
+// The index of the `quantile` of `values` by nearest rank (the ⌈q·n⌉-th smallest; NaN counts as
+// the largest; q = 1: the largest). `values` must not be empty.
+std::size_t nearest_rank(const std::vector<double>& values, double quantile);
 
 // A cell as reports name it: "p = 1.5, e = 0.5, v0 = 1, m = 1, k = 1".
 std::string cell_text(const Plan& plan, const Cell& cell);

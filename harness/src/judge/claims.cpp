@@ -562,7 +562,7 @@ Verdict verdict_of(const Claim& claim) {
   v.figure = claim.figure.value_or("");
   v.expect_holds = claim.expect_holds;
   v.bound = claim.bound;
-  v.meaning = std::string(measure_meaning(claim));
+  v.meaning = measure_meaning(claim);
   v.worse_when_lower =
       claim.kind == ClaimKind::asymptotic || claim.kind == ClaimKind::stability ||
       (claim.kind == ClaimKind::relation && claim.relation != Relation::equal_within);
@@ -594,10 +594,13 @@ Verdict verdict_of(const Claim& claim) {
   return v;
 }
 
-std::string_view measure_meaning(const Claim& claim) {
+std::string measure_meaning(const Claim& claim) {
   switch (claim.kind) {
   case ClaimKind::bound:
-    return "the largest absolute error over the grid; margin = bound / measured";
+    return fmt::format("the {} {} error over the grid; margin = bound / measured",
+                       claim.quantile == 1 ? std::string("largest")
+                                           : fmt::format("{:g} quantile of the", claim.quantile),
+                       claim.relative ? "relative" : "absolute");
   case ClaimKind::relation:
     if (claim.relation == Relation::equal_within) {
       return claim.absolute ? "the largest |quantity - formula|; margin = tolerance / measured"

@@ -40,7 +40,7 @@ std::string damping_text(const Damping& d);
 Verdict verdict_of(const Claim& claim);
 
 // What a claim kind's measured value and margin are, for the reports.
-std::string_view measure_meaning(const Claim& claim);
+std::string measure_meaning(const Claim& claim);
 
 // The grid text of a verdict: "p in {1, 1.5, 2} x e in [0.1, 0.99] (10 values): 30 cells".
 std::string grid_text(const ClaimGrid& grid);

@@ -537,6 +537,11 @@ std::string report_html(const RunReport& report, const std::string& gnuplot_prog
       out << figure_html(work_precision_plot(gnuplot, report, i, Axis::time, true));
     }
   }
+  if (!budgets.searches.empty()) {
+    out << "<h2>Searches: the loosest setting that keeps a bound</h2>\n"
+        << html_table(search_table(report)) << "<p class='read'>"
+        << escape(search_table_note(report)) << "</p>\n";
+  }
   out << "<h2>Worst relative error over the grid</h2>\n"
       << html_table(error_table(report)) << "<h2>Cost per cell</h2>\n"
       << html_table(cost_table(report));

@@ -278,6 +278,9 @@ ordered_json report_json(const RunReport& report) {
   for (const Claim& claim : plan.scene.claims) {
     scene["claims"].push_back(claim.name);
   }
+  for (const Search& search : plan.scene.searches) {
+    scene["searches"].push_back(search.name);
+  }
   // What the scene computes, whatever its name, path, timing or report formats: two reports of
   // one fingerprint can be diffed record by record.
   scene["fingerprint"] = fingerprint(scene.dump());
@@ -331,6 +334,30 @@ ordered_json report_json(const RunReport& report) {
       }
     }
     out["claims"].push_back(claim);
+  }
+  out["searches"] = ordered_json::array();
+  for (const SearchResult& search : budgets.searches) {
+    ordered_json groups = ordered_json::array();
+    for (const SearchGroup& group : search.groups) {
+      groups.push_back({{"group", group.group},
+                        {"loosest", number_or_null(group.loosest)},
+                        {"failing", number_or_null(group.failing)},
+                        {"measured", number_or_null(group.measured)},
+                        {"worst", group.worst},
+                        {"trials", group.trials},
+                        {"solver_runs", group.solver_runs},
+                        {"note", group.note}});
+    }
+    out["searches"].push_back({{"name", search.name},
+                               {"where", search.where},
+                               {"quote", search.quote},
+                               {"solver", search.line},
+                               {"parameter", search.parameter},
+                               {"observable", search.observable},
+                               {"measured", search.measure},
+                               {"bound", search.bound},
+                               {"solver_runs", search.solver_runs},
+                               {"groups", groups}});
   }
   ordered_json worst = ordered_json::array(), maps = ordered_json::array(),
                work = ordered_json::array(), cost = ordered_json::array();
@@ -563,6 +590,41 @@ std::string budget_table_note(const Plan& plan) {
       short_number(mean_analytic_seconds(plan) * 1e6, 2));
 }
 
+MapTable search_table(const RunReport& report) {
+  MapTable table;
+  table.header = {
+      "search", "group",       "loosest value", "first value beyond", "measured there", "bound",
+      "trials", "solver runs", "note"};
+  for (const SearchResult& search : report.budgets.searches) {
+    for (const SearchGroup& group : search.groups) {
+      table.rows.push_back(
+          {search.name, group.group,
+           group.loosest ? fmt::format("{} = {:.3g}", search.parameter, *group.loosest)
+                         : "none in the range",
+           group.failing ? fmt::format("{:.3g}", *group.failing) : "–",
+           short_number(group.measured, 2) + (group.worst.empty() ? "" : " at " + group.worst),
+           short_number(search.bound), std::to_string(group.trials),
+           std::to_string(group.solver_runs), group.note.empty() ? "–" : group.note});
+    }
+  }
+  return table;
+}
+
+std::string search_table_note(const RunReport& report) {
+  std::string out;
+  for (const SearchResult& search : report.budgets.searches) {
+    out += fmt::format(
+        "{}{}: {} of {}, keeping {} at most {:g}{}.", out.empty() ? "" : " ", search.name,
+        search.parameter, search.line, search.measure, search.bound,
+        search.quote.empty() ? "" : fmt::format(" (\"{}\", {})", search.quote, search.where));
+  }
+  return out + (out.empty()
+                    ? ""
+                    : " By bisection on the parameter's logarithm, assuming the error grows "
+                      "as it loosens: the loosest value kept the bound, the next one "
+                      "tried broke it.");
+}
+
 MapTable error_table(const RunReport& report) {
   const Plan& plan = report.plan;
   MapTable table;
@@ -657,6 +719,11 @@ std::string report_markdown(const RunReport& report) {
           << "\n";
     }
     out << "\n";
+  }
+  if (!budgets.searches.empty()) {
+    out << "## Searches: the loosest setting that keeps a bound\n\n"
+        << markdown_table(search_table(report)) << "\n"
+        << search_table_note(report) << "\n\n";
   }
   out << "## Worst relative error over the grid\n\n"
       << markdown_table(error_table(report)) << "\n## Cost per cell\n\n"

@@ -101,6 +101,9 @@ std::vector<ClaimRow> claim_rows(const RunReport& report);
 // repeat, the slowest's excess over it, the multiple of the closed forms' time).
 MapTable error_table(const RunReport& report);
 MapTable cost_table(const RunReport& report);
+// The searches' answers, one row per group, and what they searched.
+MapTable search_table(const RunReport& report);
+std::string search_table_note(const RunReport& report);
 // What the two tables' columns mean, a paragraph under them.
 std::string budget_table_note(const Plan& plan);
 

@@ -92,6 +92,9 @@ void solve_record(const Plan& plan, Record& record) {
   if (config.steps_per_contact) {
     options.steps_per_contact = *config.steps_per_contact;
   }
+  if (config.dt) {
+    options.fixed_step = Real(*config.dt);
+  }
   // Every onset phase k/n; the record keeps, per observable, the phase with the largest error.
   const std::size_t observables = plan.observables.size();
   record.phases = config.onset_phases;

@@ -100,6 +100,13 @@ public:
     }
     return {string(node, what)};
   }
+  // The entries of an array of tables, [[key]].
+  const toml::array& entries(const toml::node& node, const std::string& key) const {
+    if (const toml::array* list = node.as_array()) {
+      return *list;
+    }
+    fail(node, key + " must be an array of tables ([[" + key + "]])");
+  }
   const toml::table& table(const toml::node& node, const std::string& what) const {
     if (const toml::table* t = node.as_table()) {
       return *t;
@@ -247,11 +254,7 @@ void check_config(const Reader& reader, const toml::node& node, const Scene& sce
 }
 
 void read_solvers(const Reader& reader, const toml::node& node, Scene& scene) {
-  const toml::array* entries = node.as_array();
-  if (entries == nullptr) {
-    reader.fail(node, "solver must be an array of tables ([[solver]])");
-  }
-  for (const toml::node& item : *entries) {
+  for (const toml::node& item : reader.entries(node, "solver")) {
     const toml::table& entry = reader.table(item, "[[solver]]");
     reader.only(entry,
                 {"name", "rtol", "atol", "precision", "steps_per_contact", "end", "onset_phases"},
@@ -308,7 +311,7 @@ void read_convention_claim(const Reader& reader, const toml::table& entry, const
                            const toml::node& node, Scene& scene, Claim& claim) {
   reader.only(entry,
               {"name", "kind", "where", "quote", "figure", "expect", "observable", "convention",
-               "limit_damping", "bound"},
+               "limit_damping", "bound", "bound_rel", "quantile"},
               "[[claim]]");
   const std::string name = reader.string(node, "convention");
   const analytic::Convention* convention = analytic::find_convention(name);
@@ -390,6 +393,27 @@ void read_grid_lists(const Reader& reader, const toml::table& table, ClaimGrid& 
     for (const double z : zs) {
       grid.damping.push_back({Damping::Kind::alpha_eff, z});
     }
+  }
+}
+
+// A bound on an error: `bound` (absolute) or `bound_rel` (relative), one of them, and the
+// quantile of the cells it holds over (default 1: every cell).
+void read_error_bound(const Reader& reader, const toml::table& entry, const toml::node& item,
+                      const std::string& where, double& bound, bool& relative, double& quantile) {
+  const toml::node* absolute = entry.get("bound");
+  const toml::node* rel = entry.get("bound_rel");
+  if ((absolute == nullptr) == (rel == nullptr)) {
+    reader.fail(absolute != nullptr ? *absolute : item,
+                where + " needs one of bound (absolute error) and bound_rel (relative error)");
+  }
+  relative = rel != nullptr;
+  const toml::node& node = relative ? *rel : *absolute;
+  bound = reader.number(node, relative ? "bound_rel" : "bound");
+  reader.require(bound > 0, node, std::string(relative ? "bound_rel" : "bound") + " must be > 0",
+                 bound);
+  if (const toml::node* q = entry.get("quantile")) {
+    quantile = reader.number(*q, "quantile");
+    reader.require(quantile > 0 && quantile <= 1, *q, "quantile must be in (0, 1]", quantile);
   }
 }
 
@@ -556,11 +580,7 @@ void read_grid_claim(const Reader& reader, const toml::table& entry, const toml:
 }
 
 void read_claims(const Reader& reader, const toml::node& node, Scene& scene) {
-  const toml::array* entries = node.as_array();
-  if (entries == nullptr) {
-    reader.fail(node, "claim must be an array of tables ([[claim]])");
-  }
-  for (const toml::node& item : *entries) {
+  for (const toml::node& item : reader.entries(node, "claim")) {
     const toml::table& entry = reader.table(item, "[[claim]]");
     Claim claim;
     if (entry.get("name") == nullptr) {
@@ -590,21 +610,19 @@ void read_claims(const Reader& reader, const toml::node& node, Scene& scene) {
       read_grid_claim(reader, entry, item, scene, claim);
       continue;
     }
-    for (const char* key : {"observable", "bound"}) {
-      if (entry.get(key) == nullptr) {
-        reader.fail(item, std::string("[[claim]] needs ") + key);
-      }
+    if (entry.get("observable") == nullptr) {
+      reader.fail(item, "[[claim]] needs observable");
     }
     claim.observable = reader.string(*entry.get("observable"), "observable");
-    claim.bound = reader.number(*entry.get("bound"), "bound");
-    reader.require(claim.bound > 0, *entry.get("bound"), "bound must be > 0", claim.bound);
+    read_error_bound(reader, entry, item, "[[claim]]", claim.bound, claim.relative, claim.quantile);
     if (const toml::node* convention = entry.get("convention")) {
       read_convention_claim(reader, entry, item, *convention, scene, claim);
       continue;
     }
     reader.only(entry,
                 {"name", "kind", "where", "quote", "figure", "expect", "observable", "solver",
-                 "rtol", "atol", "precision", "steps_per_contact", "end", "onset_phases", "bound"},
+                 "rtol", "atol", "precision", "steps_per_contact", "end", "onset_phases", "bound",
+                 "bound_rel", "quantile"},
                 "[[claim]]");
     claim.config = base_config(reader, entry, "solver", "[[claim]]", item);
     const std::vector<std::optional<solvers::End>> ends = read_ends(reader, entry);
@@ -645,12 +663,101 @@ void read_claims(const Reader& reader, const toml::node& node, Scene& scene) {
   }
 }
 
-void read_figures(const Reader& reader, const toml::node& node, Scene& scene) {
-  const toml::array* entries = node.as_array();
-  if (entries == nullptr) {
-    reader.fail(node, "figure must be an array of tables ([[figure]])");
+void read_searches(const Reader& reader, const toml::node& node, Scene& scene) {
+  for (const toml::node& item : reader.entries(node, "search")) {
+    const toml::table& entry = reader.table(item, "[[search]]");
+    reader.only(entry, {"name",      "where",     "quote",      "solver",
+                        "precision", "atol",      "rtol",       "steps_per_contact",
+                        "parameter", "range",     "observable", "bound",
+                        "bound_rel", "quantile",  "group_by",   "p",
+                        "e",         "alpha_eff", "v0",         "m",
+                        "k"},
+                "[[search]]");
+    Search search;
+    for (const char* key : {"name", "parameter", "range", "observable"}) {
+      if (entry.get(key) == nullptr) {
+        reader.fail(item, std::string("[[search]] needs ") + key);
+      }
+    }
+    search.name = reader.string(*entry.get("name"), "search name");
+    for (const char* key : {"where", "quote"}) {
+      if (const toml::node* text = entry.get(key)) {
+        (key[0] == 'w' ? search.where : search.quote) = reader.string(*text, key);
+      }
+    }
+    search.config = base_config(reader, entry, "solver", "[[search]]", item);
+    const solvers::SolverInfo& info = solvers::solver_named(search.config.name);
+    search.parameter = keyword(reader, *entry.get("parameter"), search_parameters, "parameter");
+    const bool fixed = search.parameter != SearchParameter::rtol;
+    if (fixed != info.fixed_step) {
+      reader.fail(*entry.get("parameter"),
+                  search.config.name +
+                      (info.fixed_step ? " takes a fixed step: search steps_per_contact or dt"
+                                       : " controls its error: search rtol") +
+                      " (got " + std::string(name_of(search_parameters, search.parameter)) + ")");
+    }
+    for (const char* key : {"rtol", "steps_per_contact"}) {
+      if (entry.get(key) != nullptr) {
+        reader.fail(*entry.get(key), std::string("[[search]] sets ") + key +
+                                         " per trial: give its range, not a value");
+      }
+    }
+    const toml::node& range = *entry.get("range");
+    const std::vector<double> ends = reader.numbers(range, "range");
+    const auto valid = [&](double x) {
+      switch (search.parameter) {
+      case SearchParameter::rtol:
+        return x > 0 && x < 1;
+      case SearchParameter::steps_per_contact:
+        return x >= 1 && x <= 1e9 && x == std::floor(x);
+      case SearchParameter::dt:
+        break;
+      }
+      return x > 0 && x < 1e300;
+    };
+    if (ends.size() != 2 || !valid(ends[0]) || !valid(ends[1]) || ends[0] == ends[1]) {
+      reader.fail(range,
+                  "range must be [from, to], two different values of " +
+                      std::string(name_of(search_parameters, search.parameter)) +
+                      (search.parameter == SearchParameter::rtol ? " in (0, 1)"
+                       : search.parameter == SearchParameter::dt ? " > 0"
+                                                                 : ", integers in [1, 1e9]"));
+    }
+    // Tightest first: the smaller rtol or Δt, the more steps per contact.
+    const bool more_is_tighter = search.parameter == SearchParameter::steps_per_contact;
+    const double tight = more_is_tighter ? std::max(ends[0], ends[1]) : std::min(ends[0], ends[1]);
+    search.range = {tight, ends[0] == tight ? ends[1] : ends[0]};
+    search.observable = reader.string(*entry.get("observable"), "observable");
+    const std::vector<const Observable*> wanted = observables_of(scene.want);
+    if (std::none_of(wanted.begin(), wanted.end(), [&](const Observable* observable) {
+          return observable->key == search.observable;
+        })) {
+      reader.fail(*entry.get("observable"),
+                  "search observable must be one the scene wants (got " + search.observable + ")");
+    }
+    read_error_bound(reader, entry, item, "[[search]]", search.bound, search.relative,
+                     search.quantile);
+    if (const toml::node* groups = entry.get("group_by")) {
+      search.group_by = keyword(reader, *groups, search_groups, "group_by");
+    }
+    search.grid = ClaimGrid{scene.p, scene.v0, scene.m, scene.k, scene.damping};
+    read_grid_lists(reader, entry, search.grid);
+    if (search.parameter == SearchParameter::rtol) { // the tightest rtol against the precision
+      SolverConfig tightest = search.config;
+      tightest.rtol = search.range[0];
+      Scene cells = scene;
+      cells.p = search.grid.p;
+      cells.v0 = search.grid.v0;
+      cells.m = search.grid.m;
+      cells.k = search.grid.k;
+      check_config(reader, item, cells, tightest);
+    }
+    scene.searches.push_back(search);
   }
-  for (const toml::node& item : *entries) {
+}
+
+void read_figures(const Reader& reader, const toml::node& node, Scene& scene) {
+  for (const toml::node& item : reader.entries(node, "figure")) {
     const toml::table& entry = reader.table(item, "[[figure]]");
     reader.only(entry, {"kind", "solver", "rtol", "atol", "p", "e", "alpha_eff"}, "[[figure]]");
     FigureSpec figure;
@@ -739,6 +846,9 @@ std::string SolverConfig::label() const {
   if (steps_per_contact) {
     out += fmt::format(" n={}", *steps_per_contact);
   }
+  if (dt) {
+    out += fmt::format(" dt={:g}", *dt);
+  }
   if (end) {
     out += " end=" + std::string(name_of(contact_ends, *end));
   }
@@ -752,6 +862,7 @@ std::string SolverConfig::line() const {
   SolverConfig unswept = *this;
   unswept.rtol.reset();
   unswept.steps_per_contact.reset();
+  unswept.dt.reset();
   return unswept.label();
 }
 
@@ -878,6 +989,9 @@ Scene parse_scene(std::string_view text, const std::string& path) {
   if (const toml::node* claims = root.get("claim")) {
     read_claims(reader, *claims, scene);
   }
+  if (const toml::node* searches = root.get("search")) {
+    read_searches(reader, *searches, scene);
+  }
   if (const toml::node* figures = root.get("figure")) {
     read_figures(reader, *figures, scene);
   }
@@ -890,8 +1004,8 @@ Scene parse_scene(std::string_view text, const std::string& path) {
                                           *claim.figure + ", which the scene does not draw");
     }
   }
-  if (scene.configs.empty() && scene.claims.empty()) {
-    reader.fail_at(1, "the scene names no [[solver]] and no [[claim]]");
+  if (scene.configs.empty() && scene.claims.empty() && scene.searches.empty()) {
+    reader.fail_at(1, "the scene names no [[solver]], [[claim]] or [[search]]");
   }
   if (const toml::node* report = root.get("report")) {
     const toml::table& table = reader.table(*report, "[report]");

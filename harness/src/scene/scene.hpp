@@ -23,6 +23,13 @@
 //                   it, default 1: DEM practice runs a fraction of a critical step)
 //                 and for all but bound, a grid of its own (p, e, alpha_eff, v0, m, k; each
 //                 defaults to [grid]'s) and denser = true (also judged ten times denser)
+//                 bound claims: bound (absolute error) or bound_rel (relative), and quantile
+//                 (over the cells, nearest rank; default 1, the worst)
+//     [[search]]  name, where, quote; solver, precision, atol (and rtol or steps_per_contact,
+//                 whichever is not searched); parameter = rtol | steps_per_contact | dt; range =
+//                 [from, to] (either order); observable; bound or bound_rel; quantile; group_by = p
+//                 | damping | point | all (default p); a grid of its own (p, e, alpha_eff, v0, m,
+//                 k; each defaults to [grid]'s)
 //     [[figure]]  kind (figures.hpp), solver, rtol, atol, p, e, alpha_eff: the seed's figures
 //     [report]    formats = ["json", "csv", "md", "html"]
 //     [timing]    repeats = 3   (wall time of a run: the minimum over repeats)
@@ -67,6 +74,7 @@ struct SolverConfig {
   std::optional<double> rtol; // none: the solver's default (a reference: its precision's epsilon)
   std::optional<double> atol;
   std::optional<int> steps_per_contact; // fixed-step solvers
+  std::optional<double> dt;             // fixed-step solvers: a fixed step instead (searches)
   std::optional<solvers::End> end;      // the contact-end rule, when not the scene's
   int onset_phases = 1; // fixed-step solvers: evenly spaced onset phases k/n, worst reported
   // "cvode-bdf rtol=1e-08", "taylor quad", "dem-verlet n=50 end=force phases=16"
@@ -142,8 +150,41 @@ struct Claim {
   std::array<double, 2> range{1e-4, 1e-2}; // asymptotic: α_eff from, to (log-spaced)
   int points = 9;                          // asymptotic: points over the range, per p
   double fraction = 1; // stability: the bound is this fraction of the formula's Δt
+  // bound: on the relative error (bound_rel) rather than the absolute one, and over the cells'
+  // `quantile` (nearest rank; 1: the worst cell).
+  bool relative = false;
+  double quantile = 1;
   // Judged from the plan's records (a bound on a solver's error), not on a grid of its own.
   bool on_plan() const { return kind == ClaimKind::bound && !convention; }
+};
+
+// The sweep parameter a search loosens.
+enum class SearchParameter { rtol, steps_per_contact, dt };
+inline constexpr NameTable<SearchParameter, 3> search_parameters{
+    {{SearchParameter::rtol, "rtol"},
+     {SearchParameter::steps_per_contact, "steps_per_contact"},
+     {SearchParameter::dt, "dt"}}};
+
+// How a search splits its grid: one answer per p, per damping, per (p, damping), or one for all.
+enum class SearchGroups { p, damping, point, all };
+inline constexpr NameTable<SearchGroups, 4> search_groups{{{SearchGroups::p, "p"},
+                                                           {SearchGroups::damping, "damping"},
+                                                           {SearchGroups::point, "point"},
+                                                           {SearchGroups::all, "all"}}};
+
+// [[search]]: the loosest value of a configuration's sweep parameter that keeps a bound on an
+// observable's error, per group of cells (judge/search.hpp).
+struct Search {
+  std::string name, where, quote;
+  SolverConfig config; // the parameter searched is set per trial
+  SearchParameter parameter = SearchParameter::rtol;
+  std::array<double, 2> range{}; // the values searched: tightest, loosest
+  std::string observable;
+  double bound = 0;
+  bool relative = false; // bound_rel: on the relative error
+  double quantile = 1;   // over the group's cells (1: the worst)
+  SearchGroups group_by = SearchGroups::p;
+  ClaimGrid grid;
 };
 
 // The seed's figures (judge/figures.hpp).
@@ -204,6 +245,7 @@ struct Scene {
   std::vector<Damping> damping;
   std::vector<SolverConfig> configs; // every sweep expanded, in file order
   std::vector<Claim> claims;
+  std::vector<Search> searches;
   std::vector<FigureSpec> figures;
   std::vector<ReportFormat> formats{ReportFormat::json, ReportFormat::csv, ReportFormat::md,
                                     ReportFormat::html};
