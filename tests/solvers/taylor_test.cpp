@@ -300,6 +300,133 @@ TEST(Taylor, WorkGrowsWithOrderNotSteps) {
   }
 }
 
+// ---- the order and step rule (taylor.cpp) -----------------------------------------------------
+//
+// The order is N = ⌈1 − ½ ln rtol⌉, worked out by hand for the tolerances below:
+//     rtol 1e-8                1 + 9.210  = 10.21  ->  N = 11
+//     rtol 1e-12               1 + 13.816 = 14.82  ->  N = 15
+//     double ε = 2^-52         1 + 18.022 = 19.02  ->  N = 20
+//     quad ε = 2^-112          1 + 38.816 = 39.82  ->  N = 40
+// (log10 instead of ln gives 5, 7, 9, 18; one lower, 10, 14, 19, 39.) N is seen in the work:
+// rhs_evals counts the N orders of each step's recurrences and the 2N terms of each contact-point
+// series built, the entry's always and the exit's once unloading starts, so that a run that
+// unloads reports rhs_evals = N (steps + 4) exactly.
+struct StepRuleCase {
+  const char* name;
+  double rtol;
+  int order;
+};
+constexpr StepRuleCase step_rule_cases[] = {
+    {"rtol 1e-8", 1e-8, 11},
+    {"rtol 1e-12", 1e-12, 15},
+    {"rtol epsilon", std::numeric_limits<double>::epsilon(), 20},
+};
+#if PLDAMP_WITH_QUAD
+constexpr int quad_epsilon_order = 40;
+#endif
+
+long work_of_an_unloading_run(int order, long steps) {
+  return order * (steps + 4);
+}
+
+// The step h = ρ e^−2 e^(−0.7/(N−1)), ρ = min over n ∈ {N−1, N} of (s / |x_n|)^(1/n), where
+// everything is known in closed form: the overdamped linear contact p = 1, α = 5/2 with m = k =
+// v0 = 1 (so δ_u = 1 and T = 1: taylor's scaled units are the physical ones), δ'' + (5/2) δ' + δ
+// = 0, whose roots are λ = −1/2 and −2: δ = (2/3)(e^(−t/2) − e^(−2t)), never back to 0. Once the
+// fast mode has died out (its share of x_n, 4^n e^(−3t/2), is below 1e-200 for t ≥ 500 and
+// n ≤ 40), every Taylor coefficient of δ is δ λ^n / n! with λ = −1/2, so
+//     (δ / |δ_n|)^(1/n) = 2 (n!)^(1/n),  least at n = N − 1.
+// v = λ δ has the scale |v| + |v_1| ρ = |v| (1 + ρ/2), hence 2 ((1 + ρ/2) n!)^(1/n), above δ's;
+// W → 1 (all of KE0 dissipated) has coefficients of size e^(−t): neither bounds ρ. The step is
+// then the constant
+//     h = 2 ((N − 1)!)^(1/(N−1)) e^(−2 − 0.7/(N−1))
+// (1.1429, 1.5566, 2.0685 and 4.0933 for N = 11, 15, 20, 40), and between horizons 500 and 1000
+// (the two runs take the same steps up to 500) lie 500 / h steps, ± 1 for where they fall.
+// Each part of the rule moves that count by more than 1 (at N = 11 ... 40): the correction
+// e^(−0.07/(N−1)) instead of e^(−0.7/(N−1)) by 27 ... 2.0 steps, one order lower by 44 ... 3.1,
+// the estimate from order N alone by 34 ... 2.9, a safety factor e^−1.9 by 42 ... 12.
+double decaying_contact_step(int order) {
+  const double n = order - 1;
+  return 2 * std::exp(std::lgamma(n + 1) / n - 2 - 0.7 / n);
+}
+
+template <SupportedReal Real>
+void expect_decay_follows_the_step_rule(const Real& rtol, int order, const std::string& label) {
+  const Problem<Real> problem{Real(1), Real(1), Real(1), Real(1), Real(5) / 2};
+  Options<Real> options;
+  options.rtol = rtol;
+  auto run_to = [&](const Real& horizon) {
+    options.horizon = horizon;
+    return solve("taylor", problem, options);
+  };
+  const Result<Real> to_500 = run_to(Real(500));
+  const Result<Real> to_1000 = run_to(Real(1000));
+  ASSERT_EQ(to_500.outcome, Outcome::no_exit) << label;
+  ASSERT_EQ(to_1000.outcome, Outcome::no_exit) << label;
+  EXPECT_EQ(to_500.rhs_evals, work_of_an_unloading_run(order, to_500.steps)) << label;
+  EXPECT_EQ(to_1000.rhs_evals, work_of_an_unloading_run(order, to_1000.steps)) << label;
+  const double step = decaying_contact_step(order);
+  EXPECT_NEAR(double(to_1000.steps - to_500.steps), 500 / step, 1.0)
+      << label << ": steps of h = " << step << " expected";
+}
+
+TEST(TaylorStepRule, DecayingContactStepsAtTheDerivedSize) {
+  for (const StepRuleCase& c : step_rule_cases) {
+    expect_decay_follows_the_step_rule<double>(c.rtol, c.order, c.name);
+  }
+#if PLDAMP_WITH_QUAD
+  expect_decay_follows_the_step_rule<quad>(std::numeric_limits<quad>::epsilon(), quad_epsilon_order,
+                                           "quad epsilon");
+#endif
+}
+
+// Returning contacts at the same tolerances, against the closed forms one precision up.
+// Budget: rtol for truncation, plus 8 ε for rounding. A step leaves out terms of relative size
+// ~(h/ρ)^N = e^(−2N − 0.7N/(N−1)) ≤ e^(−2.7) rtol, as N ≥ 1 − ½ ln rtol; over at most 16 steps
+// that adds up to 1.1 rtol at worst (far less: the terms fall fast beyond the first left out).
+// The rounding: the state is carried as a compensated sum, events are polished to all but 2 bits
+// (4 ε) and the exit series' Newton stops at 4 ε.
+// Steps: from 1 to 16, a ceiling rather than a pin (the decaying contact above pins the step).
+// Between the entry series' end and the exit series' start, ρ at t is about the distance d to
+// the nearer branch point (t = 0 or τ), so a step moves d by the fraction e^−2 ≈ 0.13, and going
+// from d to D takes ln(D/d) / ln 1.13 steps: with each series covering about a fifth of the
+// contact or more (the entry's to v = v0/2, the exit's to its reach), at most
+// 2 ln 2.5 / ln 1.13 ≈ 15 steps, and the one across the peak. Measured: 1 to 11.
+template <SupportedReal Real, SupportedReal Ref>
+void expect_returning_contacts_within_budget(const Real& rtol, int order,
+                                             const std::string& label) {
+  const double budget = static_cast<double>(rtol) + 8 * pldamp::testing::eps<Real>();
+  for (const Real& p : {Real(1), Real(3) / 2, Real(5) / 2}) {
+    for (const Real& e : {Real(1) / 2, Real(1) / 10}) {
+      const auto c = Contact<Real>::from_e(p, e, Real(1));
+      Options<Real> options;
+      options.rtol = rtol;
+      const Result<Real> r = solve("taylor", problem_of(c), options);
+      const std::string where = label + " " + label_of(double(p), double(e), 1);
+      ASSERT_EQ(r.outcome, Outcome::exited) << where;
+      const auto x = reference<Ref>(problem_of(c));
+      EXPECT_LT(relative_error(*r.e, *x.e), budget) << where;
+      EXPECT_LT(relative_error(*r.delta_max, *x.delta_max), budget) << where;
+      EXPECT_LT(relative_error(*r.t_peak, *x.t_peak), budget) << where;
+      EXPECT_LT(relative_error(*r.tau, *x.tau), budget) << where;
+      EXPECT_EQ(r.rhs_evals, work_of_an_unloading_run(order, r.steps)) << where;
+      EXPECT_GE(r.steps, 1) << where;
+      EXPECT_LE(r.steps, 16) << where;
+    }
+  }
+}
+
+TEST(TaylorStepRule, ReturningContactsMeetTheirBudgetInABoundedNumberOfSteps) {
+  for (const StepRuleCase& c : step_rule_cases) {
+    expect_returning_contacts_within_budget<double, pldamp::testing::Exact>(c.rtol, c.order,
+                                                                            c.name);
+  }
+#if PLDAMP_WITH_QUAD
+  expect_returning_contacts_within_budget<quad, bin50>(std::numeric_limits<quad>::epsilon(),
+                                                       quad_epsilon_order, "quad epsilon");
+#endif
+}
+
 // ---- building blocks --------------------------------------------------------------------------
 
 using detail::first_sign_change;
