@@ -298,7 +298,11 @@ TEST(Cli, BadInputIsOneLineAndExitTwo) {
        "cvode-bdf controls its error and has no onset phase (got 0.5)"},
       {{"solve", "--solver", "verlet-predicted", "--p", "1.5", "--e", "0.5", "--v0", "1", "--rtol",
         "1e-8"},
-       "verlet-predicted takes a fixed step: give --dt or --steps-per-contact (got --rtol 1e-8)"},
+       "verlet-predicted takes a fixed step and no rtol (got --rtol 1e-8)"},
+      // With the step given too: the refusal must not ask for what is there.
+      {{"solve", "--solver", "dem-verlet", "--p", "1.5", "--e", "0.5", "--v0", "1",
+        "--steps-per-contact", "50", "--rtol", "1e-8"},
+       "dem-verlet takes a fixed step and no rtol (got --rtol 1e-8)"},
   };
   for (const BadInput& c : cases) {
     const CliRun r = run(c.args);

@@ -113,9 +113,11 @@ void run_solve(const SolveArgs& args, std::ostream& out) {
       precision_bit(args.contact.precision) != 0) {
     throw InputError(solvers::precision_refusal(*solver, "--precision " + args.contact.precision));
   }
+  // Worded like the refusal of --atol (registry.cpp): the step is what --dt or
+  // --steps-per-contact set, and telling to give them misled when one was given already.
   if (solver != nullptr && args.rtol && !solver->takes_rtol()) {
-    throw InputError(args.solver + " takes a fixed step: give --dt or --steps-per-contact (got " +
-                     "--rtol " + *args.rtol + ")");
+    throw InputError(args.solver + " takes a fixed step and no rtol (got --rtol " + *args.rtol +
+                     ")");
   }
   if (solver != nullptr && args.steps_per_contact && !solver->fixed_step) {
     throw InputError(args.solver + " does not step a fixed number of steps per contact (got " +
