@@ -54,7 +54,7 @@ v0 = [1.0]
        "odeint-rkf78|odeint-bs|taylor|verlet-predicted|dem-verlet|dem-symplectic-euler|dem-"
        "leapfrog (got ode45)"},
       {valid_scene + "[[solver]]\nname = \"verlet-predicted\"\nrtol = 1e-6\n",
-       "12: verlet-predicted takes a fixed step: give steps_per_contact (got rtol)"},
+       "12: verlet-predicted takes a fixed step and no rtol: give steps_per_contact (got rtol)"},
       {valid_scene + "[[solver]]\nname = \"cvode-adams\"\nrtol = 1e-6\nprecision = \"long\"\n",
        "13: solver cvode-adams runs in double precision only; taylor runs in any (got long)"},
       {valid_scene + "[[solver]]\nname = \"taylor\"\nprecision = \"float\"\n",

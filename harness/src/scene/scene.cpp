@@ -267,7 +267,8 @@ void read_solvers(const Reader& reader, const toml::node& node, Scene& scene) {
       base.end = end;
       if (fixed_step && entry.get("rtol") != nullptr) {
         reader.fail(*entry.get("rtol"),
-                    base.name + " takes a fixed step: give steps_per_contact (got rtol)");
+                    base.name +
+                        " takes a fixed step and no rtol: give steps_per_contact (got rtol)");
       }
       if (const toml::node* steps = entry.get("steps_per_contact")) {
         if (!fixed_step) {
