@@ -44,7 +44,7 @@ TEST(EndToEnd, QuickSceneWritesEveryReportWithItsPlots) {
   EXPECT_LT(report["claims"][0]["measured"].get<double>(), 1e-5);
   EXPECT_EQ(report["totals"]["failed_records"], 0);
   const std::size_t records = report["records"].size();
-  EXPECT_EQ(records, 45u * 17u); // 3 p × 5 dampings × 3 v0, 17 configurations
+  EXPECT_EQ(records, 45u * 18u); // 3 p × 5 dampings × 3 v0, 18 configurations
   // taylor quad is the reference's reference: within 1e-30 everywhere.
   for (const auto& worst : report["budgets"]["worst"]) {
     if (worst["config"] == "taylor quad") {
@@ -66,8 +66,8 @@ TEST(EndToEnd, QuickSceneWritesEveryReportWithItsPlots) {
     ++plots;
   }
   // Per p: time and rhs evaluations in double, time in extended precision, and the time-step
-  // study of verlet-predicted's sweep in e, δ_max and τ; a map per configuration (17).
-  EXPECT_EQ(plots, 3u * 3u + 3u * 3u + 17u);
+  // study of verlet-predicted's sweep in e, δ_max and τ; a map per configuration (18).
+  EXPECT_EQ(plots, 3u * 3u + 3u * 3u + 18u);
   EXPECT_NE(html.str().find("seed Table II"), std::string::npos);
   EXPECT_EQ(html.str().find("nan"), std::string::npos);
   // The cost against the closed forms: a multiple in every work point and table.
