@@ -541,14 +541,18 @@ void compare_budgets(Findings& findings, const json& old_report, const json& new
         Severity::regression,     "budget", config, observable, "budget", 1, "", "",
         config + " " + observable};
     const auto found = now.find(entry_key(entry));
+    // The budget's largest relative error, under its observable's name.
+    const auto budget = [&](const json& of) {
+      return json{{observable, member_or_null(of, "max_rel")}};
+    };
     if (found == now.end()) {
       if (!change.removed_configs.contains(config) &&
           !change.removed_observables.contains(observable)) {
-        compare_presence(findings, base, entry, json::object(), "max_rel");
+        compare_presence(findings, base, budget(entry), json::object(), "max_rel");
       }
       continue;
     }
-    compare_presence(findings, base, entry, *found->second, "max_rel");
+    compare_presence(findings, base, budget(entry), budget(*found->second), "max_rel");
     const std::optional<double> before = number_in(entry, "max_rel");
     const std::optional<double> after = number_in(*found->second, "max_rel");
     if (before && after) {
