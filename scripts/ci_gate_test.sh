@@ -19,8 +19,8 @@
 # the default time thresholds would have said is printed for (a), not judged. Everything else diff
 # compares is deterministic: A against A must give "0 regressions, 0 changes".
 #
-# Cost: 4 quick.toml runs (about 3 s each) and B's build (measured and printed; about 3 minutes on
-# 2 idle cores, 5 to 6 minutes beside another build).
+# Cost: B's build, measured and printed (155 s on 2 idle cores, 324 s beside another build), and
+# 11 s for the rest (4 quick.toml runs, the diffs).
 set -euo pipefail
 
 root=$(cd "$(dirname "$0")/.." && pwd)
@@ -77,6 +77,9 @@ echo "   A: $pldamp_a"
 
 # --- B: a clone of HEAD with the regression, built ---------------------------------------------
 head=$(git -C "$root" rev-parse HEAD)
+if [[ -n $(git -C "$root" status --porcelain --untracked-files=no) ]]; then
+  echo "   note: the working tree differs from HEAD; if A was built from it, (a) and (b) may show that"
+fi
 b=$tmp/b
 # --shared: B reads A's objects (no copy), whatever branch or detached HEAD A is on.
 git clone --quiet --shared --no-checkout "$root" "$b"
