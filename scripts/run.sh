@@ -1,10 +1,12 @@
 #!/usr/bin/env bash
 # The one entry point of the README's Quick start and of CI.
 #   scripts/run.sh main   install what is missing, build, run the main job (the nightly scene)
-#   scripts/run.sh test   install what is missing, build with -Werror and run every test, rebuild
-#                         and rerun them under ASan+UBSan, check the reference table regenerates
-#                         bit for bit, that the sources are clang-formatted and that the library
-#                         and CLI build without float128, and fuzz the scene and report readers
+#   scripts/run.sh test   install what is missing, build with -Werror and run every test, play the
+#                         nightly gate on a second checkout with an injected regression, rebuild
+#                         and rerun the tests under ASan+UBSan, check the reference table
+#                         regenerates bit for bit, that the sources are clang-formatted and that
+#                         the library and CLI build without float128, and fuzz the scene and report
+#                         readers
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
@@ -60,6 +62,10 @@ test)
   install_missing "${packages[@]}" "${test_packages[@]}"
   build build -DPLDAMP_WERROR=ON
   ctest --test-dir build -j "$(nproc)" --output-on-failure
+  echo "== the nightly gate of docs/ci.md on two checkouts, one with an injected regression"
+  # A is build/; B, a clone of HEAD with one line of odeint.cpp changed, builds its pldamp in a
+  # temporary directory (about 3 minutes on 2 cores, most of this step).
+  scripts/ci_gate_test.sh build
   echo "== reference table regenerates bit for bit"
   build/data/pldamp-generate-reference build/analytic.csv
   cmp build/analytic.csv data/reference/analytic.csv
