@@ -458,10 +458,52 @@ void compare_records(Findings& findings, const json& old_report, const json& new
       }
       continue;
     }
+    // Numbers lost or appeared: one finding per observable of the record, however many of its
+    // fields (value, reference, error, ...) went.
+    json fields_before = json::object(), fields_now = json::object();
     for (const char* field :
          {"value", "reference", "error", "abs_error", "rel_error", "phase_spread"}) {
-      compare_presence(findings, base, member_or_null(old_record, field),
-                       member_or_null(now, field), field, change.removed_observables);
+      for (const bool before : {true, false}) { // the two may be one object: a report with itself
+        const json& values = member_or_null(before ? old_record : now, field);
+        if (!values.is_object()) {
+          continue;
+        }
+        json& into = before ? fields_before : fields_now;
+        for (const auto& [name, value] : values.items()) {
+          into[name][field] = value;
+        }
+      }
+    }
+    for (const auto& [name, fields] : fields_before.items()) {
+      if (change.removed_observables.contains(name)) {
+        continue;
+      }
+      std::string lost, appeared;
+      for (const auto& [field, value] : fields.items()) {
+        const std::optional<double> after = number_in(member_or_null(fields_now, name), field);
+        if (value.is_number() && !after) {
+          lost += fmt::format("{}{} {}", lost.empty() ? "" : ", ", field,
+                              number_text(value.get<double>()));
+        } else if (value.is_null() && after) {
+          appeared +=
+              fmt::format("{}{} {}", appeared.empty() ? "" : ", ", field, number_text(*after));
+        }
+      }
+      Findings::Finding f = base;
+      f.subject = name;
+      if (!lost.empty()) {
+        f.what = "number_lost";
+        f.worst = lost + " -> null";
+        f.detail = key + ": " + f.worst;
+        f.rank = 1;
+        findings.add(f);
+      } else if (!appeared.empty()) {
+        f.severity = Severity::change;
+        f.what = "number_appeared";
+        f.worst = "null -> " + appeared;
+        f.detail = key + ": " + f.worst;
+        findings.add(f);
+      }
     }
     const json& old_errors = old_record.at("rel_error");
     for (const auto& [name, was] : old_errors.items()) {
@@ -672,7 +714,7 @@ void compare_claims(Findings& findings, const json& old_report, const json& new_
         f.detail += ": " + f.worst;
         const bool fell = *after < *before - 0.1 * std::abs(*before);
         f.severity = fell ? Severity::regression : Severity::change;
-        f.what = fell ? "claim_measured_fell" : "claim_measured_changed";
+        f.what = fell ? "claim_measured_worsened" : "claim_measured_changed";
         findings.add(f);
       } else {
         base.what = "claim_measured";
