@@ -235,6 +235,31 @@ TEST(Diff, AClaimRegressesWhenItsVerdictLeavesTheExpectedOne) {
   EXPECT_THROW(read_report(hostile.dump(), "hostile.json"), InputError);
 }
 
+TEST(Diff, ANameCannotForgeALineOrShiftTheFields) {
+  const nlohmann::json old_report = hand_made_report();
+  nlohmann::json forged = old_report;
+  forged["claims"][0]["verdict"] = "fails";
+  nlohmann::json before = old_report;
+  for (nlohmann::json* report : {&before, &forged}) {
+    (*report)["claims"][0]["name"] = "x | y\nREGRESSION forged | z";
+  }
+  EXPECT_EQ(diff_reports(before, forged).lines,
+            (std::vector<std::string>{"REGRESSION claim_flipped | x / y\\nREGRESSION forged / z | "
+                                      "verdict | 1 claim | held, now fails",
+                                      "1 regression, 0 changes"}));
+  // A contact end or a search changed is a scene change, and says so.
+  nlohmann::json force = old_report;
+  force["scene"]["fingerprint"] = "0123456789abcdef";
+  force["scene"]["end"] = "force";
+  force["scene"]["searches"] = {"loosest rtol"};
+  DiffOptions allow;
+  allow.allow_scene_change = true;
+  const std::vector<std::string> lines = diff_reports(old_report, force, allow).lines;
+  EXPECT_EQ(std::vector<std::string>(lines.begin(), lines.begin() + 2),
+            (std::vector<std::string>{"SCENE added search | loosest rtol",
+                                      "SCENE changed end | overlap -> force"}));
+}
+
 TEST(Diff, ThroughTheCommandLine) {
   // Exit 1 with regressions, 0 without, 2 for what is not a report, a different scene or a bad
   // threshold.

@@ -168,6 +168,27 @@ std::string factor_text(double before, double after) {
   return fmt::format(" (x{:.3g})", after / before);
 }
 
+// A field of an output line as text a script can split: control characters escaped (a name with a
+// line break cannot forge a line of its own) and, unless kept (a verbose line's record key), the
+// field separator " | " written " / ".
+std::string field_text(std::string_view text, bool keep_separators = false) {
+  std::string out;
+  for (std::size_t i = 0; i < text.size(); ++i) {
+    const auto byte = static_cast<unsigned char>(text[i]);
+    if (!keep_separators && text.substr(i, 3) == " | ") {
+      out += " / ";
+      i += 2;
+    } else if (text[i] == '\n') {
+      out += "\\n";
+    } else if (byte < 0x20 || byte == 0x7f) {
+      out += fmt::format("\\x{:02x}", byte);
+    } else {
+      out += text[i];
+    }
+  }
+  return out;
+}
+
 enum class Severity { regression, change };
 
 // Findings gathered into groups of one kind, owner (a configuration, claim, search) and subject
@@ -204,14 +225,14 @@ public:
         }
         const Finding& f = group.worst;
         (severity == Severity::regression ? result.regressions : result.changes) += 1;
-        result.lines.push_back(
-            fmt::format("{} {} | {} | {} | {} {}{} | {}{}",
-                        severity == Severity::regression ? "REGRESSION" : "CHANGE", f.what, f.owner,
-                        f.subject, group.count, f.unit, group.count == 1 ? "" : "s", f.worst,
-                        f.cell.empty() ? "" : " at " + f.cell));
+        result.lines.push_back(fmt::format(
+            "{} {} | {} | {} | {} {}{} | {}{}",
+            severity == Severity::regression ? "REGRESSION" : "CHANGE", f.what, field_text(f.owner),
+            field_text(f.subject), group.count, f.unit, group.count == 1 ? "" : "s",
+            field_text(f.worst), f.cell.empty() ? "" : " at " + field_text(f.cell)));
         if (verbose) {
           for (const std::string& detail : group.details) {
-            result.lines.push_back("  " + detail);
+            result.lines.push_back("  " + field_text(detail, true));
           }
         }
       }
@@ -233,7 +254,9 @@ DiffThresholds thresholds_of(const json& new_report, const DiffOptions& options)
   const json& table = member_or_null(member_or_null(new_report, "scene"), "diff");
   const auto take = [&](double& into, std::string_view key, const std::optional<double>& flag,
                         double least) {
-    if (const std::optional<double> scene = number_in(table, key); scene && *scene >= least) {
+    // The scene parser's ranges: a factor above 1, a floor of at least 0.
+    if (const std::optional<double> scene = number_in(table, key);
+        scene && (least > 0 ? *scene > least : *scene >= least) && *scene <= 1e6) {
       into = *scene;
     }
     if (flag) {
@@ -275,12 +298,12 @@ SceneChange scene_change(const json& old_report, const json& new_report) {
     std::set<std::string> removed;
     for (const std::string& label : after) {
       if (!before.contains(label)) {
-        change.lines.push_back(fmt::format("SCENE added {} | {}", what, label));
+        change.lines.push_back(fmt::format("SCENE added {} | {}", what, field_text(label)));
       }
     }
     for (const std::string& label : before) {
       if (!after.contains(label)) {
-        change.lines.push_back(fmt::format("SCENE removed {} | {}", what, label));
+        change.lines.push_back(fmt::format("SCENE removed {} | {}", what, field_text(label)));
         removed.insert(label);
       }
     }
@@ -307,6 +330,18 @@ SceneChange scene_change(const json& old_report, const json& new_report) {
               labels(member_or_null(new_grid, "damping"), "label"));
   change.removed_claims = compare("claim", labels(array_in(old_report, "claims"), "name"),
                                   labels(array_in(new_report, "claims"), "name"));
+  const auto names = [](const json& list) {
+    std::set<std::string> out;
+    for (const json& name : list.is_array() ? list : json::array()) {
+      out.insert(name.is_string() ? name.get<std::string>() : "");
+    }
+    return out;
+  };
+  compare("search", names(member_or_null(was, "searches")), names(member_or_null(now, "searches")));
+  const std::string old_end = string_in(was, "end"), new_end = string_in(now, "end");
+  if (old_end != new_end) {
+    change.lines.push_back(fmt::format("SCENE changed end | {} -> {}", old_end, new_end));
+  }
   return change;
 }
 
@@ -768,8 +803,8 @@ DiffResult diff_reports(const json& old_report, const json& new_report,
       const json& now = member_or_null(new_report, "scene");
       throw InputError(fmt::format(
           "the two reports come from different scenes ({} configurations, observables, grid "
-          "values or claims added or removed); --allow-scene-change compares what they share "
-          "(got {} {}, now {} {})",
+          "values, claims, searches or contact ends added, removed or changed); "
+          "--allow-scene-change compares what they share (got {} {}, now {} {})",
           change.lines.size(), string_in(was, "name"), old_print.empty() ? "unknown" : old_print,
           string_in(now, "name"), new_print.empty() ? "unknown" : new_print));
     }

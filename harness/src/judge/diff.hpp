@@ -18,10 +18,15 @@
 // error, 10 % for an order, gap or ratio) or disappeared, a search that no longer finds a value.
 //
 // Output: one line per group (kind of finding, configuration, observable), then a summary.
-//   REGRESSION <what> | <configuration or claim> | <subject> | <n> record(s) | <worst> at <cell>
+//   REGRESSION <what> | <configuration, claim or search> | <subject> | <n> <unit>(s) | <worst>
+//              [at <cell>]          (the cell for records and the closed forms' points only)
 //   CHANGE <what> | ...                                   (the same fields; not a regression)
-//   SCENE <added|removed> <configuration|p|damping|v0|m|k|claim> | <label or value>
+//   SCENE <added|removed> <configuration|observable|p|v0|m|k|damping|claim|search> | <label>
+//   SCENE changed end | <old> -> <new>
 //   <N> regressions, <M> changes
+// A field's control characters are escaped (\n, \xNN) and a " | " inside it is written " / ", so
+// that a name from a scene can neither add a line nor shift the fields; --verbose adds each
+// finding under its group's line, indented by two spaces (a record's key keeps its " | ").
 // Exit: 0 no regression, 1 regressions, 2 bad input (not a report, a different scene without
 // --allow-scene-change).
 #pragma once
