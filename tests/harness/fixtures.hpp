@@ -13,12 +13,17 @@
 #include <string>
 #include <vector>
 
+#include <unistd.h>
+
 namespace pldamp::harness::testing {
 
 namespace fs = std::filesystem;
 
+// One folder per test process: ctest runs each test case as a process of its own, in parallel, and
+// two writing hand.toml into one folder read each other's half-written file.
 inline fs::path scratch() {
-  const fs::path dir = fs::temp_directory_path() / "pldamp-harness-test";
+  const fs::path dir =
+      fs::temp_directory_path() / ("pldamp-harness-test-" + std::to_string(::getpid()));
   fs::create_directories(dir);
   return dir;
 }
