@@ -16,25 +16,6 @@
 namespace pldamp::harness {
 namespace {
 
-// A message as one line: control characters (a newline typed into an option) shown escaped, so
-// that stderr holds exactly one line per error whatever the input.
-std::string one_line(std::string_view message) {
-  std::string out;
-  for (const char c : message) {
-    const auto byte = static_cast<unsigned char>(c);
-    if (c == '\n') {
-      out += "\\n";
-    } else if (c == '\t') {
-      out += "\\t";
-    } else if (byte < 0x20 || byte == 0x7f) {
-      out += fmt::format("\\x{:02x}", byte);
-    } else {
-      out += c;
-    }
-  }
-  return out;
-}
-
 // "double | long | quad | 50"
 std::string precision_choices() {
   std::string choices = precision_names();

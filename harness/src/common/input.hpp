@@ -16,6 +16,7 @@
 #include <optional>
 #include <stdexcept>
 #include <string>
+#include <string_view>
 
 namespace pldamp::harness {
 
@@ -36,6 +37,26 @@ std::string format_number(const Real& value) {
     throw InternalError("a result evaluated to NaN");
   }
   return to_string_full(value); // "inf" for infinities (JSON answers write null)
+}
+
+// A text as one line of output: control characters shown escaped (\n, \t, \xNN), so that a
+// newline typed into an option or a scene's name cannot start a line of its own.
+inline std::string one_line(std::string_view text) {
+  static constexpr char hex[] = "0123456789abcdef";
+  std::string out;
+  for (const char c : text) {
+    const auto byte = static_cast<unsigned char>(c);
+    if (c == '\n') {
+      out += "\\n";
+    } else if (c == '\t') {
+      out += "\\t";
+    } else if (byte < 0x20 || byte == 0x7f) {
+      out += {'\\', 'x', hex[byte >> 4], hex[byte & 0xf]};
+    } else {
+      out += c;
+    }
+  }
+  return out;
 }
 
 // Parses the whole of `text` as a Real, rounding once into the target type (so "0.1" is the

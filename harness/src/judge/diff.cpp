@@ -168,23 +168,14 @@ std::string factor_text(double before, double after) {
   return fmt::format(" (x{:.3g})", after / before);
 }
 
-// A field of an output line as text a script can split: control characters escaped (a name with a
-// line break cannot forge a line of its own) and, unless kept (a verbose line's record key), the
-// field separator " | " written " / ".
+// A field of an output line as text a script can split: one line (common/input.hpp: a name with
+// a line break cannot forge a line of its own) and, unless kept (a verbose line's record key),
+// the field separator " | " written " / ".
 std::string field_text(std::string_view text, bool keep_separators = false) {
-  std::string out;
-  for (std::size_t i = 0; i < text.size(); ++i) {
-    const auto byte = static_cast<unsigned char>(text[i]);
-    if (!keep_separators && text.substr(i, 3) == " | ") {
-      out += " / ";
-      i += 2;
-    } else if (text[i] == '\n') {
-      out += "\\n";
-    } else if (byte < 0x20 || byte == 0x7f) {
-      out += fmt::format("\\x{:02x}", byte);
-    } else {
-      out += text[i];
-    }
+  std::string out = one_line(text);
+  for (std::size_t at = out.find(" | "); !keep_separators && at != std::string::npos;
+       at = out.find(" | ", at + 3)) {
+    out.replace(at, 3, " / ");
   }
   return out;
 }
@@ -277,6 +268,8 @@ struct SceneChange {
   std::map<std::string, std::set<std::string>> removed_values; // axis -> values as text
 };
 
+// The labels of a list: each item's `key` member, or (no key) the items themselves, numbers in
+// their shortest form.
 std::set<std::string> labels(const json& list, std::string_view key) {
   std::set<std::string> out;
   for (const json& item : list.is_array() ? list : json::array()) {
@@ -284,6 +277,8 @@ std::set<std::string> labels(const json& list, std::string_view key) {
       out.insert(string_in(item, key));
     } else if (item.is_number()) {
       out.insert(to_string_full(item.get<double>()));
+    } else if (item.is_string()) {
+      out.insert(item.get<std::string>());
     }
   }
   return out;
@@ -311,14 +306,8 @@ SceneChange scene_change(const json& old_report, const json& new_report) {
   };
   change.removed_configs = compare("configuration", labels(member_or_null(was, "configs"), "label"),
                                    labels(member_or_null(now, "configs"), "label"));
-  std::set<std::string> old_observables, new_observables;
-  for (const json& key : array_in(was, "observables")) {
-    old_observables.insert(key.is_string() ? key.get<std::string>() : "");
-  }
-  for (const json& key : array_in(now, "observables")) {
-    new_observables.insert(key.is_string() ? key.get<std::string>() : "");
-  }
-  change.removed_observables = compare("observable", old_observables, new_observables);
+  change.removed_observables = compare("observable", labels(member_or_null(was, "observables"), ""),
+                                       labels(member_or_null(now, "observables"), ""));
   const json& old_grid = member_or_null(was, "grid");
   const json& new_grid = member_or_null(now, "grid");
   for (const char* axis : {"p", "v0", "m", "k"}) {
@@ -330,14 +319,8 @@ SceneChange scene_change(const json& old_report, const json& new_report) {
               labels(member_or_null(new_grid, "damping"), "label"));
   change.removed_claims = compare("claim", labels(array_in(old_report, "claims"), "name"),
                                   labels(array_in(new_report, "claims"), "name"));
-  const auto names = [](const json& list) {
-    std::set<std::string> out;
-    for (const json& name : list.is_array() ? list : json::array()) {
-      out.insert(name.is_string() ? name.get<std::string>() : "");
-    }
-    return out;
-  };
-  compare("search", names(member_or_null(was, "searches")), names(member_or_null(now, "searches")));
+  compare("search", labels(member_or_null(was, "searches"), ""),
+          labels(member_or_null(now, "searches"), ""));
   const std::string old_end = string_in(was, "end"), new_end = string_in(now, "end");
   if (old_end != new_end) {
     change.lines.push_back(fmt::format("SCENE changed end | {} -> {}", old_end, new_end));
@@ -403,38 +386,51 @@ void compare_error(Findings& findings, const Findings::Finding& base, double bef
   }
 }
 
-// Numbers of `was` (an object of observables) that are null or missing in `now` (regressions),
-// and null ones that became numbers (changes), but for observables the new scene no longer wants.
-void compare_presence(Findings& findings, const Findings::Finding& base, const json& was,
-                      const json& now, std::string_view field,
-                      const std::set<std::string>& removed = {}) {
+// Numbers that were there and are not (regressions), and nulls that became numbers (changes).
+// `was` and `now` map a subject (an observable, a count) to its fields' values; one finding per
+// subject, however many of its fields went, but none for a subject the new scene removed.
+void compare_numbers(Findings& findings, const Findings::Finding& base, const json& was,
+                     const json& now, const std::set<std::string>& removed = {}) {
   if (!was.is_object()) {
     return;
   }
-  for (const auto& [name, value] : was.items()) {
-    if (removed.contains(name)) {
+  for (const auto& [name, fields] : was.items()) {
+    if (removed.contains(name) || !fields.is_object()) {
       continue;
     }
-    if (value.is_null() && number_in(now, name)) {
-      Findings::Finding f = base;
-      f.severity = Severity::change;
-      f.what = "number_appeared";
-      f.subject = name;
-      f.worst = fmt::format("{} null -> {}", field, number_text(*number_in(now, name)));
-      f.detail += ": " + f.worst;
-      findings.add(f);
-    } else if (value.is_number() && !number_in(now, name)) {
-      Findings::Finding f = base;
+    std::string lost, appeared;
+    for (const auto& [field, value] : fields.items()) {
+      const std::optional<double> after = number_in(member_or_null(now, name), field);
+      if (value.is_number() && !after) {
+        lost += fmt::format("{}{} {}", lost.empty() ? "" : ", ", field,
+                            number_text(value.get<double>()));
+      } else if (value.is_null() && after) {
+        appeared +=
+            fmt::format("{}{} {}", appeared.empty() ? "" : ", ", field, number_text(*after));
+      }
+    }
+    Findings::Finding f = base;
+    f.subject = name;
+    if (!lost.empty()) {
       f.severity = Severity::regression;
       f.what = "number_lost";
-      f.subject = name;
-      f.worst = fmt::format("{} {} -> {}", field, number_text(value.get<double>()),
-                            now.is_object() && now.contains(name) ? "null" : "missing");
-      f.detail += ": " + f.worst;
+      f.worst = lost + " -> null";
       f.rank = 1;
-      findings.add(f);
+    } else if (!appeared.empty()) {
+      f.severity = Severity::change;
+      f.what = "number_appeared";
+      f.worst = "null -> " + appeared;
+    } else {
+      continue;
     }
+    f.detail += ": " + f.worst;
+    findings.add(f);
   }
+}
+
+// One field of an object as compare_numbers reads it: {subject: {field: value}}.
+json field_of(const json& object, const std::string& subject, const std::string& field) {
+  return json{{subject, {{field, member_or_null(object, field)}}}};
 }
 
 void compare_records(Findings& findings, const json& old_report, const json& new_report,
@@ -509,37 +505,7 @@ void compare_records(Findings& findings, const json& old_report, const json& new
         }
       }
     }
-    for (const auto& [name, fields] : fields_before.items()) {
-      if (change.removed_observables.contains(name)) {
-        continue;
-      }
-      std::string lost, appeared;
-      for (const auto& [field, value] : fields.items()) {
-        const std::optional<double> after = number_in(member_or_null(fields_now, name), field);
-        if (value.is_number() && !after) {
-          lost += fmt::format("{}{} {}", lost.empty() ? "" : ", ", field,
-                              number_text(value.get<double>()));
-        } else if (value.is_null() && after) {
-          appeared +=
-              fmt::format("{}{} {}", appeared.empty() ? "" : ", ", field, number_text(*after));
-        }
-      }
-      Findings::Finding f = base;
-      f.subject = name;
-      if (!lost.empty()) {
-        f.what = "number_lost";
-        f.worst = lost + " -> null";
-        f.detail = key + ": " + f.worst;
-        f.rank = 1;
-        findings.add(f);
-      } else if (!appeared.empty()) {
-        f.severity = Severity::change;
-        f.what = "number_appeared";
-        f.worst = "null -> " + appeared;
-        f.detail = key + ": " + f.worst;
-        findings.add(f);
-      }
-    }
+    compare_numbers(findings, base, fields_before, fields_now, change.removed_observables);
     const json& old_errors = old_record.at("rel_error");
     for (const auto& [name, was] : old_errors.items()) {
       const std::optional<double> is = number_in(now.at("rel_error"), name);
@@ -554,7 +520,8 @@ void compare_records(Findings& findings, const json& old_report, const json& new
       const std::optional<double> before = number_in(old_record, field);
       const std::optional<double> after = number_in(now, field);
       if (before && !after) {
-        compare_presence(findings, base, old_record, now, field);
+        compare_numbers(findings, base, field_of(old_record, field, field),
+                        field_of(now, field, field));
       } else if (before && after && *before != *after) {
         Findings::Finding f = base;
         f.subject = field;
@@ -618,18 +585,15 @@ void compare_budgets(Findings& findings, const json& old_report, const json& new
         Severity::regression,     "budget", config, observable, "budget", 1, "", "",
         config + " " + observable};
     const auto found = now.find(entry_key(entry));
-    // The budget's largest relative error, under its observable's name.
-    const auto budget = [&](const json& of) {
-      return json{{observable, member_or_null(of, "max_rel")}};
-    };
     if (found == now.end()) {
       if (!change.removed_configs.contains(config) &&
           !change.removed_observables.contains(observable)) {
-        compare_presence(findings, base, budget(entry), json::object(), "max_rel");
+        compare_numbers(findings, base, field_of(entry, observable, "max_rel"), json::object());
       }
       continue;
     }
-    compare_presence(findings, base, budget(entry), budget(*found->second), "max_rel");
+    compare_numbers(findings, base, field_of(entry, observable, "max_rel"),
+                    field_of(*found->second, observable, "max_rel"));
     const std::optional<double> before = number_in(entry, "max_rel");
     const std::optional<double> after = number_in(*found->second, "max_rel");
     if (before && after) {
@@ -687,10 +651,15 @@ void compare_budgets(Findings& findings, const json& old_report, const json& new
                            "",
                            key,
                            "closed forms in double | " + key};
-    compare_presence(findings, base, was, is, "max_rel", change.removed_observables);
     if (!was.is_object()) {
       continue;
     }
+    json fields_before = json::object(), fields_now = json::object();
+    for (const auto& [name, value] : was.items()) {
+      fields_before[name]["max_rel"] = value;
+      fields_now[name]["max_rel"] = member_or_null(is, name);
+    }
+    compare_numbers(findings, base, fields_before, fields_now, change.removed_observables);
     for (const auto& [name, value] : was.items()) {
       const std::optional<double> after = number_in(is, name);
       if (value.is_number() && after) {
@@ -741,7 +710,8 @@ void compare_claims(Findings& findings, const json& old_report, const json& new_
     const std::optional<double> before = number_in(claim, "measured");
     const std::optional<double> after = number_in(is, "measured");
     if (before && !after) {
-      compare_presence(findings, base, claim, is, "measured");
+      compare_numbers(findings, base, field_of(claim, "measured", "measured"),
+                      field_of(is, "measured", "measured"));
     } else if (before && after && *before != *after) {
       if (string_in(is, "worse") == "lower") {
         Findings::Finding f = base;

@@ -555,19 +555,18 @@ std::string report_html(const RunReport& report, const std::string& gnuplot_prog
          "error of any observable at each p and damping (over v0, m, k). Each solver's last "
          "configuration is shown; click a configuration to show or hide its map.</p>\n";
   for (const bool last : {true, false}) {
-    const auto others =
-        std::count_if(plan.configs.begin(), plan.configs.end(), [&](const SolverConfig& config) {
-          return !last_of_its_solver(plan, std::size_t(&config - plan.configs.data()));
-        });
-    if (!last && others > 0) {
-      out << "<p>The other configurations:</p>\n";
-    }
+    bool introduced = last; // the folded ones under a line of their own, before the first
     for (std::size_t c = 0; c < plan.configs.size(); ++c) {
-      if (last_of_its_solver(plan, c) == last) {
-        out << "<details class='map'" << (last ? " open" : "") << "><summary>"
-            << escape(plan.configs[c].label()) << "</summary>"
-            << figure_html(error_map_plot(gnuplot, report, c)) << "</details>\n";
+      if (last_of_its_solver(plan, c) != last) {
+        continue;
       }
+      if (!introduced) {
+        out << "<p>The other configurations:</p>\n";
+        introduced = true;
+      }
+      out << "<details class='map'" << (last ? " open" : "") << "><summary>"
+          << escape(plan.configs[c].label()) << "</summary>"
+          << figure_html(error_map_plot(gnuplot, report, c)) << "</details>\n";
     }
   }
   out << "<h2>The closed forms in double against " << precision_name<Exact>()
