@@ -43,7 +43,7 @@ TEST(Figures, OneThatFailsIsReportedAndTheOthersStand) {
   Plan plan = h.plan;
   plan.scene.formats = {ReportFormat::json, ReportFormat::md};
   const Budgets b = make_budgets(plan, h.records);
-  const RunTotals totals{400, 4, 1.0};
+  const RunTotals totals{400, 4, 1.0, {}};
   const fs::path out = scratch() / "failed-figure";
   fs::remove_all(out);
   const WrittenReports files = write_reports({plan, h.records, b, totals, figures}, out.string());
@@ -62,7 +62,7 @@ TEST(Figures, OneThatFailsIsReportedAndTheOthersStand) {
 nlohmann::json hand_made_report() {
   const HandMade h = hand_made();
   const Budgets b = make_budgets(h.plan, h.records);
-  const RunTotals totals{400, 4, 1.0};
+  const RunTotals totals{400, 4, 1.0, {}};
   return report_json({h.plan, h.records, b, totals, {}});
 }
 

@@ -11,6 +11,7 @@
 #include <unistd.h>
 
 #include <array>
+#include <utility>
 
 extern char** environ;
 
@@ -25,6 +26,7 @@ public:
   Descriptor& operator=(const Descriptor&) = delete;
   ~Descriptor() { reset(); }
   int get() const { return fd_; }
+  void release() { fd_ = -1; } // ownership passed on
   void reset(int fd = -1) {
     if (fd_ >= 0) {
       ::close(fd_);
@@ -47,6 +49,69 @@ bool make_pipe(Descriptor& read_end, Descriptor& write_end) {
   return true;
 }
 
+// A child that exits early closes its stdin: writing must fail with EPIPE, not kill us. SIGPIPE
+// is blocked in this thread while this lives, and a pending one consumed before unblocking.
+class PipeSignalBlocked {
+public:
+  PipeSignalBlocked() {
+    sigemptyset(&pipe_signal_);
+    sigaddset(&pipe_signal_, SIGPIPE);
+    pthread_sigmask(SIG_BLOCK, &pipe_signal_, &previous_);
+  }
+  PipeSignalBlocked(const PipeSignalBlocked&) = delete;
+  PipeSignalBlocked& operator=(const PipeSignalBlocked&) = delete;
+  ~PipeSignalBlocked() { pthread_sigmask(SIG_SETMASK, &previous_, nullptr); }
+  void consume_if(bool broken_pipe) {
+    if (broken_pipe) {
+      const timespec now{};
+      sigtimedwait(&pipe_signal_, nullptr, &now);
+    }
+  }
+
+private:
+  sigset_t pipe_signal_{}, previous_{};
+};
+
+// Starts argv (looked up on PATH) with the given descriptors as its standard input, output and
+// error (err < 0: /dev/null). Returns its pid, or -1.
+pid_t spawn(const std::vector<std::string>& argv, int in, int out, int err) {
+  posix_spawn_file_actions_t actions;
+  posix_spawn_file_actions_init(&actions);
+  posix_spawn_file_actions_adddup2(&actions, in, STDIN_FILENO);
+  posix_spawn_file_actions_adddup2(&actions, out, STDOUT_FILENO);
+  if (err >= 0) {
+    posix_spawn_file_actions_adddup2(&actions, err, STDERR_FILENO);
+  } else {
+    posix_spawn_file_actions_addopen(&actions, STDERR_FILENO, "/dev/null", O_WRONLY, 0);
+  }
+  std::vector<char*> args;
+  for (const std::string& arg : argv) {
+    args.push_back(const_cast<char*>(arg.c_str())); // posix_spawn's signature; not modified
+  }
+  args.push_back(nullptr);
+  pid_t pid = 0;
+  const int spawned = posix_spawnp(&pid, args[0], &actions, nullptr, args.data(), environ);
+  posix_spawn_file_actions_destroy(&actions);
+  return spawned == 0 ? pid : -1;
+}
+
+// How a child ended, from waitpid's status.
+std::string describe(int status) {
+  return WIFEXITED(status) ? "exited with status " + std::to_string(WEXITSTATUS(status))
+                           : "killed by signal " + std::to_string(WTERMSIG(status));
+}
+
+// Waits for `pid` (retrying on EINTR) and says how it ended.
+std::string reap(pid_t pid, int* exit_code = nullptr) {
+  int status = 0;
+  while (::waitpid(pid, &status, 0) < 0 && errno == EINTR) {
+  }
+  if (exit_code != nullptr) {
+    *exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  }
+  return describe(status);
+}
+
 } // namespace
 
 ProgramRun run_program(const std::vector<std::string>& argv, const std::string& input,
@@ -59,22 +124,10 @@ ProgramRun run_program(const std::vector<std::string>& argv, const std::string& 
   if (!make_pipe(in_read, in_write) || !make_pipe(out_read, out_write)) {
     return run;
   }
-  posix_spawn_file_actions_t actions;
-  posix_spawn_file_actions_init(&actions);
-  posix_spawn_file_actions_adddup2(&actions, in_read.get(), STDIN_FILENO);
-  posix_spawn_file_actions_adddup2(&actions, out_write.get(), STDOUT_FILENO);
-  posix_spawn_file_actions_addopen(&actions, STDERR_FILENO, "/dev/null", O_WRONLY, 0);
-  std::vector<char*> args;
-  for (const std::string& arg : argv) {
-    args.push_back(const_cast<char*>(arg.c_str())); // posix_spawn's signature; not modified
-  }
-  args.push_back(nullptr);
-  pid_t pid = 0;
-  const int spawned = posix_spawnp(&pid, args[0], &actions, nullptr, args.data(), environ);
-  posix_spawn_file_actions_destroy(&actions);
+  const pid_t pid = spawn(argv, in_read.get(), out_write.get(), -1);
   in_read.reset();
   out_write.reset();
-  if (spawned != 0) {
+  if (pid <= 0) {
     return run;
   }
   run.started = true;
@@ -84,12 +137,7 @@ ProgramRun run_program(const std::vector<std::string>& argv, const std::string& 
   if (input.empty()) {
     in_write.reset();
   }
-  // A child that exits early closes its stdin: writing must fail with EPIPE, not kill us. SIGPIPE
-  // is blocked in this thread while we write, and a pending one consumed before unblocking.
-  sigset_t pipe_signal, previous;
-  sigemptyset(&pipe_signal);
-  sigaddset(&pipe_signal, SIGPIPE);
-  pthread_sigmask(SIG_BLOCK, &pipe_signal, &previous);
+  PipeSignalBlocked blocked;
   bool broken_pipe = false;
   const auto deadline = std::chrono::steady_clock::now() + limit;
   std::size_t written = 0;
@@ -128,19 +176,168 @@ ProgramRun run_program(const std::vector<std::string>& argv, const std::string& 
   }
   in_write.reset();
   out_read.reset();
-  if (broken_pipe) {
-    const timespec now{};
-    sigtimedwait(&pipe_signal, nullptr, &now);
-  }
-  pthread_sigmask(SIG_SETMASK, &previous, nullptr);
+  blocked.consume_if(broken_pipe);
   if (run.timed_out) {
     ::kill(pid, SIGKILL);
   }
-  int status = 0;
-  while (::waitpid(pid, &status, 0) < 0 && errno == EINTR) {
-  }
-  run.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  reap(pid, &run.exit_code);
   return run;
+}
+
+LineProgram::LineProgram(const std::vector<std::string>& argv) {
+  if (argv.empty()) {
+    return;
+  }
+  Descriptor in_read, in_write, out_read, out_write, err_read, err_write;
+  if (!make_pipe(in_read, in_write) || !make_pipe(out_read, out_write) ||
+      !make_pipe(err_read, err_write)) {
+    return;
+  }
+  const pid_t pid = spawn(argv, in_read.get(), out_write.get(), err_write.get());
+  if (pid <= 0) {
+    return;
+  }
+  pid_ = pid;
+  // Ours are kept; the child's ends close with their Descriptors.
+  in_ = in_write.get();
+  out_ = out_read.get();
+  err_ = err_read.get();
+  in_write.release();
+  out_read.release();
+  err_read.release();
+  ::fcntl(out_, F_SETFL, O_NONBLOCK);
+  ::fcntl(err_, F_SETFL, O_NONBLOCK);
+}
+
+LineProgram::~LineProgram() {
+  finish(std::chrono::milliseconds(0));
+}
+
+bool LineProgram::write_line(const std::string& line) {
+  if (in_ < 0) {
+    return false;
+  }
+  const std::string text = line + "\n";
+  PipeSignalBlocked blocked;
+  std::size_t written = 0;
+  bool broken_pipe = false;
+  while (written < text.size()) {
+    const ssize_t n = ::write(in_, text.data() + written, text.size() - written);
+    if (n < 0 && errno == EINTR) {
+      continue;
+    }
+    if (n <= 0) {
+      broken_pipe = errno == EPIPE;
+      break;
+    }
+    written += static_cast<std::size_t>(n);
+  }
+  blocked.consume_if(broken_pipe);
+  return written == text.size();
+}
+
+void LineProgram::drain_error() {
+  std::array<char, 4096> buffer{};
+  while (err_ >= 0) {
+    const ssize_t n = ::read(err_, buffer.data(), buffer.size());
+    if (n > 0) {
+      error_.append(buffer.data(), static_cast<std::size_t>(n));
+      if (error_.size() > 8192) {
+        error_.erase(0, error_.size() - 4096);
+      }
+    } else if (n == 0 || (errno != EAGAIN && errno != EINTR)) {
+      ::close(err_);
+      err_ = -1;
+    } else if (errno == EAGAIN) {
+      return;
+    }
+  }
+}
+
+LineProgram::Read LineProgram::read_line(std::string& line, std::chrono::milliseconds limit) {
+  const auto deadline = std::chrono::steady_clock::now() + limit;
+  std::array<char, 65536> buffer{};
+  for (;;) {
+    if (const std::size_t newline = pending_.find('\n'); newline != std::string::npos) {
+      line = pending_.substr(0, newline);
+      pending_.erase(0, newline + 1);
+      return line.size() > max_line_bytes ? Read::too_long : Read::line;
+    }
+    if (pending_.size() > max_line_bytes) {
+      line.clear();
+      return Read::too_long;
+    }
+    if (out_ < 0) {
+      line = std::exchange(pending_, {}); // a partial last line, if any
+      return Read::end;
+    }
+    const auto left = std::chrono::duration_cast<std::chrono::milliseconds>(
+        deadline - std::chrono::steady_clock::now());
+    if (left.count() <= 0) {
+      line.clear();
+      return Read::timeout;
+    }
+    std::array<pollfd, 2> fds{pollfd{out_, POLLIN, 0}, pollfd{err_, POLLIN, 0}};
+    if (::poll(fds.data(), err_ >= 0 ? 2 : 1, static_cast<int>(left.count())) < 0 &&
+        errno != EINTR) {
+      line.clear();
+      return Read::end;
+    }
+    drain_error();
+    if ((fds[0].revents & (POLLIN | POLLHUP | POLLERR)) != 0) {
+      const ssize_t n = ::read(out_, buffer.data(), buffer.size());
+      if (n > 0) {
+        pending_.append(buffer.data(), static_cast<std::size_t>(n));
+      } else if (n == 0 || (errno != EAGAIN && errno != EINTR)) {
+        ::close(out_);
+        out_ = -1;
+      }
+    }
+  }
+}
+
+void LineProgram::finish(std::chrono::milliseconds limit) {
+  if (in_ >= 0) {
+    ::close(in_);
+    in_ = -1;
+  }
+  if (pid_ > 0) {
+    // It may exit on its own once its input is closed; past the limit it is killed.
+    const auto deadline = std::chrono::steady_clock::now() + limit;
+    int status = 0;
+    pid_t done = 0;
+    while ((done = ::waitpid(pid_, &status, WNOHANG)) == 0 &&
+           std::chrono::steady_clock::now() < deadline) {
+      drain_error();
+      const timespec pause{0, 1000000};
+      nanosleep(&pause, nullptr);
+    }
+    if (done == 0) {
+      ::kill(pid_, SIGKILL);
+      status_ = reap(pid_);
+    } else if (done == pid_) {
+      status_ = describe(status);
+    }
+    pid_ = -1;
+  }
+  drain_error();
+  for (int* fd : {&out_, &err_}) {
+    if (*fd >= 0) {
+      ::close(*fd);
+      *fd = -1;
+    }
+  }
+}
+
+std::string LineProgram::last_error_line() const {
+  const std::size_t end = error_.find_last_not_of(" \t\r\n");
+  if (end == std::string::npos) {
+    return "";
+  }
+  const std::size_t newline = error_.rfind('\n', end);
+  const std::size_t begin = newline == std::string::npos ? 0 : newline + 1;
+  const std::string line = error_.substr(begin, end + 1 - begin);
+  return line.size() > 300 ? line.substr(0, 297) + "..." : line;
 }
 
 } // namespace pldamp::harness

@@ -4,6 +4,7 @@
 #pragma once
 
 #include <chrono>
+#include <cstddef>
 #include <optional>
 #include <string>
 #include <vector>
@@ -20,5 +21,47 @@ struct ProgramRun {
 
 ProgramRun run_program(const std::vector<std::string>& argv, const std::string& input,
                        std::chrono::milliseconds limit = std::chrono::seconds(60));
+
+} // namespace pldamp::harness
+
+namespace pldamp::harness {
+
+// A program kept running and spoken to in lines (the external-solver protocol, README "Your code
+// in the loop"): lines written to its standard input, lines read from its standard output within a
+// time limit, the last line of its standard error kept for messages. Started with an argument
+// vector, never a shell; killed when destroyed if it has not exited by then.
+class LineProgram {
+public:
+  // Starts argv (argv[0] looked up on PATH unless it names a path); started() tells.
+  explicit LineProgram(const std::vector<std::string>& argv);
+  LineProgram(const LineProgram&) = delete;
+  LineProgram& operator=(const LineProgram&) = delete;
+  ~LineProgram();
+
+  bool started() const { return pid_ > 0; }
+  // Writes `line` and a newline. False when the program no longer reads (it exited).
+  bool write_line(const std::string& line);
+
+  enum class Read { line, end, timeout, too_long };
+  // The next line of its standard output (without the newline) within `limit`; `end` when it
+  // closed its output (exited), `too_long` for a line beyond max_line_bytes.
+  Read read_line(std::string& line, std::chrono::milliseconds limit);
+  // Closes its standard input and waits up to `limit` for it to exit, then kills it.
+  void finish(std::chrono::milliseconds limit = std::chrono::seconds(2));
+  // How it ended, after finish(): "exited with status 3", "killed by signal 11".
+  std::string status() const { return status_; }
+  // The last non-empty line it wrote on standard error (at most 300 characters), or "".
+  std::string last_error_line() const;
+
+  static constexpr std::size_t max_line_bytes = 1 << 20;
+
+private:
+  void drain_error(); // reads what standard error holds without waiting
+  int pid_ = -1;
+  int in_ = -1, out_ = -1, err_ = -1;
+  std::string pending_; // read from standard output, not yet returned as a line
+  std::string error_;   // the tail of standard error
+  std::string status_;
+};
 
 } // namespace pldamp::harness

@@ -185,6 +185,9 @@ Budgets make_budgets(const Plan& plan, const std::vector<Record>& records) {
   }
   for (const Record& record : records) {
     budgets.failed_records += record.failed() ? 1 : 0;
+    if (record.skipped()) {
+      continue; // not run: no error, no cost
+    }
     const Cell& cell = plan.cells[record.cell];
     const double p = plan.points[cell.point].p;
     const auto p_index = static_cast<std::size_t>(std::find(ps.begin(), ps.end(), p) - ps.begin());

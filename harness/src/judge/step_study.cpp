@@ -26,7 +26,7 @@ std::vector<StepSweep> sweeps_of(const Plan& plan) {
   std::vector<std::string> order;
   for (std::size_t c = 0; c < plan.configs.size(); ++c) {
     const SolverConfig& config = plan.configs[c];
-    if (!config.steps_per_contact || !solvers::solver_named(config.name).fixed_step) {
+    if (!config.steps_per_contact || !config.fixed_step()) {
       continue;
     }
     if (groups.find(config.line()) == groups.end()) {

@@ -542,6 +542,9 @@ std::string report_html(const RunReport& report, const std::string& gnuplot_prog
         << html_table(search_table(report)) << "<p class='read'>"
         << escape(search_table_note(report)) << "</p>\n";
   }
+  if (const MapTable external = external_table(report); !external.rows.empty()) {
+    out << "<h2>External solvers</h2>\n" << html_table(external);
+  }
   out << "<h2>Worst relative error over the grid</h2>\n"
       << html_table(error_table(report)) << "<h2>Cost per cell</h2>\n"
       << html_table(cost_table(report));

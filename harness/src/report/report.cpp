@@ -273,6 +273,11 @@ ordered_json report_json(const RunReport& report) {
     c["atol"] = number_or_null(config.atol);
     c["steps_per_contact"] =
         config.steps_per_contact ? ordered_json(*config.steps_per_contact) : ordered_json(nullptr);
+    if (config.external()) { // its program is not part of what is computed: external_solvers
+      c["dt"] = number_or_null(config.dt);
+      c["options"] =
+          config.options.empty() ? ordered_json::object() : ordered_json::parse(config.options);
+    }
     scene["configs"].push_back(c);
   }
   for (const Claim& claim : plan.scene.claims) {
@@ -296,6 +301,16 @@ ordered_json report_json(const RunReport& report) {
                    {"solver_runs", report.totals.solver_runs},
                    {"wall_seconds", report.totals.wall_seconds},
                    {"failed_records", budgets.failed_records}};
+  ordered_json external = ordered_json::object();
+  for (std::size_t c = 0; c < plan.configs.size(); ++c) {
+    if (plan.configs[c].external() && c < report.totals.external.size()) {
+      external[plan.configs[c].line()] = {{"command", plan.configs[c].command},
+                                          {"handshake", report.totals.external[c]}};
+    }
+  }
+  if (!external.empty()) {
+    out["external_solvers"] = external;
+  }
   out["claims"] = ordered_json::array();
   for (const Verdict& v : budgets.claims) {
     ordered_json claim{{"name", v.name},
@@ -469,6 +484,12 @@ ordered_json report_json(const RunReport& report) {
     if (!record.failure.empty()) {
       r["failure"] = record.failure;
     }
+    if (record.skipped()) {
+      r["skipped"] = record.skip_reason;
+    }
+    if (!record.note.empty()) {
+      r["note"] = record.note;
+    }
     records.push_back(r);
   }
   out["records"] = records;
@@ -625,6 +646,55 @@ std::string search_table_note(const RunReport& report) {
                       "tried broke it.");
 }
 
+MapTable external_table(const RunReport& report) {
+  const Plan& plan = report.plan;
+  MapTable table{{"external solver", "program", "says of itself", "records", "skipped", "failed",
+                  "without truth"},
+                 {}};
+  std::vector<std::string> lines;
+  std::vector<std::array<long, 4>> counts;     // run, skipped, failed, without truth
+  std::vector<std::array<std::string, 2>> why; // the first skip reason and note
+  for (const Record& record : report.records) {
+    const SolverConfig& config = plan.configs[record.config];
+    if (!config.external()) {
+      continue;
+    }
+    auto found = std::find(lines.begin(), lines.end(), config.line());
+    const auto row = static_cast<std::size_t>(found - lines.begin());
+    if (found == lines.end()) {
+      lines.push_back(config.line());
+      counts.push_back({0, 0, 0, 0});
+      why.push_back({"", ""});
+      std::string program;
+      for (const std::string& arg : config.command) {
+        program += (program.empty() ? "" : " ") + arg;
+      }
+      const std::vector<std::string>& said = report.totals.external;
+      table.rows.push_back(
+          {config.line(), program, record.config < said.size() ? said[record.config] : ""});
+    }
+    ++counts[row][record.skipped() ? 1 : 0];
+    counts[row][2] += record.failed() ? 1 : 0;
+    counts[row][3] += record.note.empty() ? 0 : 1;
+    if (why[row][0].empty()) {
+      why[row][0] = record.skip_reason;
+    }
+    if (why[row][1].empty()) {
+      why[row][1] = record.note;
+    }
+  }
+  for (std::size_t row = 0; row < table.rows.size(); ++row) {
+    const auto with_reason = [](long n, const std::string& reason) {
+      return std::to_string(n) + (n > 0 && !reason.empty() ? " (" + reason + ")" : "");
+    };
+    table.rows[row].push_back(std::to_string(counts[row][0]));
+    table.rows[row].push_back(with_reason(counts[row][1], why[row][0]));
+    table.rows[row].push_back(std::to_string(counts[row][2]));
+    table.rows[row].push_back(with_reason(counts[row][3], why[row][1]));
+  }
+  return table;
+}
+
 MapTable error_table(const RunReport& report) {
   const Plan& plan = report.plan;
   MapTable table;
@@ -724,6 +794,9 @@ std::string report_markdown(const RunReport& report) {
     out << "## Searches: the loosest setting that keeps a bound\n\n"
         << markdown_table(search_table(report)) << "\n"
         << search_table_note(report) << "\n\n";
+  }
+  if (const MapTable external = external_table(report); !external.rows.empty()) {
+    out << "## External solvers\n\n" << markdown_table(external) << "\n";
   }
   out << "## Worst relative error over the grid\n\n"
       << markdown_table(error_table(report)) << "\n## Cost per cell\n\n"

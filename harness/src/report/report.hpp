@@ -104,6 +104,9 @@ MapTable cost_table(const RunReport& report);
 // The searches' answers, one row per group, and what they searched.
 MapTable search_table(const RunReport& report);
 std::string search_table_note(const RunReport& report);
+// External solvers, one row per solver line: its program, what it said of itself, and its records
+// run, skipped (and why), failed, and measured without a truth (and why). Empty: none in the run.
+MapTable external_table(const RunReport& report);
 // What the two tables' columns mean, a paragraph under them.
 std::string budget_table_note(const Plan& plan);
 

@@ -1,5 +1,7 @@
 #include "run/run.hpp"
 
+#include "run/external.hpp"
+
 #include "pldamp/solvers/registry.hpp"
 
 #include <fmt/format.h>
@@ -9,6 +11,7 @@
 #include <chrono>
 #include <cmath>
 #include <limits>
+#include <memory>
 #include <mutex>
 #include <thread>
 
@@ -71,16 +74,32 @@ std::vector<Measured> measure(const Plan& plan, const Cell& cell, const SolverCo
   return out;
 }
 
+// The registered solver of a configuration, or its external program (which runs in double).
 template <SupportedReal Real>
-void solve_record(const Plan& plan, Record& record) {
+solvers::Result<Real> solve_with(const SolverConfig& config, ExternalSolver* external,
+                                 const solvers::Problem<Real>& problem,
+                                 const solvers::Options<Real>& options) {
+  if constexpr (std::is_same_v<Real, double>) {
+    if (external != nullptr) {
+      return external->solve(problem, options);
+    }
+  }
+  return solvers::solve(config.name, problem, options);
+}
+
+template <SupportedReal Real>
+void solve_record(const Plan& plan, Record& record, ExternalSolver* external) {
   const Cell& cell = plan.cells[record.cell];
   const Point& point = plan.points[cell.point];
   const SolverConfig& config = plan.configs[record.config];
   const solvers::Problem<Real> problem{Real(point.p), Real(cell.m), Real(cell.k), Real(cell.v0),
                                        static_cast<Real>(point.alpha)};
   solvers::Options<Real> options;
-  options.rtol = config.rtol ? Real(*config.rtol)
-                             : solvers::solver_named(config.name).template default_rtol<Real>();
+  if (config.rtol) {
+    options.rtol = Real(*config.rtol);
+  } else if (external == nullptr) {
+    options.rtol = solvers::solver_named(config.name).template default_rtol<Real>();
+  }
   if (config.atol) {
     options.atol = Real(*config.atol);
   }
@@ -106,10 +125,10 @@ void solve_record(const Plan& plan, Record& record) {
   double steps = 0, rhs_evals = 0, fastest_seconds = 0, slowest_seconds = 0;
   for (int phase = 0; phase < config.onset_phases; ++phase) {
     options.onset_phase = Real(phase) / Real(config.onset_phases);
-    const solvers::Result<Real> result = solvers::solve(config.name, problem, options);
+    const solvers::Result<Real> result = solve_with(config, external, problem, options);
     RepeatTimes times;
     times.add(result.wall_seconds);
-    for (int repeat = 1; repeat < plan.scene.repeats; ++repeat) {
+    for (int repeat = 1; repeat < (external != nullptr ? 1 : plan.scene.repeats); ++repeat) {
       times.add(solvers::solve(config.name, problem, options).wall_seconds);
     }
     // A failed phase fails the record; the outcome kept is the worst seen.
@@ -154,6 +173,16 @@ void solve_record(const Plan& plan, Record& record) {
       }
     }
   }
+  if (external != nullptr && !external->facts().seed_damping(point.p)) {
+    // Its dashpot is not the seed's: the closed forms are not its truth.
+    record.note = fmt::format("no truth: it damps as delta^{:g} delta' and the closed forms "
+                              "need delta^{:g} delta'",
+                              external->facts().beta(point.p), (point.p - 1) / 2);
+    for (auto* field :
+         {&record.reference, &record.error, &record.abs_error, &record.rel_error, &record.spread}) {
+      field->assign(observables, std::nullopt);
+    }
+  }
   const double runs = double(config.onset_phases);
   record.steps = std::lround(steps / runs);
   record.rhs_evals = std::lround(rhs_evals / runs);
@@ -172,6 +201,9 @@ void solve_record(const Plan& plan, Record& record) {
 } // namespace
 
 bool Record::failed() const {
+  if (skipped()) {
+    return false;
+  }
   if (!outcome || solvers::failing(*outcome) || !failure.empty()) {
     return true;
   }
@@ -180,6 +212,9 @@ bool Record::failed() const {
 }
 
 std::string_view Record::outcome_name() const {
+  if (skipped()) {
+    return "skipped";
+  }
   return outcome ? solvers::outcome_name(*outcome) : "error";
 }
 
@@ -201,6 +236,18 @@ std::vector<Record> run_plan(const Plan& plan, int jobs, RunTotals& totals,
       records.push_back(record);
     }
   }
+  // Every external program started and its handshake read before any record: one that cannot be
+  // started or speaks another protocol stops the run here.
+  std::vector<std::unique_ptr<ExternalSolver>> externals(plan.configs.size());
+  totals = {};
+  totals.external.assign(plan.configs.size(), "");
+  for (std::size_t c = 0; c < plan.configs.size(); ++c) {
+    if (plan.configs[c].external()) {
+      externals[c] =
+          std::make_unique<ExternalSolver>(plan.configs[c], plan.scene.limits.max_seconds);
+      totals.external[c] = externals[c]->facts().describe();
+    }
+  }
   std::atomic<std::size_t> next{0};
   std::mutex report;
   std::size_t done = 0;
@@ -208,8 +255,18 @@ std::vector<Record> run_plan(const Plan& plan, int jobs, RunTotals& totals,
     for (std::size_t i = next++; i < records.size() && !stop_requested(); i = next++) {
       Record& record = records[i];
       try {
-        with_precision(plan.configs[record.config].precision,
-                       [&]<SupportedReal Real>() { solve_record<Real>(plan, record); });
+        with_precision(plan.configs[record.config].precision, [&]<SupportedReal Real>() {
+          solve_record<Real>(plan, record, externals[record.config].get());
+        });
+      } catch (const Skipped& e) {
+        const std::size_t cell = record.cell, config = record.config;
+        record = Record{};
+        record.cell = cell;
+        record.config = config;
+        record.skip_reason = e.what();
+        record.value.assign(plan.observables.size(), std::nullopt);
+        record.reference = record.error = record.abs_error = record.rel_error = record.spread =
+            record.value;
       } catch (const std::exception& e) {
         record.outcome.reset();
         record.failure = e.what();
@@ -231,10 +288,10 @@ std::vector<Record> run_plan(const Plan& plan, int jobs, RunTotals& totals,
   for (std::thread& worker : workers) {
     worker.join();
   }
-  totals = {};
   for (const Record& record : records) {
     totals.rhs_evals += record.rhs_evals * record.phases;
-    totals.solver_runs += record.outcome ? plan.scene.repeats * record.phases : 1;
+    const int repeats = externals[record.config] ? 1 : plan.scene.repeats;
+    totals.solver_runs += record.skipped() ? 0 : record.outcome ? repeats * record.phases : 1;
   }
   totals.wall_seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();

@@ -37,6 +37,13 @@ struct Record {
   // Over several onset phases: the phase with the largest relative error, and the spread of the
   // values over the phases relative to the reference.
   std::vector<std::optional<double>> value, reference, error, abs_error, rel_error, spread;
+  // An external solver's record it does not run (README "Your code in the loop"): why. Such a
+  // record is neither failed nor counted in budgets and costs.
+  std::string skip_reason;
+  // Values measured without a truth to compare with, and why (an external solver whose dashpot
+  // is not the seed's δ^((p−1)/2): no closed form is its truth).
+  std::string note;
+  bool skipped() const { return !skip_reason.empty(); }
   // Failed: the solver threw, ran out of its budget (step_limit, time_limit), gave an impossible
   // answer (unstable), gave up before a return the truth has in its horizon, or returned a
   // non-finite error.
@@ -59,6 +66,9 @@ struct RunTotals {
   long rhs_evals = 0;   // over one run of each collision (repeats time only)
   long solver_runs = 0; // repeats included
   double wall_seconds = 0;
+  // Per configuration: what an external solver said of itself in its handshake
+  // (ExternalFacts::describe); empty for pldamp's own solvers.
+  std::vector<std::string> external;
 };
 
 using Progress = std::function<void(std::size_t done, std::size_t total)>;
@@ -68,7 +78,10 @@ using Progress = std::function<void(std::size_t done, std::size_t total)>;
 // it first (cli/commands_run.cpp).
 std::atomic<bool>& stop_requested();
 
-// Runs every record of the plan; `progress` (if set) is called from the workers, serialised.
+// Runs every record of the plan (an external solver runs each phase once, whatever the repeats:
+// its wall time is what it reports); `progress` (if set) is called from the workers, serialised.
+// Throws ProtocolError (run/external.hpp) before any record when an external solver cannot be
+// started or speaks another protocol.
 std::vector<Record> run_plan(const Plan& plan, int jobs, RunTotals& totals,
                              const Progress& progress = {});
 

@@ -7,6 +7,7 @@
 #include "pldamp/solvers/registry.hpp"
 
 #include <fmt/format.h>
+#include <nlohmann/json.hpp>
 #include <toml++/toml.h>
 
 #include <algorithm>
@@ -253,9 +254,122 @@ void check_config(const Reader& reader, const toml::node& node, const Scene& sce
   }
 }
 
+// An external solver's sweep (steps_per_contact, dt or rtol, at most one) from `entry` into
+// configurations based on `base`; none: one configuration, the program's own default.
+std::vector<SolverConfig> external_sweep(const Reader& reader, const toml::table& entry,
+                                         const toml::node& item, const SolverConfig& base) {
+  std::vector<SolverConfig> configs;
+  int keys = 0;
+  if (const toml::node* steps = entry.get("steps_per_contact")) {
+    ++keys;
+    for (const double n : reader.numbers(*steps, "steps_per_contact")) {
+      configs.push_back(base);
+      configs.back().steps_per_contact = steps_per_contact(reader, *steps, n);
+    }
+  }
+  if (const toml::node* dt = entry.get("dt")) {
+    ++keys;
+    for (const double value : reader.numbers(*dt, "dt")) {
+      reader.require(value > 0, *dt, "dt must be > 0", value);
+      configs.push_back(base);
+      configs.back().dt = value;
+    }
+  }
+  if (const toml::node* rtol = entry.get("rtol")) {
+    ++keys;
+    for (const double value : reader.numbers(*rtol, "rtol")) {
+      check_rtol(reader, *rtol, value);
+      configs.push_back(base);
+      configs.back().rtol = value;
+    }
+  }
+  if (keys > 1) {
+    reader.fail(item, "an external solver sweeps one of steps_per_contact, dt and rtol");
+  }
+  if (keys == 0) {
+    configs.push_back(base);
+  }
+  if (base.onset_phases > 1 && !configs.front().fixed_step()) {
+    reader.fail(*entry.get("onset_phases"), "onset_phases needs steps_per_contact or dt");
+  }
+  return configs;
+}
+
+// [[solver]] with a command: a program speaking the protocol of run/external.hpp.
+void read_external_solver(const Reader& reader, const toml::table& entry, const toml::node& item,
+                          Scene& scene) {
+  reader.only(entry,
+              {"command", "label", "options", "rtol", "atol", "steps_per_contact", "dt", "end",
+               "onset_phases", "precision"},
+              "[[solver]] with a command");
+  SolverConfig base;
+  const toml::node* command = entry.get("command");
+  base.command = reader.strings(*command, "command");
+  if (base.command.empty() ||
+      std::any_of(base.command.begin(), base.command.end(),
+                  [](const std::string& arg) { return arg.find('\0') != std::string::npos; }) ||
+      base.command.front().empty()) {
+    reader.fail(*command, "command must be a non-empty list of strings, the program first");
+  }
+  // A relative program path is the scene file's folder's, so a scene runs from anywhere.
+  const std::filesystem::path program(base.command.front());
+  if (program.is_relative() && base.command.front().find('/') != std::string::npos) {
+    base.command.front() =
+        (std::filesystem::path(scene.path).parent_path() / program).lexically_normal().string();
+  }
+  const toml::node* label = entry.get("label");
+  if (label == nullptr) {
+    reader.fail(item, "[[solver]] with a command needs a label");
+  }
+  base.name = reader.string(*label, "label");
+  if (base.name.empty() || base.name.size() > 100 ||
+      std::any_of(base.name.begin(), base.name.end(),
+                  [](char c) { return static_cast<unsigned char>(c) < 0x20 || c == 0x7f; })) {
+    reader.fail(*label, "label must be 1 to 100 printable characters");
+  }
+  if (solvers::find_solver(base.name) != nullptr) {
+    reader.fail(*label, "label names a registered solver (got " + base.name + ")");
+  }
+  if (std::any_of(scene.configs.begin(), scene.configs.end(),
+                  [&](const SolverConfig& other) { return other.name == base.name; })) {
+    reader.fail(*label, "another [[solver]] has this label (got " + base.name + ")");
+  }
+  if (const toml::node* precision = entry.get("precision")) {
+    if (reader.string(*precision, "precision") != "double") {
+      reader.fail(*precision, "an external solver answers in double (got " +
+                                  reader.string(*precision, "precision") + ")");
+    }
+  }
+  if (const toml::node* options = entry.get("options")) {
+    std::ostringstream json;
+    json << toml::json_formatter{reader.table(*options, "options")};
+    base.options = nlohmann::json::parse(json.str()).dump();
+  }
+  if (const toml::node* atol = entry.get("atol")) {
+    base.atol = reader.number(*atol, "atol");
+    reader.require(*base.atol > 0, *atol, "atol must be > 0", *base.atol);
+  }
+  if (const toml::node* phases = entry.get("onset_phases")) {
+    const double n = reader.number(*phases, "onset_phases");
+    reader.require(n >= 1 && n <= 1000 && n == std::floor(n), *phases,
+                   "onset_phases must be an integer in [1, 1000]", n);
+    base.onset_phases = static_cast<int>(n);
+  }
+  for (const std::optional<solvers::End>& end : read_ends(reader, entry)) {
+    base.end = end;
+    for (const SolverConfig& config : external_sweep(reader, entry, item, base)) {
+      scene.configs.push_back(config);
+    }
+  }
+}
+
 void read_solvers(const Reader& reader, const toml::node& node, Scene& scene) {
   for (const toml::node& item : reader.entries(node, "solver")) {
     const toml::table& entry = reader.table(item, "[[solver]]");
+    if (entry.get("command") != nullptr) {
+      read_external_solver(reader, entry, item, scene);
+      continue;
+    }
     reader.only(entry,
                 {"name", "rtol", "atol", "precision", "steps_per_contact", "end", "onset_phases"},
                 "[[solver]]");
@@ -416,6 +530,22 @@ void read_error_bound(const Reader& reader, const toml::table& entry, const toml
     quantile = reader.number(*q, "quantile");
     reader.require(quantile > 0 && quantile <= 1, *q, "quantile must be in (0, 1]", quantile);
   }
+}
+
+// The external [[solver]] a [[claim]]'s `solver` names by its label, or nullptr.
+const SolverConfig* external_named(const Reader& reader, const toml::table& entry,
+                                   const Scene& scene) {
+  const toml::node* solver = entry.get("solver");
+  if (solver == nullptr) {
+    return nullptr;
+  }
+  const std::string name = reader.string(*solver, "solver");
+  for (const SolverConfig& config : scene.configs) {
+    if (config.external() && config.name == name) {
+      return &config;
+    }
+  }
+  return nullptr;
 }
 
 // The solver of a claim of the new kinds, in double (the seed's own runs were double): name,
@@ -625,7 +755,15 @@ void read_claims(const Reader& reader, const toml::node& node, Scene& scene) {
                  "rtol", "atol", "precision", "steps_per_contact", "end", "onset_phases", "bound",
                  "bound_rel", "quantile"},
                 "[[claim]]");
-    claim.config = base_config(reader, entry, "solver", "[[claim]]", item);
+    const SolverConfig* external = external_named(reader, entry, scene);
+    if (external != nullptr) {
+      claim.config = *external;
+      claim.config.rtol.reset();
+      claim.config.steps_per_contact.reset();
+      claim.config.dt.reset();
+    } else {
+      claim.config = base_config(reader, entry, "solver", "[[claim]]", item);
+    }
     const std::vector<std::optional<solvers::End>> ends = read_ends(reader, entry);
     if (ends.size() != 1) {
       reader.fail(*entry.get("end"), "a claim's end is one contact end (got a list)");
@@ -642,6 +780,24 @@ void read_claims(const Reader& reader, const toml::node& node, Scene& scene) {
       }
       reader.fail(*entry.get("observable"), "claim observable must be one the scene wants: " +
                                                 names + " (got " + claim.observable + ")");
+    }
+    if (external != nullptr) {
+      // The claim names one configuration of the external solver's sweep.
+      const bool swept = external->steps_per_contact || external->rtol;
+      const char* key = external->steps_per_contact ? "steps_per_contact" : "rtol";
+      const toml::node* value = entry.get(key);
+      if (swept && value == nullptr) {
+        reader.fail(item, std::string("[[claim]] needs the ") + key + " of its solver");
+      }
+      if (value != nullptr && external->steps_per_contact) {
+        claim.config.steps_per_contact =
+            steps_per_contact(reader, *value, reader.number(*value, key));
+      } else if (value != nullptr) {
+        claim.config.rtol = reader.number(*value, key);
+        check_rtol(reader, *value, *claim.config.rtol);
+      }
+      scene.claims.push_back(claim);
+      continue;
     }
     const solvers::SolverInfo& info = solvers::solver_named(claim.config.name);
     const bool fixed_step = info.fixed_step;
@@ -857,6 +1013,14 @@ std::string SolverConfig::label() const {
     out += fmt::format(" phases={}", onset_phases);
   }
   return out;
+}
+
+bool SolverConfig::fixed_step() const {
+  if (external()) {
+    return steps_per_contact.has_value() || dt.has_value();
+  }
+  const solvers::SolverInfo* info = solvers::find_solver(name);
+  return info != nullptr && info->fixed_step;
 }
 
 std::string SolverConfig::line() const {

@@ -5,6 +5,9 @@
 //     end  = "overlap"                      # or "force"
 //     want = ["e", "delta_max", "t_peak", "tau", "energy"]
 //     [grid]      p, e and/or alpha_eff, v0, m (default [1]), k (default [1]): numbers or lists
+//     [[solver]]  an external program instead of name: command = [argv...] (a relative program path
+//                 is the scene file's folder's), label, options = {...} (passed through), and
+//                 rtol, atol, steps_per_contact or dt (lists), end, onset_phases as below
 //     [[solver]]  name; rtol (number or list; a reference solver without it: its precision's
 //                 epsilon); atol; precision (double|long|quad|50, where the solver runs in it);
 //                 steps_per_contact (fixed-step solvers, list); end (overlap|force, or both
@@ -77,6 +80,14 @@ struct SolverConfig {
   std::optional<double> dt;             // fixed-step solvers: a fixed step instead (searches)
   std::optional<solvers::End> end;      // the contact-end rule, when not the scene's
   int onset_phases = 1; // fixed-step solvers: evenly spaced onset phases k/n, worst reported
+  // An external solver (run/external.hpp): the program and its arguments, started once per
+  // configuration; `name` is then the [[solver]]'s label. `options` is its [[solver]] options
+  // table as JSON text, passed through in every problem.
+  std::vector<std::string> command;
+  std::string options;
+  bool external() const { return !command.empty(); }
+  // Fixed-step: a registered fixed-step scheme, or an external solver swept by steps or dt.
+  bool fixed_step() const;
   // "cvode-bdf rtol=1e-08", "taylor quad", "dem-verlet n=50 end=force phases=16"
   std::string label() const;
   // The label without its sweep value (rtol, steps per contact): the line of a work-precision

@@ -1,0 +1,381 @@
+#include "run/external.hpp"
+
+#include "common/observables.hpp"
+
+#include "pldamp/solvers/contact_ode.hpp"
+
+#include <boost/math/constants/constants.hpp>
+#include <fmt/format.h>
+#include <nlohmann/json.hpp>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <limits>
+
+namespace pldamp::harness {
+namespace {
+
+using nlohmann::json;
+using nlohmann::ordered_json;
+
+// A line from the program, quoted in a message: one line, at most 100 characters.
+std::string quoted(const std::string& line) {
+  const std::string shown = one_line(line);
+  return "'" + (shown.size() > 100 ? shown.substr(0, 97) + "..." : shown) + "'";
+}
+
+constexpr std::chrono::milliseconds handshake_limit{30000};
+
+// The program's own `error` outcome: the record fails, the exchange is still in step.
+struct ReportedError : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
+
+// The fixed step of a configuration swept by steps per contact or dt (MATH.md §5: Δt = π δ_u/v0
+// over the steps, as pldamp's own fixed-step schemes take it), none for an error-controlled one.
+std::optional<double> step_of(const SolverConfig& config, const solvers::Problem<double>& problem) {
+  if (config.dt) {
+    return config.dt;
+  }
+  if (config.steps_per_contact) {
+    return boost::math::constants::pi<double>() *
+           solvers::ContactOde<double>(problem).time_scale() / double(*config.steps_per_contact);
+  }
+  return std::nullopt;
+}
+
+std::optional<solvers::Outcome> outcome_named(const std::string& name) {
+  using solvers::Outcome;
+  for (const Outcome outcome : {Outcome::exited, Outcome::peak, Outcome::no_exit,
+                                Outcome::step_limit, Outcome::time_limit, Outcome::unstable}) {
+    if (solvers::outcome_name(outcome) == name) {
+      return outcome;
+    }
+  }
+  return std::nullopt;
+}
+
+// A measured number of the reply: absent, a finite number >= 0, or "inf" where `infinite_ok`.
+std::optional<double> reply_number(const json& reply, const char* key, bool infinite_ok) {
+  const auto found = reply.find(key);
+  if (found == reply.end() || found->is_null()) {
+    return std::nullopt;
+  }
+  if (found->is_string() && infinite_ok && found->get<std::string>() == "inf") {
+    return std::numeric_limits<double>::infinity();
+  }
+  if (!found->is_number()) {
+    throw std::runtime_error(
+        fmt::format("the reply's {} is not a number (got {})", key, quoted(found->dump())));
+  }
+  const double value = found->get<double>();
+  if (!std::isfinite(value) || value < 0) {
+    throw std::runtime_error(
+        fmt::format("the reply's {} must be a finite number >= 0 (got {})", key, value));
+  }
+  return value;
+}
+
+long reply_count(const json& reply, const char* key) {
+  const std::optional<double> value = reply_number(reply, key, false);
+  if (value && (*value != std::floor(*value) || *value > 9e15)) {
+    throw std::runtime_error(
+        fmt::format("the reply's {} must be a whole number (got {})", key, *value));
+  }
+  return value ? static_cast<long>(*value) : 0;
+}
+
+// The handshake's facts; throws ProtocolError naming what is wrong.
+ExternalFacts read_handshake(const std::string& line, const std::string& who) {
+  json hello;
+  try {
+    hello = json::parse(line);
+  } catch (const json::exception&) {
+    throw ProtocolError(who + ": its handshake is not JSON (got " + quoted(line) + ")");
+  }
+  if (!hello.is_object()) {
+    throw ProtocolError(who + ": its handshake is not a JSON object (got " + quoted(line) + ")");
+  }
+  const auto protocol = hello.find("protocol");
+  const auto version = hello.find("version");
+  if (protocol == hello.end() || *protocol != protocol_name || version == hello.end() ||
+      !version->is_number_integer() || *version != protocol_version) {
+    throw ProtocolError(fmt::format("{}: speaks another protocol; pldamp speaks {} version {} "
+                                    "(got {})",
+                                    who, protocol_name, protocol_version, quoted(line)));
+  }
+  ExternalFacts facts;
+  try {
+    facts.solver = hello.at("solver").get<std::string>();
+    if (const auto beta = hello.find("damping_exponent"); beta != hello.end()) {
+      if (beta->is_number()) {
+        facts.damping_exponent = beta->get<double>();
+        if (!std::isfinite(*facts.damping_exponent) || *facts.damping_exponent < 0) {
+          throw ProtocolError(who + ": damping_exponent must be a number >= 0 or \"seed\"");
+        }
+      } else if (*beta != "seed") {
+        throw ProtocolError(who + ": damping_exponent must be a number >= 0 or \"seed\" (got " +
+                            quoted(beta->dump()) + ")");
+      }
+    }
+    if (const auto p = hello.find("p"); p != hello.end()) {
+      facts.exponents = p->get<std::vector<double>>();
+    }
+    facts.ends = {solvers::End::overlap, solvers::End::force};
+    if (const auto ends = hello.find("ends"); ends != hello.end()) {
+      facts.ends.clear();
+      for (const std::string& name : ends->get<std::vector<std::string>>()) {
+        const std::optional<solvers::End> end = value_named(contact_ends, name);
+        if (!end) {
+          throw ProtocolError(who + ": unknown contact end in its handshake (got " + name + ")");
+        }
+        facts.ends.push_back(*end);
+      }
+    }
+    if (const auto unavailable = hello.find("unavailable"); unavailable != hello.end()) {
+      facts.unavailable = unavailable->get<std::string>();
+      if (facts.unavailable.empty()) {
+        facts.unavailable = "unavailable";
+      }
+    }
+  } catch (const json::exception&) {
+    throw ProtocolError(who +
+                        ": its handshake has a key of the wrong type or lacks `solver` (got " +
+                        quoted(line) + ")");
+  }
+  return facts;
+}
+
+} // namespace
+
+bool ExternalFacts::seed_damping(double p) const {
+  return !damping_exponent || std::abs(*damping_exponent - (p - 1) / 2) <= 1e-15;
+}
+
+std::string ExternalFacts::describe() const {
+  std::string out = one_line(solver);
+  if (damping_exponent) {
+    out += fmt::format("; damping exponent {:g}", *damping_exponent);
+  }
+  if (!unavailable.empty()) {
+    out += "; unavailable: " + one_line(unavailable);
+  }
+  return out;
+}
+
+ExternalSolver::ExternalSolver(const SolverConfig& config, double limit_seconds)
+    : config_(config), limit_(std::chrono::milliseconds(std::llround(limit_seconds * 1000))) {
+  start();
+}
+
+ExternalSolver::~ExternalSolver() {
+  if (program_) {
+    program_->finish();
+  }
+}
+
+void ExternalSolver::start() {
+  const std::string who = "[[solver]] " + config_.name;
+  program_ = std::make_unique<LineProgram>(config_.command);
+  if (!program_->started()) {
+    program_.reset();
+    throw ProtocolError(who + ": cannot start " + config_.command.front() +
+                        " (not found or not executable)");
+  }
+  std::string line;
+  if (!program_->write_line(
+          ordered_json{{"protocol", protocol_name}, {"version", protocol_version}}.dump())) {
+    throw ProtocolError(who + ": " + why_stopped(""));
+  }
+  // Starting a code (an interpreter, a simulation library) may take longer than one problem.
+  const std::chrono::milliseconds limit = std::max(limit_, handshake_limit);
+  switch (program_->read_line(line, limit)) {
+  case LineProgram::Read::line:
+    break;
+  case LineProgram::Read::timeout:
+    stop_program();
+    throw ProtocolError(
+        fmt::format("{}: no handshake within {} s", who, double(limit.count()) / 1000));
+  case LineProgram::Read::too_long:
+    stop_program();
+    throw ProtocolError(who + ": its handshake is longer than 1 MiB");
+  case LineProgram::Read::end:
+    throw ProtocolError(who + ": " + why_stopped(line) + " before its handshake");
+  }
+  facts_ = read_handshake(line, who);
+}
+
+void ExternalSolver::stop_program() {
+  if (program_) {
+    program_->finish(std::chrono::milliseconds(0));
+    program_.reset();
+  }
+}
+
+std::string ExternalSolver::why_stopped(const std::string& partial) {
+  program_->finish();
+  std::string out = "the program " + program_->status();
+  if (!partial.empty()) {
+    out += " in the middle of a line (" + quoted(partial) + ")";
+  }
+  if (const std::string error = program_->last_error_line(); !error.empty()) {
+    out += "; its last words on stderr: " + quoted(error);
+  }
+  program_.reset();
+  return out;
+}
+
+std::string ExternalSolver::problem_line(const solvers::Problem<double>& problem,
+                                         const solvers::Options<double>& options, long id) const {
+  ordered_json line{{"id", id},
+                    {"p", problem.p},
+                    {"m", problem.m},
+                    {"k", problem.k},
+                    {"v0", problem.v0},
+                    {"alpha", problem.alpha},
+                    {"damping_exponent", facts_.beta(problem.p)},
+                    {"end", name_of(contact_ends, options.end)}};
+  ordered_json want = ordered_json::array();
+  for (const Observable* observable : observables_of(options.want)) {
+    want.push_back(observable->key);
+  }
+  line["want"] = want;
+  if (const std::optional<double> dt = step_of(config_, problem)) {
+    if (config_.steps_per_contact) {
+      line["steps_per_contact"] = *config_.steps_per_contact;
+    }
+    line["dt"] = *dt;
+    line["onset_phase"] = options.onset_phase;
+  }
+  if (config_.rtol) {
+    line["rtol"] = *config_.rtol;
+  }
+  if (config_.atol) {
+    line["atol"] = *config_.atol;
+  }
+  line["options"] =
+      config_.options.empty() ? ordered_json::object() : ordered_json::parse(config_.options);
+  return line.dump();
+}
+
+solvers::Result<double> ExternalSolver::parse_reply(const std::string& line, long id) const {
+  json reply;
+  try {
+    reply = json::parse(line);
+  } catch (const json::exception&) {
+    throw std::runtime_error("the reply is not JSON (got " + quoted(line) + ")");
+  }
+  if (!reply.is_object()) {
+    throw std::runtime_error("the reply is not a JSON object (got " + quoted(line) + ")");
+  }
+  const auto reply_id = reply.find("id");
+  if (reply_id == reply.end() || !reply_id->is_number_integer() || *reply_id != id) {
+    throw std::runtime_error(
+        fmt::format("the reply is for another problem: id {} expected (got {})", id,
+                    reply_id == reply.end() ? "none" : quoted(reply_id->dump())));
+  }
+  const auto outcome = reply.find("outcome");
+  if (outcome == reply.end() || !outcome->is_string()) {
+    throw std::runtime_error("the reply has no outcome (got " + quoted(line) + ")");
+  }
+  const std::string name = outcome->get<std::string>();
+  const auto reason = [&] {
+    const auto found = reply.find("reason");
+    return found != reply.end() && found->is_string() ? one_line(found->get<std::string>())
+                                                      : std::string("no reason given");
+  };
+  if (name == "unsupported") {
+    throw Skipped("unsupported: " + reason());
+  }
+  if (name == "error") {
+    throw ReportedError("the program's error: " + reason());
+  }
+  const std::optional<solvers::Outcome> known = outcome_named(name);
+  if (!known) {
+    throw std::runtime_error("unknown outcome " + quoted(name) +
+                             ", expected exited|peak|no_exit|step_limit|time_limit|unstable|"
+                             "unsupported|error");
+  }
+  solvers::Result<double> result;
+  result.outcome = *known;
+  result.e = reply_number(reply, "e", false);
+  result.delta_max = reply_number(reply, "delta_max", false);
+  result.t_peak = reply_number(reply, "t_peak", false);
+  result.tau = reply_number(reply, "tau", true);
+  result.energy_load = reply_number(reply, "energy_load", false);
+  result.energy_unload = reply_number(reply, "energy_unload", false);
+  result.steps = reply_count(reply, "steps");
+  result.rhs_evals = reply_count(reply, "rhs_evals");
+  result.wall_seconds = reply_number(reply, "wall_seconds", false).value_or(0);
+  if (*known == solvers::Outcome::unstable) {
+    result.invariant = "the program says unstable: " + reason();
+  }
+  return result;
+}
+
+solvers::Result<double> ExternalSolver::solve(const solvers::Problem<double>& problem,
+                                              const solvers::Options<double>& options) {
+  if (!facts_.unavailable.empty()) {
+    throw Skipped("unavailable: " + one_line(facts_.unavailable));
+  }
+  if (!facts_.exponents.empty() && std::find(facts_.exponents.begin(), facts_.exponents.end(),
+                                             problem.p) == facts_.exponents.end()) {
+    throw Skipped(fmt::format("it runs p = {} only", fmt::join(facts_.exponents, ", ")));
+  }
+  if (std::find(facts_.ends.begin(), facts_.ends.end(), options.end) == facts_.ends.end()) {
+    throw Skipped(fmt::format("it has no {} end", name_of(contact_ends, options.end)));
+  }
+  const std::lock_guard lock(busy_);
+  if (!dead_.empty()) {
+    throw std::runtime_error(dead_);
+  }
+  if (!program_) {
+    try {
+      start();
+    } catch (const ProtocolError& e) {
+      dead_ = std::string("could not be restarted: ") + e.what();
+      throw std::runtime_error(dead_);
+    }
+  }
+  const long id = next_id_++;
+  const auto sent = std::chrono::steady_clock::now();
+  if (!program_->write_line(problem_line(problem, options, id))) {
+    throw std::runtime_error(why_stopped(""));
+  }
+  std::string line;
+  switch (program_->read_line(line, limit_)) {
+  case LineProgram::Read::line:
+    break;
+  case LineProgram::Read::timeout:
+    stop_program();
+    throw std::runtime_error(fmt::format("no reply within {} s ([limits] max_seconds); the "
+                                         "program was stopped",
+                                         double(limit_.count()) / 1000));
+  case LineProgram::Read::too_long:
+    stop_program();
+    throw std::runtime_error("a reply longer than 1 MiB; the program was stopped");
+  case LineProgram::Read::end:
+    throw std::runtime_error(why_stopped(line));
+  }
+  const double round_trip =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - sent).count();
+  try {
+    solvers::Result<double> result = parse_reply(line, id);
+    if (result.wall_seconds == 0) {
+      result.wall_seconds = round_trip;
+    }
+    result.fixed_step = step_of(config_, problem);
+    return result;
+  } catch (const Skipped&) {
+    throw;
+  } catch (const ReportedError&) {
+    throw;
+  } catch (const std::runtime_error&) {
+    // After a reply it cannot read, pldamp no longer trusts the exchange to be in step.
+    stop_program();
+    throw;
+  }
+}
+
+} // namespace pldamp::harness

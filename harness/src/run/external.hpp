@@ -1,0 +1,94 @@
+// External solvers (README "Your code in the loop: external solvers"): a scene's [[solver]] that
+// names a program. pldamp starts it once per configuration with an argument vector (never a shell)
+// and speaks the pldamp-solver protocol, version 1, to it: a handshake line each way, then one
+// JSON problem per line on its standard input and one JSON result per line from its standard
+// output. What comes back is a solvers::Result like any registered solver's, so budgets, claims,
+// work-precision points and diffs treat it alike.
+//
+// A program that cannot be started or speaks another protocol stops the run before any work
+// (ProtocolError, exit 2). Within the run, a malformed, missing, late or foreign reply, an `error`
+// outcome and a crash fail that record with the reason (std::runtime_error) and the program is
+// restarted for the next; `unsupported`, `unavailable` and a p or contact end outside the
+// handshake's skip it (Skipped).
+#pragma once
+
+#include "common/input.hpp"
+#include "common/process.hpp"
+#include "scene/scene.hpp"
+
+#include "pldamp/solvers/problem.hpp"
+
+#include <memory>
+#include <mutex>
+#include <optional>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+namespace pldamp::harness {
+
+inline constexpr std::string_view protocol_name = "pldamp-solver";
+inline constexpr int protocol_version = 1;
+
+// The program could not be started, or its handshake is not protocol version 1: exit 2.
+struct ProtocolError : InputError {
+  using InputError::InputError;
+};
+
+// The program does not run this record; the reason is reported, the record is not failed.
+struct Skipped : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
+
+// What a program said of itself in its handshake.
+struct ExternalFacts {
+  std::string solver;                     // its name for itself
+  std::optional<double> damping_exponent; // β of its dashpot c δ^β δ'; none: the seed's (p−1)/2
+  std::vector<double> exponents;          // the p it runs (empty: any)
+  std::vector<solvers::End> ends;         // the contact ends it runs
+  std::string unavailable;                // not empty: it cannot run here (its code is missing)
+
+  // β at p.
+  double beta(double p) const { return damping_exponent.value_or((p - 1) / 2); }
+  // The closed forms are its truth at p: its dashpot is the seed's (MATH.md §1).
+  bool seed_damping(double p) const;
+  // "LAMMPS granular hertz tsuji; damping exponent 0.5"
+  std::string describe() const;
+};
+
+class ExternalSolver {
+public:
+  // Starts the program and reads its handshake (within 30 s, or `limit_seconds` if longer);
+  // `limit_seconds` bounds each reply after it. Throws ProtocolError.
+  ExternalSolver(const SolverConfig& config, double limit_seconds);
+  ExternalSolver(const ExternalSolver&) = delete;
+  ExternalSolver& operator=(const ExternalSolver&) = delete;
+  ~ExternalSolver();
+
+  const ExternalFacts& facts() const { return facts_; }
+
+  // One problem, one reply (one at a time per program; callers on several threads queue). Throws
+  // Skipped, or std::runtime_error with the reason the record failed.
+  solvers::Result<double> solve(const solvers::Problem<double>& problem,
+                                const solvers::Options<double>& options);
+
+private:
+  void start();        // the program and its handshake; throws ProtocolError
+  void stop_program(); // after a broken exchange: killed, restarted on the next problem
+  std::string problem_line(const solvers::Problem<double>& problem,
+                           const solvers::Options<double>& options, long id) const;
+  // The reply's line as a Result; throws std::runtime_error or Skipped.
+  solvers::Result<double> parse_reply(const std::string& line, long id) const;
+  // Why the program stopped answering: its exit status and the last line it wrote on stderr.
+  std::string why_stopped(const std::string& partial);
+
+  SolverConfig config_;
+  std::chrono::milliseconds limit_;
+  ExternalFacts facts_;
+  std::unique_ptr<LineProgram> program_;
+  std::string dead_; // not empty: it could not be restarted; every record fails with this
+  long next_id_ = 0;
+  std::mutex busy_;
+};
+
+} // namespace pldamp::harness

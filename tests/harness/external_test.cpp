@@ -1,0 +1,253 @@
+// External solvers over the pldamp-solver protocol (run/external.hpp), against a test double
+// (adapters/fake_adapter.py) that behaves, or misbehaves in one way per mode.
+#include "fixtures.hpp"
+#include "run/external.hpp"
+
+#include <boost/math/constants/constants.hpp>
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include <cmath>
+#include <fstream>
+
+namespace pldamp::harness {
+namespace {
+
+using testing::run;
+using testing::scratch;
+using testing::write_file;
+
+// A scene of p = 1 and 1.5 × e = 0.3, 0.8 × v0 = 1, 2 (or `grid`) with the fake adapter in
+// `mode`.
+std::string scene_with(const std::string& mode, const std::string& extra = "",
+                       const std::string& state = "",
+                       const std::string& grid = "p = [1, 1.5]\ne = [0.3, 0.8]\nv0 = [1, 2]\n") {
+  return "name = \"external\"\nwant = [\"e\", \"delta_max\", \"t_peak\", \"tau\"]\n"
+         "[grid]\n" +
+         grid +
+         "[limits]\nmax_seconds = 0.5\n"
+         "[[solver]]\ncommand = [\"python3\", \"" PLDAMP_TEST_ADAPTERS "/fake_adapter.py\", \"" +
+         mode + "\"" + (state.empty() ? "" : ", \"" + state + "\"") + "]\nlabel = \"fake\"\n" +
+         extra;
+}
+
+struct Ran {
+  Plan plan;
+  std::vector<Record> records;
+};
+
+Ran run_scene_text(const std::string& text) {
+  const Plan plan = make_plan(parse_scene(text, (scratch() / "external.toml").string()));
+  RunTotals totals;
+  std::vector<Record> records = run_plan(plan, 2, totals);
+  return {plan, std::move(records)};
+}
+
+double p_of(const Ran& ran, const Record& record) {
+  return ran.plan.points[ran.plan.cells[record.cell].point].p;
+}
+
+// A fresh state file for the modes that remember (crash_once, hang_once, record).
+std::string fresh_state(const std::string& name) {
+  const std::string path = (scratch() / name).string();
+  std::filesystem::remove(path);
+  return path;
+}
+
+TEST(External, AnIndependentTruthAgreesToRoundingAndOtherExponentsAreSkippedNotFailed) {
+  const Ran ran = run_scene_text(scene_with("good"));
+  ASSERT_EQ(ran.records.size(), 8u);
+  for (const Record& record : ran.records) {
+    if (p_of(ran, record) == 1) {
+      // The fake answers with the linear oscillator's closed forms in Python's double: pldamp's
+      // float128 truth of the seed's p = 1 must agree to a few ulps.
+      EXPECT_FALSE(record.failed()) << record.failure;
+      EXPECT_FALSE(record.skipped());
+      for (const auto& error : record.rel_error) {
+        ASSERT_TRUE(error.has_value());
+        EXPECT_LT(*error, 1e-14);
+      }
+    } else {
+      EXPECT_TRUE(record.skipped());
+      EXPECT_FALSE(record.failed());
+      EXPECT_EQ(record.skip_reason, "unsupported: p = 1 only");
+      EXPECT_EQ(record.outcome_name(), "skipped");
+    }
+  }
+  const Budgets budgets = make_budgets(ran.plan, ran.records);
+  EXPECT_EQ(budgets.failed_records, 0);
+  EXPECT_EQ(budgets.cost[0].underdamped.cells, 4); // the skipped records cost nothing
+}
+
+TEST(External, EveryProblemCarriesTheProtocolsKeys) {
+  const std::string state = fresh_state("problems.jsonl");
+  const Ran ran = run_scene_text(scene_with(
+      "record", "steps_per_contact = [40]\nonset_phases = 2\noptions = { seed = 7 }\n", state));
+  std::ifstream in(state);
+  std::string line;
+  std::vector<nlohmann::json> problems;
+  while (std::getline(in, line)) {
+    problems.push_back(nlohmann::json::parse(line));
+  }
+  // p = 1: 4 cells × 2 onset phases; p = 1.5: 4 cells, each skipped at its first phase.
+  ASSERT_EQ(problems.size(), 12u);
+  std::vector<long> ids;
+  for (const nlohmann::json& problem : problems) {
+    ids.push_back(problem["id"]);
+    const double p = problem["p"], m = problem["m"], k = problem["k"], v0 = problem["v0"];
+    EXPECT_EQ(problem["damping_exponent"].get<double>(), (p - 1) / 2);
+    EXPECT_EQ(problem["end"], "overlap");
+    EXPECT_EQ(problem["want"], nlohmann::json({"e", "delta_max", "t_peak", "tau"}));
+    EXPECT_EQ(problem["steps_per_contact"], 40);
+    const double delta_u = std::pow((p + 1) / 2 * m * v0 * v0 / k, 1 / (p + 1)); // undamped peak
+    EXPECT_NEAR(problem["dt"].get<double>(),
+                boost::math::constants::pi<double>() * delta_u / v0 / 40, 1e-17);
+    const double phase = problem["onset_phase"];
+    EXPECT_TRUE(phase == 0 || phase == 0.5) << phase;
+    EXPECT_EQ(problem["options"], nlohmann::json({{"seed", 7}}));
+    EXPECT_GT(problem["alpha"].get<double>(), 0);
+  }
+  std::sort(ids.begin(), ids.end());
+  for (std::size_t i = 0; i < ids.size(); ++i) {
+    EXPECT_EQ(ids[i], long(i)); // every id once (the configuration's one program numbers them)
+  }
+  EXPECT_EQ(ran.plan.configs.front().label(), "fake n=40 phases=2");
+}
+
+// Each misbehaviour fails its records with its reason, and the run goes on to the end.
+TEST(External, EachMisbehaviourFailsItsRecordsWithAReason) {
+  const std::vector<std::pair<std::string, std::string>> cases{
+      {"bad_json", "the reply is not JSON (got 'e = 0.5')"},
+      {"wrong_id", "the reply is for another problem: id 0 expected (got '7')"},
+      {"negative", "the reply's e must be a finite number >= 0 (got -0.5)"},
+      {"no_outcome", "the reply has no outcome"},
+      {"error", "the program's error: fakecode: lost atoms"},
+      {"crash", "the program exited with status 3; its last words on stderr: 'fake: boom'"},
+      {"partial", "the program exited with status 0 in the middle of a line ('{\"id\": 0, "
+                  "\"outc')"},
+      {"hang", "no reply within 0.5 s ([limits] max_seconds); the program was stopped"}};
+  for (const auto& [mode, reason] : cases) {
+    const Ran ran = run_scene_text(scene_with(mode, "", "", "p = [1]\ne = [0.5]\nv0 = [1, 2]\n"));
+    long failed = 0;
+    bool reason_seen = false;
+    for (const Record& record : ran.records) {
+      failed += record.failed() ? 1 : 0;
+      reason_seen = reason_seen || record.failure.find(reason) != std::string::npos;
+      EXPECT_FALSE(record.outcome.has_value()) << mode;
+    }
+    EXPECT_EQ(failed, 2) << mode;
+    EXPECT_TRUE(reason_seen) << mode << ": " << ran.records.front().failure;
+  }
+}
+
+TEST(External, ACrashedOrHungProgramIsRestartedForTheNextRecord) {
+  for (const std::string mode : {"crash_once", "hang_once"}) {
+    const Ran ran = run_scene_text(
+        scene_with(mode, "[[solver]]\nname = \"cvode-bdf\"\nrtol = 1e-8\n", fresh_state(mode)));
+    long failed = 0, good = 0;
+    for (const Record& record : ran.records) {
+      if (ran.plan.configs[record.config].external() && p_of(ran, record) == 1) {
+        failed += record.failed() ? 1 : 0;
+        good += record.rel_error[0] && *record.rel_error[0] < 1e-14 ? 1 : 0;
+      }
+    }
+    EXPECT_EQ(failed, 1) << mode;
+    EXPECT_EQ(good, 3) << mode;
+  }
+}
+
+TEST(External, AWrongProtocolOrNoProgramStopsTheRunBeforeAnyWork) {
+  EXPECT_THROW(run_scene_text(scene_with("wrong_version")), ProtocolError);
+  EXPECT_THROW(run_scene_text(scene_with("no_handshake")), ProtocolError);
+  const std::string missing = "name = \"x\"\n[grid]\np = [1]\ne = [0.5]\nv0 = [1]\n"
+                              "[[solver]]\ncommand = [\"./no-such-adapter\"]\nlabel = \"none\"\n";
+  try {
+    run_scene_text(missing);
+    FAIL() << "a missing program was started";
+  } catch (const ProtocolError& e) {
+    EXPECT_NE(std::string(e.what()).find("cannot start"), std::string::npos) << e.what();
+  }
+  const std::string path = write_file("wrong_version.toml", scene_with("wrong_version"));
+  const auto cli = run({"run", path, "--out", (scratch() / "wrong_version").string()});
+  EXPECT_EQ(cli.code, 2);
+  EXPECT_NE(cli.err.find("speaks another protocol; pldamp speaks pldamp-solver version 1"),
+            std::string::npos)
+      << cli.err;
+  EXPECT_FALSE(std::filesystem::exists(scratch() / "wrong_version" / "report.json"));
+}
+
+TEST(External, AnUnavailableCodeIsSkippedWithItsReason) {
+  const Ran ran = run_scene_text(scene_with("unavailable"));
+  for (const Record& record : ran.records) {
+    EXPECT_TRUE(record.skipped());
+    EXPECT_FALSE(record.failed());
+    EXPECT_EQ(record.skip_reason, "unavailable: fakecode not found on PATH");
+  }
+}
+
+TEST(External, ADashpotNotTheSeedsIsMeasuredWithoutATruth) {
+  const Ran ran = run_scene_text(scene_with("beta"));
+  for (const Record& record : ran.records) {
+    if (p_of(ran, record) != 1) {
+      continue;
+    }
+    EXPECT_FALSE(record.failed());
+    EXPECT_TRUE(record.value[0].has_value());
+    EXPECT_FALSE(record.reference[0].has_value());
+    EXPECT_FALSE(record.rel_error[0].has_value());
+    EXPECT_EQ(record.note,
+              "no truth: it damps as delta^0.5 delta' and the closed forms need delta^0 delta'");
+  }
+}
+
+TEST(External, ABoundClaimNamesAnExternalConfigurationByItsLabel) {
+  const Ran ran = run_scene_text(
+      scene_with("good", "steps_per_contact = [20, 40]\n"
+                         "[[claim]]\nname = \"fake e\"\nobservable = \"e\"\nsolver = \"fake\"\n"
+                         "steps_per_contact = 40\nbound = 1e-12\n"));
+  const Budgets budgets = make_budgets(ran.plan, ran.records);
+  ASSERT_EQ(budgets.claims.size(), 1u);
+  EXPECT_TRUE(budgets.claims[0].holds);   // the fake ignores the step: exact
+  EXPECT_EQ(ran.plan.configs.size(), 2u); // the claim's configuration is one of the sweep's
+}
+
+TEST(External, SceneMistakesAreRefusedWithTheirLine) {
+  const auto refused = [](const std::string& solver, const std::string& expected) {
+    const std::string text =
+        "name = \"x\"\n[grid]\np = [1]\ne = [0.5]\nv0 = [1]\n[[solver]]\n" + solver;
+    try {
+      parse_scene(text, "x.toml");
+      ADD_FAILURE() << "accepted: " << solver;
+    } catch (const SceneError& e) {
+      EXPECT_NE(std::string(e.what()).find(expected), std::string::npos) << e.what();
+    }
+  };
+  refused("command = [\"a\"]\n", "x.toml:6: [[solver]] with a command needs a label");
+  refused("command = []\nlabel = \"a\"\n", "command must be a non-empty list of strings");
+  refused("command = [\"\"]\nlabel = \"a\"\n", "command must be a non-empty list of strings");
+  refused("command = [\"a\"]\nlabel = \"taylor\"\n", "label names a registered solver");
+  refused("command = [\"a\"]\nlabel = \"a\\u0001b\"\n", "label must be 1 to 100 printable");
+  refused("command = [\"a\"]\nlabel = \"a\"\nprecision = \"quad\"\n",
+          "an external solver answers in double (got quad)");
+  refused("command = [\"a\"]\nlabel = \"a\"\nrtol = 1e-6\nsteps_per_contact = 20\n",
+          "an external solver sweeps one of steps_per_contact, dt and rtol");
+  refused("command = [\"a\"]\nlabel = \"a\"\nonset_phases = 4\n",
+          "onset_phases needs steps_per_contact or dt");
+  refused("command = [\"a\"]\nlabel = \"a\"\ndt = -1\n", "dt must be > 0");
+  refused("command = [\"a\"]\nlabel = \"a\"\nname = \"taylor\"\n", "unknown key in [[solver]]");
+  refused("command = [\"a\"]\nlabel = \"a\"\n[[solver]]\ncommand = [\"b\"]\nlabel = \"a\"\n",
+          "another [[solver]] has this label (got a)");
+}
+
+TEST(External, ARelativeProgramIsTheScenesFolders) {
+  const Scene scene = parse_scene(
+      "[grid]\np = [1]\ne = [0.5]\nv0 = [1]\n[[solver]]\ncommand = [\"../adapters/x\", "
+      "\"--flag\"]\nlabel = \"x\"\n[[solver]]\ncommand = [\"python3\"]\nlabel = \"y\"\n",
+      "data/scenes/s.toml");
+  EXPECT_EQ(scene.configs[0].command,
+            (std::vector<std::string>{"data/adapters/x", "--flag"}));         // beside the scene
+  EXPECT_EQ(scene.configs[1].command, (std::vector<std::string>{"python3"})); // on PATH
+}
+
+} // namespace
+} // namespace pldamp::harness
