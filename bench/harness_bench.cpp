@@ -3,6 +3,9 @@
 // - plan: reading the scene and the float128 references (once per (p, damping), scaled to cells)
 // - run_overhead: run_plan's time beyond the solvers' own wall time, per record (threads off)
 // - budgets_and_reports: budgets, report.json, .csv and .md from the records, per record
+// - external_protocol: a record through the external-solver protocol (run/external.hpp) with an
+//   adapter that answers at once (answering_adapter.cpp): the protocol's own cost per record,
+//   the pipe round trip and both sides' JSON included (target: <= 50 µs)
 //
 //   build/bench/harness_bench
 #include "judge/budget.hpp"
@@ -74,5 +77,30 @@ void budgets_and_reports(benchmark::State& state) {
                          benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
 }
 BENCHMARK(budgets_and_reports)->Unit(benchmark::kMillisecond);
+
+void external_protocol(benchmark::State& state) {
+  std::string v0s;
+  for (int i = 1; i <= 5000; ++i) {
+    v0s += (v0s.empty() ? "" : ", ") + std::to_string(i);
+  }
+  const Plan p = make_plan(parse_scene("want = [\"e\", \"delta_max\", \"t_peak\", \"tau\"]\n"
+                                       "[grid]\np = [1]\ne = [0.5]\nv0 = [" +
+                                           v0s +
+                                           "]\n[[solver]]\ncommand = [\"" PLDAMP_ANSWERING_ADAPTER
+                                           "\"]\nlabel = \"answers at once\"\n",
+                                       "protocol.toml"));
+  std::size_t records = 0;
+  for (auto _ : state) {
+    RunTotals totals;
+    const std::vector<Record> r = run_plan(p, 1, totals);
+    records += r.size();
+    if (r.front().failed()) {
+      state.SkipWithError(r.front().failure.c_str());
+    }
+  }
+  state.counters["per_record"] = benchmark::Counter(
+      double(records), benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
+}
+BENCHMARK(external_protocol)->Unit(benchmark::kMillisecond)->UseRealTime();
 
 } // namespace

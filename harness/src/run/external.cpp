@@ -165,7 +165,9 @@ std::string ExternalFacts::describe() const {
 }
 
 ExternalSolver::ExternalSolver(const SolverConfig& config, double limit_seconds)
-    : config_(config), limit_(std::chrono::milliseconds(std::llround(limit_seconds * 1000))) {
+    : config_(config), options_(config.options.empty() ? ordered_json::object()
+                                                       : ordered_json::parse(config.options)),
+      limit_(std::chrono::milliseconds(std::llround(limit_seconds * 1000))) {
   start();
 }
 

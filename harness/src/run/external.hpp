@@ -18,6 +18,8 @@
 
 #include "pldamp/solvers/problem.hpp"
 
+#include <nlohmann/json.hpp>
+
 #include <memory>
 #include <mutex>
 #include <optional>
@@ -83,6 +85,7 @@ private:
   std::string why_stopped(const std::string& partial);
 
   SolverConfig config_;
+  nlohmann::ordered_json options_; // config_.options, parsed once
   std::chrono::milliseconds limit_;
   ExternalFacts facts_;
   std::unique_ptr<LineProgram> program_;
