@@ -211,6 +211,30 @@ TEST(External, ABoundClaimNamesAnExternalConfigurationByItsLabel) {
   EXPECT_EQ(ran.plan.configs.size(), 2u); // the claim's configuration is one of the sweep's
 }
 
+TEST(External, AReplicaRunsBesideTheProgramOnEveryProblem) {
+  // The fake is exact, so its difference from dem-verlet is dem-verlet's own error, which a
+  // dem-verlet configuration of the same steps measures against the truth.
+  const Ran ran = run_scene_text(
+      scene_with("good",
+                 "steps_per_contact = [300]\nonset_phases = 3\nreplica = \"dem-verlet\"\n"
+                 "[[solver]]\nname = \"dem-verlet\"\nsteps_per_contact = [300]\n"
+                 "onset_phases = 3\n",
+                 "", "p = [1]\ne = [0.3, 0.8]\nv0 = [1]\n"));
+  ASSERT_EQ(ran.plan.configs.size(), 2u);
+  for (const Record& fake : ran.records) {
+    if (fake.config != 0) {
+      continue;
+    }
+    const Record& dem = ran.records[fake.cell * 2 + 1];
+    ASSERT_EQ(fake.replica_difference.size(), 4u);
+    for (std::size_t o = 0; o < 4; ++o) {
+      ASSERT_TRUE(fake.replica_difference[o] && dem.rel_error[o]);
+      EXPECT_GT(*dem.rel_error[o], 1e-6); // a real difference, not rounding
+      EXPECT_NEAR(*fake.replica_difference[o] / *dem.rel_error[o], 1, 0.02) << o;
+    }
+  }
+}
+
 TEST(External, SceneMistakesAreRefusedWithTheirLine) {
   const auto refused = [](const std::string& solver, const std::string& expected) {
     const std::string text =
@@ -235,6 +259,9 @@ TEST(External, SceneMistakesAreRefusedWithTheirLine) {
           "onset_phases needs steps_per_contact or dt");
   refused("command = [\"a\"]\nlabel = \"a\"\ndt = -1\n", "dt must be > 0");
   refused("command = [\"a\"]\nlabel = \"a\"\nname = \"taylor\"\n", "unknown key in [[solver]]");
+  refused("command = [\"a\"]\nlabel = \"a\"\nreplica = \"nope\"\n", "unknown solver, expected");
+  refused("command = [\"a\"]\nlabel = \"a\"\nsteps_per_contact = 20\nreplica = \"cvode-bdf\"\n",
+          "the replica must take what the program is given (steps_per_contact or dt)");
   refused("command = [\"a\"]\nlabel = \"a\"\n[[solver]]\ncommand = [\"b\"]\nlabel = \"a\"\n",
           "another [[solver]] has this label (got a)");
 }

@@ -490,6 +490,13 @@ ordered_json report_json(const RunReport& report) {
     if (!record.note.empty()) {
       r["note"] = record.note;
     }
+    if (!record.replica_difference.empty()) {
+      ordered_json differences;
+      for (std::size_t o = 0; o < plan.observables.size(); ++o) {
+        differences[plan.observables[o]->key] = number_or_null(record.replica_difference[o]);
+      }
+      r["replica_difference"] = differences;
+    }
     records.push_back(r);
   }
   out["records"] = records;
@@ -649,8 +656,9 @@ std::string search_table_note(const RunReport& report) {
 MapTable external_table(const RunReport& report) {
   const Plan& plan = report.plan;
   MapTable table{{"external solver", "program", "says of itself", "records", "skipped", "failed",
-                  "without truth"},
+                  "without truth", "largest difference from its replica"},
                  {}};
+  std::vector<std::pair<std::optional<double>, std::string>> from_replica; // and where
   std::vector<std::string> lines;
   std::vector<std::array<long, 4>> counts;     // run, skipped, failed, without truth
   std::vector<std::array<std::string, 2>> why; // the first skip reason and note
@@ -665,6 +673,7 @@ MapTable external_table(const RunReport& report) {
       lines.push_back(config.line());
       counts.push_back({0, 0, 0, 0});
       why.push_back({"", ""});
+      from_replica.emplace_back(std::nullopt, config.replica);
       std::string program;
       for (const std::string& arg : config.command) {
         program += (program.empty() ? "" : " ") + arg;
@@ -679,6 +688,13 @@ MapTable external_table(const RunReport& report) {
     if (why[row][0].empty()) {
       why[row][0] = record.skip_reason;
     }
+    for (std::size_t o = 0; o < record.replica_difference.size(); ++o) {
+      const std::optional<double>& difference = record.replica_difference[o];
+      if (difference && !(*difference <= from_replica[row].first.value_or(-1.0))) {
+        from_replica[row].first = difference;
+        from_replica[row].second = config.replica + ", " + std::string(plan.observables[o]->key);
+      }
+    }
     if (why[row][1].empty()) {
       why[row][1] = record.note;
     }
@@ -691,6 +707,8 @@ MapTable external_table(const RunReport& report) {
     table.rows[row].push_back(with_reason(counts[row][1], why[row][0]));
     table.rows[row].push_back(std::to_string(counts[row][2]));
     table.rows[row].push_back(with_reason(counts[row][3], why[row][1]));
+    const auto& [difference, where] = from_replica[row];
+    table.rows[row].push_back(where.empty() ? "–" : short_number(difference) + " (" + where + ")");
   }
   return table;
 }

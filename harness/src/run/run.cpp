@@ -87,6 +87,28 @@ solvers::Result<Real> solve_with(const SolverConfig& config, ExternalSolver* ext
   return solvers::solve(config.name, problem, options);
 }
 
+// An external solver's values against pldamp's replica of its scheme on the same problem, into
+// record.replica_difference (the largest over the phases).
+template <SupportedReal Real>
+void compare_with_replica(const Plan& plan, const SolverConfig& config,
+                          const solvers::Problem<Real>& problem,
+                          const solvers::Options<Real>& options,
+                          const solvers::Result<Real>& result, Record& record) {
+  using std::abs;
+  using std::isfinite;
+  const solvers::Result<Real> replica = solvers::solve(config.replica, problem, options);
+  record.replica_difference.resize(plan.observables.size());
+  for (std::size_t o = 0; o < plan.observables.size(); ++o) {
+    const std::optional<Real> value = plan.observables[o]->measured(result);
+    const std::optional<Real> expected = plan.observables[o]->measured(replica);
+    if (value && expected && isfinite(*value) && isfinite(*expected)) {
+      const Real difference = abs(*value - *expected) / (*expected == 0 ? 1 : abs(*expected));
+      std::optional<double>& largest = record.replica_difference[o];
+      largest = std::max(largest.value_or(0.0), static_cast<double>(difference));
+    }
+  }
+}
+
 template <SupportedReal Real>
 void solve_record(const Plan& plan, Record& record, ExternalSolver* external) {
   const Cell& cell = plan.cells[record.cell];
@@ -126,6 +148,9 @@ void solve_record(const Plan& plan, Record& record, ExternalSolver* external) {
   for (int phase = 0; phase < config.onset_phases; ++phase) {
     options.onset_phase = Real(phase) / Real(config.onset_phases);
     const solvers::Result<Real> result = solve_with(config, external, problem, options);
+    if (!config.replica.empty()) {
+      compare_with_replica(plan, config, problem, options, result, record);
+    }
     RepeatTimes times;
     times.add(result.wall_seconds);
     for (int repeat = 1; repeat < (external != nullptr ? 1 : plan.scene.repeats); ++repeat) {

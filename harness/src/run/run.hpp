@@ -43,6 +43,9 @@ struct Record {
   // Values measured without a truth to compare with, and why (an external solver whose dashpot
   // is not the seed's δ^((p−1)/2): no closed form is its truth).
   std::string note;
+  // An external solver with a replica ([[solver]] replica): per observable, the largest over the
+  // onset phases of |value − replica's value| / |replica's value| (absolute where that is 0).
+  std::vector<std::optional<double>> replica_difference;
   bool skipped() const { return !skip_reason.empty(); }
   // Failed: the solver threw, ran out of its budget (step_limit, time_limit), gave an impossible
   // answer (unstable), gave up before a return the truth has in its horizon, or returned a

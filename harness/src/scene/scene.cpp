@@ -299,8 +299,8 @@ std::vector<SolverConfig> external_sweep(const Reader& reader, const toml::table
 void read_external_solver(const Reader& reader, const toml::table& entry, const toml::node& item,
                           Scene& scene) {
   reader.only(entry,
-              {"command", "label", "options", "rtol", "atol", "steps_per_contact", "dt", "end",
-               "onset_phases", "precision"},
+              {"command", "label", "options", "replica", "rtol", "atol", "steps_per_contact", "dt",
+               "end", "onset_phases", "precision"},
               "[[solver]] with a command");
   SolverConfig base;
   const toml::node* command = entry.get("command");
@@ -354,6 +354,20 @@ void read_external_solver(const Reader& reader, const toml::table& entry, const 
     reader.require(n >= 1 && n <= 1000 && n == std::floor(n), *phases,
                    "onset_phases must be an integer in [1, 1000]", n);
     base.onset_phases = static_cast<int>(n);
+  }
+  if (const toml::node* replica = entry.get("replica")) {
+    base.replica = reader.string(*replica, "replica");
+    const solvers::SolverInfo* info = solvers::find_solver(base.replica);
+    if (info == nullptr) {
+      reader.fail(*replica, "unknown solver, expected " + solvers::solver_names() + " (got " +
+                                base.replica + ")");
+    }
+    const bool stepped = entry.get("steps_per_contact") != nullptr || entry.get("dt") != nullptr;
+    if (info->fixed_step != stepped || (base.atol && !info->takes_atol)) {
+      reader.fail(*replica, "the replica must take what the program is given (" +
+                                std::string(stepped ? "steps_per_contact or dt" : "rtol") +
+                                ") (got " + base.replica + ")");
+    }
   }
   for (const std::optional<solvers::End>& end : read_ends(reader, entry)) {
     base.end = end;

@@ -6,7 +6,8 @@
 //     want = ["e", "delta_max", "t_peak", "tau", "energy"]
 //     [grid]      p, e and/or alpha_eff, v0, m (default [1]), k (default [1]): numbers or lists
 //     [[solver]]  an external program instead of name: command = [argv...] (a relative program path
-//                 is the scene file's folder's), label, options = {...} (passed through), and
+//                 is the scene file's folder's), label, options = {...} (passed through), replica
+//                 (pldamp's solver of the same scheme, compared on every problem), and
 //                 rtol, atol, steps_per_contact or dt (lists), end, onset_phases as below
 //     [[solver]]  name; rtol (number or list; a reference solver without it: its precision's
 //                 epsilon); atol; precision (double|long|quad|50, where the solver runs in it);
@@ -85,6 +86,10 @@ struct SolverConfig {
   // table as JSON text, passed through in every problem.
   std::vector<std::string> command;
   std::string options;
+  // pldamp's own solver that replicates the program's scheme (e.g. dem-verlet for LAMMPS): run on
+  // every problem beside it, the largest relative difference reported (they should agree to
+  // rounding). Empty: none.
+  std::string replica;
   bool external() const { return !command.empty(); }
   // Fixed-step: a registered fixed-step scheme, or an external solver swept by steps or dt.
   bool fixed_step() const;
