@@ -141,6 +141,9 @@ StepStudy make_step_study(const Plan& plan, const std::vector<Record>& records) 
           continue; // no return (overdamped): no contact duration to divide by
         }
         const Record& record = *found->second;
+        if (record.skipped() || !record.note.empty()) {
+          continue; // not run, or no truth to measure its error against
+        }
         const double dt_over_tau = *record.dt / static_cast<double>(*truth);
         for (std::size_t o = 0; o < observables; ++o) {
           StepPoint& point = sweep.points[o][p_index][k];
