@@ -956,7 +956,8 @@ std::vector<Case> command_cases() {
   add(t, "version_flag", {"--version"}, refused());
   add(t, "help", {"--help"}, ok());
   add(t, "two_commands", {"calibrate", "observables", "--p", "1.5", "--e", "0.5"}, refused());
-  for (const char* command : {"calibrate", "observables", "solve", "run", "diff", "showcase"}) {
+  for (const char* command :
+       {"calibrate", "observables", "solve", "run", "diff", "check", "showcase"}) {
     add(t, std::string(command) + "_help", {command, "--help"}, ok());
   }
   // An unknown flag on a command that is otherwise valid (run and diff: in their groups).

@@ -2,6 +2,7 @@
 
 #include "cli/commands.hpp"
 #include "common/input.hpp"
+#include "judge/trajectory.hpp"
 #include "scene/scene.hpp"
 
 #include "pldamp/analytic/conventions.hpp"
@@ -158,6 +159,19 @@ int run_cli(int argc, const char* const* argv, std::ostream& out, std::ostream& 
                  "and removed");
   diff->add_flag("--verbose", diff_args.verbose, "every record under its group's line");
 
+  CheckArgs check_args;
+  CLI::App* check = app.add_subcommand(
+      "check", "one contact's time series from a code that cannot be driven (a DEM dump), "
+               "measured between its samples and judged against the closed forms");
+  check
+      ->add_option("trajectory", check_args.trajectory,
+                   "CSV file: a header naming the columns " + trajectory_column_names() +
+                       ", t and delta required; then rows of numbers, t increasing; lines "
+                       "starting with # skipped")
+      ->required();
+  add_contact_options(*check, check_args.contact, false);
+  check->remove_option(check->get_option("--precision")); // the truth is computed in Exact
+
   std::string showcase_precision = "double";
   CLI::App* showcase =
       app.add_subcommand("showcase", "observables for p = 1 ... 3 at e = 0.5, one overdamped case");
@@ -168,9 +182,9 @@ int run_cli(int argc, const char* const* argv, std::ostream& out, std::ostream& 
     if (!arguments.empty() && arguments.front().rfind('-', 0) != 0 &&
         arguments.front() != "calibrate" && arguments.front() != "observables" &&
         arguments.front() != "solve" && arguments.front() != "showcase" &&
-        arguments.front() != "run" && arguments.front() != "diff") {
+        arguments.front() != "run" && arguments.front() != "diff" && arguments.front() != "check") {
       throw InputError(
-          "unknown command, expected calibrate|observables|solve|run|diff|showcase (got " +
+          "unknown command, expected calibrate|observables|solve|run|diff|check|showcase (got " +
           arguments.front() + ")");
     }
     try {
@@ -197,6 +211,8 @@ int run_cli(int argc, const char* const* argv, std::ostream& out, std::ostream& 
       return run_scene(run_args, out, err);
     } else if (diff->parsed()) {
       return run_diff(diff_args, out);
+    } else if (check->parsed()) {
+      run_check(check_args, out);
     }
   } catch (const SceneError& e) { // already "file:line: message"
     err << one_line(e.what()) << "\n";

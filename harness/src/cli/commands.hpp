@@ -61,4 +61,12 @@ struct DiffArgs {
 // Returns the exit code: 1 if NEW regressed against OLD, else 0 (judge/diff.hpp).
 int run_diff(const DiffArgs& args, std::ostream& out);
 
+// `pldamp check TRAJECTORY.csv`: one contact's time series against the closed forms
+// (judge/trajectory.hpp). The contact options without --precision: the truth is Exact.
+struct CheckArgs {
+  std::string trajectory;
+  ContactArgs contact;
+};
+void run_check(const CheckArgs& args, std::ostream& out);
+
 } // namespace pldamp::harness

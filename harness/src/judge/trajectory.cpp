@@ -1,0 +1,691 @@
+#include "judge/trajectory.hpp"
+
+#include "common/input.hpp"
+
+#include <algorithm>
+#include <array>
+#include <cctype>
+#include <cerrno>
+#include <charconv>
+#include <cmath>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <limits>
+#include <tuple>
+
+namespace pldamp::harness {
+namespace {
+
+// ---- Reading -----------------------------------------------------------------------------------
+
+enum class Column { t, delta, v, force };
+
+struct ColumnName {
+  Column column;
+  std::string_view name, alias;
+};
+
+constexpr std::array column_names{
+    ColumnName{Column::t, "t", "time"}, ColumnName{Column::delta, "delta", "overlap"},
+    ColumnName{Column::v, "v", "velocity"}, ColumnName{Column::force, "F", "force"}};
+
+std::string_view trimmed(std::string_view text) {
+  const auto blank = [](char c) { return c == ' ' || c == '\t'; };
+  while (!text.empty() && blank(text.front())) {
+    text.remove_prefix(1);
+  }
+  while (!text.empty() && blank(text.back())) {
+    text.remove_suffix(1);
+  }
+  return text;
+}
+
+// A cell as quoted in a message: at most 60 characters.
+std::string shown(std::string_view cell) {
+  return cell.size() <= 60 ? std::string(cell) : std::string(cell.substr(0, 57)) + "...";
+}
+
+std::vector<std::string_view> cells_of(std::string_view line) {
+  std::vector<std::string_view> cells;
+  for (std::size_t from = 0;;) {
+    const std::size_t comma = line.find(',', from);
+    cells.push_back(trimmed(line.substr(from, comma - from)));
+    if (comma == std::string_view::npos) {
+      return cells;
+    }
+    from = comma + 1;
+  }
+}
+
+std::optional<double> number_in(std::string_view cell) {
+  if (!cell.empty() && cell.front() == '+') {
+    cell.remove_prefix(1);
+  }
+  double value = 0;
+  const auto [end, error] = std::from_chars(cell.data(), cell.data() + cell.size(), value);
+  if (cell.empty() || error != std::errc() || end != cell.data() + cell.size()) {
+    return std::nullopt;
+  }
+  return value;
+}
+
+std::optional<Column> column_named(std::string_view name) {
+  auto same = [&](std::string_view known) {
+    return name.size() == known.size() &&
+           std::equal(name.begin(), name.end(), known.begin(), [](char a, char b) {
+             return std::tolower(static_cast<unsigned char>(a)) ==
+                    std::tolower(static_cast<unsigned char>(b));
+           });
+  };
+  for (const ColumnName& known : column_names) {
+    if (same(known.name) || same(known.alias)) {
+      return known.column;
+    }
+  }
+  return std::nullopt;
+}
+
+std::vector<double>& column_of(TrajectoryColumns& columns, Column column) {
+  switch (column) {
+  case Column::t:
+    return columns.t;
+  case Column::delta:
+    return columns.delta;
+  case Column::v:
+    return *columns.v;
+  case Column::force:
+    break;
+  }
+  return *columns.force;
+}
+
+// ---- Interpolants ------------------------------------------------------------------------------
+
+constexpr double eps = std::numeric_limits<double>::epsilon();
+
+// Rounding: no estimate is below a few ulps of the quantity it is on.
+double floored(double sampling, double scale) {
+  return std::max(sampling, 4 * eps * std::abs(scale));
+}
+
+// The parabola through three samples, in Newton form around its first two nodes.
+struct Quadratic {
+  double t0, t1, y0, d01, d012;
+  Quadratic(double ta, double ya, double tb, double yb, double tc, double yc)
+      : t0(ta), t1(tb), y0(ya), d01((yb - ya) / (tb - ta)),
+        d012(((yc - yb) / (tc - tb) - (yb - ya) / (tb - ta)) / (tc - ta)) {}
+  double operator()(double t) const { return y0 + (t - t0) * (d01 + d012 * (t - t1)); }
+  double slope(double t) const { return d01 + d012 * (2 * t - t0 - t1); }
+  // Where the slope vanishes (d012 ≠ 0).
+  double vertex() const { return (t0 + t1) / 2 - d01 / (2 * d012); }
+};
+
+// The cubic Hermite interpolant on [ta, ta + h] of values and slopes at both ends, as a cubic in
+// s = (t − ta)/h.
+struct Hermite {
+  double ta, h;
+  std::array<double, 4> c; // c0 + c1 s + c2 s² + c3 s³
+  Hermite(double t_a, double t_b, double ya, double yb, double ma, double mb)
+      : ta(t_a), h(t_b - t_a), c{ya, h * ma, 3 * (yb - ya) - h * (2 * ma + mb),
+                                 2 * (ya - yb) + h * (ma + mb)} {}
+  double at_s(double s) const { return c[0] + s * (c[1] + s * (c[2] + s * c[3])); }
+  double operator()(double t) const { return at_s((t - ta) / h); }
+  double slope(double t) const {
+    const double s = (t - ta) / h;
+    return (c[1] + s * (2 * c[2] + s * 3 * c[3])) / h;
+  }
+};
+
+// Where `inside` (f > 0) changes on [lo, hi], the two ends being on different sides: the first
+// change of 64 even subintervals, then bisection to adjacent doubles.
+template <class F>
+double boundary(const F& f, double lo, double hi) {
+  const bool inside_at_lo = f(lo) > 0;
+  double a = lo;
+  double b = hi;
+  for (int i = 1; i <= 64; ++i) {
+    const double s = i == 64 ? hi : lo + (hi - lo) * i / 64;
+    if ((f(s) > 0) != inside_at_lo) {
+      b = s;
+      break;
+    }
+    a = s;
+  }
+  for (int i = 0; i < 200; ++i) {
+    const double mid = a + (b - a) / 2;
+    if (mid <= a || mid >= b) {
+      break;
+    }
+    ((f(mid) > 0) == inside_at_lo ? a : b) = mid;
+  }
+  return (f(a) == 0) ? a : (f(b) == 0 ? b : a + (b - a) / 2);
+}
+
+// A local interpolant of a sampled curve: the cubic Hermite on [near, near + 1] when the slopes
+// are tabulated, else a parabola through three samples; and its lower-order partner for the
+// slope, the straight line through the tabulated slopes at near and near + 1, or the secant
+// through those two samples.
+struct Interpolant {
+  std::optional<Hermite> cubic;
+  std::optional<Quadratic> parabola;
+  std::size_t near = 0;
+
+  double operator()(double x) const { return cubic ? (*cubic)(x) : (*parabola)(x); }
+};
+
+// A sampled curve y(t) with, optionally, its tabulated slope.
+struct Curve {
+  const std::vector<double>& t;
+  const std::vector<double>& y;
+  const std::vector<double>* slope;
+
+  std::size_t size() const { return t.size(); }
+  Hermite hermite(std::size_t a) const {
+    return {t[a], t[a + 1], y[a], y[a + 1], (*slope)[a], (*slope)[a + 1]};
+  }
+  Quadratic quadratic(std::size_t first) const {
+    return {t[first], y[first], t[first + 1], y[first + 1], t[first + 2], y[first + 2]};
+  }
+  // The Hermite on [near, near + 1], else the parabola through `first` and the two samples after
+  // it (near being one of its two intervals).
+  Interpolant interpolant(std::size_t near, std::size_t first) const {
+    if (slope != nullptr) {
+      return {hermite(near), std::nullopt, near};
+    }
+    return {std::nullopt, quadratic(first), near};
+  }
+  // The interpolant across [a, a + 1]; the parabola takes the sample beyond the interval on
+  // `inside_side` (−1 before, +1 after), or on the other side where there is none.
+  Interpolant across(std::size_t a, int inside_side) const {
+    std::size_t first = a >= 1 ? a - 1 : a;
+    if (inside_side > 0 || a == 0) {
+      first = a + 2 < size() ? a : a - 1;
+    }
+    return interpolant(a, first);
+  }
+  // y = 0 between samples a and a + 1 (opposite sides of 0), on the interpolant across the
+  // interval or, `one_sided`, on `local`, the contact side's, where it changes sign in the
+  // interval. The sampling estimate is the largest distance to the crossing of the straight line
+  // and of the other interpolant (MATH.md §10); a zero beyond the interval that may be clamped
+  // (`clamped`) widens it to the whole interval, unless `local` placed the crossing.
+  Extracted crossing(std::size_t a, const std::optional<Interpolant>& local, bool one_sided,
+                     int inside_side, bool clamped) const {
+    const std::size_t b = a + 1;
+    const double h = t[b] - t[a];
+    const auto line = [&](double x) { return y[a] + (y[b] - y[a]) * ((x - t[a]) / h); };
+    std::vector<double> others{boundary(line, t[a], t[b])};
+    double value = boundary(across(a, inside_side), t[a], t[b]);
+    if (local && ((*local)(t[a]) > 0) != ((*local)(t[b]) > 0)) {
+      const double on_local = boundary(*local, t[a], t[b]);
+      others.push_back(one_sided ? value : on_local);
+      if (one_sided) {
+        value = on_local;
+        clamped = false;
+      }
+    }
+    double sampling = 0;
+    for (const double other : others) {
+      sampling = std::max(sampling, std::abs(value - other));
+    }
+    if (clamped) {
+      sampling = std::max(sampling, h);
+    }
+    return {value, floored(sampling, std::max(std::abs(t[a]), std::abs(t[b]))), {}};
+  }
+  // dy/dt at x by an interpolant, and by its lower-order partner.
+  std::pair<double, double> slopes(double x, const Interpolant& by) const {
+    const std::size_t a = by.near;
+    const std::size_t b = a + 1;
+    const double h = t[b] - t[a];
+    if (by.cubic) {
+      return {by.cubic->slope(x), (*slope)[a] + ((*slope)[b] - (*slope)[a]) * ((x - t[a]) / h)};
+    }
+    return {by.parabola->slope(x), (y[b] - y[a]) / h};
+  }
+};
+
+Extracted missing(std::string why) {
+  return {std::nullopt, 0, std::move(why)};
+}
+
+void require_series(const TrajectoryColumns& c) {
+  const std::size_t n = c.t.size();
+  if (c.delta.size() != n || (c.v && c.v->size() != n) || (c.force && c.force->size() != n)) {
+    throw InputError("trajectory columns differ in length (got t with " + std::to_string(n) +
+                     " rows)");
+  }
+  if (n < 3) {
+    throw InputError("a trajectory needs at least 3 rows (got " + std::to_string(n) + ")");
+  }
+  for (std::size_t i = 0; i < n; ++i) {
+    const bool finite = std::isfinite(c.t[i]) && std::isfinite(c.delta[i]) &&
+                        (!c.v || std::isfinite((*c.v)[i])) &&
+                        (!c.force || std::isfinite((*c.force)[i]));
+    if (!finite) {
+      throw InputError("trajectory values must be finite (got row " + std::to_string(i) + ")");
+    }
+    if (i > 0 && !(c.t[i] > c.t[i - 1])) {
+      throw InputError("t must increase from row to row (got row " + std::to_string(i) + ")");
+    }
+  }
+}
+
+// The vertex of the parabola through samples first .. first + 2, when it is concave; clamped to
+// their span.
+std::optional<std::pair<double, double>> vertex_of(const Curve& delta, std::size_t first) {
+  const Quadratic parabola = delta.quadratic(first);
+  if (!(parabola.d012 < 0)) {
+    return std::nullopt;
+  }
+  const double t = std::clamp(parabola.vertex(), delta.t[first], delta.t[first + 2]);
+  return std::pair{t, parabola(t)};
+}
+
+// The largest value of the cubic Hermite pieces on both sides of sample i, and where.
+std::pair<double, double> hermite_peak(const Curve& delta, std::size_t i) {
+  double t_best = delta.t[i];
+  double y_best = delta.y[i];
+  for (const std::size_t a : {i - 1, i}) {
+    const Hermite piece = delta.hermite(a);
+    // Roots of the derivative c1 + 2 c2 s + 3 c3 s² in (0, 1).
+    const double qa = 3 * piece.c[3], qb = 2 * piece.c[2], qc = piece.c[1];
+    std::vector<double> roots;
+    if (qa == 0) {
+      if (qb != 0) {
+        roots.push_back(-qc / qb);
+      }
+    } else if (const double disc = qb * qb - 4 * qa * qc; disc >= 0) {
+      const double q = -(qb + std::copysign(std::sqrt(disc), qb)) / 2;
+      roots.push_back(q / qa);
+      if (q != 0) {
+        roots.push_back(qc / q);
+      }
+    }
+    for (const double s : roots) {
+      if (s > 0 && s < 1 && piece.at_s(s) > y_best) {
+        y_best = piece.at_s(s);
+        t_best = piece.ta + s * piece.h;
+      }
+    }
+  }
+  return {t_best, y_best};
+}
+
+// The largest overlap and its time (absolute), about the largest sample i. With v: the largest
+// value of the cubic Hermite pieces on both sides of it, against the parabola through the three
+// samples; without: that parabola's vertex, against the largest sample and against the vertex
+// of the parabola one sample over, toward the vertex.
+std::pair<Extracted, Extracted> peak_of(const Curve& delta, std::size_t i) {
+  if (i == 0 || i + 1 >= delta.size()) {
+    const char* why = i == 0 ? "the largest overlap is the first row: the peak is not in the series"
+                             : "the largest overlap is the last row: the peak is not in the series";
+    return {missing(why), missing(why)};
+  }
+  const std::pair<double, double> sample{delta.t[i], delta.y[i]};
+  const std::pair<double, double> vertex = vertex_of(delta, i - 1).value_or(sample);
+  std::pair<double, double> best = vertex;
+  std::vector<std::pair<double, double>> others;
+  if (delta.slope != nullptr) {
+    best = hermite_peak(delta, i);
+    others.push_back(vertex);
+  } else {
+    others.push_back(sample);
+    const bool later = vertex.first > delta.t[i];
+    if (later ? i + 2 < delta.size() : i >= 2) {
+      if (const auto shifted = vertex_of(delta, later ? i : i - 2)) {
+        others.push_back(*shifted);
+      }
+    }
+  }
+  double t_spread = 0;
+  double y_spread = 0;
+  for (const auto& [t, y] : others) {
+    t_spread = std::max(t_spread, std::abs(best.first - t));
+    y_spread = std::max(y_spread, std::abs(best.second - y));
+  }
+  return {Extracted{best.second, floored(y_spread, best.second), {}},
+          Extracted{best.first, floored(t_spread, best.first), {}}};
+}
+
+} // namespace
+
+std::string trajectory_column_names() {
+  std::string names, aliases;
+  for (const ColumnName& known : column_names) {
+    if (!names.empty()) {
+      names += '|';
+      aliases += ", ";
+    }
+    names += known.name;
+    aliases += known.alias;
+  }
+  return names + " (or " + aliases + ")";
+}
+
+double ForceLaw::operator()(double delta, double v) const {
+  if (delta <= 0) {
+    return 0;
+  }
+  return k * std::pow(delta, p) + alpha * std::sqrt(m * k) * std::pow(delta, (p - 1) / 2) * v;
+}
+
+TrajectoryColumns parse_trajectory_csv(std::string_view text, const std::string& name) {
+  TrajectoryColumns columns;
+  std::vector<Column> order;
+  std::size_t line_number = 0;
+  std::size_t header_line = 0;
+  double last_t = 0;
+  auto fail = [&](const std::string& what) {
+    throw InputError(name + ":" + std::to_string(line_number) + ": " + what);
+  };
+  for (std::size_t from = 0; from < text.size();) {
+    const std::size_t newline = text.find('\n', from);
+    std::string_view line = text.substr(from, newline - from);
+    from = newline == std::string_view::npos ? text.size() : newline + 1;
+    ++line_number;
+    if (!line.empty() && line.back() == '\r') {
+      line.remove_suffix(1);
+    }
+    if (trimmed(line).empty() || trimmed(line).front() == '#') {
+      continue;
+    }
+    const std::vector<std::string_view> cells = cells_of(line);
+    if (order.empty()) { // the header
+      header_line = line_number;
+      if (number_in(cells.front())) {
+        fail("the first line must name the columns, e.g. t,delta,v (got " + shown(line) + ")");
+      }
+      for (const std::string_view cell : cells) {
+        const std::optional<Column> column = column_named(cell);
+        if (!column) {
+          fail("unknown column, expected " + trajectory_column_names() + " (got " + shown(cell) +
+               ")");
+        }
+        if (std::find(order.begin(), order.end(), *column) != order.end()) {
+          fail("a column is named twice (got " + shown(cell) + ")");
+        }
+        order.push_back(*column);
+      }
+      for (const Column required : {Column::t, Column::delta}) {
+        if (std::find(order.begin(), order.end(), required) == order.end()) {
+          fail(std::string("the header names no ") + (required == Column::t ? "t" : "delta") +
+               " column (got " + shown(line) + ")");
+        }
+      }
+      if (std::find(order.begin(), order.end(), Column::v) != order.end()) {
+        columns.v.emplace();
+      }
+      if (std::find(order.begin(), order.end(), Column::force) != order.end()) {
+        columns.force.emplace();
+      }
+      continue;
+    }
+    if (cells.size() != order.size()) {
+      fail("a row has " + std::to_string(cells.size()) + " cells, the header names " +
+           std::to_string(order.size()) + " (got " + shown(line) + ")");
+    }
+    for (std::size_t i = 0; i < cells.size(); ++i) {
+      const std::string column(column_names[static_cast<std::size_t>(order[i])].name);
+      const std::optional<double> value = number_in(cells[i]);
+      if (!value) {
+        fail(column + " is not a number (got " + shown(cells[i]) + ")");
+      }
+      if (!std::isfinite(*value)) {
+        fail(column + " must be finite (got " + shown(cells[i]) + ")");
+      }
+      column_of(columns, order[i]).push_back(*value);
+    }
+    if (columns.t.size() > 1 && !(columns.t.back() > last_t)) {
+      fail("t must increase from row to row (got " +
+           shown(cells[static_cast<std::size_t>(std::find(order.begin(), order.end(), Column::t) -
+                                                order.begin())]) +
+           " after " + to_string_full(last_t) + ")");
+    }
+    last_t = columns.t.back();
+  }
+  if (order.empty()) {
+    throw InputError(name + ": no header line naming the columns, e.g. t,delta,v (got " +
+                     (text.empty() ? "an empty file" : "no line but comments") + ")");
+  }
+  if (columns.t.size() < 3) {
+    throw InputError(name + ":" + std::to_string(header_line) +
+                     ": at least 3 rows of numbers are needed after the header (got " +
+                     std::to_string(columns.t.size()) + ")");
+  }
+  return columns;
+}
+
+TrajectoryColumns load_trajectory(const std::string& path) {
+  std::error_code error;
+  if (std::filesystem::is_directory(path, error)) {
+    throw InputError("cannot read the trajectory: a directory (got " + path + ")");
+  }
+  const auto too_large = [&] {
+    return InputError("a trajectory file is at most " + std::to_string(max_trajectory_bytes) +
+                      " bytes; this one is larger (got " + path + ")");
+  };
+  if (const auto size = std::filesystem::file_size(path, error);
+      !error && size > max_trajectory_bytes) {
+    throw too_large();
+  }
+  std::ifstream in(path, std::ios::binary);
+  if (!in) {
+    throw InputError("cannot read the trajectory: " + std::string(std::strerror(errno)) + " (got " +
+                     path + ")");
+  }
+  std::string text;
+  std::array<char, 65536> buffer{};
+  while (in.read(buffer.data(), buffer.size()) || in.gcount() > 0) {
+    text.append(buffer.data(), static_cast<std::size_t>(in.gcount()));
+    if (text.size() > max_trajectory_bytes) { // a pipe or a device: no size known beforehand
+      throw too_large();
+    }
+  }
+  return parse_trajectory_csv(text, path);
+}
+
+TrajectoryObservables extract_observables(const TrajectoryColumns& columns,
+                                          const ExtractOptions& options) {
+  require_series(columns);
+  const std::size_t n = columns.t.size();
+  const std::vector<double>& t = columns.t;
+  const std::vector<double>& delta = columns.delta;
+  const Curve overlap{t, delta, columns.v ? &*columns.v : nullptr};
+  TrajectoryObservables out;
+
+  // The first contact: the first run of rows with δ > 0.
+  const auto first = static_cast<std::size_t>(
+      std::find_if(delta.begin(), delta.end(), [](double d) { return d > 0; }) - delta.begin());
+  if (first == n) {
+    throw InputError("no contact in the series: delta is never > 0 (got " + std::to_string(n) +
+                     " rows)");
+  }
+  std::size_t last = first;
+  while (last + 1 < n && delta[last + 1] > 0) {
+    ++last;
+  }
+  out.contact_samples = last - first + 1;
+  if (last + 1 < n) {
+    const auto again = std::find_if(delta.begin() + static_cast<std::ptrdiff_t>(last + 1),
+                                    delta.end(), [](double d) { return d > 0; });
+    if (again != delta.end()) {
+      out.notes.push_back("a later contact, from t = " +
+                          to_string_full(t[static_cast<std::size_t>(again - delta.begin())]) +
+                          ", is ignored");
+    }
+  }
+
+  // Where the force jumps at the contact's start and end, the interpolants there are those of the
+  // contact's side (MATH.md §10): one across the jump mixes two curves, first order in v.
+  const std::size_t points = overlap.slope != nullptr ? 2 : 3; // the samples an interpolant needs
+  std::optional<Interpolant> after_start, before_end;
+  const bool one_sided = options.force_jumps_at_contact;
+  if (first + points - 1 <= last) {
+    after_start = overlap.interpolant(first, first);
+  }
+  if (last + 1 >= first + points) {
+    before_end = overlap.interpolant(last - 1, last + 1 - points);
+  }
+
+  // Start: δ crosses 0 upward between rows first − 1 and first.
+  if (first == 0) {
+    out.start = missing("the series starts in contact: its start is not in it");
+  } else {
+    const bool clamped = delta[first - 1] == 0 && first >= 2 && delta[first - 2] == 0;
+    out.start = overlap.crossing(first - 1, after_start, one_sided, +1, clamped);
+    if (clamped) {
+      out.notes.push_back("overlap 0 on the rows before contact (clamped?): the start is placed "
+                          "within a whole sample spacing");
+    }
+  }
+
+  // Peak.
+  const auto peak = static_cast<std::size_t>(
+      std::max_element(delta.begin() + static_cast<std::ptrdiff_t>(first),
+                       delta.begin() + static_cast<std::ptrdiff_t>(last + 1)) -
+      delta.begin());
+  Extracted t_peak_absolute;
+  std::tie(out.delta_max, t_peak_absolute) = peak_of(overlap, peak);
+
+  // End: δ crosses 0 downward after the contact's last row, or F crosses 0 after the peak.
+  std::optional<std::size_t> end_at; // the interval [end_at, end_at + 1] holding the end
+  if (options.end == solvers::End::overlap) {
+    if (last + 1 == n) {
+      out.end = missing("the contact does not end within the series");
+    } else {
+      end_at = last;
+      const bool clamped = delta[last + 1] == 0 && last + 2 < n && delta[last + 2] == 0;
+      out.end = overlap.crossing(last, before_end, one_sided, -1, clamped);
+      if (clamped) {
+        out.notes.push_back("overlap 0 on the rows after contact (clamped?): the end is placed "
+                            "within a whole sample spacing");
+      }
+    }
+  } else {
+    std::vector<double> computed;
+    if (!columns.force) {
+      if (!columns.v || !options.force_law) {
+        throw InputError("the force end needs an F column, or a v column to compute F from (got "
+                         "the columns t, delta)");
+      }
+      computed.resize(n);
+      for (std::size_t i = 0; i < n; ++i) {
+        computed[i] = (*options.force_law)(delta[i], (*columns.v)[i]);
+      }
+      out.notes.push_back("F computed from delta and v by the model's force law");
+    }
+    const std::vector<double>& force = columns.force ? *columns.force : computed;
+    const Curve total{t, force, nullptr};
+    for (std::size_t b = peak + 1; b < n; ++b) {
+      if (force[b] <= 0 && force[b - 1] > 0) {
+        end_at = b - 1;
+        break;
+      }
+    }
+    if (!end_at) {
+      out.end = missing("the force does not return to 0 after the peak within the series");
+    } else {
+      const std::size_t b = *end_at + 1;
+      const bool clamped = force[b] == 0 && b + 1 < n && force[b + 1] == 0;
+      out.end = total.crossing(*end_at, std::nullopt, false, -1, clamped);
+      if (clamped) {
+        out.notes.push_back("F 0 on the rows after the cut (clamped): the cut is placed within a "
+                            "whole sample spacing");
+      }
+    }
+  }
+
+  // e from the velocity at the end.
+  if (end_at) {
+    // The slopes at the end by the interpolant across it and by the contact side's, each with its
+    // lower-order partner. At the force cut, inside the contact, the one across it. At the
+    // overlap end the contact side's where the force jumps there, else the one across it (with
+    // v), or the secant across it (without: the parabola would bend through the kink).
+    const double x = *out.end.value;
+    const auto [across_value, across_lower] = overlap.slopes(x, overlap.across(*end_at, -1));
+    std::vector<double> candidates{across_value, across_lower};
+    double value = across_value;
+    if (overlap.slope == nullptr) { // and the parabola on the interval's other side
+      candidates.push_back(overlap.slopes(x, overlap.across(*end_at, +1)).first);
+      value = (candidates[0] + candidates[2]) / 2; // centred: the four samples' cubic, nearly
+    }
+    if (options.end == solvers::End::overlap) {
+      value = overlap.slope != nullptr ? across_value : across_lower;
+      if (before_end) {
+        const auto [local_value, local_lower] = overlap.slopes(x, *before_end);
+        if (one_sided) { // those across the jump are first order: no yardstick
+          candidates.clear();
+          value = local_value;
+        }
+        candidates.insert(candidates.end(), {local_value, local_lower});
+      }
+    }
+    double spread = 0;
+    for (const double candidate : candidates) {
+      spread = std::max(spread, std::abs(value - candidate));
+    }
+    // And the end time's own estimate, carried through the speed's change over it.
+    const Interpolant on_time = overlap.across(*end_at, -1);
+    for (const double sign : {-1.0, 1.0}) {
+      const double moved = x + sign * out.end.sampling;
+      spread = std::max(spread, std::abs(overlap.slopes(moved, on_time).first -
+                                         overlap.slopes(x, on_time).first));
+    }
+    const Extracted speed{value, floored(spread, value), {}};
+    out.e = {std::abs(*speed.value) / options.v0, 0, {}};
+    out.e.sampling = floored(speed.sampling / options.v0, *out.e.value);
+    if (*speed.value > 0) {
+      out.notes.push_back("the overlap still grows where the contact ends (v > 0 there)");
+    }
+  } else {
+    out.e = missing(out.end.missing);
+  }
+
+  // Times from the start.
+  auto since_start = [&](const Extracted& at) {
+    if (!at.value) {
+      return missing(at.missing);
+    }
+    if (!out.start.value) {
+      return missing(out.start.missing);
+    }
+    return Extracted{*at.value - *out.start.value, at.sampling + out.start.sampling, {}};
+  };
+  out.t_peak = since_start(t_peak_absolute);
+  out.tau = since_start(out.end);
+  return out;
+}
+
+SampledJudgement judge_extracted(const Extracted& measured, const std::optional<Exact>& truth) {
+  SampledJudgement j;
+  if (!measured.value) {
+    j.why_not = measured.missing;
+    return j;
+  }
+  if (!truth) {
+    j.why_not = "no closed form";
+    return j;
+  }
+  using std::isfinite;
+  if (!isfinite(*truth)) {
+    j.why_not = "the truth is infinite (no return in finite time)";
+    return j;
+  }
+  const Exact error = Exact(*measured.value) - *truth;
+  const Exact scale = *truth == 0 ? Exact(1) : Exact(abs(*truth));
+  j.error = static_cast<double>(error);
+  j.relative_error = static_cast<double>(error / scale);
+  j.relative_sampling = static_cast<double>(Exact(measured.sampling) / scale);
+  j.explained = abs(error) <= Exact(measured.sampling);
+  return j;
+}
+
+std::string verdict_name(const SampledJudgement& judgement) {
+  if (!judgement.explained) {
+    return "-";
+  }
+  return *judgement.explained ? "explained by sampling" : "beyond sampling";
+}
+
+} // namespace pldamp::harness

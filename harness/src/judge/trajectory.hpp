@@ -1,0 +1,97 @@
+// One contact's time series, as a DEM code that cannot be driven dumps it, read and measured:
+// the contact start and end, e, δ_max, t_peak and τ interpolated between the samples, each with
+// an estimate of how much of its error the sampling alone can explain, and judged against the
+// closed forms (`pldamp check`; docs/MATH.md §10 "Measuring a sampled trajectory").
+//
+// The extraction is a pure function of the columns, so a scene can run it on many files.
+#pragma once
+
+#include "truth/plan.hpp"
+
+#include "pldamp/solvers/problem.hpp"
+
+#include <cstddef>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+namespace pldamp::harness {
+
+// The columns of a trajectory file: t and delta (the overlap, > 0 in contact) always; v (dδ/dt,
+// > 0 while loading) and F (the total normal force, > 0 repulsive) when the file has them.
+struct TrajectoryColumns {
+  std::vector<double> t, delta;
+  std::optional<std::vector<double>> v, force;
+};
+
+// A larger file is refused before it is read whole (64 MiB: some two million rows of four
+// columns, far more than one contact needs).
+inline constexpr std::size_t max_trajectory_bytes = std::size_t(64) << 20;
+
+// "t|delta|v|F (or time, overlap, velocity, force)": the column names, for messages and --help.
+std::string trajectory_column_names();
+
+// Parses CSV text: blank lines and lines starting with '#' skipped, then a header naming the
+// columns (case-insensitive; t, delta, v, F or their aliases; no other), then rows of finite
+// numbers separated by commas (blanks around a cell allowed), t strictly increasing, at least 3
+// rows. `name` heads every error: InputError "NAME:LINE: <what> (got <value>)".
+TrajectoryColumns parse_trajectory_csv(std::string_view text, const std::string& name);
+
+// Reads and parses the file at `path` (InputError when it cannot be read, or is larger than
+// max_trajectory_bytes).
+TrajectoryColumns load_trajectory(const std::string& path);
+
+// The model's total normal force k δ^p + α√(mk) δ^((p−1)/2) v (0 without overlap): the force end
+// of a file without an F column, from its v column.
+struct ForceLaw {
+  double p, m, k, alpha;
+  double operator()(double delta, double v) const;
+};
+
+struct ExtractOptions {
+  double v0 = 1;                            // e = |v at the end| / v0
+  solvers::End end = solvers::End::overlap; // the contact ends where δ, or F, returns to 0
+  std::optional<ForceLaw> force_law = {};   // End::force without an F column (needs v)
+  // The force jumps where the contact starts and ends (p = 1 with damping: α√(mk) v at δ = 0⁺,
+  // 0 outside): δ and v are then interpolated there from the contact's side alone.
+  bool force_jumps_at_contact = false;
+};
+
+// One extracted observable: its value, or why it is missing; and the sampling estimate, the
+// difference between the interpolation used and one of an order lower (MATH.md §10), ≥ 0.
+struct Extracted {
+  std::optional<double> value;
+  double sampling = 0;
+  std::string missing; // when there is no value: why
+};
+
+// What a series gives. Under End::force, e and tau are the capped restitution and the cut time.
+// Times are absolute (the file's clock) for start and end, relative to the start for t_peak, tau.
+struct TrajectoryObservables {
+  Extracted e, delta_max, t_peak, tau;
+  Extracted start, end;            // the contact's start and end on the file's clock
+  std::size_t contact_samples = 0; // rows with δ > 0 in the (first) contact
+  std::vector<std::string> notes;  // what a reader should know: an ignored second contact, ...
+};
+
+// Throws InputError when the series has no contact (δ never > 0), or asks the force end with
+// neither an F column nor a v column and a force law.
+TrajectoryObservables extract_observables(const TrajectoryColumns& columns,
+                                          const ExtractOptions& options);
+
+// An extracted observable against its truth.
+struct SampledJudgement {
+  std::optional<double> error;             // value − truth (absolute)
+  std::optional<double> relative_error;    // error / |truth|; the absolute error for a truth of 0
+  std::optional<double> relative_sampling; // the sampling estimate on the same scale
+  std::optional<bool> explained;           // |error| ≤ the sampling estimate
+  std::string why_not;                     // no verdict: why
+};
+
+SampledJudgement judge_extracted(const Extracted& measured, const std::optional<Exact>& truth);
+
+// "explained by sampling", "beyond sampling", or "-" without a verdict.
+std::string verdict_name(const SampledJudgement& judgement);
+
+} // namespace pldamp::harness
