@@ -81,7 +81,10 @@ def contact_from_steps(rows, problem):
     kinetic0 = 0.5 * m * v0 * v0
 
     def dissipated(delta, v):
-        return kinetic0 - 0.5 * m * v * v - k * max(delta, 0.0) ** (p + 1) / (p + 1)
+        # By balance: without damping it is 0 up to rounding, which must not read as negative
+        # (the protocol's numbers are >= 0).
+        work = kinetic0 - 0.5 * m * v * v - k * max(delta, 0.0) ** (p + 1) / (p + 1)
+        return max(work, 0.0)
 
     result = {"outcome": "step_limit", "steps": len(rows)}
     touched, last = False, None
@@ -93,7 +96,7 @@ def contact_from_steps(rows, problem):
             result["energy_load"] = work_peak
         if ended:
             result.update(outcome="exited", e=abs(v) / v0, tau=t)
-            result["energy_unload"] = dissipated(delta, v) - work_peak
+            result["energy_unload"] = max(dissipated(delta, v) - work_peak, 0.0)
             return result
         touched = touched or delta > 0
         last = (t, delta, v)
