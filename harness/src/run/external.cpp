@@ -228,7 +228,8 @@ std::string ExternalSolver::why_stopped(const std::string& partial) {
   return out;
 }
 
-std::string ExternalSolver::problem_line(const solvers::Problem<double>& problem,
+std::string ExternalSolver::problem_line(const SolverConfig& config,
+                                         const solvers::Problem<double>& problem,
                                          const solvers::Options<double>& options, long id) const {
   ordered_json line{{"id", id},
                     {"p", problem.p},
@@ -243,21 +244,20 @@ std::string ExternalSolver::problem_line(const solvers::Problem<double>& problem
     want.push_back(observable->key);
   }
   line["want"] = want;
-  if (const std::optional<double> dt = step_of(config_, problem)) {
-    if (config_.steps_per_contact) {
-      line["steps_per_contact"] = *config_.steps_per_contact;
+  if (const std::optional<double> dt = step_of(config, problem)) {
+    if (config.steps_per_contact) {
+      line["steps_per_contact"] = *config.steps_per_contact;
     }
     line["dt"] = *dt;
     line["onset_phase"] = options.onset_phase;
   }
-  if (config_.rtol) {
-    line["rtol"] = *config_.rtol;
+  if (config.rtol) {
+    line["rtol"] = *config.rtol;
   }
-  if (config_.atol) {
-    line["atol"] = *config_.atol;
+  if (config.atol) {
+    line["atol"] = *config.atol;
   }
-  line["options"] =
-      config_.options.empty() ? ordered_json::object() : ordered_json::parse(config_.options);
+  line["options"] = options_;
   return line.dump();
 }
 
@@ -316,7 +316,8 @@ solvers::Result<double> ExternalSolver::parse_reply(const std::string& line, lon
   return result;
 }
 
-solvers::Result<double> ExternalSolver::solve(const solvers::Problem<double>& problem,
+solvers::Result<double> ExternalSolver::solve(const SolverConfig& config,
+                                              const solvers::Problem<double>& problem,
                                               const solvers::Options<double>& options) {
   if (!facts_.unavailable.empty()) {
     throw Skipped("unavailable: " + one_line(facts_.unavailable));
@@ -342,7 +343,7 @@ solvers::Result<double> ExternalSolver::solve(const solvers::Problem<double>& pr
   }
   const long id = next_id_++;
   const auto sent = std::chrono::steady_clock::now();
-  if (!program_->write_line(problem_line(problem, options, id))) {
+  if (!program_->write_line(problem_line(config, problem, options, id))) {
     throw std::runtime_error(why_stopped(""));
   }
   std::string line;
@@ -367,7 +368,7 @@ solvers::Result<double> ExternalSolver::solve(const solvers::Problem<double>& pr
     if (result.wall_seconds == 0) {
       result.wall_seconds = round_trip;
     }
-    result.fixed_step = step_of(config_, problem);
+    result.fixed_step = step_of(config, problem);
     return result;
   } catch (const Skipped&) {
     throw;

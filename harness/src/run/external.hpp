@@ -1,5 +1,6 @@
 // External solvers (README "Your code in the loop: external solvers"): a scene's [[solver]] that
-// names a program. pldamp starts it once per configuration with an argument vector (never a shell)
+// names a program. pldamp starts it once per [[solver]] entry (the configurations of its sweep
+// share it) with an argument vector (never a shell)
 // and speaks the pldamp-solver protocol, version 1, to it: a handshake line each way, then one
 // JSON problem per line on its standard input and one JSON result per line from its standard
 // output. What comes back is a solvers::Result like any registered solver's, so budgets, claims,
@@ -69,15 +70,16 @@ public:
 
   const ExternalFacts& facts() const { return facts_; }
 
-  // One problem, one reply (one at a time per program; callers on several threads queue). Throws
-  // Skipped, or std::runtime_error with the reason the record failed.
-  solvers::Result<double> solve(const solvers::Problem<double>& problem,
+  // One problem of `config` (this program's, or another of its [[solver]] entry's sweep), one
+  // reply; one at a time per program (callers on several threads queue). Throws Skipped, or
+  // std::runtime_error with the reason the record failed.
+  solvers::Result<double> solve(const SolverConfig& config, const solvers::Problem<double>& problem,
                                 const solvers::Options<double>& options);
 
 private:
   void start();        // the program and its handshake; throws ProtocolError
   void stop_program(); // after a broken exchange: killed, restarted on the next problem
-  std::string problem_line(const solvers::Problem<double>& problem,
+  std::string problem_line(const SolverConfig& config, const solvers::Problem<double>& problem,
                            const solvers::Options<double>& options, long id) const;
   // The reply's line as a Result; throws std::runtime_error or Skipped.
   solvers::Result<double> parse_reply(const std::string& line, long id) const;

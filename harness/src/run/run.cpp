@@ -81,7 +81,7 @@ solvers::Result<Real> solve_with(const SolverConfig& config, ExternalSolver* ext
                                  const solvers::Options<Real>& options) {
   if constexpr (std::is_same_v<Real, double>) {
     if (external != nullptr) {
-      return external->solve(problem, options);
+      return external->solve(config, problem, options);
     }
   }
   return solvers::solve(config.name, problem, options);
@@ -263,15 +263,29 @@ std::vector<Record> run_plan(const Plan& plan, int jobs, RunTotals& totals,
   }
   // Every external program started and its handshake read before any record: one that cannot be
   // started or speaks another protocol stops the run here.
-  std::vector<std::unique_ptr<ExternalSolver>> externals(plan.configs.size());
+  // The configurations of one [[solver]] entry (one command and options: a sweep) share one
+  // program, so that a code's start-up (a second for LAMMPS) is paid once per entry.
+  std::vector<std::unique_ptr<ExternalSolver>> programs;
+  std::vector<ExternalSolver*> externals(plan.configs.size(), nullptr);
   totals = {};
   totals.external.assign(plan.configs.size(), "");
   for (std::size_t c = 0; c < plan.configs.size(); ++c) {
-    if (plan.configs[c].external()) {
-      externals[c] =
-          std::make_unique<ExternalSolver>(plan.configs[c], plan.scene.limits.max_seconds);
-      totals.external[c] = externals[c]->facts().describe();
+    const SolverConfig& config = plan.configs[c];
+    if (!config.external()) {
+      continue;
     }
+    for (std::size_t earlier = 0; earlier < c && externals[c] == nullptr; ++earlier) {
+      const SolverConfig& other = plan.configs[earlier];
+      if (externals[earlier] != nullptr && other.command == config.command &&
+          other.options == config.options) {
+        externals[c] = externals[earlier];
+      }
+    }
+    if (externals[c] == nullptr) {
+      programs.push_back(std::make_unique<ExternalSolver>(config, plan.scene.limits.max_seconds));
+      externals[c] = programs.back().get();
+    }
+    totals.external[c] = externals[c]->facts().describe();
   }
   std::atomic<std::size_t> next{0};
   std::mutex report;
@@ -281,7 +295,7 @@ std::vector<Record> run_plan(const Plan& plan, int jobs, RunTotals& totals,
       Record& record = records[i];
       try {
         with_precision(plan.configs[record.config].precision, [&]<SupportedReal Real>() {
-          solve_record<Real>(plan, record, externals[record.config].get());
+          solve_record<Real>(plan, record, externals[record.config]);
         });
       } catch (const Skipped& e) {
         const std::size_t cell = record.cell, config = record.config;
@@ -315,7 +329,7 @@ std::vector<Record> run_plan(const Plan& plan, int jobs, RunTotals& totals,
   }
   for (const Record& record : records) {
     totals.rhs_evals += record.rhs_evals * record.phases;
-    const int repeats = externals[record.config] ? 1 : plan.scene.repeats;
+    const int repeats = externals[record.config] != nullptr ? 1 : plan.scene.repeats;
     totals.solver_runs += record.skipped() ? 0 : record.outcome ? repeats * record.phases : 1;
   }
   totals.wall_seconds =
