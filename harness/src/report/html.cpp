@@ -393,8 +393,9 @@ std::string figure_plot(const Gnuplot& gnuplot, const Figure& figure) {
   return gnuplot.svg(script.str(), 720, 440 + 17 * static_cast<int>(figure.series.size()));
 }
 
-std::string html_table(const MapTable& table) {
-  std::string out = "<table><tr>";
+// `css_class`: "wrap" for a table of text that wraps within the page (External solvers).
+std::string html_table(const MapTable& table, const std::string& css_class = "") {
+  std::string out = css_class.empty() ? "<table><tr>" : "<table class='" + css_class + "'><tr>";
   for (const std::string& head : table.header) {
     out += "<th>" + escape(head) + "</th>";
   }
@@ -481,6 +482,7 @@ std::string report_html(const RunReport& report, const std::string& gnuplot_prog
          "p.read{max-width:60em;line-height:1.4}"
          // The claim table's words wrap, left-aligned; its numbers stay on one line.
          "table.claims td{text-align:left;white-space:normal;vertical-align:top}"
+         "table.wrap td{text-align:left;white-space:normal;vertical-align:top}"
          "table.claims td.number{text-align:right;white-space:nowrap}"
          "ul.claims{max-width:75em;line-height:1.35}ul.claims li{margin:0.4em 0}"
          "@media print{body{margin:0;max-width:none}figure{break-inside:avoid}"
@@ -543,7 +545,7 @@ std::string report_html(const RunReport& report, const std::string& gnuplot_prog
         << escape(search_table_note(report)) << "</p>\n";
   }
   if (const MapTable external = external_table(report); !external.rows.empty()) {
-    out << "<h2>External solvers</h2>\n" << html_table(external);
+    out << "<h2>External solvers</h2>\n" << html_table(external, "wrap");
   }
   out << "<h2>Worst relative error over the grid</h2>\n"
       << html_table(error_table(report)) << "<h2>Cost per cell</h2>\n"

@@ -655,7 +655,7 @@ std::string search_table_note(const RunReport& report) {
 
 MapTable external_table(const RunReport& report) {
   const Plan& plan = report.plan;
-  MapTable table{{"external solver", "program", "says of itself", "records", "skipped", "failed",
+  MapTable table{{"external solver", "program", "says of itself", "run", "skipped", "failed",
                   "without truth", "largest difference from its replica"},
                  {}};
   std::vector<std::pair<std::optional<double>, std::string>> from_replica; // and where
