@@ -57,7 +57,7 @@ def main():
             e = record["value"]["e"]
             if e is None or not 0 < e < 1:
                 problems.append("%s: e = %s" % (where, e))
-    if compared < 4 * 4:  # 2 seed models × 2 steps × 4 observables at their p
+    if compared < 8 * 4:  # 4 seed configurations × 2 steps × 4 observables at their p
         problems.append("only %d replica comparisons" % compared)
     for problem in problems:
         print(problem)
