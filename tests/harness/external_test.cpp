@@ -1,6 +1,7 @@
 // External solvers over the pldamp-solver protocol (run/external.hpp), against a test double
 // (adapters/fake_adapter.py) that behaves, or misbehaves in one way per mode.
 #include "fixtures.hpp"
+#include "report/report.hpp"
 #include "run/external.hpp"
 
 #include <boost/math/constants/constants.hpp>
@@ -77,6 +78,13 @@ TEST(External, AnIndependentTruthAgreesToRoundingAndOtherExponentsAreSkippedNotF
   const Budgets budgets = make_budgets(ran.plan, ran.records);
   EXPECT_EQ(budgets.failed_records, 0);
   EXPECT_EQ(budgets.cost[0].underdamped.cells, 4); // the skipped records cost nothing
+  const RunTotals totals{0, 0, 0, {"fake good"}};
+  const std::vector<Figure> figures;
+  const MapTable table = external_table({ran.plan, ran.records, budgets, totals, figures});
+  ASSERT_EQ(table.rows.size(), 1u);
+  EXPECT_EQ(table.rows[0], (std::vector<std::string>{
+                               "fake", "python3 " PLDAMP_TEST_ADAPTERS "/fake_adapter.py good",
+                               "fake good", "4", "4 (unsupported: p = 1 only)", "0", "0", "–"}));
 }
 
 TEST(External, EveryProblemCarriesTheProtocolsKeys) {

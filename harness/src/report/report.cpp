@@ -658,22 +658,23 @@ MapTable external_table(const RunReport& report) {
   MapTable table{{"external solver", "program", "says of itself", "run", "skipped", "failed",
                   "without truth", "largest difference from its replica"},
                  {}};
-  std::vector<std::pair<std::optional<double>, std::string>> from_replica; // and where
+  struct Row {
+    long run = 0, failed = 0;
+    std::map<std::string, long> skipped, notes; // each reason and how many records it has
+    std::optional<double> from_replica;
+    std::string where; // the replica and the observable of the largest difference
+  };
   std::vector<std::string> lines;
-  std::vector<std::array<long, 4>> counts;     // run, skipped, failed, without truth
-  std::vector<std::array<std::string, 2>> why; // the first skip reason and note
+  std::vector<Row> rows;
   for (const Record& record : report.records) {
     const SolverConfig& config = plan.configs[record.config];
     if (!config.external()) {
       continue;
     }
     auto found = std::find(lines.begin(), lines.end(), config.line());
-    const auto row = static_cast<std::size_t>(found - lines.begin());
     if (found == lines.end()) {
       lines.push_back(config.line());
-      counts.push_back({0, 0, 0, 0});
-      why.push_back({"", ""});
-      from_replica.emplace_back(std::nullopt, config.replica);
+      rows.emplace_back();
       std::string program;
       for (const std::string& arg : config.command) {
         program += (program.empty() ? "" : " ") + arg;
@@ -681,34 +682,47 @@ MapTable external_table(const RunReport& report) {
       const std::vector<std::string>& said = report.totals.external;
       table.rows.push_back(
           {config.line(), program, record.config < said.size() ? said[record.config] : ""});
+      found = lines.end() - 1;
     }
-    ++counts[row][record.skipped() ? 1 : 0];
-    counts[row][2] += record.failed() ? 1 : 0;
-    counts[row][3] += record.note.empty() ? 0 : 1;
-    if (why[row][0].empty()) {
-      why[row][0] = record.skip_reason;
+    Row& row = rows[static_cast<std::size_t>(found - lines.begin())];
+    if (record.skipped()) {
+      ++row.skipped[record.skip_reason];
+      continue;
+    }
+    ++row.run;
+    row.failed += record.failed() ? 1 : 0;
+    if (!record.note.empty()) {
+      ++row.notes[record.note];
     }
     for (std::size_t o = 0; o < record.replica_difference.size(); ++o) {
       const std::optional<double>& difference = record.replica_difference[o];
-      if (difference && !(*difference <= from_replica[row].first.value_or(-1.0))) {
-        from_replica[row].first = difference;
-        from_replica[row].second = config.replica + ", " + std::string(plan.observables[o]->key);
+      if (difference && !(*difference <= row.from_replica.value_or(-1.0))) {
+        row.from_replica = difference;
+        row.where = config.replica + ", " + std::string(plan.observables[o]->key);
       }
     }
-    if (why[row][1].empty()) {
-      why[row][1] = record.note;
-    }
   }
-  for (std::size_t row = 0; row < table.rows.size(); ++row) {
-    const auto with_reason = [](long n, const std::string& reason) {
-      return std::to_string(n) + (n > 0 && !reason.empty() ? " (" + reason + ")" : "");
-    };
-    table.rows[row].push_back(std::to_string(counts[row][0]));
-    table.rows[row].push_back(with_reason(counts[row][1], why[row][0]));
-    table.rows[row].push_back(std::to_string(counts[row][2]));
-    table.rows[row].push_back(with_reason(counts[row][3], why[row][1]));
-    const auto& [difference, where] = from_replica[row];
-    table.rows[row].push_back(where.empty() ? "–" : short_number(difference) + " (" + where + ")");
+  // "21 (reason)", or with several reasons "28: 21 reason; 7 another".
+  const auto counted = [](const std::map<std::string, long>& reasons) {
+    long total = 0;
+    std::string text;
+    for (const auto& [reason, n] : reasons) {
+      total += n;
+      text += (text.empty() ? "" : "; ") + std::to_string(n) + " " + reason;
+    }
+    if (reasons.size() == 1) {
+      return std::to_string(total) + " (" + reasons.begin()->first + ")";
+    }
+    return std::to_string(total) + (reasons.empty() ? "" : ": " + text);
+  };
+  for (std::size_t i = 0; i < rows.size(); ++i) {
+    const Row& row = rows[i];
+    table.rows[i].push_back(std::to_string(row.run));
+    table.rows[i].push_back(counted(row.skipped));
+    table.rows[i].push_back(std::to_string(row.failed));
+    table.rows[i].push_back(counted(row.notes));
+    table.rows[i].push_back(
+        row.where.empty() ? "–" : short_number(row.from_replica) + " (" + row.where + ")");
   }
   return table;
 }
