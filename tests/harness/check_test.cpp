@@ -1,6 +1,7 @@
 // `pldamp check`: observables measured on sampled trajectories (judge/trajectory.hpp) against
 // the closed forms. Exact identities on polynomials, convergence and the sampling estimate on the
 // closed-form trajectory, a DEM loop's dump, and every bad input the command refuses.
+#include "cli/commands.hpp"
 #include "cli_run.hpp"
 #include "fixtures.hpp"
 #include "judge/trajectory.hpp"
@@ -408,6 +409,67 @@ TEST(CheckCli, BadInputIsOneLineAndExitTwo) {
     EXPECT_EQ(r.code, 2) << message;
     EXPECT_EQ(r.err, "error: " + message + "\n");
   }
+}
+
+} // namespace
+} // namespace pldamp::harness
+
+namespace pldamp::harness {
+namespace {
+
+// The shipped example's files through a scene: each entry gives what `pldamp check` gives for its
+// file, and a file that turns bad after the scene was read fails that entry only.
+TEST(CheckScene, EachTrajectoryGivesWhatCheckGivesAndABadFileFailsOnlyItself) {
+  const std::string dir = std::string(PLDAMP_DATA_DIR) + "/trajectories/";
+  const std::string bad = write_file("turns_bad.csv", "t,delta\n0,0\n1,1\n2,0\n");
+  const std::string text = "[grid]\np = 1.5\ne = 0.5\nv0 = 1.0\n"
+                           "[[trajectory]]\nfile = \"" +
+                           dir +
+                           "hertz_taylor_every_0.1.csv\"\np = 1.5\ne = 0.5\nv0 = 1.0\n"
+                           "[[trajectory]]\nfile = \"" +
+                           bad + "\"\nlabel = \"bad\"\np = 1.5\nalpha = 0.3\nv0 = 1.0\n";
+  const Scene scene = parse_scene(text, "/x/s.toml");
+  ASSERT_EQ(scene.trajectories.size(), 2u);
+  std::ofstream(bad) << "t,delta\nnot a number\n";
+  const TrajectoryCheck good = check_trajectory(scene.trajectories[0], scene.end);
+  const TrajectoryCheck failed = check_trajectory(scene.trajectories[1], scene.end);
+  EXPECT_NE(failed.failure.find("turns_bad.csv:2:"), std::string::npos) << failed.failure;
+  EXPECT_TRUE(failed.rows.empty());
+  ASSERT_TRUE(good.failure.empty()) << good.failure;
+
+  const CliRun cli = run({"check", dir + "hertz_taylor_every_0.1.csv", "--p", "1.5", "--e", "0.5",
+                          "--v0", "1", "--json"});
+  ASSERT_EQ(cli.code, 0) << cli.err;
+  const nlohmann::json json = nlohmann::json::parse(cli.out);
+  ASSERT_EQ(good.rows.size(), 4u);
+  for (const TrajectoryRow& row : good.rows) {
+    ASSERT_TRUE(row.value && row.truth) << row.key;
+    EXPECT_EQ(*row.value, json[row.key]["value"].get<double>()) << row.key;
+    EXPECT_EQ(*row.judgement.relative_error, json[row.key]["rel_error"].get<double>()) << row.key;
+    EXPECT_EQ(verdict_name(row.judgement), json[row.key]["verdict"]) << row.key;
+    EXPECT_LT(std::abs(*row.judgement.relative_error), 2e-3) << row.key; // sampled every 0.1
+  }
+}
+
+TEST(CheckScene, ATrajectoryEntrysMistakesAreRefusedWithItsLine) {
+  const auto refused = [](const std::string& entry, const std::string& expected) {
+    try {
+      parse_scene("[grid]\np = 1\ne = 0.5\nv0 = 1\n[[trajectory]]\n" + entry, "/x/s.toml");
+      ADD_FAILURE() << "accepted: " << entry;
+    } catch (const SceneError& e) {
+      EXPECT_NE(std::string(e.what()).find(expected), std::string::npos) << e.what();
+    }
+  };
+  const std::string file = "file = \"" + write_file("ok.csv", "t,delta\n0,0\n1,1\n2,0\n") + "\"\n";
+  refused("file = \"/no/such.csv\"\np = 1\ne = 0.5\nv0 = 1\n",
+          "s.toml:6: no such trajectory file (got /no/such.csv)");
+  refused(file + "p = 1\nv0 = 1\n", "needs exactly one of e, alpha and alpha_eff");
+  refused(file + "p = 1\ne = 0.5\nalpha = 1\nv0 = 1\n", "needs exactly one of e");
+  refused(file + "p = 0.5\ne = 0.5\nv0 = 1\n", "p must be");
+  refused(file + "p = 1\ne = 1.5\nv0 = 1\n", "e must be in (0, 1]");
+  refused(file + "p = 1\ne = 0.5\nv0 = -1\n", "v0");
+  refused(file + "p = 1\ne = 0.5\n", "[[trajectory]] needs v0");
+  refused(file + "p = 1\ne = 0.5\nv0 = 1\nsolver = \"x\"\n", "unknown key in [[trajectory]]");
 }
 
 } // namespace

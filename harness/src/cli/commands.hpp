@@ -1,6 +1,9 @@
 // The analytic subcommands (calibrate, observables, showcase), behind a precision dispatch.
 #pragma once
 
+#include "judge/trajectory.hpp"
+#include "scene/scene.hpp"
+
 #include <optional>
 #include <ostream>
 #include <string>
@@ -43,6 +46,10 @@ struct RunArgs {
   std::optional<std::string> max_steps, max_seconds, max_runs;
   bool strict = false; // exit 1 when a claim's verdict is not the one expected (a CI gate)
 };
+
+// A scene's [[trajectory]] checked as `pldamp check` checks it (under the scene's end unless it
+// names one); a file that cannot be read or measured is a failed entry, not an error.
+TrajectoryCheck check_trajectory(const TrajectorySpec& spec, solvers::End scene_end);
 
 void run_calibrate(const ContactArgs& args, std::ostream& out);
 void run_observables(const ContactArgs& args, std::ostream& out);

@@ -222,7 +222,11 @@ int run_scene(const RunArgs& args, std::ostream& out, std::ostream& err) {
   }
   const Budgets budgets = make_budgets(plan, records);
   const std::vector<Figure> figures = make_figures(scene);
-  const RunReport report{plan, records, budgets, totals, figures};
+  std::vector<TrajectoryCheck> trajectories;
+  for (const TrajectorySpec& spec : scene.trajectories) {
+    trajectories.push_back(check_trajectory(spec, scene.end));
+  }
+  const RunReport report{plan, records, budgets, totals, figures, &trajectories};
   if (const std::optional<int> code = signals.exit_code()) {
     err << "stopped by a signal: no report written, " << args.out << " left as it was\n";
     return *code;

@@ -94,4 +94,20 @@ SampledJudgement judge_extracted(const Extracted& measured, const std::optional<
 // "explained by sampling", "beyond sampling", or "-" without a verdict.
 std::string verdict_name(const SampledJudgement& judgement);
 
+// One observable of a checked trajectory, as the reports show it.
+struct TrajectoryRow {
+  std::string key; // e, delta_max, t_peak, tau (e_cap, t_cut at the force end)
+  std::optional<double> value, sampling, truth;
+  SampledJudgement judgement;
+};
+
+// A scene's [[trajectory]] checked (`pldamp run`): its rows, or why the file could not be.
+struct TrajectoryCheck {
+  std::string label, file;
+  std::string inputs;  // "p = 1.5, e = 0.5, v0 = 1, m = 1, k = 1, end overlap"
+  std::string failure; // not empty: the file could not be read or measured
+  std::vector<TrajectoryRow> rows;
+  std::vector<std::string> notes;
+};
+
 } // namespace pldamp::harness

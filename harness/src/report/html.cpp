@@ -547,6 +547,9 @@ std::string report_html(const RunReport& report, const std::string& gnuplot_prog
   if (const MapTable external = external_table(report); !external.rows.empty()) {
     out << "<h2>External solvers</h2>\n" << html_table(external, "wrap");
   }
+  if (const MapTable checked = trajectory_table(report); !checked.rows.empty()) {
+    out << "<h2>Trajectories checked</h2>\n" << html_table(checked, "wrap");
+  }
   out << "<h2>Worst relative error over the grid</h2>\n"
       << html_table(error_table(report)) << "<h2>Cost per cell</h2>\n"
       << html_table(cost_table(report));

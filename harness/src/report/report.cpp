@@ -311,6 +311,30 @@ ordered_json report_json(const RunReport& report) {
   if (!external.empty()) {
     out["external_solvers"] = external;
   }
+  if (report.trajectories != nullptr && !report.trajectories->empty()) {
+    ordered_json checks = ordered_json::array();
+    for (const TrajectoryCheck& check : *report.trajectories) {
+      ordered_json c{{"label", check.label}, {"file", check.file}, {"inputs", check.inputs}};
+      if (!check.failure.empty()) {
+        c["failure"] = check.failure;
+      }
+      for (const TrajectoryRow& row : check.rows) {
+        ordered_json r{{"value", number_or_null(row.value)},
+                       {"truth", number_or_null(row.truth)},
+                       {"rel_error", number_or_null(row.judgement.relative_error)},
+                       {"rel_sampling", number_or_null(row.judgement.relative_sampling)}};
+        r["verdict"] = row.judgement.explained ? ordered_json(verdict_name(row.judgement))
+                                               : ordered_json(nullptr);
+        if (!row.judgement.explained) {
+          r["why"] = row.judgement.why_not;
+        }
+        c[row.key] = r;
+      }
+      c["notes"] = check.notes;
+      checks.push_back(c);
+    }
+    out["trajectories"] = checks;
+  }
   out["claims"] = ordered_json::array();
   for (const Verdict& v : budgets.claims) {
     ordered_json claim{{"name", v.name},
@@ -653,6 +677,30 @@ std::string search_table_note(const RunReport& report) {
                       "tried broke it.");
 }
 
+MapTable trajectory_table(const RunReport& report) {
+  MapTable table{{"trajectory", "inputs", "observable", "measured", "truth", "rel error",
+                  "sampling (rel)", "verdict"},
+                 {}};
+  if (report.trajectories == nullptr) {
+    return table;
+  }
+  for (const TrajectoryCheck& check : *report.trajectories) {
+    if (!check.failure.empty()) {
+      table.rows.push_back(
+          {check.label, check.inputs, "–", "failed: " + check.failure, "", "", "", ""});
+      continue;
+    }
+    for (const TrajectoryRow& row : check.rows) {
+      table.rows.push_back(
+          {check.label, check.inputs, row.key, row.value ? short_number(row.value, 9) : "missing",
+           short_number(row.truth, 9), short_number(row.judgement.relative_error),
+           short_number(row.judgement.relative_sampling),
+           row.judgement.explained ? verdict_name(row.judgement) : row.judgement.why_not});
+    }
+  }
+  return table;
+}
+
 MapTable external_table(const RunReport& report) {
   const Plan& plan = report.plan;
   MapTable table{{"external solver", "program", "says of itself", "run", "skipped", "failed",
@@ -829,6 +877,9 @@ std::string report_markdown(const RunReport& report) {
   }
   if (const MapTable external = external_table(report); !external.rows.empty()) {
     out << "## External solvers\n\n" << markdown_table(external) << "\n";
+  }
+  if (const MapTable checked = trajectory_table(report); !checked.rows.empty()) {
+    out << "## Trajectories checked\n\n" << markdown_table(checked) << "\n";
   }
   out << "## Worst relative error over the grid\n\n"
       << markdown_table(error_table(report)) << "\n## Cost per cell\n\n"

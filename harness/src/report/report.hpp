@@ -11,6 +11,7 @@
 #include "judge/budget.hpp"
 #include "judge/diff.hpp"
 #include "judge/figures.hpp"
+#include "judge/trajectory.hpp"
 
 #include <nlohmann/json.hpp>
 
@@ -48,6 +49,7 @@ struct RunReport {
   const Budgets& budgets;
   const RunTotals& totals;
   const std::vector<Figure>& figures;
+  const std::vector<TrajectoryCheck>* trajectories = nullptr; // the scene's [[trajectory]], checked
 };
 
 nlohmann::ordered_json report_json(const RunReport& report);
@@ -104,6 +106,8 @@ MapTable cost_table(const RunReport& report);
 // The searches' answers, one row per group, and what they searched.
 MapTable search_table(const RunReport& report);
 std::string search_table_note(const RunReport& report);
+// The scene's trajectories checked, one row per file and observable (a failed file: one row).
+MapTable trajectory_table(const RunReport& report);
 // External solvers, one row per solver line: its program, what it said of itself, and its records
 // run, skipped (and why), failed, and measured without a truth (and why). Empty: none in the run.
 MapTable external_table(const RunReport& report);

@@ -546,6 +546,65 @@ void read_error_bound(const Reader& reader, const toml::table& entry, const toml
   }
 }
 
+void read_trajectories(const Reader& reader, const toml::node& node, Scene& scene) {
+  for (const toml::node& item : reader.entries(node, "trajectory")) {
+    const toml::table& entry = reader.table(item, "[[trajectory]]");
+    reader.only(entry, {"file", "label", "p", "e", "alpha", "alpha_eff", "v0", "m", "k", "end"},
+                "[[trajectory]]");
+    TrajectorySpec spec;
+    for (const char* key : {"file", "p", "v0"}) {
+      if (entry.get(key) == nullptr) {
+        reader.fail(item, std::string("[[trajectory]] needs ") + key);
+      }
+    }
+    const std::string file = reader.string(*entry.get("file"), "file");
+    spec.file =
+        (std::filesystem::path(scene.path).parent_path() / file).lexically_normal().string();
+    if (!std::filesystem::is_regular_file(spec.file)) {
+      reader.fail(*entry.get("file"), "no such trajectory file (got " + spec.file + ")");
+    }
+    spec.label = entry.get("label") ? reader.string(*entry.get("label"), "label") : file;
+    int dampings = 0;
+    for (const char* key : {"e", "alpha", "alpha_eff"}) {
+      if (const toml::node* value = entry.get(key)) {
+        ++dampings;
+        spec.damping_key = key;
+        spec.damping = reader.number(*value, key);
+      }
+    }
+    if (dampings != 1) {
+      reader.fail(item, "[[trajectory]] needs exactly one of e, alpha and alpha_eff");
+    }
+    try {
+      spec.p = reader.number(*entry.get("p"), "p");
+      domain::require_p(spec.p);
+      spec.v0 = reader.number(*entry.get("v0"), "v0");
+      for (auto [key, value] :
+           {std::pair{"v0", &spec.v0}, std::pair{"m", &spec.m}, std::pair{"k", &spec.k}}) {
+        if (const toml::node* given = entry.get(key)) {
+          *value = reader.number(*given, key);
+        }
+        domain::require_scale(key, *value);
+      }
+      if (spec.damping_key == "alpha") {
+        domain::require_alpha(spec.damping);
+      } else if (spec.damping_key == "alpha_eff") {
+        domain::require_alpha_eff(spec.damping);
+      } else {
+        require(spec.damping > 0 && spec.damping <= 1, "e must be in (0, 1]", spec.damping);
+      }
+    } catch (const std::invalid_argument& e) {
+      reader.fail(item, e.what());
+    }
+    const std::vector<std::optional<solvers::End>> ends = read_ends(reader, entry);
+    if (ends.size() != 1) {
+      reader.fail(*entry.get("end"), "a trajectory's end is one contact end (got a list)");
+    }
+    spec.end = ends.front();
+    scene.trajectories.push_back(spec);
+  }
+}
+
 // The external [[solver]] a [[claim]]'s `solver` names by its label, or nullptr.
 const SolverConfig* external_named(const Reader& reader, const toml::table& entry,
                                    const Scene& scene) {
@@ -1140,8 +1199,8 @@ Scene parse_scene(std::string_view text, const std::string& path) {
     reader.fail_at(e.source().begin.line, std::string(e.description()));
   }
   reader.only(root,
-              {"name", "end", "want", "grid", "solver", "claim", "search", "figure", "report",
-               "timing", "limits", "diff"},
+              {"name", "end", "want", "grid", "solver", "claim", "search", "figure", "trajectory",
+               "report", "timing", "limits", "diff"},
               "the scene");
   Scene scene;
   scene.path = path;
@@ -1174,6 +1233,9 @@ Scene parse_scene(std::string_view text, const std::string& path) {
   if (const toml::node* figures = root.get("figure")) {
     read_figures(reader, *figures, scene);
   }
+  if (const toml::node* trajectories = root.get("trajectory")) {
+    read_trajectories(reader, *trajectories, scene);
+  }
   for (const Claim& claim : scene.claims) {
     if (claim.figure &&
         std::none_of(scene.figures.begin(), scene.figures.end(), [&](const FigureSpec& figure) {
@@ -1183,8 +1245,9 @@ Scene parse_scene(std::string_view text, const std::string& path) {
                                           *claim.figure + ", which the scene does not draw");
     }
   }
-  if (scene.configs.empty() && scene.claims.empty() && scene.searches.empty()) {
-    reader.fail_at(1, "the scene names no [[solver]], [[claim]] or [[search]]");
+  if (scene.configs.empty() && scene.claims.empty() && scene.searches.empty() &&
+      scene.trajectories.empty()) {
+    reader.fail_at(1, "the scene names no [[solver]], [[claim]], [[search]] or [[trajectory]]");
   }
   if (const toml::node* report = root.get("report")) {
     const toml::table& table = reader.table(*report, "[report]");

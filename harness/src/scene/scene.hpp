@@ -34,6 +34,8 @@
 //                 [from, to] (either order); observable; bound or bound_rel; quantile; group_by = p
 //                 | damping | point | all (default p); a grid of its own (p, e, alpha_eff, v0, m,
 //                 k; each defaults to [grid]'s)
+//     [[trajectory]] file (a CSV of t, delta and optionally v, F; the scene's folder's), label, p,
+//                 e or alpha or alpha_eff, v0, m, k (default 1), end: checked as `pldamp check`
 //     [[figure]]  kind (figures.hpp), solver, rtol, atol, p, e, alpha_eff: the seed's figures
 //     [report]    formats = ["json", "csv", "md", "html"]
 //     [timing]    repeats = 3   (wall time of a run: the minimum over repeats)
@@ -203,6 +205,16 @@ struct Search {
   ClaimGrid grid;
 };
 
+// [[trajectory]]: a contact's time series dumped by a code, checked as `pldamp check` checks it
+// (judge/trajectory.hpp) against the closed forms of its inputs.
+struct TrajectorySpec {
+  std::string label, file; // file: resolved from the scene file's folder
+  double p = 1, v0 = 1, m = 1, k = 1;
+  std::string damping_key; // e, alpha or alpha_eff
+  double damping = 0;
+  std::optional<solvers::End> end; // none: the scene's
+};
+
 // The seed's figures (judge/figures.hpp).
 enum class FigureKind {
   alpha_vs_e,
@@ -263,6 +275,7 @@ struct Scene {
   std::vector<Claim> claims;
   std::vector<Search> searches;
   std::vector<FigureSpec> figures;
+  std::vector<TrajectorySpec> trajectories;
   std::vector<ReportFormat> formats{ReportFormat::json, ReportFormat::csv, ReportFormat::md,
                                     ReportFormat::html};
   int repeats = 1;
