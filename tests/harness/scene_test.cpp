@@ -16,9 +16,9 @@ struct BadScene {
 
 TEST(Scene, EveryErrorNamesFileAndLineBeforeAnyWork) {
   const std::vector<BadScene> cases{
-      {"colour = 1\n" + valid_scene,
-       "1: unknown key in the scene, expected name|end|want|grid|solver|claim|search|figure|"
-       "report|timing|limits|diff (got colour)"},
+      {"colour = 1\n" + valid_scene, "1: unknown key in the scene, expected "
+                                     "name|end|want|grid|solver|claim|search|figure|trajectory|"
+                                     "report|timing|limits|diff (got colour)"},
       {R"(name = "t"
 [grid]
 p = ["one"]
