@@ -8,6 +8,7 @@
 #include <cmath>
 #include <iomanip>
 #include <limits>
+#include <optional>
 #include <sstream>
 #include <string>
 #include <type_traits>
@@ -53,6 +54,34 @@ double relative_error(const Got& got, const Want& want) {
   const bin50 w(want);
   return static_cast<double>(w == 0 ? abs(g) : abs(g - w) / abs(w));
 }
+
+// The largest relative error over many checks, and which one it was.
+struct Worst {
+  double error = 0;
+  std::string where;
+  template <class Got, class Want>
+  void check(const std::optional<Got>& got, const std::optional<Want>& want, const char* name,
+             const std::string& label) {
+    ASSERT_TRUE(got.has_value()) << name << " missing at " << label;
+    ASSERT_TRUE(want.has_value()) << name << " at " << label;
+    const double err = relative_error(*got, *want);
+    if (!(err <= error)) { // NaN too
+      error = std::isnan(err) ? INFINITY : err;
+      where = std::string(name) + " at " + label;
+    }
+  }
+  // e, δ_max, t_peak, τ and the energy split of a solver's result against another result or the
+  // closed forms (anything with those six members).
+  template <class Got, class Want>
+  void check_observables(const Got& got, const Want& want, const std::string& label) {
+    check(got.e, want.e, "e", label);
+    check(got.delta_max, want.delta_max, "delta_max", label);
+    check(got.t_peak, want.t_peak, "t_peak", label);
+    check(got.tau, want.tau, "tau", label);
+    check(got.energy_load, want.energy_load, "energy_load", label);
+    check(got.energy_unload, want.energy_unload, "energy_unload", label);
+  }
+};
 
 // For test reports (std::to_string would print 1e-15 as 0.000000).
 inline std::string scientific(double x) {

@@ -60,9 +60,61 @@ Real power_coefficient(const std::vector<Real>& f, const std::vector<Real>& u, c
   return sum / (Real(n) * f[0]);
 }
 
+// What the taylor solver asks of a series at a contact point (this one for the seed's damping
+// exponent, two_power_series.hpp's for any other): the state at time s from the point, where the
+// series stops at the entry, whether a state lies within its reach, and the contact point behind a
+// state near the exit.
 template <class Real>
-class ContactPointSeries {
+class ContactSeries {
 public:
+  virtual ~ContactSeries() = default;
+
+  struct Point {
+    Real delta, rate, work; // δ, dδ/ds and the work done since s = 0
+  };
+  struct Contact {
+    Real u, s;
+  };
+  // The state at time s from a contact point passed at speed u.
+  virtual Point at(const Real& u, const Real& s) const = 0;
+  // Where the entry series stops for speed u: its reach, and not past the time at which dδ/ds has
+  // fallen to `fraction` of u (for odd p the series converges everywhere and would otherwise run
+  // past the peak and round the whole contact).
+  virtual Real entry_end(const Real& u, const Real& fraction) const = 0;
+  // Whether (u, s) lies within the reach (the terms left out below the tolerance).
+  virtual bool within_reach(const Real& u, const Real& s) const = 0;
+  // The speed u at δ = 0 and the distance s to it of a state (delta, rate = dδ/ds), if that
+  // contact point lies within the reach; none otherwise (an overdamped overlap decaying for
+  // ever, or a state still too far from the exit).
+  virtual std::optional<Contact> locate(const Real& delta, const Real& rate) const = 0;
+
+protected:
+  enum class NewtonStep { left_the_domain, moving, converged };
+  // One Newton step of locate() on (u, s) for the residuals (f1, f2) with the Jacobian
+  // [[j11, j12], [j21, j22]] (columns ∂/∂u, ∂/∂s): converged when both moved by at most 4ε
+  // relative; left_the_domain when u or s is no longer positive.
+  static NewtonStep newton_step(Real& u, Real& s, const Real& f1, const Real& f2, const Real& j11,
+                                const Real& j12, const Real& j21, const Real& j22) {
+    using std::abs;
+    const Real eps = std::numeric_limits<Real>::epsilon();
+    const Real det = j11 * j22 - j12 * j21;
+    const Real du = (f2 * j12 - f1 * j22) / det, ds = (f1 * j21 - f2 * j11) / det;
+    u += du;
+    s += ds;
+    if (!(u > 0 && s > 0)) {
+      return NewtonStep::left_the_domain;
+    }
+    return abs(du) <= 4 * eps * u && abs(ds) <= 4 * eps * s ? NewtonStep::converged
+                                                            : NewtonStep::moving;
+  }
+};
+
+template <class Real>
+class ContactPointSeries final : public ContactSeries<Real> {
+public:
+  using typename ContactSeries<Real>::Point;
+  using typename ContactSeries<Real>::Contact;
+
   // The series of (1) with damping `gamma` (γ at the entry, −γ at the exit) to x^terms, its work
   // (3) with the physical `dissipation` 2γ (if `with_work`), and its reach: the largest x at which
   // the terms left out stay below `tolerance` relative.
@@ -116,22 +168,18 @@ public:
     return pow(x / pow(u, a_), 1 / b_);
   }
 
-  struct Point {
-    Real delta, rate, work; // δ, dδ/ds and the work done since s = 0
-  };
-  Point at(const Real& u, const Real& s) const {
+  Point at(const Real& u, const Real& s) const override {
     const Real x = x_of(u, s);
     return {u * s * horner<Real>(y_, x), u * horner<Real>(z_, x),
             dissipation_ * u * u * horner<Real>(w_, x)};
   }
-  // The first x in (0, x_max] at which dδ/ds has fallen to `fraction` of u, if any (the entry
-  // stops there, well before the peak; for odd p the series converges everywhere and would
-  // otherwise run past the peak and round the whole contact).
-  std::optional<Real> rate_falls_to(const Real& fraction, const Real& x_max) const {
+  Real entry_end(const Real& u, const Real& fraction) const override {
+    // The first x within the reach at which dδ/ds has fallen to `fraction` of u, if any.
     std::vector<Real> shifted = z_;
     shifted[0] -= fraction;
-    return first_sign_change<Real>(shifted, x_max);
+    return s_of(u, first_sign_change<Real>(shifted, reach_).value_or(reach_));
   }
+  bool within_reach(const Real& u, const Real& s) const override { return x_of(u, s) <= reach_; }
 
   // The contact point behind a state near it: the speed u at δ = 0 and the distance s to it, such
   // that δ(s) = delta and dδ/ds = rate. Newton's method on the two equations
@@ -139,15 +187,10 @@ public:
   // from u = rate, s = δ / rate (the straight line), converging quadratically. None if it does not
   // converge to a point inside the reach: then the state is not near a return to δ = 0 (an
   // overdamped overlap decaying for ever, or still too far from the exit).
-  struct Contact {
-    Real u, s;
-  };
-  std::optional<Contact> locate(const Real& delta, const Real& rate) const {
-    using std::abs;
+  std::optional<Contact> locate(const Real& delta, const Real& rate) const override {
     if (!(delta > 0 && rate > 0)) {
       return std::nullopt;
     }
-    const Real eps = std::numeric_limits<Real>::epsilon();
     Real u = rate, s = delta / rate;
     for (int iteration = 0; iteration < 40; ++iteration) {
       const Real x = x_of(u, s);
@@ -160,14 +203,12 @@ public:
       const Real f1 = u * s * y - delta, f2 = u * z - rate;
       const Real j11 = s * (y + a_ * x * dy), j12 = u * z;
       const Real j21 = z + a_ * x * dz, j22 = u * b_ * x * dz / s;
-      const Real det = j11 * j22 - j12 * j21;
-      const Real du = (f2 * j12 - f1 * j22) / det, ds = (f1 * j21 - f2 * j11) / det;
-      u += du;
-      s += ds;
-      if (!(u > 0 && s > 0)) {
+      using Step = typename ContactSeries<Real>::NewtonStep;
+      const auto step = ContactSeries<Real>::newton_step(u, s, f1, f2, j11, j12, j21, j22);
+      if (step == Step::left_the_domain) {
         return std::nullopt;
       }
-      if (abs(du) <= 4 * eps * u && abs(ds) <= 4 * eps * s) {
+      if (step == Step::converged) {
         if (!(x_of(u, s) <= reach_)) {
           return std::nullopt;
         }

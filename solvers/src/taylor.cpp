@@ -2,12 +2,14 @@
 // long double, float128, cpp_bin_float_50); the harness's numerical reference.
 //
 // The equation is (1) of contact_series.hpp: MATH.md §1 in the units δ_u, T = δ_u/v0, KE0 of its
-// own energy balance, state (δ, v, W), time the independent variable. Nothing here uses the
+// own energy balance, state (δ, v, W), time the independent variable, with the damping exponent
+// β of MATH.md §12 (the seed's (p−1)/2 unless the problem states one). Nothing here uses the
 // paper's map or a closed form.
 //
 // A step from (δ, v, W) at t computes the Taylor coefficients of the solution to order N by the
 // automatic-differentiation recurrences (contact_series.hpp):
-//     u = δ^a (power),  q = u δ = δ^b,  f = u q = δ^p,  g = u v = δ^a v,  P = g v = δ^a v²,
+//     u = δ^β (power),  q = δ^(p−β) (u δ for the seed's β, a power otherwise),  f = u q = δ^p,
+//     g = u v = δ^β v,  P = g v = δ^β v²,
 //     δ_{n+1} = v_n / (n+1),   v_{n+1} = −(γ g_n + κ f_n) / (n+1),   W_{n+1} = 2γ P_n / (n+1),
 // O(N²) operations per step. Order and step follow Jorba & Zou (2005), as heyoka does:
 // - N = ⌈1 − ½ ln ε⌉ for the tolerance ε (rtol): the cost per unit time, ~N² / h with h ~ ρ e^−2,
@@ -24,7 +26,8 @@
 // The branch points at δ = 0. The radius of convergence at t is at most the distance to the entry
 // (t) or to the exit (τ − t), so the steps would shrink geometrically at both ends and no step
 // can start at δ = 0, where the power recurrence divides by δ. Both ends are therefore left to
-// the series of contact_series.hpp, in the variable x ~ t^b that resolves the branch point:
+// the series of contact_series.hpp, in the variable x ~ t^b that resolves the branch point (for
+// a stated β, two_power_series.hpp's, in the two variables x1 ~ t^(β+1), x2 ~ t^(p+1)):
 // - entry: the series with u = 1 gives the state at t1 = x1^(1/b), x1 the series' reach (its
 //   truncation below ε), and before the loading has lost half the impact speed (v ≥ ½), so that
 //   the peak is found by the steps.
@@ -35,7 +38,7 @@
 // The state is carried as a compensated sum (advance), so that rounding does not build up over the
 // slow creep before a heavily damped exit.
 //
-// Events. The peak (v = 0) and, with the force end, the cut (k δ^b + c v = 0, MATH.md §4; here
+// Events. The peak (v = 0) and, with the force end, the cut (k δ^(p−β) + c v = 0, MATH.md §4; here
 // κ q + γ v, whose coefficients the recurrences give) are located on each step's polynomial:
 // Descartes' rule with bisection isolates the first crossing, TOMS 748 polishes it
 // (polynomial.hpp). The state at an event is the polynomial's value.
@@ -47,10 +50,12 @@
 #include "contact_series.hpp"
 #include "methods.hpp"
 #include "polynomial.hpp"
+#include "two_power_series.hpp"
 
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <memory>
 #include <optional>
 #include <span>
 #include <vector>
@@ -65,9 +70,9 @@ public:
 
   TaylorContact(const Problem<Real>& problem, const Options<Real>& options)
       : collision_(problem, options), order_(order_for(options.rtol)), p_(problem.p),
-        a_((problem.p - 1) / 2), kappa_((problem.p + 1) / 2), gamma_(gamma_of(problem)),
-        entry_(problem.p, gamma_, 2 * gamma_, options.rtol, series_terms(),
-               (options.want & want_energy) != 0) {
+        a_(problem.beta()), kappa_((problem.p + 1) / 2),
+        gamma_(gamma_of(problem, collision_.ode().delta_scale())),
+        general_(problem.damping_exponent.has_value()), entry_(contact_series(+1)) {
     using std::exp;
     const std::size_t n = static_cast<std::size_t>(order_) + 1;
     for (std::vector<Real>* series : {&d_, &v_, &w_, &u_, &q_, &f_, &g_, &power_, &cut_}) {
@@ -93,19 +98,35 @@ private:
     using std::log;
     return std::max(2, static_cast<int>(ceil(1 - log(static_cast<double>(tolerance)) / 2)));
   }
-  static Real gamma_of(const Problem<Real>& problem) {
+  // γ of the scaled equation: α √κ δ_u^(β − (p−1)/2) (MATH.md §12.1; the seed's β: α √κ).
+  static Real gamma_of(const Problem<Real>& problem, const Real& delta_u) {
+    using std::pow;
     using std::sqrt;
-    return problem.alpha * sqrt((problem.p + 1) / 2);
+    const Real gamma = problem.alpha * sqrt((problem.p + 1) / 2);
+    const Real excess = problem.beta() - (problem.p - 1) / 2;
+    return excess == 0 ? gamma : gamma * pow(delta_u, excess);
+  }
+  // The series at a contact point: `sign` +1 the entry, −1 the exit. The seed's exponent has the
+  // one-variable series (contact_series.hpp), a stated one the two-variable series
+  // (two_power_series.hpp), even when it equals (p − 1)/2: that is how the general path is
+  // checked against the closed forms.
+  std::unique_ptr<ContactSeries<Real>> contact_series(int sign) const {
+    const Real tolerance = collision_.options().rtol;
+    if (general_) {
+      return std::make_unique<TwoPowerSeries<Real>>(table_for(p_, a_, order_), sign, gamma_, kappa_,
+                                                    tolerance);
+    }
+    return std::make_unique<ContactPointSeries<Real>>(p_, Real(sign) * gamma_, 2 * gamma_,
+                                                      tolerance, series_terms(), with_work());
   }
 
   // Terms of the contact-point series: twice the order, so that their reach is ~1/e of their
   // radius (contact_series.hpp) and they cover much of the contact in one evaluation.
   int series_terms() const { return 2 * order_; }
   // The exit series, built when a run first needs it (never for peak-only or force-end runs).
-  const ContactPointSeries<Real>& exit_series() {
+  const ContactSeries<Real>& exit_series() {
     if (!exit_) {
-      exit_.emplace(p_, -gamma_, 2 * gamma_, collision_.options().rtol, series_terms(),
-                    with_work());
+      exit_ = contact_series(-1);
       collision_.count_rhs_evals(series_terms());
     }
     return *exit_;
@@ -158,21 +179,21 @@ private:
     }
   }
   Scaled entry_state(const Real& t) const {
-    const auto point = entry_.at(Real(1), t);
+    const auto point = entry_->at(Real(1), t);
     return {point.delta, point.rate, point.work};
   }
 
   BasicCollision<Real> collision_;
   int order_;
-  Real p_, a_, kappa_, gamma_;
-  ContactPointSeries<Real> entry_;
-  std::optional<ContactPointSeries<Real>> exit_;
+  Real p_, a_, kappa_, gamma_; // a_ is β
+  bool general_;               // a stated damping exponent (contact_series)
+  std::unique_ptr<ContactSeries<Real>> entry_, exit_;
   Real safety_, time_unit_, horizon_;
   StateOf<Real> units_;
   Scaled carry_{};                                // the compensated sum's low parts (advance)
   std::vector<Real> inverse_;                     // 1/n
   std::vector<Real> d_, v_, w_;                   // the state's Taylor coefficients
-  std::vector<Real> u_, q_, f_, g_, power_, cut_; // δ^a, δ^b, δ^p, δ^a v, δ^a v², κ q + γ v
+  std::vector<Real> u_, q_, f_, g_, power_, cut_; // δ^β, δ^(p−β), δ^p, δ^β v, δ^β v², κ q + γ v
 };
 
 template <SupportedReal Real>
@@ -183,11 +204,20 @@ void TaylorContact<Real>::compute_coefficients(const Scaled& y) {
   v_[0] = y[1];
   w_[0] = y[2];
   u_[0] = pow(y[0], a_);
+  // q = δ^(p−β): u δ for the seed's β (δ^((p+1)/2), one product), its own power otherwise.
+  const Real q_exponent = p_ - a_;
+  if (general_) {
+    q_[0] = pow(y[0], q_exponent);
+  }
+  auto q_coefficient = [&](std::size_t n) {
+    return general_ ? (n == 0 ? q_[0] : power_coefficient(d_, q_, q_exponent, n))
+                    : product_coefficient(u_, d_, n);
+  };
   for (std::size_t n = 0; n < order; ++n) {
     if (n > 0) {
       u_[n] = power_coefficient(d_, u_, a_, n);
     }
-    q_[n] = product_coefficient(u_, d_, n);
+    q_[n] = q_coefficient(n);
     f_[n] = product_coefficient(u_, q_, n);
     g_[n] = product_coefficient(u_, v_, n);
     d_[n + 1] = v_[n] * inverse_[n + 1];
@@ -199,7 +229,7 @@ void TaylorContact<Real>::compute_coefficients(const Scaled& y) {
   }
   if (force_end()) {
     u_[order] = power_coefficient(d_, u_, a_, order);
-    q_[order] = product_coefficient(u_, d_, order);
+    q_[order] = q_coefficient(order);
     for (std::size_t n = 0; n <= order; ++n) {
       cut_[n] = kappa_ * q_[n] + gamma_ * v_[n];
     }
@@ -239,8 +269,7 @@ Real TaylorContact<Real>::step_size() const {
 template <SupportedReal Real>
 Result<Real> TaylorContact<Real>::run() {
   // Entry: the series up to its reach, and not past the loss of half the impact speed.
-  const Real x1 = entry_.rate_falls_to(Real(1) / 2, entry_.reach()).value_or(entry_.reach());
-  Real t = std::min(entry_.s_of(Real(1), x1), horizon_);
+  Real t = std::min(entry_->entry_end(Real(1), Real(1) / 2), horizon_);
   Scaled y = entry_state(t);
   sample_through(t, [&](const Real& s) { return entry_state(s); });
   long steps = 0;
@@ -277,10 +306,10 @@ Result<Real> TaylorContact<Real>::run() {
     t = to_horizon && h == horizon_ - t ? horizon_ : t + h;
     ++steps;
     if (!force_end() && !collision_.pending(EventKind::peak) && y[1] < 0) {
-      const ContactPointSeries<Real>& exit = exit_series();
-      // x = u^a s^b with the straight-line guesses u ≈ −v, s ≈ δ / −v: Newton only near reach.
+      const ContactSeries<Real>& exit = exit_series();
+      // The straight-line guesses u ≈ −v, s ≈ δ / −v: Newton only near the reach.
       const auto contact =
-          exit.x_of(-y[1], y[0] / -y[1]) <= exit.reach() ? exit.locate(y[0], -y[1]) : std::nullopt;
+          exit.within_reach(-y[1], y[0] / -y[1]) ? exit.locate(y[0], -y[1]) : std::nullopt;
       if (contact && t + contact->s > horizon_) {
         // The series sees a return beyond the horizon; like every solver, give up there.
         return collision_.finish(Outcome::no_exit, steps);

@@ -34,22 +34,7 @@ using pldamp::testing::scientific;
 
 using pldamp::testing::relative_error;
 
-// The worst relative error of the observables both sides carry, and which one it is.
-struct Worst {
-  double error = 0;
-  std::string where;
-  template <SupportedReal Ref, SupportedReal Real>
-  void check(const std::optional<Real>& got, const std::optional<Ref>& want, const char* name,
-             const std::string& label) {
-    ASSERT_TRUE(got.has_value()) << name << " missing for " << label;
-    ASSERT_TRUE(want.has_value()) << name;
-    const double err = relative_error(*got, *want);
-    if (!(err <= error)) { // NaN too
-      error = std::isnan(err) ? INFINITY : err;
-      where = std::string(name) + " at " + label;
-    }
-  }
-};
+using pldamp::testing::Worst;
 
 std::string label_of(double p, double target, double v0) {
   std::ostringstream s;
@@ -90,12 +75,7 @@ Worst grid_error() {
         const std::string label = label_of(p, e, v0);
         EXPECT_EQ(r.outcome, Outcome::exited) << label;
         const auto x = reference<Ref>(problem);
-        worst.check(r.e, x.e, "e", label);
-        worst.check(r.delta_max, x.delta_max, "delta_max", label);
-        worst.check(r.t_peak, x.t_peak, "t_peak", label);
-        worst.check(r.tau, x.tau, "tau", label);
-        worst.check(r.energy_load, x.energy_load, "energy_load", label);
-        worst.check(r.energy_unload, x.energy_unload, "energy_unload", label);
+        worst.check_observables(r, x, label);
       }
     }
   }

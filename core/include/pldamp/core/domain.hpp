@@ -50,4 +50,14 @@ void require_alpha(const Real& alpha) {
   require(alpha >= 0 && alpha <= Real(alpha_max), "alpha must be in [0, 1e8]", alpha);
 }
 
+// β of the dashpot δ^β δ' (MATH.md §12), in [0, p]: β < 0 is a dashpot force that grows without
+// bound as the overlap closes; β > p one that vanishes faster than the spring's, so that the force
+// cut of a capped contact (k δ^(p−β) + c δ' = 0) has no meaning near δ = 0.
+template <SupportedReal Real>
+void require_damping_exponent(const Real& beta, const Real& p) {
+  require_finite("damping exponent", beta);
+  require(beta >= 0 && beta <= p,
+          "damping exponent must be in [0, p] = [0, " + to_string_full(p) + "]", beta);
+}
+
 } // namespace pldamp::domain

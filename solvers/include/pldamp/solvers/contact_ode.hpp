@@ -1,9 +1,10 @@
 // The physical equation of MATH.md §1 as a first-order system, for every solver in solvers/:
 //
-//     δ' = v,   v' = −(c |δ|^a v + k sgn(δ) |δ|^p) / m,   W' = c |δ|^a v²
+//     δ' = v,   v' = −(c |δ|^β v + k sgn(δ) |δ|^p) / m,   W' = c |δ|^β v²
 //
-// with c = α √(m k), a = (p − 1)/2 and W the work done by the dashpot (the dissipated energy,
-// integrated so that energy splits are measured rather than assumed).
+// with c = α √(m k), β the damping exponent (the seed's a = (p − 1)/2 unless the problem states
+// one, MATH.md §12) and W the work done by the dashpot (the dissipated energy, integrated so that
+// energy splits are measured rather than assumed).
 //
 // Extension to δ < 0. An integrator steps across the exit before it finds it, so the right-hand
 // side must exist there. |δ|^a in the dashpot and sgn(δ)|δ|^p in the spring make the extension
@@ -28,7 +29,8 @@ class ContactOde {
 public:
   explicit ContactOde(const Problem<Real>& problem)
       : p_(problem.p), m_(problem.m), k_(problem.k), v0_(problem.v0),
-        c_(problem.alpha * sqrt_of(problem.m * problem.k)), a_((problem.p - 1) / 2) {
+        c_(problem.alpha * sqrt_of(problem.m * problem.k)), a_(problem.beta()),
+        seed_(a_ == (problem.p - 1) / 2) {
     problem.validate();
     using std::exp;
     using std::log;
@@ -46,37 +48,56 @@ public:
   Real time_scale() const { return delta_scale_ / v0_; }
   Real energy_scale() const { return m_ * v0_ * v0_ / 2; }
 
-  // |δ|^a, the dashpot's overlap factor; 1 for p = 1 (0^0 = 1 is the linear dashpot).
+  Real damping_exponent() const { return a_; }
+
+  // |δ|^β, the dashpot's overlap factor; 1 for β = 0 (0^0 = 1 is the linear dashpot).
   Real dashpot_factor(const Real& delta) const {
     using std::abs;
     using std::pow;
     return pow(abs(delta), a_);
   }
+  // sgn(δ)|δ|^p from |δ|^β: one power less for the seed's β = (p − 1)/2, where 2β + 1 = p.
+  Real spring_factor(const Real& delta, const Real& d_a) const {
+    using std::abs;
+    using std::pow;
+    if (seed_) {
+      return d_a * d_a * delta;
+    }
+    const Real magnitude = pow(abs(delta), p_);
+    return delta < 0 ? -magnitude : magnitude;
+  }
 
   // (δ', v', W') at (δ, v); `with_work` false leaves W' = 0 (W is then not wanted).
   std::array<Real, 3> rhs(const Real& delta, const Real& v, bool with_work) const {
     const Real d_a = dashpot_factor(delta);
-    const Real spring = k_ * d_a * d_a * delta; // k sgn(δ)|δ|^p, as 2a + 1 = p
+    const Real spring = k_ * spring_factor(delta, d_a); // k sgn(δ)|δ|^p
     const Real dashpot = c_ * d_a;
     return {v, -(dashpot * v + spring) / m_, with_work ? dashpot * v * v : Real(0)};
   }
 
-  // With F = k δ^p + c δ^a v the total normal force (positive = repulsive),
-  // F / δ^a = k sgn(δ)|δ|^((p+1)/2) + c v: the sign of the force for δ > 0 without the factor
-  // δ^a that vanishes at contact. It is c v0 > 0 at t = 0 (0 if α = 0), so the force-cut event
-  // never fires at the start, and at δ = 0 it equals c v < 0 while unloading, so the cut is
-  // never later than the overlap exit.
+  // With F = k δ^p + c δ^β v the total normal force (positive = repulsive),
+  // F / δ^β = k sgn(δ)|δ|^(p−β) + c v: the sign of the force for δ > 0 without the factor
+  // δ^β that vanishes at contact. It is c v0 > 0 at t = 0 (0 if α = 0), so the force-cut event
+  // never fires at the start, and at δ = 0 it equals c v < 0 while unloading (β < p), so the cut
+  // is never later than the overlap exit.
   Real force_sign(const Real& delta, const Real& v) const {
-    return k_ * dashpot_factor(delta) * delta + c_ * v;
+    using std::abs;
+    using std::pow;
+    if (seed_) {
+      return k_ * dashpot_factor(delta) * delta + c_ * v;
+    }
+    const Real magnitude = pow(abs(delta), p_ - a_);
+    return k_ * (delta < 0 ? -magnitude : magnitude) + c_ * v;
   }
 
   // Dissipated-work-free mechanical energy ½ m v² + k |δ|^(p+1)/(p+1).
   Real mechanical_energy(const Real& delta, const Real& v) const {
-    const Real d_a = dashpot_factor(delta);
-    return m_ * v * v / 2 + k_ * d_a * d_a * delta * delta / (p_ + 1);
+    using std::abs;
+    return m_ * v * v / 2 +
+           k_ * spring_factor(abs(delta), dashpot_factor(delta)) * abs(delta) / (p_ + 1);
   }
 
-  // ∂(δ', v', W')/∂(δ, v, W), row-major. For 1 < p < 3, ∂|δ|^a/∂δ = a|δ|^(a−1) is infinite at
+  // ∂(δ', v', W')/∂(δ, v, W), row-major. For 0 < β < 1, ∂|δ|^β/∂δ = β|δ|^(β−1) is infinite at
   // δ = 0, where every contact starts and ends. Implicit methods use this matrix only inside a
   // (modified) Newton iteration, which converges with any matrix close enough to the true one at
   // the iterates; the singular factor is therefore evaluated at max(|δ|, delta_floor), finite
@@ -91,7 +112,8 @@ public:
     const Real floored = max(abs(delta), delta_floor);
     const Real sign = delta < 0 ? Real(-1) : Real(1);
     const Real d_da = a_ == 0 ? Real(0) : sign * a_ * pow(floored, a_ - 1); // ∂|δ|^a/∂δ
-    const Real spring_slope = k_ * p_ * d_a * d_a; // ∂(k sgn δ|δ|^p)/∂δ
+    // ∂(k sgn δ|δ|^p)/∂δ = k p |δ|^(p−1), from |δ|^p / |δ| away from 0 (p = 1: k).
+    const Real spring_slope = seed_ ? k_ * p_ * d_a * d_a : k_ * p_ * pow(abs(delta), p_ - 1);
     const Real w = with_work ? Real(1) : Real(0);
     return {{{Real(0), Real(1), Real(0)},
              {-(c_ * v * d_da + spring_slope) / m_, -c_ * d_a / m_, Real(0)},
@@ -99,24 +121,25 @@ public:
   }
 
   // The last stretch of a contact from a small overlap δ1 > 0 moving out (v1 < 0) to δ = 0, by a
-  // local series of the physical equation with δ as the independent variable. With u = −v > 0:
-  //     du/dδ = (c/m) δ^a − (k/m) δ^p / u,   dt/dδ = −1/u,   dW/dδ = −c δ^a u.
-  // Integrating from 0, with b = a + 1 = (p+1)/2 and u_e the exit speed,
-  //     u(s) = u_e + (c/m) s^b/b − (k/m) s^(p+1)/((p+1) u_e) + ...
+  // local series of the physical equation with δ as the independent variable (MATH.md §9). With
+  // u = −v > 0:
+  //     du/dδ = (c/m) δ^β − (k/m) δ^p / u,   dt/dδ = −1/u,   dW/dδ = −c δ^β u.
+  // Integrating from 0, with b1 = β + 1, b2 = p + 1 and u_e the exit speed,
+  //     u(s) = u_e + (c/m) s^b1/b1 − (k/m) s^b2/(b2 u_e) + ...
   // and one Picard iteration around u1 = u(δ1) gives
-  //     u_e = u1 − (c/m) δ1^b/b + (k/m)[δ1^(p+1)/((p+1) u1) + (c/m) δ1^(p+1+b)/((p+1)(p+1+b) u1²)]
-  //     Δt  = (δ1/u_e)[1 − (c/m) δ1^b/(b(b+1) u_e) + ((c/m)²/b² + (k/m)/(p+1)) δ1^(p+1)/((p+2)
-  //     u_e²)] ΔW  = c[u_e δ1^b/b + (c/m) δ1^(2b)/(2b²) − (k/m) δ1^(p+1+b)/((p+1)(p+1+b) u_e)]
-  // (1/u and s^a u expanded in powers of s^b and s^(p+1), integrated term by term; 2b = p + 1).
-  // The expansion parameters are ε_c = (c/m) δ1^b / u1 and ε_k = (k/m) δ1^(p+1) / u1²
+  //     u_e = u1 − (c/m) δ1^b1/b1 + (k/m)[δ1^b2/(b2 u1) + (c/m) δ1^(b1+b2)/(b2 (b1+b2) u1²)]
+  //     Δt  = (δ1/u_e)[1 − (c/m) δ1^b1/(b1(b1+1) u_e) + (c/m)² δ1^(2b1)/(b1²(2b1+1) u_e²)
+  //                      + (k/m) δ1^b2/(b2(b2+1) u_e²)]
+  //     ΔW  = c[u_e δ1^b1/b1 + (c/m) δ1^(2b1)/(2b1²) − (k/m) δ1^(b1+b2)/(b2(b1+b2) u_e)]
+  // (1/u and s^β u expanded in powers of s^b1 and s^b2, integrated term by term; for the seed's
+  // β, 2b1 = b2). The expansion parameters are ε_c = (c/m) δ1^b1 / u1 and ε_k = (k/m) δ1^b2 / u1²
   // (exit_series_parameter); the first neglected terms are O(ε³) relative. For p = 1 without a
   // spring, Δt is the series of ln(1 + cδ1/(m u_e)). The series needs no step across the branch
   // point at δ = 0.
   Real exit_series_parameter(const Real& delta1, const Real& v1) const {
     using std::max;
     using std::pow;
-    const Real d_b = pow(delta1, a_ + 1);
-    return max(c_ * d_b / (m_ * -v1), k_ * d_b * d_b / (m_ * v1 * v1));
+    return max(c_ * pow(delta1, a_ + 1) / (m_ * -v1), k_ * pow(delta1, p_ + 1) / (m_ * v1 * v1));
   }
 
   struct ExitStretch {
@@ -124,19 +147,20 @@ public:
   };
   ExitStretch exit_stretch(const Real& delta1, const Real& v1) const {
     using std::pow;
-    const Real b = a_ + 1;
+    const Real b1 = a_ + 1, b2 = p_ + 1;
     const Real u1 = -v1;
     const Real cm = c_ / m_, km = k_ / m_;
-    const Real d_b = pow(delta1, b);
-    const Real d_p1 = d_b * d_b; // δ1^(p+1) = δ1^(2b)
-    const Real ue =
-        u1 - cm * d_b / b +
-        km * (d_p1 / ((p_ + 1) * u1) + cm * d_p1 * d_b / ((p_ + 1) * (p_ + 1 + b) * u1 * u1));
-    const Real duration = delta1 / ue *
-                          (1 - cm * d_b / (b * (b + 1) * ue) +
-                           (cm * cm / (b * b) + km / (p_ + 1)) * d_p1 / ((p_ + 2) * ue * ue));
-    const Real work = c_ * (ue * d_b / b + cm * d_p1 / (2 * b * b) -
-                            km * d_p1 * d_b / ((p_ + 1) * (p_ + 1 + b) * ue));
+    const Real d_b1 = pow(delta1, b1);
+    const Real d_b2 = seed_ ? d_b1 * d_b1 : pow(delta1, b2);
+    const Real ue = u1 - cm * d_b1 / b1 +
+                    km * (d_b2 / (b2 * u1) + cm * d_b2 * d_b1 / (b2 * (b1 + b2) * u1 * u1));
+    const Real duration =
+        delta1 / ue *
+        (1 - cm * d_b1 / (b1 * (b1 + 1) * ue) +
+         (cm * cm * d_b1 * d_b1 / (b1 * b1 * (2 * b1 + 1)) + km * d_b2 / (b2 * (b2 + 1))) /
+             (ue * ue));
+    const Real work = c_ * (ue * d_b1 / b1 + cm * d_b1 * d_b1 / (2 * b1 * b1) -
+                            km * d_b2 * d_b1 / (b2 * (b1 + b2) * ue));
     return {duration, -ue, work};
   }
 
@@ -146,7 +170,8 @@ private:
     return sqrt(x);
   }
 
-  Real p_, m_, k_, v0_, c_, a_;
+  Real p_, m_, k_, v0_, c_, a_; // a_ is β
+  bool seed_;                   // β = (p − 1)/2: δ^p = (δ^β)² δ
   Real delta_scale_;
 };
 

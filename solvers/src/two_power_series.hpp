@@ -1,0 +1,366 @@
+// The contact-point series for any damping exponent β (MATH.md §12.3): the entry and exit of
+//     δ'' + γ δ^β δ' + κ δ^p = 0,   κ = (p+1)/2,                                             (1)
+// the taylor solver's scaled equation (contact_series.hpp) with the dashpot δ^β of MATH.md §12.
+//
+// For the seed's β = (p−1)/2 one variable x = u^a s^b resolves the branch point at δ = 0. In
+// general the dashpot and the spring bring two powers of s that need not be commensurate: near a
+// contact point passed at speed u, with s the time from it (backward at the exit),
+//     δ = u s Y(x1, x2),   x1 = σ γ u^β s^(β+1),   x2 = κ u^(p−1) s^(p+1),   σ = ±1,
+// where σ = +1 at the entry and −1 at the exit (time reversal turns the dashpot's sign), and
+//     Y = Σ c_ij x1^i x2^j,   c_00 = 1,   λ_ij = 1 + i (β+1) + j (p+1)
+// (each term of Y is u s^λ_ij up to constants). With d/ds (s x1^i x2^j) = λ_ij x1^i x2^j,
+//     dδ/ds = u Z,   Z = Σ λ_ij c_ij x1^i x2^j,   d²δ/ds² = (u/s) Σ λ_ij (λ_ij − 1) c_ij …,
+//     σγ δ^β dδ/ds = (u/s) x1 E Z,   κ δ^p = (u/s) x2 P,   E = Y^β,  P = Y^p,
+// and (1) divided by u/s, term by term, is the recurrence
+//     c_ij λ_ij (λ_ij − 1) = −(E Z)_(i−1, j) − P_(i, j−1).                                    (2)
+// The coefficients depend on (p, β) alone: γ, κ, u and σ enter only through x1 and x2, so one
+// table serves the entry, the exit and every damping of a (p, β) (cached, table_for). The work
+// from s = 0, ∫ 2γ δ^β (dδ/ds)² ds = 2γ u² ∫ u^β σ'^β E Z² dσ', is with M = E Z²
+//     W = 2σ u² W̃,   W̃ = Σ M_ij x1^(i+1) x2^j / ((i+1)(β+1) + j(p+1))                  (3)
+// (∫₀^s u^β σ'^β x1^i x2^j dσ' = x1^(i+1) x2^j / (σγ ((i+1)(β+1) + j(p+1)))).
+// E and P follow by the power recurrence under the Euler operator of total degree n = i + j
+// (x1 ∂1 + x2 ∂2 applied to E = Y^β: Y D E = β E D Y), as power_coefficient in one variable.
+//
+// Truncation: total degree i + j ≤ D. A product or power over the triangle costs
+// C(D + 4, 4) ≈ D⁴/24 operations, which is why the table is cached, and why D is the Taylor
+// order (not twice it, as for the one-variable series): its reach is then ~ε^(1/D) ≈ e^−2 of the
+// radius, and the Taylor steps take over from there.
+#pragma once
+
+#include "contact_series.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstddef>
+#include <limits>
+#include <map>
+#include <memory>
+#include <mutex>
+#include <optional>
+#include <tuple>
+#include <vector>
+
+namespace pldamp::solvers::detail {
+
+// Coefficients over the triangle i + j ≤ degree, row by row in i.
+class Triangle {
+public:
+  explicit Triangle(int degree) : degree_(degree) {}
+  int degree() const { return degree_; }
+  std::size_t size() const { return static_cast<std::size_t>((degree_ + 1) * (degree_ + 2) / 2); }
+  std::size_t index(int i, int j) const {
+    return static_cast<std::size_t>(i * (degree_ + 1) - i * (i - 1) / 2 + j);
+  }
+
+private:
+  int degree_;
+};
+
+template <class Real>
+struct TwoPowerTable {
+  Real p, beta;
+  Triangle shape;            // Y and Z: i + j ≤ D
+  Triangle work_shape;       // W̃: i + j ≤ D + 1 (i ≥ 1)
+  std::vector<Real> y, z, w; // c_ij, λ_ij c_ij, and W̃'s coefficients
+};
+
+namespace two_power_detail {
+
+// (f g)_ij = Σ_{k ≤ i, l ≤ j} f_kl g_(i−k)(j−l).
+template <class Real>
+Real product(const Triangle& t, const std::vector<Real>& f, const std::vector<Real>& g, int i,
+             int j) {
+  Real sum = Real(0);
+  for (int k = 0; k <= i; ++k) {
+    for (int l = 0; l <= j; ++l) {
+      sum += f[t.index(k, l)] * g[t.index(i - k, j - l)];
+    }
+  }
+  return sum;
+}
+
+// The (i, j) coefficient (i + j = n ≥ 1) of u = f^a, f_00 = 1, from the lower ones:
+//     n u_ij = Σ_{(k,l) < (i,j)} (a (n − k − l) − (k + l)) f_(i−k)(j−l) u_kl.
+template <class Real>
+Real power(const Triangle& t, const std::vector<Real>& f, const std::vector<Real>& u, const Real& a,
+           int i, int j) {
+  const int n = i + j;
+  Real sum = Real(0);
+  for (int k = 0; k <= i; ++k) {
+    for (int l = 0; l <= j; ++l) {
+      if (k == i && l == j) {
+        continue;
+      }
+      const int kl = k + l;
+      sum += (a * Real(n - kl) - Real(kl)) * f[t.index(i - k, j - l)] * u[t.index(k, l)];
+    }
+  }
+  return sum / Real(n);
+}
+
+template <class Real>
+std::shared_ptr<const TwoPowerTable<Real>> build(const Real& p, const Real& beta, int degree) {
+  auto table = std::make_shared<TwoPowerTable<Real>>(
+      TwoPowerTable<Real>{p, beta, Triangle(degree), Triangle(degree + 1), {}, {}, {}});
+  const Triangle& t = table->shape;
+  const std::size_t n = t.size();
+  std::vector<Real> c(n, Real(0)), e(n, Real(0)), power_p(n, Real(0)), z(n, Real(0)),
+      ez(n, Real(0)), m(n, Real(0));
+  c[0] = e[0] = power_p[0] = Real(1);
+  const Real b1 = beta + 1, b2 = p + 1;
+  for (int total = 0; total <= degree; ++total) {
+    for (int i = 0; i <= total; ++i) {
+      const int j = total - i;
+      const std::size_t ij = t.index(i, j);
+      const Real lambda = 1 + Real(i) * b1 + Real(j) * b2;
+      if (total > 0) {
+        Real rhs = Real(0);
+        if (i > 0) {
+          rhs -= ez[t.index(i - 1, j)];
+        }
+        if (j > 0) {
+          rhs -= power_p[t.index(i, j - 1)];
+        }
+        c[ij] = rhs / (lambda * (lambda - 1)); // (2)
+        e[ij] = power(t, c, e, beta, i, j);
+        power_p[ij] = power(t, c, power_p, p, i, j);
+      }
+      z[ij] = lambda * c[ij];
+      ez[ij] = product(t, e, z, i, j);
+      m[ij] = product(t, ez, z, i, j);
+    }
+  }
+  const Triangle& tw = table->work_shape;
+  table->w.assign(tw.size(), Real(0));
+  for (int i = 0; i <= degree; ++i) {
+    for (int j = 0; i + j <= degree; ++j) {
+      table->w[tw.index(i + 1, j)] = m[t.index(i, j)] / (Real(i + 1) * b1 + Real(j) * b2); // (3)
+    }
+  }
+  table->y = std::move(c);
+  table->z = std::move(z);
+  return table;
+}
+
+} // namespace two_power_detail
+
+// The table of (p, β) to total degree D, built once per process: a few ms in float128 at D = 40,
+// shared by every solve of that (p, β) in that precision (a scene's truths differ in γ only).
+template <class Real>
+std::shared_ptr<const TwoPowerTable<Real>> table_for(const Real& p, const Real& beta, int degree) {
+  static std::mutex mutex;
+  static std::map<std::tuple<Real, Real, int>, std::shared_ptr<const TwoPowerTable<Real>>> cache;
+  const std::tuple<Real, Real, int> key{p, beta, degree};
+  {
+    const std::lock_guard<std::mutex> lock(mutex);
+    if (const auto found = cache.find(key); found != cache.end()) {
+      return found->second;
+    }
+  }
+  auto table = two_power_detail::build(p, beta, degree); // outside the lock: other keys proceed
+  const std::lock_guard<std::mutex> lock(mutex);
+  if (cache.size() >= 64) {
+    cache.clear(); // a sweep over many (p, β): rebuild rather than grow without bound
+  }
+  cache.emplace(key, table);
+  return table;
+}
+
+template <class Real>
+class TwoPowerSeries final : public ContactSeries<Real> {
+public:
+  using typename ContactSeries<Real>::Point;
+  using typename ContactSeries<Real>::Contact;
+
+  // `sign` σ: +1 at the entry, −1 at the exit; γ ≥ 0 and κ of (1); the terms left out stay below
+  // `tolerance` relative.
+  TwoPowerSeries(std::shared_ptr<const TwoPowerTable<Real>> table, int sign, const Real& gamma,
+                 const Real& kappa, const Real& tolerance)
+      : table_(std::move(table)), sign_(sign), damping_(Real(sign) * gamma), kappa_(kappa),
+        tail_limit_(tolerance / 8) {}
+
+  Point at(const Real& u, const Real& s) const override {
+    const auto [x1, x2] = variables(u, s);
+    return {u * s * evaluate(table_->shape, table_->y, x1, x2),
+            u * evaluate(table_->shape, table_->z, x1, x2),
+            2 * Real(sign_) * u * u * evaluate(table_->work_shape, table_->w, x1, x2)};
+  }
+
+  bool within_reach(const Real& u, const Real& s) const override {
+    const auto [x1, x2] = variables(u, s);
+    return tail(x1, x2) <= tail_limit_;
+  }
+
+  Real entry_end(const Real& u, const Real& fraction) const override {
+    using std::sqrt;
+    // The reach: the largest s whose last two shells stay below the limit (they grow with s),
+    // by bisection in log s; then cut back while the sums cancel (rounding ~16 D ε at most).
+    Real low = Real(1), high = Real(1);
+    if (within_reach(u, low)) {
+      for (int i = 0; i < 64 && within_reach(u, high); ++i) {
+        high *= 2;
+      }
+      if (within_reach(u, high)) {
+        low = high; // entire and slowly growing: the cancellation guard decides
+      }
+    } else {
+      for (int i = 0; i < 400 && !within_reach(u, low); ++i) {
+        low /= 2;
+      }
+    }
+    for (int i = 0; i < 30 && high > low * (1 + Real(1) / 1000000); ++i) {
+      const Real middle = sqrt(low * high);
+      (within_reach(u, middle) ? low : high) = middle;
+    }
+    Real s = low;
+    for (int shrink = 0; shrink < 200 && cancels(u, s); ++shrink) {
+      s *= Real(7) / 8;
+    }
+    // Not past dδ/ds = fraction u: dδ/ds falls monotonically while loading.
+    if (at(u, s).rate < fraction * u) {
+      Real before = Real(0), after = s;
+      for (int i = 0; i < 40; ++i) {
+        const Real middle = (before + after) / 2;
+        (at(u, middle).rate >= fraction * u ? before : after) = middle;
+      }
+      s = before;
+    }
+    return s;
+  }
+
+  // Newton's method on F1 = u s Y − δ, F2 = u Z − rate from the straight line u = rate,
+  // s = δ / rate. With D_k = x_k ∂/∂x_k and ∂x1/∂u = β x1/u, ∂x1/∂s = (β+1) x1/s,
+  // ∂x2/∂u = (p−1) x2/u, ∂x2/∂s = (p+1) x2/s:
+  //     ∂F1/∂u = s (Y + β D1Y + (p−1) D2Y),   ∂F1/∂s = u Z,
+  //     ∂F2/∂u = Z + β D1Z + (p−1) D2Z,       ∂F2/∂s = (u/s) ((β+1) D1Z + (p+1) D2Z).
+  std::optional<Contact> locate(const Real& delta, const Real& rate) const override {
+    if (!(delta > 0 && rate > 0)) {
+      return std::nullopt;
+    }
+    const Real beta = table_->beta, p = table_->p;
+    Real u = rate, s = delta / rate;
+    for (int iteration = 0; iteration < 40; ++iteration) {
+      if (!within_reach(u, s)) {
+        return std::nullopt;
+      }
+      const auto [x1, x2] = variables(u, s);
+      const Euler y = evaluate_euler(table_->y, x1, x2);
+      const Euler z = evaluate_euler(table_->z, x1, x2);
+      const Real f1 = u * s * y.value - delta, f2 = u * z.value - rate;
+      const Real j11 = s * (y.value + beta * y.d1 + (p - 1) * y.d2), j12 = u * z.value;
+      const Real j21 = z.value + beta * z.d1 + (p - 1) * z.d2;
+      const Real j22 = u * ((beta + 1) * z.d1 + (p + 1) * z.d2) / s;
+      using Step = typename ContactSeries<Real>::NewtonStep;
+      const auto step = ContactSeries<Real>::newton_step(u, s, f1, f2, j11, j12, j21, j22);
+      if (step == Step::left_the_domain) {
+        return std::nullopt;
+      }
+      if (step == Step::converged) {
+        if (!within_reach(u, s) || cancels(u, s)) {
+          return std::nullopt;
+        }
+        return Contact{u, s};
+      }
+    }
+    return std::nullopt;
+  }
+
+private:
+  std::pair<Real, Real> variables(const Real& u, const Real& s) const {
+    using std::pow;
+    const Real p = table_->p, beta = table_->beta;
+    return {damping_ * pow(u, beta) * pow(s, beta + 1), kappa_ * pow(u, p - 1) * pow(s, p + 1)};
+  }
+
+  // Σ_i x1^i (Σ_j c_ij x2^j), Horner's rule in both.
+  static Real evaluate(const Triangle& t, const std::vector<Real>& c, const Real& x1,
+                       const Real& x2) {
+    const int degree = t.degree();
+    Real sum = Real(0);
+    for (int i = degree; i >= 0; --i) {
+      Real row = Real(0);
+      for (int j = degree - i; j >= 0; --j) {
+        row = row * x2 + c[t.index(i, j)];
+      }
+      sum = sum * x1 + row;
+    }
+    return sum;
+  }
+
+  struct Euler {
+    Real value, d1, d2; // Σ c x1^i x2^j, Σ i c …, Σ j c …
+  };
+  Euler evaluate_euler(const std::vector<Real>& c, const Real& x1, const Real& x2) const {
+    const Triangle& t = table_->shape;
+    const int degree = t.degree();
+    Euler sum{Real(0), Real(0), Real(0)};
+    for (int i = degree; i >= 0; --i) {
+      Real row = Real(0), row_d2 = Real(0);
+      for (int j = degree - i; j >= 0; --j) {
+        row = row * x2 + c[t.index(i, j)];
+        row_d2 = row_d2 * x2 + Real(j) * c[t.index(i, j)];
+      }
+      sum.value = sum.value * x1 + row;
+      sum.d1 = sum.d1 * x1 + Real(i) * row;
+      sum.d2 = sum.d2 * x1 + row_d2;
+    }
+    return sum;
+  }
+
+  // The magnitude of the last two shells (i + j = D − 1, D) of Z, the largest of the series:
+  // the terms left out are of their order when the shells decrease.
+  Real tail(const Real& x1, const Real& x2) const {
+    using std::abs;
+    const Triangle& t = table_->shape;
+    const int degree = t.degree();
+    const Real a1 = abs(x1), a2 = abs(x2);
+    std::vector<Real> powers2(static_cast<std::size_t>(degree) + 1, Real(1));
+    for (std::size_t j = 1; j < powers2.size(); ++j) {
+      powers2[j] = powers2[j - 1] * a2;
+    }
+    Real sum = Real(0);
+    for (int total = std::max(0, degree - 1); total <= degree; ++total) {
+      Real power1 = Real(1);
+      for (int i = 0; i <= total; ++i) {
+        sum += abs(table_->z[t.index(i, total - i)]) * power1 *
+               powers2[static_cast<std::size_t>(total - i)];
+        power1 *= a1;
+      }
+    }
+    return sum;
+  }
+
+  // Where the solution is entire (p = 1 and β = 0) the terms can grow far beyond their sum: the
+  // reach is cut back until no sum exceeds its value more than 16-fold (contact_series.hpp).
+  bool cancels(const Real& u, const Real& s) const {
+    using std::abs;
+    const auto [x1, x2] = variables(u, s);
+    for (const auto& [shape, c] :
+         {std::pair{&table_->shape, &table_->y}, std::pair{&table_->shape, &table_->z},
+          std::pair{&table_->work_shape, &table_->w}}) {
+      Real sum = Real(0), magnitude = Real(0), power1 = Real(1);
+      const int degree = shape->degree();
+      for (int i = 0; i <= degree; ++i) {
+        Real power2 = Real(1);
+        for (int j = 0; i + j <= degree; ++j) {
+          const Real term = (*c)[shape->index(i, j)] * power1 * power2;
+          sum += term;
+          magnitude += abs(term);
+          power2 *= x2;
+        }
+        power1 *= x1;
+      }
+      if (magnitude > 16 * abs(sum) && magnitude > 0) {
+        return true;
+      }
+    }
+    return false;
+  }
+
+  std::shared_ptr<const TwoPowerTable<Real>> table_;
+  int sign_;
+  Real damping_, kappa_; // σγ, κ
+  Real tail_limit_;
+};
+
+} // namespace pldamp::solvers::detail

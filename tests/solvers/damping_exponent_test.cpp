@@ -1,0 +1,248 @@
+// Any damping exponent β (MATH.md §12): m δ'' + α√(mk) δ^β δ' + k δ^p = 0.
+//
+// - The general path (a stated β, taylor's two-variable contact series) given the seed's
+//   β = (p−1)/2 reproduces the closed forms: float128 within 1e-30 of cpp_bin_float_50's closed
+//   forms over p, e and v0, both ends. This is the strongest check that the path which has no
+//   closed form to compare with is right.
+// - The two-variable series on exact identities: its energy balance and its inverse (locate).
+// - Where no closed form exists: float128 against cpp_bin_float_50, both by taylor; the scaling
+//   law of MATH.md §12.1 (e depends on p, β and α_eff alone); and every double solver against
+//   the float128 reference at its own tolerance.
+#include "two_power_series.hpp"
+
+#include "every_solver.hpp"
+#include "support.hpp"
+
+#include "pldamp/analytic.hpp"
+#include "pldamp/solvers/registry.hpp"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <optional>
+#include <sstream>
+#include <string>
+
+namespace pldamp::solvers {
+namespace {
+
+using analytic::Contact;
+using pldamp::testing::relative_error;
+
+template <SupportedReal Real>
+Options<Real> at_epsilon(End end = End::overlap) {
+  Options<Real> options;
+  options.rtol = std::numeric_limits<Real>::epsilon();
+  options.end = end;
+  return options;
+}
+
+using pldamp::testing::Worst;
+
+#if PLDAMP_WITH_QUAD
+TEST(GeneralPath, StatedSeedExponentReproducesTheClosedFormsInQuad) {
+  // Measured worst: see RecordProperty (the budget is 1e-30).
+  Worst worst;
+  for (const double p : {1.0, 1.25, 1.5, 2.0, 2.5, 3.0, 5.0}) {
+    for (const double e : {0.9, 0.5, 0.1, 1e-3}) {
+      for (const double v0 : {1e-3, 1.0, 1e3}) {
+        const auto exact = Contact<bin50>::from_e(bin50(p), bin50(e), bin50(v0));
+        Problem<quad> problem{quad(p), quad(1), quad(1), quad(v0), quad(exact.alpha())};
+        problem.damping_exponent = (quad(p) - 1) / 2;
+        // The closed forms of the very α the solver was given, one precision up.
+        const auto same = Contact<bin50>::from_alpha(bin50(p), bin50(problem.alpha), bin50(v0));
+        const auto x = analytic::observables(same);
+        std::ostringstream label;
+        label << "p=" << p << " e=" << e << " v0=" << v0;
+        const Result<quad> r = solve("taylor", problem, at_epsilon<quad>());
+        ASSERT_EQ(r.outcome, Outcome::exited) << label.str();
+        worst.check_observables(r, x, label.str());
+        if (e >= 0.1) { // the capped end exists for every e; three suffice
+          const Result<quad> capped = solve("taylor", problem, at_epsilon<quad>(End::force));
+          ASSERT_EQ(capped.outcome, Outcome::exited) << label.str();
+          const auto xc = analytic::observables(same, analytic::want_all);
+          worst.check(capped.e, xc.e_cap, "e_cap", label.str());
+          worst.check(capped.tau, xc.t_cut, "t_cut", label.str());
+        }
+      }
+    }
+  }
+  EXPECT_LT(worst.error, 1e-30) << worst.where;
+  RecordProperty("worst_relative_error", pldamp::testing::scientific(worst.error));
+}
+
+// The viscoelastic contact and two others without a closed form, at several dampings.
+struct Beyond {
+  double p, beta, alpha;
+};
+constexpr Beyond beyond_the_seed[] = {
+    {1.5, 0.5, 0.05},
+    {1.5, 0.5, 0.5},
+    {1.5, 0.5, 2.0}, // viscoelastic spheres (LAMMPS
+                     // gran/hertz/history)
+    {1.5, 0.0, 0.3},
+    {1.0, 0.5, 0.4},
+    {2.5, 0.3, 1.0}, // Hertz with a δ⁰ dashpot, Hooke with δ^½
+};
+
+TEST(BeyondTheSeed, QuadAgreesWithFiftyDigitsOnEveryObservable) {
+  Worst worst;
+  for (const Beyond& b : beyond_the_seed) {
+    for (const End end : {End::overlap, End::force}) {
+      const Problem<quad> problem{quad(b.p), 1, 1, 1, quad(b.alpha), quad(b.beta)};
+      const Problem<bin50> wide{bin50(b.p), 1, 1, 1, bin50(b.alpha), bin50(b.beta)};
+      const Result<quad> r = solve("taylor", problem, at_epsilon<quad>(end));
+      const Result<bin50> x = solve("taylor", wide, at_epsilon<bin50>(end));
+      std::ostringstream label;
+      label << "p=" << b.p << " beta=" << b.beta << " alpha=" << b.alpha
+            << (end == End::force ? " force" : " overlap");
+      ASSERT_EQ(r.outcome, Outcome::exited) << label.str();
+      ASSERT_EQ(x.outcome, Outcome::exited) << label.str();
+      worst.check_observables(r, x, label.str());
+    }
+  }
+  EXPECT_LT(worst.error, 1e-30) << worst.where;
+  RecordProperty("worst_relative_error", pldamp::testing::scientific(worst.error));
+}
+
+// MATH.md §12.1: in the units δ_u, δ_u/v0, ½mv0² the contact depends on p, β and
+// α_eff = α δ_u^(β−(p−1)/2)/√(2(p+1)) alone. Two contacts with different m, k, v0 and α but the
+// same α_eff have the same e, δ_max/δ_u, t_peak v0/δ_u, τ v0/δ_u and energy split.
+TEST(BeyondTheSeed, ObservablesDependOnTheGroupAlone) {
+  const quad p = quad(3) / 2, beta = quad(1) / 2;
+  auto delta_u = [&](const quad& m, const quad& k, const quad& v0) {
+    return pow((p + 1) * m * v0 * v0 / (2 * k), 1 / (p + 1));
+  };
+  const quad group = quad(3) / 10; // α_eff
+  auto alpha_for = [&](const quad& m, const quad& k, const quad& v0) {
+    return group * sqrt(2 * (p + 1)) / pow(delta_u(m, k, v0), beta - (p - 1) / 2);
+  };
+  struct Units {
+    quad m, k, v0;
+  };
+  const Units units[] = {{1, 1, 1},
+                         {quad(12) / 1000000, quad(7) * 1000000000, quad(1) / 2},
+                         {quad(3), quad(1) / 100, quad(40)}};
+  std::optional<Result<quad>> first;
+  quad first_scale = 0, first_time = 0;
+  for (const Units& u : units) {
+    const Problem<quad> problem{p, u.m, u.k, u.v0, alpha_for(u.m, u.k, u.v0), beta};
+    const Result<quad> r = solve("taylor", problem, at_epsilon<quad>());
+    ASSERT_EQ(r.outcome, Outcome::exited);
+    const quad scale = delta_u(u.m, u.k, u.v0), time = scale / u.v0, energy = u.m * u.v0 * u.v0 / 2;
+    if (!first) {
+      first = r;
+      first_scale = scale;
+      first_time = time;
+      continue;
+    }
+    const quad first_energy = quad(1) / 2;
+    EXPECT_LT(relative_error(*r.e, *first->e), 1e-31);
+    EXPECT_LT(relative_error(*r.delta_max / scale, *first->delta_max / first_scale), 1e-31);
+    EXPECT_LT(relative_error(*r.t_peak / time, *first->t_peak / first_time), 1e-31);
+    EXPECT_LT(relative_error(*r.tau / time, *first->tau / first_time), 1e-31);
+    EXPECT_LT(relative_error(*r.energy_load / energy, *first->energy_load / first_energy), 1e-31);
+    EXPECT_LT(relative_error(*r.energy_unload / energy, *first->energy_unload / first_energy),
+              1e-31);
+  }
+}
+#endif
+
+// The two-variable series on identities: along the series the mechanical energy and the work
+// balance, ż² + δ^(p+1) ± W = u² in the scaled units (contact_series.hpp (1)), and locate inverts
+// at(). Incommensurate exponents (β + 1 and p + 1 with an irrational ratio) included.
+TEST(TwoPowerSeries, EnergyBalancesAndLocateInverts) {
+  using Real = long double;
+  const Real eps = std::numeric_limits<Real>::epsilon();
+  const Real kappa_of_p[][2] = {
+      {1, 0}, {1.5L, 0.5L}, {1.5L, 0}, {2.5L, 0.3L}, {1.2L, 0.6180339887L}};
+  for (const auto& pb : kappa_of_p) {
+    const Real p = pb[0], beta = pb[1], kappa = (p + 1) / 2;
+    const auto table = detail::table_for(p, beta, 30);
+    for (const Real gamma : {Real(0), Real(0.3L), Real(2)}) {
+      for (const int sign : {1, -1}) {
+        const detail::TwoPowerSeries<Real> series(table, sign, gamma, kappa, eps);
+        for (const Real u : {Real(1), Real(0.001L)}) {
+          // The exit is located well inside the reach (taylor tries it after each step).
+          const Real s = series.entry_end(u, Real(0.5L)) / (sign > 0 ? 1 : 2);
+          ASSERT_GT(s, 0) << p << " " << beta;
+          const auto point = series.at(u, s);
+          const Real energy = point.rate * point.rate + std::pow(point.delta, p + 1);
+          const Real balance = energy - u * u + sign * point.work;
+          EXPECT_LT(std::abs(balance) / std::max(energy, u * u), 64 * eps)
+              << "p=" << p << " beta=" << beta << " gamma=" << gamma << " sign=" << sign;
+          if (sign < 0) {
+            const auto found = series.locate(point.delta, point.rate);
+            ASSERT_TRUE(found.has_value()) << p << " " << beta << " " << gamma;
+            EXPECT_LT(std::abs(found->u - u) / u, 64 * eps) << p << " " << beta;
+            EXPECT_LT(std::abs(found->s - s) / s, 64 * eps) << p << " " << beta;
+          }
+        }
+      }
+    }
+  }
+}
+
+// Every error-controlled double solver against the float128 reference, at rtol 1e-10.
+TEST(BeyondTheSeed, EverySolverMeetsItsToleranceAgainstTheReference) {
+  Options<double> options;
+  options.rtol = 1e-10;
+  for (const Beyond& b : beyond_the_seed) {
+    const Problem<double> problem{b.p, 1, 1, 1, b.alpha, b.beta};
+    using Ref = NarrowestWithDigits10<30>;
+    const Problem<Ref> exact{Ref(b.p), 1, 1, 1, Ref(b.alpha), Ref(b.beta)};
+    const Result<Ref> x = solve("taylor", exact, at_epsilon<Ref>());
+    for (const SolverInfo& info : registry()) {
+      if (info.fixed_step) {
+        continue;
+      }
+      const Result<double> r = solve(std::string(info.name), problem, options);
+      std::ostringstream label;
+      label << info.name << " p=" << b.p << " beta=" << b.beta << " alpha=" << b.alpha;
+      ASSERT_EQ(r.outcome, Outcome::exited) << label.str() << " " << r.invariant;
+      Worst worst;
+      worst.check(r.e, std::optional<double>(double(*x.e)), "e", label.str());
+      worst.check(r.delta_max, std::optional<double>(double(*x.delta_max)), "delta_max",
+                  label.str());
+      worst.check(r.tau, std::optional<double>(double(*x.tau)), "tau", label.str());
+      worst.check(r.energy_unload, std::optional<double>(double(*x.energy_unload)), "energy_unload",
+                  label.str());
+      EXPECT_LT(worst.error, 1e-6) << worst.where;
+    }
+  }
+}
+
+// The DEM schemes converge to the reference at their order: dem-verlet's e at the overlap end is
+// first order in the step (the exit found up to one step late, MATH.md §5).
+TEST(BeyondTheSeed, DemVerletConvergesToTheReference) {
+  for (const Beyond& b : beyond_the_seed) {
+    const Problem<double> problem{b.p, 1, 1, 1, b.alpha, b.beta};
+    using Ref = NarrowestWithDigits10<30>;
+    const Problem<Ref> exact{Ref(b.p), 1, 1, 1, Ref(b.alpha), Ref(b.beta)};
+    const double truth = double(*solve("taylor", exact, at_epsilon<Ref>()).e);
+    // The largest error over four onset phases: at one phase the error of the step that crosses
+    // the exit depends on where it falls (β = 0: the dashpot's force c v does not vanish there).
+    double errors[2] = {0, 0};
+    for (int i = 0; i < 2; ++i) {
+      for (const double phase : {0.0, 0.25, 0.5, 0.75}) {
+        Options<double> options;
+        options.steps_per_contact = i == 0 ? 200 : 2000;
+        options.onset_phase = phase;
+        errors[i] =
+            std::max(errors[i], std::abs(*solve("dem-verlet", problem, options).e - truth) / truth);
+      }
+    }
+    EXPECT_LT(errors[0], 0.05) << b.p << " " << b.beta << " " << b.alpha << " e=" << truth
+                               << " errors " << errors[0] << " " << errors[1];
+    EXPECT_GT(errors[0] / errors[1], 5) << b.p << " " << b.beta << " " << b.alpha << " e=" << truth
+                                        << " errors " << errors[0] << " " << errors[1];
+    // Ten for first order; up to 22 where the dashpot is weak and the second-order part of the
+    // error still counts at 200 steps (α = 0.05).
+    EXPECT_LT(errors[0] / errors[1], 40) << b.p << " " << b.beta << " " << b.alpha;
+  }
+}
+
+} // namespace
+} // namespace pldamp::solvers
