@@ -38,6 +38,8 @@ void add_contact_options(CLI::App& command, ContactArgs& a, bool calibrate_only)
   }
   command.add_option("--alpha", a.alpha, "damping coefficient alpha >= 0");
   command.add_option("--alpha-eff", a.alpha_eff, "effective damping ratio alpha_eff >= 0");
+  command.add_option("--damping-exponent", a.damping_exponent,
+                     "beta of the dashpot d^beta d' in [0, p] (default (p-1)/2, the seed's)");
   command.add_option("--v0", a.v0, "impact velocity > 0")->required();
   command.add_option("--m", a.m, "reduced mass > 0 (default 1)");
   command.add_option("--k", a.k, "stiffness > 0 (default 1)");

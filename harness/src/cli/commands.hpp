@@ -19,8 +19,9 @@ struct ContactArgs {
   std::string precision = "double";
   std::string end = "overlap";
   bool json = false;
-  std::optional<std::string> code; // calibrate: a DEM code's convention
-  bool limit_damping = false;      // calibrate --code: its optional force cap on
+  std::optional<std::string> damping_exponent; // β of δ^β δ' (MATH.md §12); none: (p − 1)/2
+  std::optional<std::string> code;             // calibrate: a DEM code's convention
+  bool limit_damping = false;                  // calibrate --code: its optional force cap on
 };
 
 // `pldamp solve`: the contact options plus the solver's.

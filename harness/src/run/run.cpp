@@ -1,6 +1,7 @@
 #include "run/run.hpp"
 
 #include "run/external.hpp"
+#include "truth/reference_solve.hpp"
 
 #include "pldamp/solvers/registry.hpp"
 
@@ -38,15 +39,38 @@ void compare(const Exact& value, const Exact& reference, Measured& m) {
   m.rel_error = static_cast<double>(relative);
 }
 
+// The truth of a record: the plan's (reference_at), or, for an external code whose dashpot is not
+// the point's, the reference solve of the code's own β at this cell (MATH.md §12.2).
+struct RecordTruth {
+  const Plan& plan;
+  const Cell& cell;
+  const SolverConfig& config;
+  const solvers::Result<Exact>* own = nullptr; // the code's reference solve, v0 = m = k = 1
+  bool returns = true;                         // whether the contact returns (own truth)
+  Exact log_duration = 0;                      // ln τ at the overlap end (own truth)
+
+  std::optional<Exact> at(std::size_t observable) const {
+    if (own == nullptr) {
+      return reference_at(plan, cell, observable, config);
+    }
+    const std::optional<Exact> unit = plan.observables[observable]->measured(*own);
+    if (!unit || solvers::failing(own->outcome)) {
+      return std::nullopt;
+    }
+    return *unit * cell.scale(plan.observables[observable]->dimension);
+  }
+};
+
 template <SupportedReal Real>
-std::vector<Measured> measure(const Plan& plan, const Cell& cell, const SolverConfig& config,
-                              const solvers::Result<Real>& result) {
-  const Point& point = plan.points[cell.point];
+std::vector<Measured> measure(const RecordTruth& truth, const solvers::Result<Real>& result) {
+  const Plan& plan = truth.plan;
+  const Point& point = plan.points[truth.cell.point];
+  const bool overdamped = truth.own != nullptr ? !truth.returns : point.overdamped;
   std::vector<Measured> out;
   for (std::size_t i = 0; i < plan.observables.size(); ++i) {
     const Observable& observable = *plan.observables[i];
     const std::optional<Real> value = observable.measured(result);
-    std::optional<Exact> reference = reference_at(plan, cell, i, config);
+    std::optional<Exact> reference = truth.at(i);
     Measured m;
     if (value) {
       m.value = static_cast<double>(*value);
@@ -54,7 +78,7 @@ std::vector<Measured> measure(const Plan& plan, const Cell& cell, const SolverCo
     if (reference) {
       m.reference = static_cast<double>(*reference);
     }
-    if (result.outcome == solvers::Outcome::no_exit && reference && !point.overdamped) {
+    if (result.outcome == solvers::Outcome::no_exit && reference && !overdamped) {
       // The contact returns, but too late or too slowly for the solver to tell: no_exit is its
       // documented answer (common/observables.hpp, LateReturn).
       if (observable.late_return == LateReturn::unresolved) {
@@ -114,8 +138,11 @@ void solve_record(const Plan& plan, Record& record, ExternalSolver* external) {
   const Cell& cell = plan.cells[record.cell];
   const Point& point = plan.points[cell.point];
   const SolverConfig& config = plan.configs[record.config];
-  const solvers::Problem<Real> problem{Real(point.p), Real(cell.m), Real(cell.k), Real(cell.v0),
-                                       static_cast<Real>(point.alpha)};
+  solvers::Problem<Real> problem{Real(point.p), Real(cell.m), Real(cell.k), Real(cell.v0),
+                                 static_cast<Real>(cell.alpha)};
+  if (point.beta) {
+    problem.damping_exponent = Real(*point.beta);
+  }
   solvers::Options<Real> options;
   if (config.rtol) {
     options.rtol = Real(*config.rtol);
@@ -135,6 +162,28 @@ void solve_record(const Plan& plan, Record& record, ExternalSolver* external) {
   }
   if (config.dt) {
     options.fixed_step = Real(*config.dt);
+  }
+  RecordTruth truth{plan, cell, config};
+  if (external != nullptr) {
+    // A code whose dashpot is not the point's: the truth of its own β at α as it receives it.
+    const double code_beta = external->facts().beta(point.p);
+    if (code_beta != point.beta.value_or((point.p - 1) / 2)) {
+      const Exact delta_u = unit_overlap(point.p) * cell.scale(Dimension::length);
+      const Exact group = group_of(point.p, code_beta, Exact(problem.alpha), delta_u);
+      truth.own = &reference_solve(point.p, code_beta, group, options.end);
+      const solvers::Result<Exact>& overlap =
+          reference_solve(point.p, code_beta, group, solvers::End::overlap);
+      truth.returns = overlap.outcome != solvers::Outcome::no_exit;
+      truth.log_duration = overlap.tau && isfinite(*overlap.tau)
+                               ? log(*overlap.tau)
+                               : std::numeric_limits<Exact>::infinity();
+      record.note =
+          fmt::format("truth by reference solve: it damps as delta^{:g} delta'", code_beta);
+      if (solvers::failing(truth.own->outcome)) {
+        record.note = fmt::format("no truth: the reference solve for delta^{:g} delta' ended {}",
+                                  code_beta, solvers::outcome_name(truth.own->outcome));
+      }
+    }
   }
   // Every onset phase k/n; the record keeps, per observable, the phase with the largest error.
   const std::size_t observables = plan.observables.size();
@@ -165,7 +214,8 @@ void solve_record(const Plan& plan, Record& record, ExternalSolver* external) {
     }
     if (result.outcome == solvers::Outcome::no_exit && record.failure.empty()) {
       // An honest no_exit is a return beyond the horizon (or none at all).
-      const Exact tau = exp(point.log_duration) * cell.scale(Dimension::time);
+      const Exact log_duration = truth.own != nullptr ? truth.log_duration : point.log_duration;
+      const Exact tau = exp(log_duration) * cell.scale(Dimension::time);
       if (tau < Exact(result.horizon)) {
         record.failure = fmt::format("no_exit, yet the contact returns at tau = {:.6g}, before "
                                      "the horizon {:.6g}",
@@ -179,7 +229,7 @@ void solve_record(const Plan& plan, Record& record, ExternalSolver* external) {
     rhs_evals += double(result.rhs_evals + result.jacobian_evals);
     fastest_seconds += times.fastest;
     slowest_seconds += times.slowest;
-    const std::vector<Measured> measured = measure(plan, cell, config, result);
+    const std::vector<Measured> measured = measure(truth, result);
     for (std::size_t o = 0; o < observables; ++o) {
       const Measured& m = measured[o];
       if (m.value) {
@@ -198,16 +248,6 @@ void solve_record(const Plan& plan, Record& record, ExternalSolver* external) {
       }
     }
   }
-  if (external != nullptr && !external->facts().seed_damping(point.p)) {
-    // Its dashpot is not the seed's: the closed forms are not its truth.
-    record.note = fmt::format("no truth: it damps as delta^{:g} delta' and the closed forms "
-                              "need delta^{:g} delta'",
-                              external->facts().beta(point.p), (point.p - 1) / 2);
-    for (auto* field :
-         {&record.reference, &record.error, &record.abs_error, &record.rel_error, &record.spread}) {
-      field->assign(observables, std::nullopt);
-    }
-  }
   const double runs = double(config.onset_phases);
   record.steps = std::lround(steps / runs);
   record.rhs_evals = std::lround(rhs_evals / runs);
@@ -215,7 +255,7 @@ void solve_record(const Plan& plan, Record& record, ExternalSolver* external) {
   record.wall_seconds_slowest = slowest_seconds / runs;
   if (config.onset_phases > 1) {
     for (std::size_t o = 0; o < observables; ++o) {
-      const std::optional<Exact> reference = reference_at(plan, cell, o, config);
+      const std::optional<Exact> reference = truth.at(o);
       if (highest[o] >= lowest[o] && reference && isfinite(*reference) && *reference != 0) {
         record.spread[o] = static_cast<double>(Exact(highest[o] - lowest[o]) / abs(*reference));
       }

@@ -40,8 +40,8 @@ struct Record {
   // An external solver's record it does not run (README "Your code in the loop"): why. Such a
   // record is neither failed nor counted in budgets and costs.
   std::string skip_reason;
-  // Values measured without a truth to compare with, and why (an external solver whose dashpot
-  // is not the seed's δ^((p−1)/2): no closed form is its truth).
+  // How the truth of an external solver whose dashpot is not the point's was found (the
+  // reference solve of its own β, MATH.md §12.2), or why it has none.
   std::string note;
   // An external solver with a replica ([[solver]] replica): per observable, the largest over the
   // onset phases of |value − replica's value| / |replica's value| (absolute where that is 0).

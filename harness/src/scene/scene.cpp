@@ -1038,7 +1038,7 @@ void read_figures(const Reader& reader, const toml::node& node, Scene& scene) {
 
 void read_grid(const Reader& reader, const toml::node& node, Scene& scene) {
   const toml::table& grid = reader.table(node, "[grid]");
-  reader.only(grid, {"p", "e", "alpha_eff", "v0", "m", "k"}, "[grid]");
+  reader.only(grid, {"p", "e", "alpha_eff", "v0", "m", "k", "damping_exponent"}, "[grid]");
   for (const char* key : {"p", "v0"}) {
     if (grid.get(key) == nullptr) {
       reader.fail(node, std::string("[grid] needs ") + key);
@@ -1054,6 +1054,18 @@ void read_grid(const Reader& reader, const toml::node& node, Scene& scene) {
   scene.m = lists.m;
   scene.k = lists.k;
   scene.damping = lists.damping;
+  if (const toml::node* at = grid.get("damping_exponent")) {
+    scene.damping_exponent = reader.numbers(*at, "damping_exponent");
+    for (const double beta : scene.damping_exponent) {
+      for (const double p : scene.p) {
+        try {
+          domain::require_damping_exponent(beta, p);
+        } catch (const std::invalid_argument& e) {
+          reader.fail(*at, std::string(e.what()) + " at p = " + to_string_full(p));
+        }
+      }
+    }
+  }
 }
 
 } // namespace

@@ -271,6 +271,8 @@ struct Scene {
   unsigned want = solvers::want_all;
   std::vector<double> p, v0, m, k;
   std::vector<Damping> damping;
+  // β of the dashpot δ^β δ' (MATH.md §12); empty: the seed's (p − 1)/2.
+  std::vector<double> damping_exponent;
   std::vector<SolverConfig> configs; // every sweep expanded, in file order
   std::vector<Claim> claims;
   std::vector<Search> searches;

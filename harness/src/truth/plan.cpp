@@ -1,6 +1,10 @@
 #include "truth/plan.hpp"
 
+#include "truth/reference_solve.hpp"
+
 #include "pldamp/analytic.hpp"
+
+#include <fmt/format.h>
 
 #include <algorithm>
 #include <chrono>
@@ -104,6 +108,56 @@ Exact rounded_alpha(const Exact& alpha, const std::string& precision) {
   return rounded;
 }
 
+// A point whose truth is a reference solve (β ≠ (p − 1)/2; MATH.md §12.2): its α_eff from the
+// scene's (given, or the one whose e is the target), every end's observables at v0 = m = k = 1,
+// and their error estimate.
+Point solved_point(const Plan& plan, const std::set<std::string>& precisions, double p, double beta,
+                   const Damping& damping) {
+  Point point{p, damping, 0, 0, false, 0, {}, {}, 0, beta, true, {}, {}};
+  point.analytic.assign(plan.observables.size(), AnalyticCheck{});
+  std::optional<Exact> group = Exact(damping.value);
+  if (damping.kind == Damping::Kind::e) {
+    group = group_for_e(p, beta, damping.value, plan.scene.end);
+  }
+  if (!group) {
+    point.no_truth =
+        fmt::format("no alpha_eff gives e = {} at p = {}, beta = {}", to_string_full(damping.value),
+                    to_string_full(p), to_string_full(beta));
+    point.alpha_eff = std::numeric_limits<double>::quiet_NaN();
+    point.log_duration = std::numeric_limits<Exact>::infinity();
+    for (const solvers::End config_end : plan.ends) {
+      for (const std::string& precision : precisions) {
+        point.reference[{precision, config_end}].assign(plan.observables.size(), std::nullopt);
+      }
+    }
+    return point;
+  }
+  point.alpha_eff = static_cast<double>(*group);
+  point.alpha = alpha_of(p, beta, *group, unit_overlap(p));
+  const solvers::Result<Exact>& overlap = reference_solve(p, beta, *group, solvers::End::overlap);
+  point.overdamped = overlap.outcome == solvers::Outcome::no_exit;
+  point.log_duration = overlap.tau && isfinite(*overlap.tau)
+                           ? log(*overlap.tau)
+                           : std::numeric_limits<Exact>::infinity();
+  for (const solvers::End config_end : plan.ends) {
+    const solvers::Result<Exact>& truth = reference_solve(p, beta, *group, config_end);
+    std::vector<std::optional<Exact>> values;
+    for (const Observable* observable : plan.observables) {
+      values.push_back(solvers::failing(truth.outcome) ? std::nullopt
+                                                       : observable->measured(truth));
+    }
+    if (solvers::failing(truth.outcome)) {
+      point.no_truth = fmt::format("the reference solve ended {}: {}",
+                                   solvers::outcome_name(truth.outcome), truth.invariant);
+    }
+    for (const std::string& precision : precisions) {
+      point.reference[{precision, config_end}] = values;
+    }
+  }
+  point.truth_error = truth_error_estimate(plan.observables, p, beta, *group, plan.scene.end);
+  return point;
+}
+
 } // namespace
 
 std::string alpha_precision(const SolverConfig& config) {
@@ -134,49 +188,65 @@ Plan make_plan(const Scene& scene) {
   }
   plan.ends.assign(ends.begin(), ends.end());
   const ContactEnd end = scene.end == solvers::End::force ? ContactEnd::force : ContactEnd::overlap;
+  std::vector<std::optional<double>> exponents(scene.damping_exponent.begin(),
+                                               scene.damping_exponent.end());
+  if (exponents.empty()) {
+    exponents.push_back(std::nullopt);
+  }
   for (const double p : scene.p) {
-    for (const Damping& damping : scene.damping) {
-      Point point{p, damping, 0, 0, false, 0, {}, {}, {}};
-      const Contact<Exact> calibrated = contact_of<Exact>(point, end);
-      point.alpha = calibrated.alpha();
-      point.alpha_eff = static_cast<double>(calibrated.alpha_eff());
-      point.overdamped = calibrated.alpha_eff() >= 1;
-      point.log_duration = *analytic::observables(calibrated, analytic::want_tau).log_tau;
-      // The closed forms at α as each precision receives it; the double one also judges the
-      // analytic layer in double.
-      const double alpha = static_cast<double>(point.alpha);
-      std::optional<analytic::Observables<Exact>> at_double_alpha;
-      for (const std::string& precision : precisions) {
-        const Exact rounded = rounded_alpha(point.alpha, precision);
-        const analytic::Observables<Exact> closed = closed_forms(
-            rounded == point.alpha ? calibrated
-                                   : Contact<Exact>::from_alpha(Exact(p), rounded, Exact(1)),
-            plan);
-        for (const solvers::End config_end : plan.ends) {
-          point.reference[{precision, config_end}] = values_of(closed, plan, config_end);
+    for (const std::optional<double>& beta : exponents) {
+      for (const Damping& damping : scene.damping) {
+        if (beta && *beta != (p - 1) / 2) {
+          plan.points.push_back(solved_point(plan, precisions, p, *beta, damping));
+          continue;
         }
-        if (rounded == Exact(alpha)) {
-          at_double_alpha = closed;
+        Point point{p, damping, 0, 0, false, 0, {}, {}, 0, beta, false, {}, {}};
+        const Contact<Exact> calibrated = contact_of<Exact>(point, end);
+        point.alpha = calibrated.alpha();
+        point.alpha_eff = static_cast<double>(calibrated.alpha_eff());
+        point.overdamped = calibrated.alpha_eff() >= 1;
+        point.log_duration = *analytic::observables(calibrated, analytic::want_tau).log_tau;
+        // The closed forms at α as each precision receives it; the double one also judges the
+        // analytic layer in double.
+        const double alpha = static_cast<double>(point.alpha);
+        std::optional<analytic::Observables<Exact>> at_double_alpha;
+        for (const std::string& precision : precisions) {
+          const Exact rounded = rounded_alpha(point.alpha, precision);
+          const analytic::Observables<Exact> closed = closed_forms(
+              rounded == point.alpha ? calibrated
+                                     : Contact<Exact>::from_alpha(Exact(p), rounded, Exact(1)),
+              plan);
+          for (const solvers::End config_end : plan.ends) {
+            point.reference[{precision, config_end}] = values_of(closed, plan, config_end);
+          }
+          if (rounded == Exact(alpha)) {
+            at_double_alpha = closed;
+          }
         }
+        if (!at_double_alpha) {
+          at_double_alpha =
+              closed_forms(Contact<Exact>::from_alpha(Exact(p), Exact(alpha), Exact(1)), plan);
+        }
+        // The analytic layer's own budget and cost: the same point in double against Exact.
+        point.analytic = check_in_double(plan, p, alpha, *at_double_alpha);
+        point.analytic_seconds = time_in_double(plan, p, alpha);
+        plan.points.push_back(std::move(point));
       }
-      if (!at_double_alpha) {
-        at_double_alpha =
-            closed_forms(Contact<Exact>::from_alpha(Exact(p), Exact(alpha), Exact(1)), plan);
-      }
-      // The analytic layer's own budget and cost: the same point in double against Exact.
-      point.analytic = check_in_double(plan, p, alpha, *at_double_alpha);
-      point.analytic_seconds = time_in_double(plan, p, alpha);
-      plan.points.push_back(std::move(point));
     }
   }
   for (std::size_t i = 0; i < plan.points.size(); ++i) {
+    const Point& point = plan.points[i];
     for (const double v0 : scene.v0) {
       for (const double m : scene.m) {
         for (const double k : scene.k) {
           const Exact length =
-              exp(log(Exact(m) * Exact(v0) * Exact(v0) / Exact(k)) / (Exact(plan.points[i].p) + 1));
+              exp(log(Exact(m) * Exact(v0) * Exact(v0) / Exact(k)) / (Exact(point.p) + 1));
+          // MATH.md §12.1: the same α_eff at this cell's δ_u = unit δ_u × length.
+          const Exact alpha = point.solved ? alpha_of(point.p, *point.beta, Exact(point.alpha_eff),
+                                                      unit_overlap(point.p) * length)
+                                           : point.alpha;
           plan.cells.push_back(
-              {i, v0, m, k, {Exact(1), length, length / Exact(v0), Exact(m) * v0 * v0}});
+              {i, v0, m, k, alpha, {Exact(1), length, length / Exact(v0), Exact(m) * v0 * v0}});
         }
       }
     }

@@ -1,7 +1,8 @@
 // The plan of a scene: its cells (grid points), its solver configurations (the sweeps, plus any
 // claim configuration not among them), the observables to compare, and the reference truth.
 //
-// Reference truth is the analytic layer in the Exact precision (float128; DESIGN.md), computed
+// Reference truth is the analytic layer in the Exact precision (float128; DESIGN.md) or, for a
+// damping exponent other than the seed's, taylor in Exact (reference_solve.hpp), computed
 // once per (p, damping) at v0 = m = k = 1 and scaled to each cell by the observable's dimension:
 // lengths by (m v0²/k)^(1/(p+1)), times by that over v0, energies by m v0² (MATH.md §7; e is
 // scale-free). Only the wanted observables are computed, so no time quadrature runs unless t_peak
@@ -31,6 +32,9 @@ using Exact = NarrowestWithDigits10<30>;
 struct Cell {
   std::size_t point; // index into Plan::points: its (p, damping)
   double v0, m, k;
+  // α at this cell, in Exact: the point's for the seed's β; for another β the one that gives the
+  // point's α_eff at this cell's δ_u (MATH.md §12.1).
+  Exact alpha;
   // MATH.md §7, from the unit reference, per Dimension: 1, lengths × (m v0²/k)^(1/(p+1)), times
   // × that / v0, energies × m v0² (computed once here, not per record).
   std::array<Exact, 4> scales;
@@ -64,8 +68,18 @@ struct Point {
   // The analytic layer in double against Exact, per observable (plan order).
   std::vector<AnalyticCheck> analytic;
   // What the closed forms cost in double for the observables wanted, per cell (contact and
-  // bundle): the yardstick for the solvers' cost (a solver's "× analytic").
+  // bundle): the yardstick for the solvers' cost (a solver's "× analytic"). 0 where there are none.
   double analytic_seconds = 0;
+  // β when the scene states one (damping_exponent); none: the seed's (p − 1)/2.
+  std::optional<double> beta;
+  // The truth is a reference solve (β ≠ (p − 1)/2, reference_solve.hpp), not the closed forms:
+  // α_eff is the group of MATH.md §12.1, `alpha` its value at v0 = m = k = 1, and truth_error
+  // the truth's own error estimate per observable (plan order, the scene's end): float128
+  // against 50 digits.
+  bool solved = false;
+  std::vector<std::optional<double>> truth_error;
+  // Why the point has no truth (the reference solve failed, or no α_eff gives the target e).
+  std::string no_truth;
 };
 
 struct Plan {
