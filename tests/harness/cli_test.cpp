@@ -112,6 +112,76 @@ TEST(Cli, CalibrateBothEnds) {
   EXPECT_LT(b["e_uncapped"].get<double>(), 0.5);
 }
 
+// A velocity-dependent model (MATH.md §12.4): the α that gives e at --v0 is checked by solving
+// that α with taylor through `solve --damping-exponent` (an independent path: --alpha, no
+// inversion), e falls with the speed for the viscoelastic dashpot (more damping at higher
+// α_eff ∝ v0^(1/5)), and at p = 1 mass_velocity is the seed's linear dashpot: the reference
+// solve's calibration equals the closed form's.
+TEST(Cli, CalibrateAVelocityDependentCodeAndItsRestitutionAtOtherSpeeds) {
+  const CliRun viscoelastic =
+      run({"calibrate", "--code", "lammps-hertz-history", "--p", "1.5", "--e", "0.9", "--v0", "2",
+           "--m", "3", "--k", "5", "--reff", "4", "--speeds", "0.2,2,20", "--json"});
+  ASSERT_EQ(viscoelastic.code, 0) << viscoelastic.err;
+  const auto a = nlohmann::json::parse(viscoelastic.out);
+  const double alpha = a["alpha"].get<double>();
+  EXPECT_NEAR(a["entry"].get<double>(), alpha * std::sqrt(5.0 / 3.0) / 2, 1e-15);
+  const auto curve = a["e_of_v0"];
+  ASSERT_EQ(curve.size(), 3U);
+  EXPECT_NEAR(curve[1]["e"].get<double>(), 0.9, 1e-15);
+  EXPECT_GT(curve[0]["e"].get<double>(), 0.9);
+  EXPECT_LT(curve[2]["e"].get<double>(), 0.9);
+  // α_eff ∝ v0^(2(β − (p−1)/2)/(p+1)) = v0^(1/5).
+  EXPECT_NEAR(curve[2]["alpha_eff"].get<double>() / curve[1]["alpha_eff"].get<double>(),
+              std::pow(10.0, 0.2), 1e-14);
+  for (const int at : {0, 2}) {
+    const std::string v0 = curve[at]["v0"].dump();
+    const CliRun solved = run({"solve", "--solver", "taylor", "--p", "1.5", "--damping-exponent",
+                               "0.5", "--alpha", a["alpha"].dump(), "--v0", v0, "--m", "3", "--k",
+                               "5", "--precision", "quad", "--json"});
+    ASSERT_EQ(solved.code, 0) << solved.err;
+    const auto x = nlohmann::json::parse(solved.out);
+    EXPECT_NEAR(x["e"].get<double>(), curve[at]["e"].get<double>(), 1e-15) << v0;
+  }
+
+  const CliRun linear =
+      run({"calibrate", "--code", "lammps-mass-velocity", "--p", "1", "--e", "0.3", "--json"});
+  ASSERT_EQ(linear.code, 0) << linear.err;
+  const CliRun closed = run({"calibrate", "--p", "1", "--e", "0.3", "--json"});
+  ASSERT_EQ(closed.code, 0) << closed.err;
+  EXPECT_NEAR(nlohmann::json::parse(linear.out)["alpha"].get<double>(),
+              nlohmann::json::parse(closed.out)["alpha"].get<double>(), 1e-15);
+  for (const auto& point : nlohmann::json::parse(linear.out)["e_of_v0"]) {
+    EXPECT_NEAR(point["e"].get<double>(), 0.3, 1e-15); // the seed's e does not depend on v0
+  }
+
+  const CliRun wrong_p =
+      run({"calibrate", "--code", "lammps-viscoelastic", "--p", "1", "--e", "0.5"});
+  EXPECT_EQ(wrong_p.code, 2);
+  EXPECT_EQ(wrong_p.err,
+            "error: lammps-viscoelastic is a hertz model: p must be 1.5 (got --p 1)\n");
+}
+
+// --damping-exponent on solve: stated as the seed's (p − 1)/2 it calibrates --e to the closed
+// form's α (through the reference solve), and out of [0, p] it is refused.
+TEST(Cli, SolveTakesADampingExponent) {
+  const CliRun stated =
+      run({"solve", "--solver", "taylor", "--p", "2", "--e", "0.4", "--damping-exponent", "0.5",
+           "--v0", "1", "--precision", "quad", "--json"});
+  ASSERT_EQ(stated.code, 0) << stated.err;
+  const CliRun seed = run({"solve", "--solver", "taylor", "--p", "2", "--e", "0.4", "--v0", "1",
+                           "--precision", "quad", "--json"});
+  ASSERT_EQ(seed.code, 0) << seed.err;
+  const auto a = nlohmann::json::parse(stated.out), b = nlohmann::json::parse(seed.out);
+  EXPECT_EQ(a["damping_exponent"].get<double>(), 0.5);
+  EXPECT_EQ(b["damping_exponent"].get<double>(), 0.5);
+  EXPECT_NEAR(a["alpha"].get<double>(), b["alpha"].get<double>(), 1e-15);
+  EXPECT_NEAR(a["e"].get<double>(), 0.4, 1e-16);
+  const CliRun refused = run({"solve", "--solver", "taylor", "--p", "1.5", "--e", "0.4",
+                              "--damping-exponent", "-0.5", "--v0", "1"});
+  EXPECT_EQ(refused.code, 2);
+  EXPECT_EQ(refused.err, "error: damping exponent must be in [0, p] = [0, 1.5] (got -0.5)\n");
+}
+
 TEST(Cli, CalibrateForACodeSaysWhatItGivesAndWhatToEnter) {
   const CliRun tsuji =
       run({"calibrate", "--code", "lammps-tsuji", "--p", "1.5", "--e", "0.5", "--json"});

@@ -80,6 +80,19 @@ int run_cli(int argc, const char* const* argv, std::ostream& out, std::ostream& 
                         "what a DEM code sets and really gives: " + analytic::convention_names());
   calibrate->add_flag("--limit-damping", calibrate_args.limit_damping,
                       "with --code: LAMMPS limit_damping / LIGGGHTS limitForce (force cap) on");
+  calibrate->add_option(
+      "--v0", calibrate_args.v0,
+      "with a velocity-dependent --code: the speed at which e is set (default 1)");
+  calibrate->add_option("--m", calibrate_args.m, "reduced mass > 0 (default 1)");
+  calibrate->add_option("--k", calibrate_args.k, "stiffness > 0 (default 1)");
+  calibrate
+      ->add_option("--speeds", calibrate_args.speeds,
+                   "with a velocity-dependent --code: the speeds of the e(v0) curve "
+                   "(default v0/10, v0, 10 v0)")
+      ->delimiter(',');
+  calibrate->add_option("--reff", calibrate_args.reff,
+                        "with a velocity-dependent --code: LAMMPS's effective radius Reff "
+                        "(default 1)");
 
   ContactArgs observables_args;
   CLI::App* observables = app.add_subcommand("observables", "every closed-form observable");

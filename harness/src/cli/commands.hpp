@@ -22,6 +22,10 @@ struct ContactArgs {
   std::optional<std::string> damping_exponent; // β of δ^β δ' (MATH.md §12); none: (p − 1)/2
   std::optional<std::string> code;             // calibrate: a DEM code's convention
   bool limit_damping = false;                  // calibrate --code: its optional force cap on
+  // calibrate --code for a velocity-dependent model (MATH.md §12.4): where e(v0) is asked, and
+  // the effective radius that LAMMPS's damping entry is divided by.
+  std::vector<std::string> speeds;
+  std::string reff = "1";
 };
 
 // `pldamp solve`: the contact options plus the solver's.

@@ -1,10 +1,14 @@
 #include "cli/contact_args.hpp"
+#include "truth/reference_solve.hpp"
 
 #include "pldamp/analytic.hpp"
 
 #include <fmt/format.h>
 
+#include <cmath>
 #include <sstream>
+#include <string_view>
+#include <vector>
 
 namespace pldamp::harness {
 
@@ -15,7 +19,8 @@ namespace {
 void calibrate_for_code(const ContactArgs& args, std::ostream& out) {
   const analytic::Convention* convention = analytic::find_convention(*args.code);
   if (convention == nullptr) {
-    throw InputError("unknown --code, expected " + analytic::convention_names() + " (got " +
+    throw InputError("unknown --code, expected " + analytic::convention_names() +
+                     "|lammps-viscoelastic|lammps-hertz-history|lammps-mass-velocity (got " +
                      *args.code + ")");
   }
   if (args.limit_damping && convention->cap != analytic::Cap::optional) {
@@ -53,6 +58,117 @@ void calibrate_for_code(const ContactArgs& args, std::ostream& out) {
   });
 }
 
+// The velocity-dependent models of LAMMPS (MATH.md §12.4): a dashpot δ^β δ' with β ≠ (p−1)/2,
+// so that e depends on the impact speed. Read from LAMMPS's sources (adapters/lammps quotes the
+// statements; tests/adapters/lammps_test.py checks the reading against the installed binary).
+struct VelocityDependentCode {
+  std::string_view name;
+  double p; // 0: the model has p = 1 and 3/2, --p chooses
+  double beta;
+  bool divided_by_radius; // the entry is α √(k/m) / √Reff, else α √(k/m)
+  std::string_view parameter, source;
+};
+constexpr VelocityDependentCode velocity_dependent_codes[] = {
+    {"lammps-viscoelastic", 1.5, 0.5, true,
+     "damp of pair_coeff ... hertz kn damping viscoelastic damp (kn = k/sqrt(Reff))",
+     "LAMMPS src/GRANULAR/pair_granular.cpp: damp_normal = a*meff with a = sqrt(delta*Reff), "
+     "Fdamp = -damp*damp_normal*vnnr: c = damp m sqrt(Reff) delta^(1/2)"},
+    {"lammps-hertz-history", 1.5, 0.5, true,
+     "gamman of pair_style gran/hertz/history kn kt gamman ... (kn = k/sqrt(Reff))",
+     "LAMMPS src/GRANULAR/pair_gran_hertz_history.cpp: damp = meff*gamman*vnnr*rsqinv, "
+     "ccel = kn*(radsum-r)*rinv - damp, ccel *= polyhertz = sqrt(delta*Reff)"},
+    {"lammps-mass-velocity", 0, 0, false,
+     "damp of pair_coeff ... hooke|hertz kn damping mass_velocity damp",
+     "LAMMPS src/GRANULAR/pair_granular.cpp: damp_normal = meff, Fdamp = "
+     "-damp*damp_normal*vnnr: c = damp m, beta = 0 (the seed's only at p = 1)"},
+};
+
+const VelocityDependentCode* find_velocity_dependent(std::string_view name) {
+  for (const VelocityDependentCode& code : velocity_dependent_codes) {
+    if (code.name == name) {
+      return &code;
+    }
+  }
+  return nullptr;
+}
+
+// `calibrate --code` for a velocity-dependent model: the α (and the code's entry) that gives e at
+// the speed --v0, and the e the same α gives at other speeds (the reference solve, float128).
+void calibrate_velocity_dependent(const ContactArgs& args, const VelocityDependentCode& code,
+                                  std::ostream& out) {
+  if (args.precision != "double") {
+    throw InputError("a velocity-dependent --code is calibrated on the float128 reference and "
+                     "answers in double (got --precision " +
+                     args.precision + ")");
+  }
+  const double p = parse_real<double>("--p", args.p);
+  if (code.p == 0 && p != 1 && p != 1.5) {
+    throw InputError(std::string(code.name) + " has a hooke (p = 1) and a hertz (p = 1.5) model: " +
+                     "p must be 1 or 1.5 (got --p " + args.p + ")");
+  }
+  if (code.p != 0 && p != code.p) {
+    throw InputError(std::string(code.name) + " is a hertz model: p must be 1.5 (got --p " +
+                     args.p + ")");
+  }
+  const double e = parse_real<double>("--e", *args.e);
+  require_finite("e", e);
+  require(e > 0 && e <= 1, "e must be in (0, 1]", e);
+  const double v0 = parse_real<double>("--v0", args.v0), m = parse_real<double>("--m", args.m),
+               k = parse_real<double>("--k", args.k),
+               reff = parse_real<double>("--reff", args.reff);
+  domain::require_scale("v0", v0);
+  domain::require_scale("m", m);
+  domain::require_scale("k", k);
+  domain::require_scale("Reff", reff);
+  std::vector<double> speeds{v0 / 10, v0, 10 * v0};
+  if (!args.speeds.empty()) {
+    speeds.clear();
+    for (const std::string& speed : args.speeds) {
+      speeds.push_back(parse_real<double>("--speeds", speed));
+      domain::require_scale("speed", speeds.back());
+    }
+  }
+  const solvers::End end = args.limit_damping ? solvers::End::force : solvers::End::overlap;
+  auto overlap_scale = [&](double speed) {
+    return exp(log((Exact(p) + 1) / 2 * Exact(m) * Exact(speed) * Exact(speed) / Exact(k)) /
+               (Exact(p) + 1));
+  };
+  const std::optional<Exact> group = group_for_e(p, code.beta, e, end);
+  if (!group) {
+    throw InputError(
+        fmt::format("no damping gives e = {} with {} (got --e {})", *args.e, code.name, *args.e));
+  }
+  const Exact alpha = alpha_of(p, code.beta, *group, overlap_scale(v0));
+  const double entry = static_cast<double>(alpha * sqrt(Exact(k) / Exact(m)) /
+                                           (code.divided_by_radius ? sqrt(Exact(reff)) : Exact(1)));
+  Answer o;
+  o["code"] = code.name;
+  o["end"] = end == solvers::End::force ? "force" : "overlap";
+  o["p"] = exact_number(p);
+  o["damping_exponent"] = exact_number(code.beta);
+  o["e"] = exact_number(e);
+  o["v0"] = exact_number(v0);
+  o["alpha"] = exact_number(static_cast<double>(alpha));
+  o["alpha_eff"] = exact_number(static_cast<double>(*group));
+  o["entry"] = exact_number(entry);
+  o["entry_is"] = code.parameter;
+  Answer curve = Answer::array();
+  for (const double speed : speeds) {
+    const Exact at = group_of(p, code.beta, alpha, overlap_scale(speed));
+    const solvers::Result<Exact>& truth = reference_solve(p, code.beta, at, end);
+    if (solvers::failing(truth.outcome)) {
+      throw InputError(fmt::format("the reference solve at v0 = {} ended {} (got --speeds)", speed,
+                                   solvers::outcome_name(truth.outcome)));
+    }
+    curve.push_back({{"v0", exact_number(speed)},
+                     {"alpha_eff", exact_number(static_cast<double>(at))},
+                     {"e", exact_number(static_cast<double>(truth.e.value_or(Exact(0))))}});
+  }
+  o["e_of_v0"] = curve;
+  o["source"] = code.source;
+  emit(o, args.json, out);
+}
+
 } // namespace
 
 void run_calibrate(const ContactArgs& args, std::ostream& out) {
@@ -60,6 +176,11 @@ void run_calibrate(const ContactArgs& args, std::ostream& out) {
     throw InputError("calibrate needs --e (got nothing)");
   }
   if (args.code) {
+    if (const VelocityDependentCode* code = find_velocity_dependent(*args.code)) {
+      calibrate_velocity_dependent(args, *code, out);
+      return;
+    }
+
     calibrate_for_code(args, out);
     return;
   }
