@@ -6,6 +6,7 @@
 #include "pldamp/solvers/registry.hpp"
 
 #include <map>
+#include <set>
 
 #include <gtest/gtest.h>
 
@@ -122,6 +123,60 @@ rtol = 1e-6
   // The closed forms' cost per cell in double: measured, about a microsecond.
   EXPECT_GT(plan.points[1].analytic_seconds, 0.0);
   EXPECT_LT(plan.points[1].analytic_seconds, 1e-4);
+}
+
+} // namespace
+} // namespace pldamp::harness
+
+namespace pldamp::harness {
+namespace {
+
+// A scene beyond the seed (MATH.md §12): the truth of each point is the float128 reference solve,
+// scaled to every cell; a target e is met on it; each truth carries its error estimate; and the
+// solvers run the stated exponent (taylor in double within 1e-13 of the truth at three speeds).
+TEST(Plan, BeyondTheSeedTheTruthIsTheReferenceSolveScaledToEveryCell) {
+  const Plan plan =
+      make_plan(load_scene(write_file("beyond.toml", R"(want = ["e", "delta_max", "tau"]
+[grid]
+p = 1.5
+damping_exponent = 0.5
+e = [0.5]
+alpha_eff = [0.2]
+v0 = [0.01, 1.0, 100.0]
+m = [2.0]
+[[solver]]
+name = "taylor"
+)")));
+  ASSERT_EQ(plan.points.size(), 2u);
+  for (const Point& point : plan.points) {
+    EXPECT_TRUE(point.solved);
+    EXPECT_EQ(point.beta, 0.5);
+    EXPECT_TRUE(point.no_truth.empty()) << point.no_truth;
+    ASSERT_EQ(point.truth_error.size(), plan.observables.size());
+    for (const std::optional<double>& estimate : point.truth_error) {
+      ASSERT_TRUE(estimate.has_value());
+      EXPECT_LT(*estimate, 1e-30);
+    }
+  }
+  // The target e is met by the reference solve, at every speed (α differs per cell).
+  const SolverConfig& taylor = plan.configs.front();
+  std::set<double> alphas;
+  for (const Cell& cell : plan.cells) {
+    alphas.insert(static_cast<double>(cell.alpha));
+    if (cell.point == 0) {
+      EXPECT_LT(abs(*reference_at(plan, cell, 0, taylor) - Exact(1) / 2), Exact(1e-32));
+    }
+  }
+  EXPECT_EQ(alphas.size(), plan.cells.size());
+  RunTotals totals;
+  const std::vector<Record> records = run_plan(plan, 2, totals);
+  for (const Record& record : records) {
+    ASSERT_FALSE(record.failed()) << record.failure;
+    for (std::size_t o = 0; o < plan.observables.size(); ++o) {
+      ASSERT_TRUE(record.rel_error[o].has_value());
+      EXPECT_LT(*record.rel_error[o], 1e-13) << plan.observables[o]->key;
+    }
+  }
 }
 
 } // namespace

@@ -145,7 +145,14 @@ v0 = [1.0]
       {"name = \"t\"\n[grid\n", "2: Error while parsing table header: expected ']', saw '\\n'"},
       {valid_scene + "[[figure]]\nkind = \"fig7\"\nsolver = \"arkode-dp5\"\n",
        "11: unknown figure, expected alpha_vs_e|force_history|delta_max_vs_e|tau_ratio|"
-       "phase_portrait|f_of_p (got fig7)"},
+       "phase_portrait|f_of_p|restitution_approximations (got fig7)"},
+      {"[grid]\np = [1.0, 2.0]\ndamping_exponent = 1.5\ne = 0.5\nv0 = 1.0\n",
+       "3: damping exponent must be in [0, p] = [0, 1] (got 1.5) at p = 1"},
+      {"[grid]\np = 1.5\ndamping_exponent = [0.25, 0.5]\ne = 0.5\nv0 = 1.0\n",
+       "3: damping_exponent must be one number, as a scene's maps are p x damping (got 2 values)"},
+      {valid_scene + "[[figure]]\nkind = \"restitution_approximations\"\np = 1.5\n"
+                     "alpha_eff = [1.0, 0.1]\n",
+       "13: alpha_eff must be [from, to] with 0 < from < to <= 10"},
       {valid_scene + "[[figure]]\nkind = \"tau_ratio\"\nsolver = \"arkode-dp5\"\nrtol = 1e-8\n"
                      "p = [1.5]\nalpha_eff = [0.5, 1.0]\n",
        "15: alpha_eff must be in [0, 1) (a return) (got 1)"},

@@ -14,6 +14,7 @@
 #include "support.hpp"
 
 #include "pldamp/analytic.hpp"
+#include "pldamp/analytic/viscoelastic.hpp"
 #include "pldamp/solvers/registry.hpp"
 
 #include <gtest/gtest.h>
@@ -243,6 +244,40 @@ TEST(BeyondTheSeed, DemVerletConvergesToTheReference) {
     EXPECT_LT(errors[0] / errors[1], 40) << b.p << " " << b.beta << " " << b.alpha;
   }
 }
+
+} // namespace
+} // namespace pldamp::solvers
+
+namespace pldamp::solvers {
+namespace {
+
+#if PLDAMP_WITH_QUAD
+// The 1999 series' coefficients from the truth at small speeds (MATH.md §12.5): with
+// X = √5 (4/5)^(1/10) α_eff, f(X) = (1 − e)/X = C1 − C2 X + O(X²). Richardson on X and 2X
+// removes the C2 term: C1 = 2 f(X) − f(2X) + O(X²); and (f(X) − C1)/X = −C2 + O(X) likewise.
+TEST(BeyondTheSeed, ReproducesTheLeadingCoefficientsOfRamirez1999) {
+  auto f = [](const quad& alpha_eff) {
+    const quad delta_u = pow(quad(5) / 4, quad(2) / 5); // m = k = v0 = 1
+    const quad alpha = alpha_eff * sqrt(quad(5)) / pow(delta_u, quad(1) / 4);
+    const Result<quad> r = solve("taylor", Problem<quad>{quad(3) / 2, 1, 1, 1, alpha, quad(1) / 2},
+                                 at_epsilon<quad>());
+    const quad x = analytic::viscoelastic_variable(alpha_eff);
+    return (1 - *r.e) / x;
+  };
+  const quad small = quad(1) / 100000000; // α_eff = 1e-8
+  const quad c1 = 2 * f(small) - f(2 * small);
+  EXPECT_LT(relative_error(c1, analytic::ramirez_c1<quad>()), 1e-12);
+  // g(X) = (f(X) − C1)/X = −C2 + O(X), by Richardson again at α_eff = 1e-4.
+  auto g = [&](const quad& alpha_eff) {
+    return (f(alpha_eff) - analytic::ramirez_c1<quad>()) /
+           analytic::viscoelastic_variable(alpha_eff);
+  };
+  const quad moderate = quad(1) / 10000;
+  const quad c2 = -(2 * g(moderate) - g(2 * moderate));
+  EXPECT_LT(relative_error(c2, analytic::ramirez_c2<quad>()), 1e-6);
+  RecordProperty("C1", pldamp::testing::scientific(static_cast<double>(c1)));
+}
+#endif
 
 } // namespace
 } // namespace pldamp::solvers

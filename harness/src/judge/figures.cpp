@@ -1,8 +1,10 @@
 #include "judge/figures.hpp"
 
 #include "judge/solve.hpp"
+#include "truth/reference_solve.hpp"
 
 #include "pldamp/analytic.hpp"
+#include "pldamp/analytic/viscoelastic.hpp"
 #include "pldamp/solvers/registry.hpp"
 
 #include <fmt/format.h>
@@ -61,6 +63,10 @@ Figure figure(FigureKind kind, std::string title, std::string x, std::string y,
           {},
           0,
           std::move(deviation_of),
+          {},
+          false,
+          false,
+          {},
           {}};
 }
 
@@ -241,6 +247,87 @@ Figure f_of_p(const FigureSpec& spec) {
   return f;
 }
 
+// The longest run of consecutive x whose `holds` is true, as "from – to", or "nowhere".
+std::string longest_run(const std::vector<double>& x, const std::vector<bool>& holds) {
+  std::size_t best_from = 0, best_length = 0;
+  for (std::size_t i = 0; i < x.size();) {
+    if (!holds[i]) {
+      ++i;
+      continue;
+    }
+    std::size_t j = i;
+    while (j < x.size() && holds[j]) {
+      ++j;
+    }
+    if (j - i > best_length) {
+      best_from = i;
+      best_length = j - i;
+    }
+    i = j;
+  }
+  if (best_length == 0) {
+    return "nowhere";
+  }
+  return fmt::format("{:.3g} – {:.3g}", x[best_from], x[best_from + best_length - 1]);
+}
+
+// Viscoelastic Hertz: 1 − e of the reference solve and of each published approximation
+// (MATH.md §12.5) at 65 α_eff spaced evenly in log over the spec's range; the table gives each
+// approximation's largest relative error in e and where it stays within 1 % and 0.1 %.
+Figure restitution_approximations(const FigureSpec& spec) {
+  const double from = spec.alpha_eff[0], to = spec.alpha_eff[1];
+  const double p = 1.5, beta = 0.5;
+  Figure f = figure(FigureKind::restitution_approximations,
+                    "Viscoelastic Hertz (p = 3/2, β = 1/2): 1 − e against α_eff ∝ v0^(1/5)",
+                    "α_eff", "1 − e", "e (relative), the best approximation over the range");
+  f.log_x = f.log_y = true;
+  constexpr int intervals = 64;
+  std::vector<double> groups;
+  std::vector<Exact> truth;
+  Series reference{"reference solve (taylor, float128)", {}, false};
+  for (int i = 0; i <= intervals; ++i) {
+    const double group = from * std::pow(to / from, double(i) / intervals);
+    const solvers::Result<Exact>& r = reference_solve(p, beta, Exact(group), solvers::End::overlap);
+    if (solvers::failing(r.outcome) || !r.e || *r.e == 0) {
+      throw std::runtime_error(fmt::format("the reference solve at alpha_eff = {} ended {}", group,
+                                           solvers::outcome_name(r.outcome)));
+    }
+    groups.push_back(group);
+    truth.push_back(*r.e);
+    reference.points.emplace_back(group, static_cast<double>(1 - *r.e));
+  }
+  f.series.push_back(reference);
+  f.table_header = {"approximation", "largest relative error in e", "within 1 % for α_eff in",
+                    "within 0.1 % for α_eff in", "source"};
+  f.deviation = std::numeric_limits<double>::infinity();
+  for (const analytic::Approximation& approximation : analytic::published_approximations) {
+    Series line{std::string(approximation.name), {}, true};
+    double largest = 0;
+    std::vector<bool> percent, permille;
+    for (std::size_t i = 0; i < groups.size(); ++i) {
+      const double e = approximation.e(groups[i]);
+      const double error = std::isfinite(e)
+                               ? static_cast<double>(abs(Exact(e) - truth[i]) / truth[i])
+                               : std::numeric_limits<double>::infinity();
+      largest = std::max(largest, error);
+      percent.push_back(error <= 1e-2);
+      permille.push_back(error <= 1e-3);
+      if (std::isfinite(e) && e < 1) { // 1 − e ≤ 0 has no place on the log axis
+        line.points.emplace_back(groups[i], 1 - e);
+      }
+    }
+    f.deviation = std::min(f.deviation, largest);
+    f.series.push_back(line);
+    f.table_rows.push_back({std::string(approximation.name), fmt::format("{:.2g}", largest),
+                            longest_run(groups, percent), longest_run(groups, permille),
+                            std::string(approximation.source)});
+  }
+  if (f.table_rows.empty()) {
+    f.deviation = 0;
+  }
+  return f;
+}
+
 Figure make_figure(const FigureSpec& spec) {
   switch (spec.kind) {
   case FigureKind::alpha_vs_e:
@@ -253,6 +340,8 @@ Figure make_figure(const FigureSpec& spec) {
     return tau_ratio(spec);
   case FigureKind::phase_portrait:
     return phase_portrait(spec);
+  case FigureKind::restitution_approximations:
+    return restitution_approximations(spec);
   case FigureKind::f_of_p:
     break;
   }
@@ -269,7 +358,7 @@ std::vector<Figure> make_figures(const Scene& scene) {
       figure = make_figure(spec);
     } catch (const std::exception& e) {
       const std::string kind(name_of(figure_kinds, spec.kind));
-      figure = Figure{kind, kind, "", "", {}, 0, "", e.what()};
+      figure = Figure{kind, kind, "", "", {}, 0, "", e.what(), false, false, {}, {}};
     }
     figure.title += " (" + spec.config.label() + ")";
     figures.push_back(std::move(figure));

@@ -8,6 +8,11 @@
 //                   first order 1 + s·α_eff, s measured on the closed form (MATH.md §3)
 //   phase_portrait  Fig. 5: v/v0 against δ/δ_max(e) at p (first of the list), per e
 //   f_of_p          Fig. 6: α/ξ_L by bisection at e (first of the list) against √(2(p+1))
+//   restitution_approximations
+//                   not the seed's: 1 − e of viscoelastic Hertz (p = 3/2, β = ½) against α_eff,
+//                   the reference solve (MATH.md §12.2) and the published approximations
+//                   (§12.5), with a table of each one's largest error and the range of α_eff
+//                   in which it stays within 1 % and 0.1 %
 #pragma once
 
 #include "scene/scene.hpp"
@@ -33,6 +38,10 @@ struct Figure {
   std::string deviation_of;
   std::string failure; // not empty: the figure could not be drawn, and why
   bool log_y = false;  // Fig. 4: ratios from 1 to ~15, its first orders visible near 1
+  bool log_x = false;  // restitution_approximations: α_eff over decades
+  // A table shown under the figure (restitution_approximations: each approximation's errors).
+  std::vector<std::string> table_header;
+  std::vector<std::vector<std::string>> table_rows;
 };
 
 // Computes every figure of the scene (double precision, the figure's solver configuration). A

@@ -364,7 +364,8 @@ std::string figure_plot(const Gnuplot& gnuplot, const Figure& figure) {
   // The legend below the plot, as on the work-precision plots: a figure of five p and their
   // first orders has 16 entries, which beside the plot squeezed its axes to a third.
   script << "set grid\nset key outside below left Left reverse maxcols 2 noenhanced\n"
-         << (figure.log_y ? "set logscale y\nset autoscale yfix\n" : "") << "set title "
+         << (figure.log_y ? "set logscale y\nset autoscale yfix\n" : "")
+         << (figure.log_x ? "set logscale x\nset format x '%.0e'\n" : "") << "set title "
          << gnuplot_string(figure.title) << " noenhanced\nset xlabel "
          << gnuplot_string(figure.x_label) << " noenhanced\nset ylabel "
          << gnuplot_string(figure.y_label) << " noenhanced\n";
@@ -606,8 +607,11 @@ std::string report_html(const RunReport& report, const std::string& gnuplot_prog
       out << "<div id='fig-" << escape(figure.kind) << "'>"
           << figure_html(figure_plot(gnuplot, figure), "largest deviation " +
                                                            short_number(figure.deviation) + " in " +
-                                                           escape(figure.deviation_of))
-          << "</div>\n";
+                                                           escape(figure.deviation_of));
+      if (!figure.table_header.empty()) {
+        out << html_table(MapTable{figure.table_header, figure.table_rows}, "wrap");
+      }
+      out << "</div>\n";
     }
   }
   out << "<p>Every configuration's maps and each record are in report.json and report.csv.</p>\n"

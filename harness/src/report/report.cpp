@@ -259,6 +259,9 @@ ordered_json report_json(const RunReport& report) {
   }
   scene["grid"] = {
       {"p", plan.scene.p}, {"v0", plan.scene.v0}, {"m", plan.scene.m}, {"k", plan.scene.k}};
+  if (!plan.scene.damping_exponent.empty()) {
+    scene["grid"]["damping_exponent"] = plan.scene.damping_exponent.front();
+  }
   for (const Point& point : plan.points) {
     if (point.p == plan.scene.p.front()) {
       scene["grid"]["damping"].push_back({{"label", point.damping.label()},
@@ -451,11 +454,24 @@ ordered_json report_json(const RunReport& report) {
     }
     analytic.push_back({{"p", point.p},
                         {"damping", point.damping.label()},
-                        {"alpha_eff", point.alpha_eff},
+                        {"alpha_eff", number_or_null(point.alpha_eff)},
                         {"max_rel", errors},
                         {"not_representable", not_representable(plan, point)},
                         {"log_rel", logs},
                         {"seconds", point.analytic_seconds}});
+    if (point.solved) {
+      // MATH.md §12.2: no closed form; the truth is the float128 reference solve, and this its
+      // own error estimate (the same solve in 50 digits), per observable.
+      ordered_json estimate = ordered_json::object();
+      for (std::size_t o = 0; o < plan.observables.size() && o < point.truth_error.size(); ++o) {
+        estimate[plan.observables[o]->key] = number_or_null(point.truth_error[o]);
+      }
+      analytic.back()["truth"] = "reference solve";
+      analytic.back()["truth_error"] = estimate;
+      if (!point.no_truth.empty()) {
+        analytic.back()["no_truth"] = point.no_truth;
+      }
+    }
   }
   out["budgets"] = {{"points_order", "p-major: point = p index × dampings + damping index"},
                     {"worst", worst},
@@ -541,6 +557,17 @@ ordered_json report_json(const RunReport& report) {
                        {"series", series}});
     if (!figure.failure.empty()) {
       figures.back()["failure"] = figure.failure;
+    }
+    if (!figure.table_header.empty()) {
+      ordered_json rows = ordered_json::array();
+      for (const std::vector<std::string>& row : figure.table_rows) {
+        ordered_json entry = ordered_json::object();
+        for (std::size_t i = 0; i < row.size() && i < figure.table_header.size(); ++i) {
+          entry[figure.table_header[i]] = row[i];
+        }
+        rows.push_back(entry);
+      }
+      figures.back()["table"] = rows;
     }
   }
   out["figures"] = figures;
@@ -911,6 +938,14 @@ std::string report_markdown(const RunReport& report) {
           << (figure.failure.empty() ? short_number(figure.deviation) + " in " + figure.deviation_of
                                      : "failed: " + figure.failure)
           << " |\n";
+    }
+    for (const Figure& figure : report.figures) {
+      if (figure.table_header.empty()) {
+        continue;
+      }
+      out << "\n"
+          << figure.title << "\n\n"
+          << markdown_table(MapTable{figure.table_header, figure.table_rows});
     }
   }
   if (budgets.failed_records > 0) {

@@ -1001,6 +1001,30 @@ void read_figures(const Reader& reader, const toml::node& node, Scene& scene) {
                   "unknown figure, expected " + names_of(figure_kinds) + " (got " + kind + ")");
     }
     figure.kind = *known;
+    if (figure.kind == FigureKind::restitution_approximations) {
+      // The published approximations of viscoelastic Hertz against the truth, which is the
+      // reference solve (taylor in float128, MATH.md §12.2) over alpha_eff = [from, to].
+      reader.only(entry, {"kind", "p", "alpha_eff"}, "[[figure]] restitution_approximations");
+      const toml::node* ps = entry.get("p");
+      const toml::node* range = entry.get("alpha_eff");
+      if (ps == nullptr || range == nullptr) {
+        reader.fail(item, "[[figure]] restitution_approximations needs p = 1.5 and alpha_eff = "
+                          "[from, to]");
+      }
+      figure.p = reader.numbers(*ps, "p");
+      reader.require(figure.p == std::vector<double>{1.5}, *ps,
+                     "the published approximations are of viscoelastic Hertz: p must be 1.5",
+                     figure.p.front());
+      figure.alpha_eff = reader.numbers(*range, "alpha_eff");
+      if (figure.alpha_eff.size() != 2 || !(figure.alpha_eff[0] > 0) ||
+          !(figure.alpha_eff[0] < figure.alpha_eff[1]) || !(figure.alpha_eff[1] <= 10)) {
+        reader.fail(*range, "alpha_eff must be [from, to] with 0 < from < to <= 10");
+      }
+      figure.config.name = "taylor";
+      figure.config.precision = std::string(precision_name<NarrowestWithDigits10<30>>());
+      scene.figures.push_back(figure);
+      continue;
+    }
     figure.config = base_config(reader, entry, "solver", "[[figure]]", item);
     if (solvers::solver_named(figure.config.name).fixed_step) {
       figure.config.steps_per_contact = 50;
@@ -1056,6 +1080,12 @@ void read_grid(const Reader& reader, const toml::node& node, Scene& scene) {
   scene.damping = lists.damping;
   if (const toml::node* at = grid.get("damping_exponent")) {
     scene.damping_exponent = reader.numbers(*at, "damping_exponent");
+    // One per scene: the maps and tables of a report are p × damping.
+    if (scene.damping_exponent.size() != 1) {
+      reader.fail(*at,
+                  "damping_exponent must be one number, as a scene's maps are p x damping (got " +
+                      std::to_string(scene.damping_exponent.size()) + " values)");
+    }
     for (const double beta : scene.damping_exponent) {
       for (const double p : scene.p) {
         try {

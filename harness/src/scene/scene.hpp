@@ -222,15 +222,17 @@ enum class FigureKind {
   delta_max_vs_e,
   tau_ratio,
   phase_portrait,
-  f_of_p
+  f_of_p,
+  restitution_approximations
 };
-inline constexpr NameTable<FigureKind, 6> figure_kinds{
+inline constexpr NameTable<FigureKind, 7> figure_kinds{
     {{FigureKind::alpha_vs_e, "alpha_vs_e"},
      {FigureKind::force_history, "force_history"},
      {FigureKind::delta_max_vs_e, "delta_max_vs_e"},
      {FigureKind::tau_ratio, "tau_ratio"},
      {FigureKind::phase_portrait, "phase_portrait"},
-     {FigureKind::f_of_p, "f_of_p"}}};
+     {FigureKind::f_of_p, "f_of_p"},
+     {FigureKind::restitution_approximations, "restitution_approximations"}}};
 
 // A figure of the seed: its kind, the solver behind its points, its lists.
 struct FigureSpec {
@@ -271,7 +273,7 @@ struct Scene {
   unsigned want = solvers::want_all;
   std::vector<double> p, v0, m, k;
   std::vector<Damping> damping;
-  // β of the dashpot δ^β δ' (MATH.md §12); empty: the seed's (p − 1)/2.
+  // β of the dashpot δ^β δ' (MATH.md §12), at most one; empty: the seed's (p − 1)/2.
   std::vector<double> damping_exponent;
   std::vector<SolverConfig> configs; // every sweep expanded, in file order
   std::vector<Claim> claims;
