@@ -192,6 +192,58 @@ TEST(EndToEnd, DemSceneGivesTheTableADemUserQuotes) {
   EXPECT_NE(md.str().find("## Time-step study"), std::string::npos);
 }
 
+// Beyond the seed (MATH.md §12): every record judged against the reference solve, whose own error
+// estimates (float128 against 50 digits) are in the report; the approximations' table, with the
+// first-order series good to 1 % only at small α_eff; the DEM loops first order on this contact.
+TEST(EndToEnd, ViscoelasticSceneJudgesEverythingAgainstTheReferenceSolve) {
+  const fs::path out = scratch() / "viscoelastic";
+  fs::remove_all(out);
+  const CliRun r = run(
+      {"run", std::string(PLDAMP_DATA_DIR) + "/scenes/viscoelastic.toml", "--out", out.string()});
+  ASSERT_EQ(r.code, 0) << r.err;
+  std::ifstream json_file(out / "report.json");
+  const nlohmann::json report = nlohmann::json::parse(json_file);
+  EXPECT_EQ(report["totals"]["failed_records"], 0);
+  EXPECT_EQ(report["scene"]["grid"]["damping_exponent"], 0.5);
+  for (const auto& point : report["budgets"]["analytic_double"]) {
+    EXPECT_EQ(point["truth"], "reference solve");
+    for (const auto& [key, estimate] : point["truth_error"].items()) {
+      ASSERT_FALSE(estimate.is_null()) << key;
+      EXPECT_LT(estimate.get<double>(), 1e-30) << key;
+    }
+  }
+  for (const auto& record : report["records"]) {
+    EXPECT_FALSE(record["rel_error"]["e"].is_null()) << record["key"];
+  }
+  std::map<std::string, nlohmann::json> claims;
+  for (const auto& claim : report["claims"]) {
+    claims[claim["name"].get<std::string>()] = claim;
+  }
+  EXPECT_EQ(claims.at("taylor in double meets 1e-13 against the reference solve")["verdict"],
+            "holds");
+  const nlohmann::json* figure = nullptr;
+  for (const auto& f : report["figures"]) {
+    if (f["kind"] == "restitution_approximations") {
+      figure = &f;
+    }
+  }
+  ASSERT_NE(figure, nullptr);
+  ASSERT_TRUE(figure->contains("table")) << figure->dump();
+  const auto& first = (*figure)["table"][0];
+  EXPECT_EQ(first["approximation"], "Ramírez 1999, first order");
+  EXPECT_EQ(first["within 1 % for α_eff in"].get<std::string>().rfind("0.0001 – ", 0), 0u);
+  EXPECT_EQ((*figure)["series"].size(), 3u); // the truth and two approximations
+  for (const auto& sweep : report["budgets"]["step_study"]["sweeps"]) {
+    if (sweep["line"].get<std::string>().rfind("dem-", 0) == 0) {
+      EXPECT_NEAR(sweep["per_p"][0]["order_e"].get<double>(), 1.0, 0.06) << sweep["line"];
+    }
+  }
+  std::ifstream html_file(out / "report.html");
+  std::stringstream html;
+  html << html_file.rdbuf();
+  EXPECT_NE(html.str().find("fig-restitution_approximations"), std::string::npos);
+}
+
 extern "C" void ignore_signal(int) {}
 
 TEST(EndToEnd, ASignalStopsTheRunWithinASecondAndLeavesThePreviousReport) {

@@ -55,13 +55,14 @@ std::string record_key(const Plan& plan, const Record& record) {
 
 namespace {
 
-// The damping points' columns: underdamped by α_eff, then overdamped (the sinh branch) apart.
+// The damping points' columns: returning contacts by α_eff, then those that do not return (the
+// seed's sinh branch) apart.
 std::vector<std::size_t> damping_columns(const Plan& plan) {
   std::vector<std::size_t> columns(plan.scene.damping.size());
   std::iota(columns.begin(), columns.end(), 0);
   const auto alpha_eff = [&](std::size_t d) { return plan.points[d].alpha_eff; };
   std::stable_sort(columns.begin(), columns.end(), [&](std::size_t a, std::size_t b) {
-    const bool over_a = alpha_eff(a) >= 1, over_b = alpha_eff(b) >= 1;
+    const bool over_a = plan.points[a].overdamped, over_b = plan.points[b].overdamped;
     return over_a != over_b ? !over_a : alpha_eff(a) < alpha_eff(b);
   });
   return columns;
@@ -72,7 +73,8 @@ std::vector<std::size_t> damping_columns(const Plan& plan) {
 MapTable map_table(const Plan& plan, const std::function<std::string(std::size_t point)>& cell) {
   const std::vector<std::size_t> columns = damping_columns(plan);
   const std::size_t dampings = plan.scene.damping.size();
-  const auto overdamped = [&](std::size_t d) { return plan.points[d].alpha_eff >= 1; };
+  // No return (α_eff ≥ 1 for the seed's dashpot; beyond it, what the reference solve found).
+  const auto overdamped = [&](std::size_t d) { return plan.points[d].overdamped; };
   const auto starts_overdamped = [&](std::size_t c) {
     return overdamped(columns[c]) && (c == 0 || !overdamped(columns[c - 1]));
   };
