@@ -65,7 +65,7 @@ test)
   ctest --test-dir build -j "$(nproc)" --output-on-failure
   echo "== the nightly gate of docs/ci.md on two checkouts, one with an injected regression"
   # A is build/; B, a clone of HEAD with one line of odeint.cpp changed, builds its pldamp in a
-  # temporary directory (about 3 minutes on 2 cores, most of this step).
+  # temporary directory at -O0 (about 2.5 minutes on 2 cores, most of this step; -O2 took 3.3).
   scripts/ci_gate_test.sh build
   echo "== reference table regenerates bit for bit"
   build/data/pldamp-generate-reference build/analytic.csv

@@ -148,9 +148,10 @@ TEST(Cli, CalibrateAVelocityDependentCodeAndItsRestitutionAtOtherSpeeds) {
   ASSERT_EQ(linear.code, 0) << linear.err;
   const CliRun closed = run({"calibrate", "--p", "1", "--e", "0.3", "--json"});
   ASSERT_EQ(closed.code, 0) << closed.err;
-  EXPECT_NEAR(nlohmann::json::parse(linear.out)["alpha"].get<double>(),
+  const auto linear_json = nlohmann::json::parse(linear.out); // outlives the loop below
+  EXPECT_NEAR(linear_json["alpha"].get<double>(),
               nlohmann::json::parse(closed.out)["alpha"].get<double>(), 1e-15);
-  for (const auto& point : nlohmann::json::parse(linear.out)["e_of_v0"]) {
+  for (const auto& point : linear_json["e_of_v0"]) {
     EXPECT_NEAR(point["e"].get<double>(), 0.3, 1e-15); // the seed's e does not depend on v0
   }
 
