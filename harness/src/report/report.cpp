@@ -733,7 +733,7 @@ MapTable trajectory_table(const RunReport& report) {
 MapTable external_table(const RunReport& report) {
   const Plan& plan = report.plan;
   MapTable table{{"external solver", "program", "says of itself", "run", "skipped", "failed",
-                  "without truth", "largest difference from its replica"},
+                  "truth of its own dashpot", "largest difference from its replica"},
                  {}};
   struct Row {
     long run = 0, failed = 0;
