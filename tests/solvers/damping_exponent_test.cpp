@@ -20,6 +20,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 #include <optional>
@@ -277,7 +278,75 @@ TEST(BeyondTheSeed, ReproducesTheLeadingCoefficientsOfRamirez1999) {
   EXPECT_LT(relative_error(c2, analytic::ramirez_c2<quad>()), 1e-6);
   RecordProperty("C1", pldamp::testing::scientific(static_cast<double>(c1)));
 }
+
+// e by the reference solve at α_eff (m = k = v0 = 1) with the contact ending at `end`, the truth
+// of MATH.md §12.5.
+quad viscoelastic_restitution(const quad& alpha_eff, End end) {
+  const quad delta_u = pow(quad(5) / 4, quad(2) / 5);
+  const quad alpha = alpha_eff * sqrt(quad(5)) / pow(delta_u, quad(1) / 4);
+  const Result<quad> r = solve("taylor", Problem<quad>{quad(3) / 2, 1, 1, 1, alpha, quad(1) / 2},
+                               at_epsilon<quad>(end));
+  return *r.e;
+}
+
+// The 2011 Padé is of the contact that ends at F = 0 (MATH.md §12.5). Against that truth its error
+// up to α_eff = 0.1 is the rounding of its six printed digits, ~3e-6 X (measured 6.4e-8 at
+// α_eff = 0.01), and it stays within 2.0e-3 up to α_eff = 1. Against the truth that ends at δ = 0
+// it is 300 times worse already at α_eff = 0.01 (1.9e-5): the ends part at order X^(5/2).
+TEST(BeyondTheSeed, MullerPoschelPadeFollowsTheForceEndTruth) {
+  double largest = 0;
+  for (const char* alpha_eff : {"1e-4", "1e-3", "1e-2", "0.1", "0.3", "1"}) {
+    const quad z(alpha_eff);
+    const quad pade = analytic::muller_poschel_2011_pade(z);
+    const quad truth = viscoelastic_restitution(z, End::force);
+    largest = std::max(largest, relative_error(pade, truth));
+    if (z <= quad(1) / 10) {
+      EXPECT_LT(abs(pade - truth), 1e-5 * analytic::viscoelastic_variable(z)) << alpha_eff;
+    }
+    if (z == quad(1) / 100) {
+      EXPECT_GT(relative_error(pade, viscoelastic_restitution(z, End::overlap)), 1e-5);
+    }
+  }
+  EXPECT_LT(largest, 3e-3);
+  RecordProperty("largest", pldamp::testing::scientific(largest));
+}
 #endif
+
+// The 2011 Padé's own series N(v*)/D(v*) = Σ c_k v*^k (c_k = a_k − Σ_j b_j c_(k−j)) must be the
+// 1999 series 1 − C1 v*² + C2 v*⁴ with no odd terms below v*⁵, up to the rounding of six printed
+// digits (at most 5e-6 per coefficient, two or three of them per c_k). This pins the transcription
+// of a1..a3 and b1..b4; b5, b6 are held by the comparison with the truth above.
+TEST(PublishedApproximations, MullerPoschelPadeExpandsToTheSeriesOfRamirez1999) {
+  const auto a = analytic::muller_poschel_2011_numerator<bin50>();
+  const auto b = analytic::muller_poschel_2011_denominator<bin50>();
+  std::array<bin50, 5> c{};
+  for (std::size_t k = 0; k < c.size(); ++k) {
+    c[k] = k < a.size() ? a[k] : bin50(0);
+    for (std::size_t j = 1; j <= k; ++j) {
+      c[k] -= b[j] * c[k - j];
+    }
+  }
+  EXPECT_EQ(c[0], 1);
+  EXPECT_EQ(c[1], 0);
+  EXPECT_LT(abs(c[2] + analytic::ramirez_c1<bin50>()), 1e-5);
+  EXPECT_LT(abs(c[3]), 1e-5);
+  EXPECT_LT(abs(c[4] - analytic::ramirez_c2<bin50>()), 1e-5);
+}
+
+// Every quad result against cpp_bin_float_50: the Padé's coefficients are exact rationals in the
+// target type, so the two precisions agree to quad's rounding.
+TEST(PublishedApproximations, MullerPoschelPadeInEveryPrecision) {
+  for (const char* alpha_eff : {"1e-6", "0.05", "0.7", "12"}) {
+    const bin50 want = analytic::muller_poschel_2011_pade(bin50(alpha_eff));
+    EXPECT_LT(relative_error(analytic::muller_poschel_2011_pade(double(bin50(alpha_eff))), want),
+              4 * std::numeric_limits<double>::epsilon())
+        << alpha_eff;
+#if PLDAMP_WITH_QUAD
+    EXPECT_LT(relative_error(analytic::muller_poschel_2011_pade(quad(alpha_eff)), want), 1e-32)
+        << alpha_eff;
+#endif
+  }
+}
 
 } // namespace
 } // namespace pldamp::solvers

@@ -373,7 +373,10 @@ std::string figure_plot(const Gnuplot& gnuplot, const Figure& figure) {
   std::size_t pair = 0;
   for (std::size_t i = 0; i < figure.series.size(); ++i) {
     const Series& series = figure.series[i];
-    if (series.closed_form && i > 0) {
+    // A new style at each closed form, and at points that follow points (two truths side by
+    // side, the viscoelastic approximations' figure); a first order keeps its p's.
+    if (i > 0 &&
+        (series.closed_form || (!series.first_order && !figure.series[i - 1].closed_form))) {
       ++pair;
     }
     const Style style = style_of(pair);
