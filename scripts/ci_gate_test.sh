@@ -3,7 +3,7 @@
 #   A  the checkout this script is in, already built (its pldamp is passed in);
 #   B  a git clone of HEAD in a temporary directory with one line changed on purpose (odeint-rkf78
 #      handed a relative tolerance 1000 times looser than asked: its errors grow, nothing fails),
-#      built here (Release, the pldamp target only).
+#      built here (the pldamp target only, as A was when A went through ccache).
 #   scripts/ci_gate_test.sh [BUILD_DIR | PLDAMP]      (default: build)
 # Nights are played with quick.toml, as docs/ci.md plays them with nightly.toml: a run --strict,
 # a diff against the kept report.json, the gate on both exit codes, the report kept only when the
@@ -19,8 +19,8 @@
 # the default time thresholds would have said is printed for (a), not judged. Everything else diff
 # compares is deterministic: A against A must give "0 regressions, 0 changes".
 #
-# Cost: B's build, measured and printed (155 s on 2 idle cores, 324 s beside another build), and
-# 11 s for the rest (4 quick.toml runs, the diffs).
+# Cost: B's build, measured and printed (9 s through A's ccache, 155 s at -O0 without it on 2 idle
+# cores), and 11 s for the rest (4 quick.toml runs, the diffs).
 set -euo pipefail
 
 root=$(cd "$(dirname "$0")/.." && pwd)
@@ -101,12 +101,28 @@ fi
 echo "   B: $head with, in $edited (RKF78's error checker):"
 git -C "$b" diff -U0 | grep '^[-+] ' | sed 's/^/     /'
 build_started=$SECONDS
-# -O0: the gate judges B's errors and work, not its speed (time is not judged, time_floor above),
-# and an unoptimised build is the shorter part of CI (161 s against 197 s at -O2 on 2 cores).
+# When A was built through ccache (scripts/run.sh does), B is configured exactly as A and built
+# through the same cache, with each checkout as its own CCACHE_BASEDIR so that the paths ccache
+# hashes are the same: every unit but the edited one is a hit (9 s on 2 cores). Otherwise B is
+# built at -O0: the gate judges B's errors and work, not its speed (time is not judged,
+# time_floor above), and an unoptimised build is the shorter (161 s against 197 s at -O2).
+a_cache=$(dirname "$(dirname "$pldamp_a")")/CMakeCache.txt
+a_setting() { # a_setting NAME: NAME's value in A's CMakeCache.txt, empty if absent
+  [[ -f $a_cache ]] && sed -n "s/^$1:[A-Z]*=//p" "$a_cache" | head -n 1
+}
+b_options=(-DCMAKE_BUILD_TYPE=Release -DCMAKE_CXX_FLAGS_RELEASE="-O0 -DNDEBUG")
+launcher=$(a_setting CMAKE_CXX_COMPILER_LAUNCHER)
+if [[ -n $launcher ]]; then
+  b_options=(-DCMAKE_CXX_COMPILER_LAUNCHER="$launcher" -DCMAKE_CXX_COMPILER="$(a_setting CMAKE_CXX_COMPILER)")
+  for name in CMAKE_BUILD_TYPE CMAKE_CXX_FLAGS CMAKE_CXX_FLAGS_RELEASE PLDAMP_WERROR PLDAMP_WITH_QUAD \
+    PLDAMP_SANITIZE; do
+    b_options+=("-D$name=$(a_setting "$name")")
+  done
+fi
 if ! {
-  cmake -S "$b" -B "$b/build" -DCMAKE_BUILD_TYPE=Release -DPLDAMP_BUILD_TESTS=OFF \
-    -DPLDAMP_BUILD_BENCHMARKS=OFF -DCMAKE_CXX_FLAGS_RELEASE="-O0 -DNDEBUG" &&
-    cmake --build "$b/build" -j "$(nproc)" --target pldamp
+  cmake -S "$b" -B "$b/build" -DPLDAMP_BUILD_TESTS=OFF -DPLDAMP_BUILD_BENCHMARKS=OFF \
+    "${b_options[@]}" &&
+    CCACHE_BASEDIR=$b cmake --build "$b/build" -j "$(nproc)" --target pldamp
 } >"$tmp/b-build.log" 2>&1; then
   tail -n 40 "$tmp/b-build.log" >&2
   echo "FAILED: B did not build" >&2
