@@ -13,7 +13,6 @@
 #include <array>
 #include <cmath>
 #include <functional>
-#include <optional>
 #include <stdexcept>
 #include <string_view>
 
@@ -312,13 +311,12 @@ Figure restitution_approximations(const FigureSpec& spec) {
         truth.end == analytic::ContactEnd::force ? solvers::End::force : solvers::End::overlap;
     for (const double group : groups) {
       const solvers::Result<Exact>& r = reference_solve(p, beta, Exact(group), end);
-      const std::optional<Exact>& e = r.e; // under End::force, the e at the force cut
-      if (solvers::failing(r.outcome) || !e || *e == 0) {
+      if (solvers::failing(r.outcome) || !r.e || *r.e == 0) { // r.e: e where the contact ends
         throw std::runtime_error(fmt::format("the reference solve at alpha_eff = {} ended {}",
                                              group, solvers::outcome_name(r.outcome)));
       }
-      truth.e.push_back(*e);
-      reference.points.emplace_back(group, static_cast<double>(1 - *e));
+      truth.e.push_back(*r.e);
+      reference.points.emplace_back(group, static_cast<double>(1 - *r.e));
     }
     f.series.push_back(reference);
   }
