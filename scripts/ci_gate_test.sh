@@ -108,7 +108,9 @@ build_started=$SECONDS
 # time_floor above), and an unoptimised build is the shorter (161 s against 197 s at -O2).
 a_cache=$(dirname "$(dirname "$pldamp_a")")/CMakeCache.txt
 a_setting() { # a_setting NAME: NAME's value in A's CMakeCache.txt, empty if absent
-  [[ -f $a_cache ]] && sed -n "s/^$1:[A-Z]*=//p" "$a_cache" | head -n 1
+  if [[ -f $a_cache ]]; then # (not `&&`: a false test would end the script under set -e)
+    sed -n "s/^$1:[A-Z]*=//p" "$a_cache" | head -n 1
+  fi
 }
 b_options=(-DCMAKE_BUILD_TYPE=Release -DCMAKE_CXX_FLAGS_RELEASE="-O0 -DNDEBUG")
 launcher=$(a_setting CMAKE_CXX_COMPILER_LAUNCHER)

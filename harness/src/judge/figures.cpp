@@ -291,12 +291,11 @@ Figure restitution_approximations(const FigureSpec& spec) {
     groups.push_back(from * std::pow(to / from, double(i) / intervals));
   }
   struct Truth {
-    analytic::ContactEnd end;
+    solvers::End end;
     std::string_view label;
     std::vector<Exact> e{};
   };
-  std::array<Truth, 2> truths{
-      {{analytic::ContactEnd::overlap, "δ = 0"}, {analytic::ContactEnd::force, "F = 0"}}};
+  std::array<Truth, 2> truths{{{solvers::End::overlap, "δ = 0"}, {solvers::End::force, "F = 0"}}};
   auto truth_at = [&truths](analytic::ContactEnd end) -> Truth& {
     return truths[end == analytic::ContactEnd::force ? 1 : 0];
   };
@@ -307,10 +306,8 @@ Figure restitution_approximations(const FigureSpec& spec) {
     }
     Series reference{
         fmt::format("reference solve, the contact ending at {}", truth.label), {}, false};
-    const solvers::End end =
-        truth.end == analytic::ContactEnd::force ? solvers::End::force : solvers::End::overlap;
     for (const double group : groups) {
-      const solvers::Result<Exact>& r = reference_solve(p, beta, Exact(group), end);
+      const solvers::Result<Exact>& r = reference_solve(p, beta, Exact(group), truth.end);
       if (solvers::failing(r.outcome) || !r.e || *r.e == 0) { // r.e: e where the contact ends
         throw std::runtime_error(fmt::format("the reference solve at alpha_eff = {} ended {}",
                                              group, solvers::outcome_name(r.outcome)));
