@@ -4,7 +4,6 @@
 // solvers/ only the physical parameters (p, m, k, v0, α, β).
 #include "cli/contact_args.hpp"
 #include "common/observables.hpp"
-#include "truth/reference_solve.hpp"
 
 #include "pldamp/solvers/registry.hpp"
 
@@ -36,70 +35,6 @@ Answer samples_of(const std::vector<solvers::Sample<Real>>& samples) {
   return out;
 }
 
-// The problem of a stated damping exponent β (MATH.md §12): α from --alpha, or the α that has
-// the group --alpha-eff at this contact's δ_u, or the one whose restitution is --e (found on the
-// float128 reference solve, reference_solve.hpp). `describe` gets the α and α_eff used.
-template <SupportedReal Real>
-solvers::Problem<Real> problem_with_exponent(const ContactArgs& a, const Real& beta, Answer& o) {
-  using std::exp;
-  using std::log;
-  const int given = int(a.e.has_value()) + int(a.alpha.has_value()) + int(a.alpha_eff.has_value());
-  if (given != 1) {
-    throw InputError("give exactly one of --e, --alpha, --alpha-eff (got " + std::to_string(given) +
-                     ")");
-  }
-  const Real p = parse_real<Real>("--p", a.p);
-  solvers::Problem<Real> problem{p,
-                                 parse_real<Real>("--m", a.m),
-                                 parse_real<Real>("--k", a.k),
-                                 parse_real<Real>("--v0", a.v0),
-                                 Real(0),
-                                 beta};
-  domain::require_p(p);
-  domain::require_damping_exponent(beta, p);
-  problem.validate(); // the scales, before δ_u is formed from them
-  const double p_double = static_cast<double>(p), beta_double = static_cast<double>(beta);
-  const Exact delta_u = exp(log((Exact(p) + 1) / 2 * Exact(problem.m) * Exact(problem.v0) *
-                                Exact(problem.v0) / Exact(problem.k)) /
-                            (Exact(p) + 1));
-  Exact group;
-  if (a.alpha) {
-    problem.alpha = parse_real<Real>("--alpha", *a.alpha);
-    domain::require_alpha(problem.alpha);
-    group = group_of(p_double, beta_double, Exact(problem.alpha), delta_u);
-  } else {
-    if (a.alpha_eff) {
-      const Real z = parse_real<Real>("--alpha-eff", *a.alpha_eff);
-      domain::require_alpha_eff(z);
-      group = Exact(z);
-    } else {
-      const Real e = parse_real<Real>("--e", *a.e);
-      require_finite("e", e);
-      require(e > 0 && e <= 1, "e must be in (0, 1]", e);
-      const std::optional<Exact> found = group_for_e(
-          p_double, beta_double, static_cast<double>(e),
-          parse_end(a.end) == ContactEnd::force ? solvers::End::force : solvers::End::overlap);
-      if (!found) {
-        throw InputError("no alpha_eff gives e = " + *a.e + " at p = " + a.p +
-                         " with damping exponent " + *a.damping_exponent + " (got --e " + *a.e +
-                         ")");
-      }
-      group = *found;
-    }
-    problem.alpha = static_cast<Real>(alpha_of(p_double, beta_double, group, delta_u));
-    domain::require_alpha(problem.alpha);
-  }
-  o["precision"] = precision_name<Real>();
-  o["end"] = a.end;
-  o["p"] = exact_number(p);
-  o["m"] = exact_number(problem.m);
-  o["k"] = exact_number(problem.k);
-  o["v0"] = exact_number(problem.v0);
-  o["alpha"] = exact_number(problem.alpha);
-  o["alpha_eff"] = exact_number(group);
-  return problem;
-}
-
 // One collision in precision Real: α calibrated in Real, the solver run in Real.
 template <SupportedReal Real>
 void solve_in(const SolveArgs& args, const solvers::SolverInfo* solver, std::ostream& out) {
@@ -107,7 +42,7 @@ void solve_in(const SolveArgs& args, const solvers::SolverInfo* solver, std::ost
   solvers::Problem<Real> problem{Real(0), Real(0), Real(0), Real(0), Real(0)};
   if (args.contact.damping_exponent) {
     const Real beta = parse_real<Real>("--damping-exponent", *args.contact.damping_exponent);
-    problem = problem_with_exponent<Real>(args.contact, beta, o);
+    problem = contact_with_exponent<Real>(args.contact, beta, o).problem;
     o["damping_exponent"] = exact_number(beta);
   } else {
     const analytic::Contact<Real> contact = make_contact<Real>(args.contact);

@@ -5,8 +5,10 @@
 
 #include "cli/commands.hpp"
 #include "common/answer.hpp"
+#include "truth/reference_solve.hpp"
 
 #include "pldamp/analytic.hpp"
+#include "pldamp/solvers/problem.hpp"
 
 #include <ostream>
 #include <string>
@@ -64,6 +66,78 @@ Answer describe(const analytic::Contact<Real>& c, const ContactArgs& a) {
   o["alpha"] = exact_number(c.alpha());
   o["alpha_eff"] = exact_number(c.alpha_eff());
   return o;
+}
+
+// A contact with a stated damping exponent: the problem handed to a solver, and its group.
+template <SupportedReal Real>
+struct ExponentContact {
+  solvers::Problem<Real> problem;
+  TruthFor<Real> group; // α_eff as calibrated, before α is rounded to Real
+};
+
+// The problem of a stated damping exponent β (MATH.md §12): α from --alpha, or the α that has
+// the group --alpha-eff at this contact's δ_u, or the one whose restitution is --e (found on the
+// reference solve, reference_solve.hpp). Every input is parsed in Real and the group is formed in
+// TruthFor<Real> (float128, or 50 digits for a 50-digit solve), so nothing passes through a
+// narrower type. `o` gets the α and α_eff used, in Real.
+template <SupportedReal Real>
+ExponentContact<Real> contact_with_exponent(const ContactArgs& a, const Real& beta, Answer& o) {
+  using Truth = TruthFor<Real>;
+  const int given = int(a.e.has_value()) + int(a.alpha.has_value()) + int(a.alpha_eff.has_value());
+  if (given != 1) {
+    throw InputError("give exactly one of --e, --alpha, --alpha-eff (got " + std::to_string(given) +
+                     ")");
+  }
+  const Real p = parse_real<Real>("--p", a.p);
+  solvers::Problem<Real> problem{p,
+                                 parse_real<Real>("--m", a.m),
+                                 parse_real<Real>("--k", a.k),
+                                 parse_real<Real>("--v0", a.v0),
+                                 Real(0),
+                                 beta};
+  domain::require_p(p);
+  domain::require_damping_exponent(beta, p);
+  problem.validate(); // the scales, before δ_u is formed from them
+  const Truth p_truth(p), beta_truth(beta);
+  const Truth delta_u =
+      unit_overlap(p_truth) * cell_scales(p_truth, Truth(problem.v0), Truth(problem.m),
+                                          Truth(problem.k))[std::size_t(Dimension::length)];
+  Truth group;
+  if (a.alpha) {
+    problem.alpha = parse_real<Real>("--alpha", *a.alpha);
+    domain::require_alpha(problem.alpha);
+    group = group_of(p_truth, beta_truth, Truth(problem.alpha), delta_u);
+  } else {
+    if (a.alpha_eff) {
+      const Real z = parse_real<Real>("--alpha-eff", *a.alpha_eff);
+      domain::require_alpha_eff(z);
+      group = Truth(z);
+    } else {
+      const Real e = parse_real<Real>("--e", *a.e);
+      require_finite("e", e);
+      require(e > 0 && e <= 1, "e must be in (0, 1]", e);
+      const std::optional<Truth> found = group_for_e(
+          p_truth, beta_truth, Truth(e),
+          parse_end(a.end) == ContactEnd::force ? solvers::End::force : solvers::End::overlap);
+      if (!found) {
+        throw InputError("no alpha_eff gives e = " + *a.e + " at p = " + a.p +
+                         " with damping exponent " + *a.damping_exponent + " (got --e " + *a.e +
+                         ")");
+      }
+      group = *found;
+    }
+    problem.alpha = static_cast<Real>(alpha_of(p_truth, beta_truth, group, delta_u));
+    domain::require_alpha(problem.alpha);
+  }
+  o["precision"] = precision_name<Real>();
+  o["end"] = a.end;
+  o["p"] = exact_number(p);
+  o["m"] = exact_number(problem.m);
+  o["k"] = exact_number(problem.k);
+  o["v0"] = exact_number(problem.v0);
+  o["alpha"] = exact_number(problem.alpha);
+  o["alpha_eff"] = exact_number(static_cast<Real>(group));
+  return {problem, group};
 }
 
 } // namespace pldamp::harness

@@ -132,6 +132,7 @@ Point solved_point(const Plan& plan, const std::set<std::string>& precisions, do
     }
     return point;
   }
+  point.group = *group;
   point.alpha_eff = static_cast<double>(*group);
   point.alpha = alpha_of(p, beta, *group, unit_overlap(p));
   const solvers::Result<Exact>& overlap = reference_solve(p, beta, *group, solvers::End::overlap);
@@ -239,14 +240,15 @@ Plan make_plan(const Scene& scene) {
     for (const double v0 : scene.v0) {
       for (const double m : scene.m) {
         for (const double k : scene.k) {
-          const Exact length =
-              exp(log(Exact(m) * Exact(v0) * Exact(v0) / Exact(k)) / (Exact(point.p) + 1));
+          const std::array<Exact, 4> scales =
+              cell_scales(Exact(point.p), Exact(v0), Exact(m), Exact(k));
           // MATH.md §12.1: the same α_eff at this cell's δ_u = unit δ_u × length.
-          const Exact alpha = point.solved ? alpha_of(point.p, *point.beta, Exact(point.alpha_eff),
-                                                      unit_overlap(point.p) * length)
-                                           : point.alpha;
-          plan.cells.push_back(
-              {i, v0, m, k, alpha, {Exact(1), length, length / Exact(v0), Exact(m) * v0 * v0}});
+          const Exact alpha =
+              point.solved
+                  ? alpha_of(point.p, *point.beta, point.group,
+                             unit_overlap(point.p) * scales[std::size_t(Dimension::length)])
+                  : point.alpha;
+          plan.cells.push_back({i, v0, m, k, alpha, scales});
         }
       }
     }

@@ -80,6 +80,9 @@ struct Point {
   std::vector<std::optional<double>> truth_error;
   // Why the point has no truth (the reference solve failed, or no α_eff gives the target e).
   std::string no_truth;
+  // A solved point's α_eff in Exact (alpha_eff is its double, for display): every cell's α and
+  // every truth are formed from this one, not from its rounding.
+  Exact group = 0;
 };
 
 struct Plan {

@@ -14,53 +14,87 @@
 namespace pldamp::harness {
 namespace {
 
-// α of the group at overlap scale δ_u (MATH.md §12.1), in Real.
-template <SupportedReal Real>
-Real alpha_in(double p, double beta, const Real& group, const Real& delta_u) {
-  using std::pow;
-  using std::sqrt;
-  const Real p_real(p);
-  return group * sqrt(2 * (p_real + 1)) / pow(delta_u, Real(beta) - (p_real - 1) / 2);
-}
-
-template <SupportedReal Real>
-solvers::Result<Real> solve_at_unit_scale(double p, double beta, const Real& group,
-                                          solvers::End end) {
-  using std::exp;
-  using std::log;
-  const Real p_real(p);
-  const Real delta_u = exp(log((p_real + 1) / 2) / (p_real + 1));
-  const solvers::Problem<Real> problem{
-      p_real, Real(1), Real(1), Real(1), alpha_in(p, beta, group, delta_u), Real(beta)};
-  solvers::Options<Real> options;
-  options.rtol = std::numeric_limits<Real>::epsilon();
+template <TruthReal T>
+solvers::Result<T> solve_at_unit_scale(const T& p, const T& beta, const T& group,
+                                       solvers::End end) {
+  const T delta_u = unit_overlap(p);
+  const solvers::Problem<T> problem{p, T(1), T(1), T(1), alpha_of(p, beta, group, delta_u), beta};
+  solvers::Options<T> options;
+  options.rtol = std::numeric_limits<T>::epsilon();
   options.end = end;
   options.horizon = 10000 * delta_u; // δ_u / v0 with v0 = 1
   options.max_seconds = 600;
   return solvers::solve("taylor", problem, options);
 }
 
+// e = 1 needs no damping; e falls as the group grows (more damping), to 0 once the contact no
+// longer returns.
+template <TruthReal T>
+T restitution_at(const T& p, const T& beta, const T& group, solvers::End end) {
+  const solvers::Result<T>& r = reference_solve(p, beta, group, end);
+  return r.e ? *r.e : T(0);
+}
+
+std::optional<Exact> exact_group_for_e(const Exact& p, const Exact& beta, const Exact& e,
+                                       solvers::End end) {
+  if (e >= 1) {
+    return Exact(0);
+  }
+  Exact low(0), high = Exact(1) / 8;
+  Exact e_high = restitution_at(p, beta, high, end);
+  for (int i = 0; i < 40 && e_high > e; ++i) {
+    low = high;
+    high *= 2;
+    e_high = restitution_at(p, beta, high, end);
+  }
+  if (e_high > e) {
+    return std::nullopt;
+  }
+  std::uintmax_t iterations = 100;
+  const auto [lo, hi] = boost::math::tools::toms748_solve(
+      [&](const Exact& group) { return Exact(restitution_at(p, beta, group, end) - e); }, low, high,
+      Exact(restitution_at(p, beta, low, end) - e), Exact(e_high - e),
+      boost::math::tools::eps_tolerance<Exact>(std::numeric_limits<Exact>::digits - 4), iterations);
+  return (lo + hi) / 2;
+}
+
 } // namespace
 
-Exact unit_overlap(double p) {
-  const Exact p_exact(p);
-  return exp(log((p_exact + 1) / 2) / (p_exact + 1));
+template <TruthReal T>
+T unit_overlap(const T& p) {
+  using std::exp;
+  using std::log;
+  return exp(log((p + 1) / 2) / (p + 1));
 }
 
-Exact group_of(double p, double beta, const Exact& alpha, const Exact& delta_u) {
-  const Exact p_exact(p);
-  return alpha * pow(delta_u, Exact(beta) - (p_exact - 1) / 2) / sqrt(2 * (p_exact + 1));
+template <TruthReal T>
+std::array<T, 4> cell_scales(const T& p, const T& v0, const T& m, const T& k) {
+  using std::exp;
+  using std::log;
+  const T length = exp(log(m * v0 * v0 / k) / (p + 1));
+  return {T(1), length, T(length / v0), T(m * v0 * v0)};
 }
 
-Exact alpha_of(double p, double beta, const Exact& group, const Exact& delta_u) {
-  return alpha_in(p, beta, group, delta_u);
+template <TruthReal T>
+T group_of(const T& p, const T& beta, const T& alpha, const T& delta_u) {
+  using std::pow;
+  using std::sqrt;
+  return alpha * pow(delta_u, beta - (p - 1) / 2) / sqrt(2 * (p + 1));
 }
 
-const solvers::Result<Exact>& reference_solve(double p, double beta, const Exact& group,
-                                              solvers::End end) {
-  using Key = std::tuple<double, double, Exact, solvers::End>;
+template <TruthReal T>
+T alpha_of(const T& p, const T& beta, const T& group, const T& delta_u) {
+  using std::pow;
+  using std::sqrt;
+  return group * sqrt(2 * (p + 1)) / pow(delta_u, beta - (p - 1) / 2);
+}
+
+template <TruthReal T>
+const solvers::Result<T>& reference_solve(const T& p, const T& beta, const T& group,
+                                          solvers::End end) {
+  using Key = std::tuple<T, T, T, solvers::End>;
   static std::mutex mutex;
-  static std::map<Key, std::unique_ptr<const solvers::Result<Exact>>> cache;
+  static std::map<Key, std::unique_ptr<const solvers::Result<T>>> cache;
   const Key key{p, beta, group, end};
   {
     const std::lock_guard<std::mutex> lock(mutex);
@@ -68,47 +102,49 @@ const solvers::Result<Exact>& reference_solve(double p, double beta, const Exact
       return *found->second;
     }
   }
-  auto result = std::make_unique<const solvers::Result<Exact>>(
-      solve_at_unit_scale<Exact>(p, beta, group, end));
+  auto result =
+      std::make_unique<const solvers::Result<T>>(solve_at_unit_scale(p, beta, group, end));
   const std::lock_guard<std::mutex> lock(mutex);
   // Entries are never dropped: callers hold references (a run has a few thousand at most).
   return *cache.emplace(key, std::move(result)).first->second;
 }
 
-std::optional<Exact> group_for_e(double p, double beta, double e, solvers::End end) {
-  // e falls as the group grows (more damping); 0 once the contact no longer returns.
-  const Exact target(e);
-  auto restitution = [&](const Exact& group) {
-    const solvers::Result<Exact>& r = reference_solve(p, beta, group, end);
-    return r.e ? *r.e : Exact(0);
-  };
-  if (e >= 1) {
-    return Exact(0);
+template <TruthReal T>
+std::optional<T> group_for_e(const T& p, const T& beta, const T& e, solvers::End end) {
+  if constexpr (std::is_same_v<T, Exact>) {
+    return exact_group_for_e(p, beta, e, end);
+  } else {
+    using std::abs;
+    // Newton from the float128 group g0, with the slope de/dg from two float128 solves at
+    // g0 (1 ± h): its relative error O(h²) = 1e-16 leaves each step's error 1e-16 of the last
+    // (1e-34 after the float128 answer, 1e-50 after one step), so two or three 50-digit solves
+    // reach ε.
+    const std::optional<Exact> start = exact_group_for_e(Exact(p), Exact(beta), Exact(e), end);
+    if (!start || *start == 0) {
+      return start ? std::optional<T>(T(0)) : std::nullopt;
+    }
+    const Exact h = Exact(1) / 100000000;
+    const Exact slope = (restitution_at(Exact(p), Exact(beta), Exact(*start * (1 + h)), end) -
+                         restitution_at(Exact(p), Exact(beta), Exact(*start * (1 - h)), end)) /
+                        (2 * h * *start);
+    T group(*start);
+    for (int step = 0; step < 6; ++step) {
+      const T correction = (restitution_at(p, beta, group, end) - e) / T(slope);
+      group -= correction;
+      if (abs(correction) <= 4 * std::numeric_limits<T>::epsilon() * group) {
+        return group;
+      }
+    }
+    return group; // six steps: the last correction was already below 1e-16 of the first
   }
-  Exact low(0), high = Exact(1) / 8;
-  Exact e_high = restitution(high);
-  for (int i = 0; i < 40 && e_high > target; ++i) {
-    low = high;
-    high *= 2;
-    e_high = restitution(high);
-  }
-  if (e_high > target) {
-    return std::nullopt;
-  }
-  std::uintmax_t iterations = 100;
-  const auto [lo, hi] = boost::math::tools::toms748_solve(
-      [&](const Exact& group) { return Exact(restitution(group) - target); }, low, high,
-      Exact(restitution(low) - target), Exact(e_high - target),
-      boost::math::tools::eps_tolerance<Exact>(std::numeric_limits<Exact>::digits - 4), iterations);
-  return (lo + hi) / 2;
 }
 
 std::vector<std::optional<double>>
-truth_error_estimate(const std::vector<const Observable*>& observables, double p, double beta,
-                     const Exact& group, solvers::End end) {
+truth_error_estimate(const std::vector<const Observable*>& observables, const Exact& p,
+                     const Exact& beta, const Exact& group, solvers::End end) {
   using Wide = bin50;
   const solvers::Result<Exact>& truth = reference_solve(p, beta, group, end);
-  const solvers::Result<Wide> wide = solve_at_unit_scale<Wide>(p, beta, Wide(group), end);
+  const solvers::Result<Wide> wide = solve_at_unit_scale(Wide(p), Wide(beta), Wide(group), end);
   std::vector<std::optional<double>> out;
   for (const Observable* observable : observables) {
     const std::optional<Exact> value = observable->measured(truth);
@@ -124,5 +160,18 @@ truth_error_estimate(const std::vector<const Observable*>& observables, double p
   }
   return out;
 }
+
+#define PLDAMP_INSTANTIATE_TRUTH(T)                                                                \
+  template T unit_overlap(const T&);                                                               \
+  template std::array<T, 4> cell_scales(const T&, const T&, const T&, const T&);                   \
+  template T group_of(const T&, const T&, const T&, const T&);                                     \
+  template T alpha_of(const T&, const T&, const T&, const T&);                                     \
+  template const solvers::Result<T>& reference_solve(const T&, const T&, const T&, solvers::End);  \
+  template std::optional<T> group_for_e(const T&, const T&, const T&, solvers::End);
+PLDAMP_INSTANTIATE_TRUTH(Exact)
+#if PLDAMP_WITH_QUAD // without float128, Exact is cpp_bin_float_50 already
+PLDAMP_INSTANTIATE_TRUTH(bin50)
+#endif
+#undef PLDAMP_INSTANTIATE_TRUTH
 
 } // namespace pldamp::harness
