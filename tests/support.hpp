@@ -70,8 +70,8 @@ struct Worst {
       where = std::string(name) + " at " + label;
     }
   }
-  // e, δ_max, t_peak, τ and the energy split of a solver's result against another result or the
-  // closed forms (anything with those six members).
+  // e, δ_max, t_peak, τ, the energy split and the normal force's peak of a solver's result
+  // against another result or the closed forms (anything with those eight members).
   template <class Got, class Want>
   void check_observables(const Got& got, const Want& want, const std::string& label) {
     check(got.e, want.e, "e", label);
@@ -80,6 +80,8 @@ struct Worst {
     check(got.tau, want.tau, "tau", label);
     check(got.energy_load, want.energy_load, "energy_load", label);
     check(got.energy_unload, want.energy_unload, "energy_unload", label);
+    check(got.normal_force_max, want.normal_force_max, "normal_force_max", label);
+    check(got.t_normal_force_max, want.t_normal_force_max, "t_normal_force_max", label);
   }
 };
 

@@ -57,6 +57,9 @@ Real BasicCollision<Real>::jacobian_floor() const {
 
 template <SupportedReal Real>
 Real BasicCollision<Real>::event_value(EventKind kind, const State& y) const {
+  if (kind == EventKind::force_peak) {
+    return ode_.force_rate_sign(y[0], y[1]);
+  }
   if (kind == EventKind::peak) {
     return y[1];
   }
@@ -65,11 +68,38 @@ Real BasicCollision<Real>::event_value(EventKind kind, const State& y) const {
 
 template <SupportedReal Real>
 bool BasicCollision<Real>::pending(EventKind kind) const {
-  return kind == EventKind::peak ? !peak_found_ : peak_found_ && !exit_found_;
+  switch (kind) {
+  case EventKind::force_peak:
+    return (options_.want & want_normal_force) != 0 && !peak_found_;
+  case EventKind::peak:
+    return !peak_found_;
+  case EventKind::exit:
+    break;
+  }
+  return peak_found_ && !exit_found_;
+}
+
+template <SupportedReal Real>
+void BasicCollision<Real>::offer_normal_force(const Real& t, const Real& force) {
+  if (!normal_force_ || force > *normal_force_) {
+    normal_force_ = force;
+    t_normal_force_ = t;
+  }
+}
+
+template <SupportedReal Real>
+void BasicCollision<Real>::offer_onset_force() {
+  if ((options_.want & want_normal_force) != 0 && ode_.damping_exponent() == 0) {
+    offer_normal_force(Real(0), Real(ode_.damping_coefficient() * ode_.v0()));
+  }
 }
 
 template <SupportedReal Real>
 bool BasicCollision<Real>::record(EventKind kind, const Real& t, const State& y) {
+  if (kind == EventKind::force_peak) {
+    offer_normal_force(t, ode_.total_force(y[0], y[1]));
+    return false;
+  }
   if (kind == EventKind::peak) {
     events_.push_back({kind, t});
     peak_found_ = true;
@@ -175,6 +205,10 @@ Result<Real> BasicCollision<Real>::finish(Outcome outcome, long steps, const std
     peak_found_ = exit_found_ = false; // nothing below is filled
   }
   const unsigned want = options_.want;
+  if (r.invariant.empty() && normal_force_ && (want & want_normal_force)) {
+    r.normal_force_max = normal_force_;
+    r.t_normal_force_max = t_normal_force_;
+  }
   if (peak_found_) {
     if (want & want_delta_max) {
       r.delta_max = delta_max_;
@@ -250,6 +284,7 @@ struct ExitApproach {
 Result<double> run_one_step_method(OneStepMethod& method, Collision& collision) {
   State y = collision.initial_state();
   double t = 0;
+  collision.offer_onset_force();
   collision.sample_through(t, [&](double) { return y; });
   const double horizon = collision.horizon();
   const ExitApproach approach(method, collision);
@@ -275,7 +310,7 @@ Result<double> run_one_step_method(OneStepMethod& method, Collision& collision) 
     if (Collision::diverged(y)) {
       return collision.finish(Outcome::unstable, method.steps());
     }
-    for (const EventKind kind : {EventKind::peak, EventKind::exit}) {
+    for (const EventKind kind : {EventKind::force_peak, EventKind::peak, EventKind::exit}) {
       if (!collision.pending(kind)) {
         continue;
       }
@@ -299,8 +334,12 @@ Result<double> run_one_step_method(OneStepMethod& method, Collision& collision) 
         return collision.finish(kind == EventKind::peak ? Outcome::peak : Outcome::exited,
                                 method.steps());
       }
-      t_from = t_event;
-      y_from = y_event;
+      if (kind != EventKind::force_peak) {
+        // The next event lies beyond this one. Not so the overlap's peak after the force's: they
+        // coincide without damping (both where v = 0), and v there may round either way.
+        t_from = t_event;
+        y_from = y_event;
+      }
     }
     collision.sample_through(t, [&](double s) { return method.state_at(s); });
     if (approach.active() && collision.pending(EventKind::exit) && y[1] < 0 && y[0] > 0 &&

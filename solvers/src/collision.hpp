@@ -61,14 +61,22 @@ public:
   // Counts work done outside rhs() (the Taylor recurrences, in rhs-evaluation units).
   void count_rhs_evals(long n) { rhs_evals_ += n; }
 
-  // Event functions, positive before the event and falling through 0 at it: v for the peak; δ or
-  // the sign of the total force (MATH.md §4) for the exit.
+  // Event functions, positive before the event and falling through 0 at it: the sign of dF/dt
+  // (ContactOde::force_rate_sign) for the normal force's peak; v for the overlap's peak; δ or the
+  // sign of the total force (MATH.md §4) for the exit.
   Real event_value(EventKind kind, const State& y) const;
-  // An event still to be found: the peak until found; the exit once the peak is behind.
+  // An event still to be found: the normal force's peak while wanted and the overlap still
+  // loads (every maximum of F lies there: while unloading F < k δ^p < k δ_max^p); the overlap's
+  // peak until found; the exit once that peak is behind.
   bool pending(EventKind kind) const;
   // Records an event; returns true when the run is complete. An exit at a speed at or below
-  // exit_speed_noise() is not one.
+  // exit_speed_noise() is not one. A force peak is offered (below) and never ends the run.
   bool record(EventKind kind, const Real& t, const State& y);
+  // A value of the total normal force at time t: the largest offered is the one reported.
+  void offer_normal_force(const Real& t, const Real& force);
+  // The onset, for the methods that integrate the ODE: with β = 0 the dashpot's c v0 acts at once
+  // and can be the largest force (p = 1 with α_eff ≥ ½; MATH.md §3); offered when wanted.
+  void offer_onset_force();
   Real exit_speed_noise() const { return exit_speed_noise_; }
 
   // Records the requested samples with times up to t (inclusive), in order.
@@ -109,6 +117,7 @@ private:
   std::vector<Sample<Real>> samples_;
   std::vector<Event<Real>> events_;
   bool peak_found_ = false, exit_found_ = false;
+  std::optional<Real> normal_force_, t_normal_force_; // the largest offered, and when
   Real t_peak_ = 0, delta_max_ = 0, work_peak_ = 0;
   Real tau_ = 0, exit_speed_ = 0, work_exit_ = 0, exit_overlap_ = 0;
   // Why the answer is impossible, or empty (finish).

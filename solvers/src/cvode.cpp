@@ -1,8 +1,10 @@
 // cvode-bdf and cvode-adams: SUNDIALS CVODE (variable order BDF 1-5 / Adams-Moulton 1-12, both
 // with Newton iterations on a dense 3x3 system and the analytic Jacobian of contact_ode.hpp).
 //
-// Events use CVODE's own root finding on g = (v, exit function), both with direction -1
-// (falling): the peak is v crossing 0 downward; the exit is δ (or the force sign) reaching 0. At
+// Events use CVODE's own root finding on g = (force rate, v, exit function), all with direction -1
+// (falling): the normal force's peak is its rate's sign crossing 0 downward (only while pending:
+// wanted, before the overlap's peak); the peak is v crossing 0 downward; the exit is δ (or the
+// force sign) reaching 0. At
 // t = 0 the overlap is exactly 0; CVODE never reports a root at t0 (it deactivates a component
 // that is 0 there until it moves away), and the rising direction of δ is masked anyway, so the
 // exit root is the one at the end; the run stops on it, so it is reported exactly once.
@@ -23,8 +25,9 @@ using namespace sundials;
 int event_functions(double /*t*/, N_Vector y, double* g, void* user_data) {
   const Collision& collision = *static_cast<Collision*>(user_data);
   const State state = to_state(y);
-  g[0] = collision.event_value(EventKind::peak, state);
-  g[1] = collision.event_value(EventKind::exit, state);
+  g[0] = collision.event_value(EventKind::force_peak, state);
+  g[1] = collision.event_value(EventKind::peak, state);
+  g[2] = collision.event_value(EventKind::exit, state);
   return 0;
 }
 
@@ -44,8 +47,8 @@ struct CvodeWorkspace {
     check(CVodeSetLinearSolver(cvode, newton.solver.get(), newton.matrix.get()),
           "CVodeSetLinearSolver");
     check(CVodeSetJacFn(cvode, sundials::jacobian), "CVodeSetJacFn");
-    check(CVodeRootInit(cvode, 2, event_functions), "CVodeRootInit");
-    std::array<int, 2> falling{-1, -1};
+    check(CVodeRootInit(cvode, 3, event_functions), "CVodeRootInit");
+    std::array<int, 3> falling{-1, -1, -1};
     check(CVodeSetRootDirection(cvode, falling.data()), "CVodeSetRootDirection");
     check(CVodeSetNoInactiveRootWarn(cvode), "CVodeSetNoInactiveRootWarn");
   }
@@ -86,6 +89,7 @@ Result<double> solve_cvode(CvodeMethod method, const Problem<double>& problem,
     return to_state(w.y.get());
   };
   collision.sample_through(0, [&](double) { return collision.initial_state(); });
+  collision.offer_onset_force();
   // Without samples, CVODE runs from root to root in one call (CV_NORMAL); with them, one step
   // per call, so that each step's samples come off its interpolant.
   const int mode = options.sample_times.empty() ? CV_NORMAL : CV_ONE_STEP;
@@ -106,10 +110,10 @@ Result<double> solve_cvode(CvodeMethod method, const Problem<double>& problem,
     const State y = to_state(w.y.get());
     collision.sample_through(t, state_at);
     if (flag == CV_ROOT_RETURN) {
-      std::array<int, 2> found{};
+      std::array<int, 3> found{};
       w.last_message.check(CVodeGetRootInfo(cvode, found.data()), "CVodeGetRootInfo");
-      for (const EventKind kind : {EventKind::peak, EventKind::exit}) {
-        if (found[kind == EventKind::peak ? 0 : 1] != 0 && collision.pending(kind) &&
+      for (const EventKind kind : {EventKind::force_peak, EventKind::peak, EventKind::exit}) {
+        if (found[static_cast<std::size_t>(kind)] != 0 && collision.pending(kind) &&
             collision.record(kind, t, y)) {
           return collision.finish(kind == EventKind::peak ? Outcome::peak : Outcome::exited,
                                   steps());

@@ -20,8 +20,9 @@
 //
 // What is reported is what a user of the code can read off: e from the velocity held when the
 // contact ends, τ the time of that force evaluation, δ_max and t_peak the largest overlap over
-// the step positions and its time (no interpolation), the energies by balance at those
-// positions (KE0 − ½ m v² − k δ^(p+1)/(p+1) with the code's velocity).
+// the step positions and its time (no interpolation), the largest normal force the code
+// evaluated and when, the energies by balance at those positions (KE0 − ½ m v² − k δ^(p+1)/(p+1)
+// with the code's velocity).
 //
 // The onset phase φ (Options::onset_phase): a contact begins at t = 0, the first step position
 // in contact is at t = φ Δt (free flight before, at v0), as the step grid of a simulation falls
@@ -48,16 +49,20 @@ public:
   Collision& collision() { return collision_; }
   double dt() const { return dt_; }
 
-  // The contact force on the overlap coordinate as the code evaluates it at (δ, v):
+  // The contact force on the overlap coordinate as the code evaluates it at time t and (δ, v):
   // −(k δ^p + c δ^a v), the total normal force pushing the bodies apart; 0 without overlap.
-  // Notes when the contact ends there (no overlap, or a capped force ≤ 0 while unloading).
-  double force(double delta, double v) {
+  // Notes when the contact ends there (no overlap, or a capped force ≤ 0 while unloading), and
+  // offers the normal force to the collision (the largest is reported).
+  double force(double t, double delta, double v) {
     if (delta <= 0) {
       ended_ = touched_;
       return 0;
     }
     touched_ = true;
     const double force = collision_.ode().m() * collision_.rhs({delta, v, 0.0})[1];
+    if (collision_.pending(EventKind::force_peak)) {
+      collision_.offer_normal_force(t, -force);
+    }
     if (capped_ && force >= 0) { // the total normal force k δ^p + c δ^a v is ≤ 0: clipped
       ended_ = true;
       return 0;
@@ -157,10 +162,10 @@ Result<double> solve_dem(DemScheme scheme, const Problem<double>& problem,
     // reads the velocity between the two kicks: v_{n+1/2}.
     double f = 0; // the force of the last evaluation (free flight before contact)
     do {
-      v += dt / 2 * f / m;         // initial_integrate: half kick
-      delta += dt * v;             //                    drift
-      f = contact.force(delta, v); // pair compute at (x_{n+1}, v_{n+1/2})
-      v += dt / 2 * f / m;         // final_integrate: half kick
+      v += dt / 2 * f / m;                 // initial_integrate: half kick
+      delta += dt * v;                     //                    drift
+      f = contact.force(t + dt, delta, v); // pair compute at (x_{n+1}, v_{n+1/2})
+      v += dt / 2 * f / m;                 // final_integrate: half kick
       t += dt;
     } while (!contact.after_step(t, delta, v, ++steps, outcome));
     break;
@@ -172,7 +177,7 @@ Result<double> solve_dem(DemScheme scheme, const Problem<double>& problem,
     // is v_{n+1} = v_n + dt F(x_n, v_n)/m, x_{n+1} = x_n + dt v_{n+1}, the force computed at
     // collision time from the state at the start of the step (ChContactSMC::Reset).
     do {
-      const double f = contact.force(delta, v); // ComputeCollisions: F(x_n, v_n)
+      const double f = contact.force(t, delta, v); // ComputeCollisions: F(x_n, v_n)
       if (contact.ended()) {
         break; // no force from here on: the body leaves with v_n
       }
@@ -187,7 +192,7 @@ Result<double> solve_dem(DemScheme scheme, const Problem<double>& problem,
     // (pkg/dem/NewtonIntegrator.cpp) `state->vel += dt*linAccel` (v_{n+1/2}) and
     // leapfrogTranslate `state->pos += state->vel*dt` (x_{n+1}); its Cundall damping off.
     do {
-      const double f = contact.force(delta, v); // InteractionLoop: F(x_n, v_{n−1/2})
+      const double f = contact.force(t, delta, v); // InteractionLoop: F(x_n, v_{n−1/2})
       if (contact.ended()) {
         break;
       }

@@ -41,7 +41,10 @@
 // Events. The peak (v = 0) and, with the force end, the cut (k δ^(p−β) + c v = 0, MATH.md §4; here
 // κ q + γ v, whose coefficients the recurrences give) are located on each step's polynomial:
 // Descartes' rule with bisection isolates the first crossing, TOMS 748 polishes it
-// (polynomial.hpp). The state at an event is the polynomial's value.
+// (polynomial.hpp). The state at an event is the polynomial's value. The normal force's peak
+// (its rate's sign, ContactOde::force_rate_sign, falling through 0) is a function of the state,
+// not a polynomial: it is bracketed by its sign at the ends of the entry stretch and of each step
+// before the overlap's peak, and located by TOMS 748 on the series' or the step's state.
 //
 // Work: rhs_evals counts the orders of the recurrences computed (N per step, plus the terms of
 // each series built); order n costs about n products, so this undercounts the arithmetic of
@@ -52,8 +55,11 @@
 #include "polynomial.hpp"
 #include "two_power_series.hpp"
 
+#include <boost/math/tools/toms748_solve.hpp>
+
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <limits>
 #include <memory>
 #include <optional>
@@ -150,6 +156,32 @@ private:
   // Records an event at scaled time t; true when the run is complete.
   bool record(EventKind kind, const Real& t, const Scaled& y) {
     return collision_.record(kind, time_unit_ * t, physical(y));
+  }
+
+  // The normal force's peak where its rate falls through 0 between scaled times `from` and `to`
+  // (`state` gives the scaled state between), when wanted and still to be found.
+  template <class StateAt>
+  void find_force_peak(const Real& from, const Real& to, StateAt&& state) {
+    if (!collision_.pending(EventKind::force_peak)) {
+      return;
+    }
+    auto rate = [&](const Real& s) {
+      return collision_.event_value(EventKind::force_peak, physical(state(s)));
+    };
+    const Real rate_from = rate(from), rate_to = rate(to);
+    if (!(rate_from > 0 && rate_to <= 0)) {
+      return;
+    }
+    Real at = to;
+    if (rate_to < 0) {
+      std::uintmax_t iterations = 200;
+      const auto [lo, hi] = boost::math::tools::toms748_solve(
+          rate, from, to, rate_from, rate_to,
+          boost::math::tools::eps_tolerance<Real>(std::numeric_limits<Real>::digits - 2),
+          iterations);
+      at = (lo + hi) / 2;
+    }
+    record(EventKind::force_peak, at, state(at));
   }
 
   void compute_coefficients(const Scaled& y);
@@ -272,6 +304,19 @@ Result<Real> TaylorContact<Real>::run() {
   Real t = std::min(entry_->entry_end(Real(1), Real(1) / 2), horizon_);
   Scaled y = entry_state(t);
   sample_through(t, [&](const Real& s) { return entry_state(s); });
+  // The normal force's peak within the entry stretch (a heavily damped contact's comes early):
+  // its rate is > 0 just after the onset unless the onset itself is the peak (β = 0).
+  collision_.offer_onset_force();
+  if (collision_.pending(EventKind::force_peak)) {
+    Real rising = t;
+    for (int halving = 0;
+         halving < 64 &&
+         !(collision_.event_value(EventKind::force_peak, physical(entry_state(rising))) > 0);
+         ++halving) {
+      rising /= 2;
+    }
+    find_force_peak(rising, t, [&](const Real& s) { return entry_state(s); });
+  }
   long steps = 0;
   while (t < horizon_) {
     if (const auto spent = collision_.out_of_budget(steps, true)) {
@@ -288,6 +333,7 @@ Result<Real> TaylorContact<Real>::run() {
         h = *zero / 2;
       }
     }
+    find_force_peak(t, t + h, [&](const Real& s) { return state_at(s - t); });
     for (const EventKind kind : {EventKind::peak, EventKind::exit}) {
       if (!collision_.pending(kind) || (kind == EventKind::exit && !force_end())) {
         continue;

@@ -50,6 +50,13 @@ Result<double> solve_verlet(const Problem<double>& problem, const Options<double
   y[0] = t * y[1];
   collision.sample_through(t, [&](double s) { return State{s * y[1], y[1], 0.0}; });
   double a = collision.rhs(y)[1];
+  // The normal force is read off the step positions, as a stepping code would: −m a there.
+  auto offer_force = [&](double at) {
+    if (collision.pending(EventKind::force_peak)) {
+      collision.offer_normal_force(at, -collision.ode().m() * a);
+    }
+  };
+  offer_force(t);
   auto dashpot_power = [&](double delta, double v) {
     const auto& ode = collision.ode();
     return collision.with_work() ? ode.damping_coefficient() * ode.dashpot_factor(delta) * v * v
@@ -68,6 +75,7 @@ Result<double> solve_verlet(const Problem<double>& problem, const Options<double
     const State f = collision.rhs({delta, y[1] + a * dt, y[2]});
     a = f[1];
     t = (double(++steps) + options.onset_phase) * dt;
+    offer_force(t);
     const double v = v_half + a * dt / 2;
     const double power_new = dashpot_power(delta, v);
     y = {delta, v, y[2] + dt / 2 * (power + power_new)};

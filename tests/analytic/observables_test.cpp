@@ -7,6 +7,9 @@
 #include <boost/math/special_functions/beta.hpp>
 
 #include <cmath>
+#include <fstream>
+#include <sstream>
+#include <string>
 #include <vector>
 
 namespace pldamp::analytic {
@@ -76,6 +79,47 @@ TYPED_TEST(ObservablesTest, MatchReferenceTable) {
       expect_matches(got.at(name), want, row.z(), where);
     }
   }
+}
+
+// The peak of the total normal force and its time (MATH.md §3, "Peak normal force") against
+// data/reference/normal_force_peak.csv: mpmath's maximum of F along the parametric solution,
+// found by root-finding on dF/ds and timed by tanh-sinh quadrature (normal_force_peak.py beside
+// it), independent of the closed form's quadratic. p = 1 with z ≥ ½ peaks at the onset.
+TYPED_TEST(ObservablesTest, NormalForcePeakMatchesAnIndependentMaximum) {
+  using Real = TypeParam;
+  std::ifstream in(PLDAMP_DATA_DIR "/reference/normal_force_peak.csv");
+  ASSERT_TRUE(in) << "cannot open normal_force_peak.csv";
+  int rows = 0;
+  for (std::string line; std::getline(in, line);) {
+    if (line.empty() || line[0] == '#' || line[0] == 'p') {
+      continue;
+    }
+    std::stringstream cells(line);
+    std::string p, z, force, time;
+    std::getline(cells, p, ',');
+    std::getline(cells, z, ',');
+    std::getline(cells, force, ',');
+    std::getline(cells, time, ',');
+    const Contact<Real> c =
+        Contact<Real>::from_alpha_eff(Real(bin50(p)), Real(bin50(z)), Real(1), Real(1), Real(1));
+    const std::string where = "p = " + p + ", alpha_eff = " + z;
+    const auto x = observables(c, want_normal_force | want_spring_force_max | want_t_peak);
+    expect_matches(x.normal_force_max, bin50(force), std::stod(z), where + ": F");
+    expect_matches(x.t_normal_force_max, bin50(time), std::stod(z), where + ": t");
+    // The total force at the overlap's peak is the spring's: the peak is never below it, and
+    // comes before the overlap's (at it only undamped).
+    EXPECT_GE(*x.normal_force_max,
+              *x.spring_force_max * (1 - 4 * std::numeric_limits<Real>::epsilon()))
+        << where;
+    EXPECT_LT(*x.t_normal_force_max, *x.t_peak) << where;
+    ++rows;
+  }
+  EXPECT_EQ(rows, 60);
+  // Undamped, the force peaks with the overlap: k δ_max^p at t_peak.
+  const Contact<Real> undamped = Contact<Real>::from_alpha_eff(Real(3) / 2, Real(0), Real(2));
+  const auto x = observables(undamped, want_normal_force | want_spring_force_max | want_t_peak);
+  EXPECT_EQ(*x.normal_force_max, *x.spring_force_max);
+  EXPECT_LE(relative_error(*x.t_normal_force_max, *x.t_peak), 4 * eps<Real>());
 }
 
 #if PLDAMP_WITH_QUAD

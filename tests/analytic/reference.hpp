@@ -15,9 +15,22 @@
 
 namespace pldamp::testing {
 
-inline constexpr std::array<const char*, 14> observable_names{
-    "e",         "log_e",       "delta_max",     "force_max", "t_peak",     "tau",   "tau0",
-    "tau_ratio", "energy_load", "energy_unload", "dt_crit",   "dt_tangent", "e_cap", "t_cut"};
+inline constexpr std::array<const char*, 16> observable_names{"e",
+                                                              "log_e",
+                                                              "delta_max",
+                                                              "spring_force_max",
+                                                              "normal_force_max",
+                                                              "t_normal_force_max",
+                                                              "t_peak",
+                                                              "tau",
+                                                              "tau0",
+                                                              "tau_ratio",
+                                                              "energy_load",
+                                                              "energy_unload",
+                                                              "dt_crit",
+                                                              "dt_tangent",
+                                                              "e_cap",
+                                                              "t_cut"};
 
 struct ReferenceRow {
   double p, value, v0, m, k;
@@ -77,7 +90,9 @@ std::map<std::string, std::optional<Real>> as_map(const analytic::Observables<Re
   return {{"e", x.e},
           {"log_e", x.log_e},
           {"delta_max", x.delta_max},
-          {"force_max", x.force_max},
+          {"spring_force_max", x.spring_force_max},
+          {"normal_force_max", x.normal_force_max},
+          {"t_normal_force_max", x.t_normal_force_max},
           {"t_peak", x.t_peak},
           {"tau", x.tau},
           {"tau0", x.tau0},

@@ -22,7 +22,8 @@ TEST(Cli, ObservablesJsonCarriesTheContractKeys) {
   ASSERT_EQ(r.code, 0) << r.err;
   const auto json = nlohmann::json::parse(r.out);
   for (const char* key : {"p", "m", "k", "v0", "alpha", "alpha_eff", "e", "delta_max", "t_peak",
-                          "tau", "force_max", "energy_load", "energy_unload", "dt_crit"}) {
+                          "tau", "spring_force_max", "normal_force_max", "t_normal_force_max",
+                          "energy_load", "energy_unload", "dt_crit"}) {
     EXPECT_TRUE(json.contains(key)) << key;
   }
   EXPECT_FALSE(json.contains("e_cap"));
@@ -326,7 +327,8 @@ TEST(Cli, BadInputIsOneLineAndExitTwo) {
        "dt must be > 0 (got -0.001)"},
       {{"solve", "--solver", "cvode-bdf", "--p", "1.5", "--e", "0.5", "--v0", "1", "--want",
         "e,speed"},
-       "unknown observable in --want, expected e|delta_max|t_peak|tau|energy|all (got speed)"},
+       "unknown observable in --want, expected e|delta_max|t_peak|tau|energy|normal_force|all (got "
+       "speed)"},
       {{"solve", "--solver", "cvode-bdf", "--p", "1.5", "--e", "0.5", "--v0", "1", "--sample-times",
         "1,-2"},
        "sample time must be >= 0 (got -2)"},

@@ -27,18 +27,26 @@ TEST(ObservableTable, KeysInReportOrderEachReadingItsOwnField) {
   for (const Observable& observable : observable_table()) {
     keys.emplace_back(observable.key);
   }
-  EXPECT_EQ(keys, (std::vector<std::string>{"e", "delta_max", "t_peak", "tau", "energy_load",
-                                            "energy_unload"}));
+  EXPECT_EQ(keys,
+            (std::vector<std::string>{"e", "delta_max", "t_peak", "tau", "energy_load",
+                                      "energy_unload", "normal_force_max", "t_normal_force_max"}));
   // A result and a closed-form bundle whose every field holds a different value.
   solvers::Result<long double> result;
   result.e = 1, result.delta_max = 2, result.t_peak = 3, result.tau = 4, result.energy_load = 5,
-  result.energy_unload = 6;
+  result.energy_unload = 6, result.normal_force_max = 7, result.t_normal_force_max = 8;
   analytic::Observables<long double> closed;
   closed.e = 11, closed.delta_max = 12, closed.t_peak = 13, closed.tau = 14,
-  closed.energy_load = 15, closed.energy_unload = 16, closed.e_cap = 21, closed.t_cut = 24;
+  closed.energy_load = 15, closed.energy_unload = 16, closed.normal_force_max = 17,
+  closed.t_normal_force_max = 18, closed.e_cap = 21, closed.t_cut = 24;
   const std::map<std::string, std::pair<long double, long double>> field{
-      {"e", {1, 11}},   {"delta_max", {2, 12}},   {"t_peak", {3, 13}},
-      {"tau", {4, 14}}, {"energy_load", {5, 15}}, {"energy_unload", {6, 16}}};
+      {"e", {1, 11}},
+      {"delta_max", {2, 12}},
+      {"t_peak", {3, 13}},
+      {"tau", {4, 14}},
+      {"energy_load", {5, 15}},
+      {"energy_unload", {6, 16}},
+      {"normal_force_max", {7, 17}},
+      {"t_normal_force_max", {8, 18}}};
   for (const Observable& observable : observable_table()) {
     const std::string key(observable.key);
     EXPECT_EQ(*observable.measured(result), field.at(key).first) << key;
@@ -53,12 +61,15 @@ TEST(ObservableTable, KeysInReportOrderEachReadingItsOwnField) {
   EXPECT_FALSE(find_observable("energy_unload")->exact(closed, solvers::End::force));
   EXPECT_EQ(find_observable("e")->key_at(solvers::End::force), "e_cap");
   EXPECT_EQ(find_observable("tau")->key_at(solvers::End::force), "t_cut");
+  EXPECT_EQ(*find_observable("normal_force_max")->exact(closed, solvers::End::force), 17);
+  // The spring's k δ_max^p is not compared (it follows from δ_max); the old name means nothing.
   EXPECT_EQ(find_observable("force_max"), nullptr);
+  EXPECT_EQ(find_observable("spring_force_max"), nullptr);
 }
 
 TEST(ObservableTable, WantWordsSelectObservablesAndTheirClosedForms) {
-  EXPECT_EQ(want_words(false), "e|delta_max|t_peak|tau|energy");
-  EXPECT_EQ(want_words(true), "e|delta_max|t_peak|tau|energy|all");
+  EXPECT_EQ(want_words(false), "e|delta_max|t_peak|tau|energy|normal_force");
+  EXPECT_EQ(want_words(true), "e|delta_max|t_peak|tau|energy|normal_force|all");
   EXPECT_EQ(parse_want({"energy", "e"}, "want", false), solvers::want_energy | solvers::want_e);
   EXPECT_EQ(parse_want({"all"}, "--want", true), unsigned(solvers::want_all));
   EXPECT_EQ(parse_want({}, "want", false), 0u);
@@ -66,8 +77,8 @@ TEST(ObservableTable, WantWordsSelectObservablesAndTheirClosedForms) {
     parse_want({"all"}, "want", false);
     ADD_FAILURE() << "no exception";
   } catch (const std::invalid_argument& e) {
-    EXPECT_STREQ(e.what(), "unknown observable in want, expected e|delta_max|t_peak|tau|energy "
-                           "(got all)");
+    EXPECT_STREQ(e.what(), "unknown observable in want, expected "
+                           "e|delta_max|t_peak|tau|energy|normal_force (got all)");
   }
   std::vector<std::string> energies;
   for (const Observable* observable : observables_of(solvers::want_energy)) {

@@ -77,9 +77,15 @@ precision = ")" + std::string(precision_name<Exact>()) + R"("
   for (const Cell& cell : plan.cells) {
     const auto direct = analytic::observables(analytic::Contact<Exact>::from_alpha(
         Exact(5) / 2, plan.points[0].alpha, Exact(cell.v0), Exact(cell.m), Exact(cell.k)));
-    const std::vector<std::optional<Exact>> want{direct.e,           direct.delta_max,
-                                                 direct.t_peak,      direct.tau,
-                                                 direct.energy_load, direct.energy_unload};
+    const std::vector<std::optional<Exact>> want{direct.e,
+                                                 direct.delta_max,
+                                                 direct.t_peak,
+                                                 direct.tau,
+                                                 direct.energy_load,
+                                                 direct.energy_unload,
+                                                 direct.normal_force_max,
+                                                 direct.t_normal_force_max};
+    ASSERT_EQ(plan.observables.size(), want.size());
     for (std::size_t o = 0; o < plan.observables.size(); ++o) {
       const Exact got = *reference_at(plan, cell, o, plan.configs[0]);
       EXPECT_LT(static_cast<double>(abs(got - *want[o]) / *want[o]), 1e-31)

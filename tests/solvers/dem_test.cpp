@@ -144,7 +144,7 @@ TEST(DemSchemes, OnsetPhaseWrapsAroundAStep) {
 
 TEST(DemSchemes, ConvergeToTheClosedFormsAtBothEnds) {
   // At 20 000 steps per contact, worst over phases, e within ~1e-4 of the closed forms: the
-  // overlap end's e and the force cap's e_cap (MATH.md §4).
+  // overlap end's e and the force cap's e_cap (MATH.md §4); the peak normal force too.
   for (const double p : {1.0, 1.5, 2.5}) {
     const auto c = Contact<double>::from_e(p, 0.5, 1.0);
     for (const End end : {End::overlap, End::force}) {
@@ -155,8 +155,14 @@ TEST(DemSchemes, ConvergeToTheClosedFormsAtBothEnds) {
         options.steps_per_contact = 20000;
         options.end = end;
         options.onset_phase = 0.25;
-        EXPECT_LT(rel(*solve(name, problem_of(c), options).e, truth), 5e-4)
+        const Result<double> r = solve(name, problem_of(c), options);
+        EXPECT_LT(rel(*r.e, truth), 5e-4)
             << name << " p=" << p << (end == End::force ? " force" : " overlap");
+        // The largest normal force the code evaluated, and when (a step's time: ~1/20000 of τ).
+        EXPECT_LT(rel(*r.normal_force_max, analytic::normal_force_max(c)), 5e-4) << name;
+        EXPECT_LT(std::abs(*r.t_normal_force_max - analytic::t_normal_force_max(c)),
+                  2 * *r.fixed_step)
+            << name;
       }
     }
   }

@@ -21,7 +21,8 @@ TEST_P(EverySolver, MeetsTheIssueBudgetAtRtol1e10) {
     const auto c = Contact<double>::from_e(k.p, k.e, k.v0, k.m, k.k);
     const Result<double> r = solve(GetParam(), problem_of(c), options);
     ASSERT_EQ(r.outcome, Outcome::exited);
-    ASSERT_TRUE(r.e && r.delta_max && r.t_peak && r.tau && r.energy_load && r.energy_unload);
+    ASSERT_TRUE(r.e && r.delta_max && r.t_peak && r.tau && r.energy_load && r.energy_unload &&
+                r.normal_force_max && r.t_normal_force_max);
     std::string which;
     const double err = worst_error(r, c, &which);
     if (err > worst) {

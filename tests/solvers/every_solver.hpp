@@ -52,6 +52,8 @@ inline double worst_error(const Result<double>& r, const Contact<double>& c,
   check(r.tau, x.tau, "tau");
   check(r.energy_load, x.energy_load, "energy_load");
   check(r.energy_unload, x.energy_unload, "energy_unload");
+  check(r.normal_force_max, x.normal_force_max, "normal_force_max");
+  check(r.t_normal_force_max, x.t_normal_force_max, "t_normal_force_max");
   return worst;
 }
 

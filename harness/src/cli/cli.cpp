@@ -2,6 +2,7 @@
 
 #include "cli/commands.hpp"
 #include "common/input.hpp"
+#include "common/observables.hpp"
 #include "judge/trajectory.hpp"
 #include "scene/scene.hpp"
 
@@ -11,6 +12,7 @@
 #include <CLI/CLI.hpp>
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <string>
 #include <vector>
 
@@ -114,7 +116,9 @@ int run_cli(int argc, const char* const* argv, std::ostream& out, std::ostream& 
                         ": the precision's epsilon)");
   solve->add_option("--atol", solve_args.atol,
                     "absolute tolerance for every state, literal (default: rtol x natural scale)");
-  solve->add_option("--want", solve_args.want, "comma list of e,delta_max,t_peak,tau,energy");
+  std::string want_list = want_words(false);
+  std::replace(want_list.begin(), want_list.end(), '|', ',');
+  solve->add_option("--want", solve_args.want, "comma list of " + want_list + " (default: all)");
   const std::string fixed_step_solvers =
       solvers::solver_names([](const solvers::SolverInfo& info) { return info.fixed_step; });
   solve->add_option("--dt", solve_args.dt,

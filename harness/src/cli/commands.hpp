@@ -34,7 +34,7 @@ struct SolveArgs {
   std::string solver;
   std::optional<std::string> rtol; // default 1e-8; taylor: the precision's epsilon
   std::optional<std::string> atol, dt, horizon;
-  std::string want = "e,delta_max,t_peak,tau,energy";
+  std::string want = "e,delta_max,t_peak,tau,energy,normal_force";
   std::vector<std::string> sample_times;
   std::optional<std::string> steps_per_contact; // fixed-step solvers without --dt (default 50)
   std::optional<std::string> onset_phase;       // fixed-step solvers, in [0, 1)

@@ -192,7 +192,7 @@ void observables_by_reference_solve(const ContactArgs& args, std::ostream& out) 
     o["damping_exponent"] = exact_number(beta);
     o["method"] = "reference solve";
     const Exact p(problem.p), b(beta);
-    const std::array<Exact, 4> scales =
+    const std::array<Exact, 5> scales =
         cell_scales(p, Exact(problem.v0), Exact(problem.m), Exact(problem.k));
     const bool capped = parse_end(args.end) == ContactEnd::force;
     std::vector<solvers::End> ends{solvers::End::overlap};
@@ -313,7 +313,9 @@ void run_observables(const ContactArgs& args, std::ostream& out) {
         {"e", x.e},
         {"log_e", x.log_e},
         {"delta_max", x.delta_max},
-        {"force_max", x.force_max},
+        {"spring_force_max", x.spring_force_max},
+        {"normal_force_max", x.normal_force_max},
+        {"t_normal_force_max", x.t_normal_force_max},
         {"t_peak", x.t_peak},
         {"tau", x.tau},
         {"log_tau", x.log_tau},

@@ -20,7 +20,7 @@
 namespace pldamp::harness {
 
 // How a value scales with v0, m, k from the unit-scale truth (MATH.md §7).
-enum class Dimension { none, length, time, energy };
+enum class Dimension { none, length, time, energy, force };
 
 // How a solver's no_exit is judged on a contact that does return, too late or too slowly for the
 // solver to tell (just below critical damping e is ~e^-2000 and τ lies beyond the horizon).

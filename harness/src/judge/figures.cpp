@@ -127,10 +127,10 @@ Figure force_history(const FigureSpec& spec) {
   const double e = spec.e.front();
   Figure f =
       figure(FigureKind::force_history, "Fig. 2: force against time, e = " + to_string_full(e),
-             "t / τ", "F / F_max", "F / F_max");
+             "t / τ", "F / k δ_max^p", "F / k δ_max^p");
   for (const double p : spec.p) {
     const auto c = Contact<double>::from_e(p, e, 1.0);
-    const double tau = analytic::contact_duration(c), peak = analytic::force_max(c);
+    const double tau = analytic::contact_duration(c), peak = analytic::spring_force_max(c);
     Series line{p_title(p) + " closed form", {}, true}, points{p_title(p), {}, false};
     for (const auto& [s, want] : sample_contact(spec, c, 80)) {
       const double numeric = force(p, c.alpha(), s.delta, s.v) / peak;

@@ -307,6 +307,8 @@ solvers::Result<double> ExternalSolver::parse_reply(const std::string& line, lon
   result.tau = reply_number(reply, "tau", true);
   result.energy_load = reply_number(reply, "energy_load", false);
   result.energy_unload = reply_number(reply, "energy_unload", false);
+  result.normal_force_max = reply_number(reply, "normal_force_max", false);
+  result.t_normal_force_max = reply_number(reply, "t_normal_force_max", false);
   result.steps = reply_count(reply, "steps");
   result.rhs_evals = reply_count(reply, "rhs_evals");
   result.wall_seconds = reply_number(reply, "wall_seconds", false).value_or(0);

@@ -240,7 +240,7 @@ Plan make_plan(const Scene& scene) {
     for (const double v0 : scene.v0) {
       for (const double m : scene.m) {
         for (const double k : scene.k) {
-          const std::array<Exact, 4> scales =
+          const std::array<Exact, 5> scales =
               cell_scales(Exact(point.p), Exact(v0), Exact(m), Exact(k));
           // MATH.md §12.1: the same α_eff at this cell's δ_u = unit δ_u × length.
           const Exact alpha =

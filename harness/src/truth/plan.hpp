@@ -36,8 +36,8 @@ struct Cell {
   // point's α_eff at this cell's δ_u (MATH.md §12.1).
   Exact alpha;
   // MATH.md §7, from the unit reference, per Dimension: 1, lengths × (m v0²/k)^(1/(p+1)), times
-  // × that / v0, energies × m v0² (computed once here, not per record).
-  std::array<Exact, 4> scales;
+  // × that / v0, energies × m v0², forces × k (length)^p (computed once here, not per record).
+  std::array<Exact, 5> scales;
   const Exact& scale(Dimension dimension) const {
     return scales[static_cast<std::size_t>(dimension)];
   }

@@ -68,11 +68,12 @@ T unit_overlap(const T& p) {
 }
 
 template <TruthReal T>
-std::array<T, 4> cell_scales(const T& p, const T& v0, const T& m, const T& k) {
+std::array<T, 5> cell_scales(const T& p, const T& v0, const T& m, const T& k) {
   using std::exp;
   using std::log;
-  const T length = exp(log(m * v0 * v0 / k) / (p + 1));
-  return {T(1), length, T(length / v0), T(m * v0 * v0)};
+  const T log_length = log(m * v0 * v0 / k) / (p + 1);
+  const T length = exp(log_length);
+  return {T(1), length, T(length / v0), T(m * v0 * v0), T(k * exp(p * log_length))};
 }
 
 template <TruthReal T>
@@ -163,7 +164,7 @@ truth_error_estimate(const std::vector<const Observable*>& observables, const Ex
 
 #define PLDAMP_INSTANTIATE_TRUTH(T)                                                                \
   template T unit_overlap(const T&);                                                               \
-  template std::array<T, 4> cell_scales(const T&, const T&, const T&, const T&);                   \
+  template std::array<T, 5> cell_scales(const T&, const T&, const T&, const T&);                   \
   template T group_of(const T&, const T&, const T&, const T&);                                     \
   template T alpha_of(const T&, const T&, const T&, const T&);                                     \
   template const solvers::Result<T>& reference_solve(const T&, const T&, const T&, solvers::End);  \

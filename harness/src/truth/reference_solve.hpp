@@ -40,9 +40,9 @@ template <TruthReal T>
 T unit_overlap(const T& p);
 
 // MATH.md §7 per Dimension at (p, v0, m, k): 1, the length (m v0²/k)^(1/(p+1)) (δ_u divided by
-// its unit-scale value), that over v0, and m v0².
+// its unit-scale value), that over v0, m v0², and k length^p (a force k δ^p).
 template <TruthReal T>
-std::array<T, 4> cell_scales(const T& p, const T& v0, const T& m, const T& k);
+std::array<T, 5> cell_scales(const T& p, const T& v0, const T& m, const T& k);
 
 // The group of a contact (above): α δ_u^(β − (p−1)/2) / √(2(p+1)).
 template <TruthReal T>

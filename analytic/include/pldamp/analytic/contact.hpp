@@ -15,6 +15,7 @@
 
 #include <cmath>
 #include <cstdint>
+#include <limits>
 #include <utility>
 
 namespace pldamp::analytic {
@@ -122,6 +123,43 @@ template <SupportedReal Real>
 Real capped_restitution(const Damping<Real>& d) {
   using std::exp;
   return exp(-2 * peak_exponent(d));
+}
+
+// The peak of the total normal force F = k δ^p + α√(mk) δ^((p−1)/2) δ' (MATH.md §3, "Peak
+// normal force"). With r = S/C (S = sin(√μσ)/√μ, C = cos(√μσ), regime-free), F = k δ^p
+// (1 − 2z² + 2z/r), and dF/ds = 0 is the quadratic Q(r) = a r² + b r + c0 = 0 with
+//     a = z[4z² − 3 − (1 − q)(1 − 2z²)],  b = (2 − q)(1 − 4z²),  c0 = 2z(1 − q).
+// Q(0) = c0 ≥ 0 and Q(1/z) = −2/z < 0 (r = 1/z is the overlap's peak), so exactly one root lies
+// in (0, 1/z): the force peaks before the overlap does. Both roots are formed without
+// cancellation (t = −(b + sgn(b)√D)/2, roots t/a and c0/t). For p = 1 (c0 = 0) and z ≥ ½ the
+// root is r = 0: the force is largest at the onset, F = c v0 (the dashpot's jump).
+template <SupportedReal Real>
+struct NormalForcePeak {
+  Real sigma; // Ω0 s at the peak: 0 at the onset, σ_peak for z = 0
+  Real ratio; // r = S/C there: 0 at the onset, +∞ for z = 0 (the overlap's peak, C = 0)
+};
+
+template <SupportedReal Real>
+NormalForcePeak<Real> normal_force_peak(const Damping<Real>& d, const Real& q) {
+  using std::sqrt;
+  const Real z = d.z;
+  if (z == 0) {
+    return {peak_phase(d), std::numeric_limits<Real>::infinity()};
+  }
+  const Real a = z * (4 * z * z - 3 - (1 - q) * (1 - 2 * z * z));
+  const Real b = (2 - q) * (1 - 4 * z * z);
+  const Real c0 = 2 * z * (1 - q);
+  const Real root_d = sqrt(b * b - 4 * a * c0); // ≥ 0: a root exists (above)
+  const Real t = -(b + (b < 0 ? -root_d : root_d)) / 2;
+  Real r(0);
+  for (const Real& candidate :
+       {a != 0 ? Real(t / a) : Real(-1), t != 0 ? Real(c0 / t) : Real(-1)}) {
+    if (candidate > 0 && candidate * z < 1) {
+      r = candidate;
+    }
+  }
+  // σ = atan(√μ r)/√μ, regime-free as r·atan_rf(μr²).
+  return {r * atan_rf(Real(d.mu * r * r)), r};
 }
 
 // Numeric inverse of the monotone e_cap(z) = e^(−2G(z)): TOMS 748 on G(z) = −½ ln e_cap,

@@ -1,4 +1,5 @@
-// The closed-form observables of MATH.md §3 (e, δ_max, F_max, t_peak, energies, τ, τ0, τ/τ0),
+// The closed-form observables of MATH.md §3 (e, δ_max, the spring force there, the peak normal
+// force and its time, t_peak, energies, τ, τ0, τ/τ0),
 // §4 (e_cap and the cut time t_c) and §6 (the seed's Δt_crit and the tangent-stiffness bound),
 // singly or as a bundle that computes only what is asked.
 //
@@ -40,11 +41,44 @@ Real delta_max(const Contact<Real>& c) {
   return c.A() * exp(c.q() * (c.log_L() - peak_exponent(c.damping())));
 }
 
-// Elastic force k δ^p, largest at δ_max.
+// The spring (elastic) force k δ^p, largest at δ_max. Not the largest force: the total normal
+// force peaks earlier and higher (normal_force_max).
 template <SupportedReal Real>
-Real force_max(const Contact<Real>& c) {
+Real spring_force_max(const Contact<Real>& c) {
   using std::exp;
   return c.k() * exp(c.p() * log_delta_max(c));
+}
+
+// The peak of the total normal force k δ^p + α√(mk) δ^((p−1)/2) δ' (MATH.md §3, "Peak normal
+// force"): k δ_F^p (1 − 2z² + 2z/r) at σ_F (contact.hpp, normal_force_peak), with
+// δ_F^p = A^p (L ξ_F)^(pq) formed by pow, not through ln L: pq = 2p/(p+1) < 2 keeps L^(pq) within
+// range over the domain's scales, and exp(pq ln L) would cost |pq ln L| ulps (1.2e-14 in double
+// at v0 = 1e-6). At the onset (p = 1, z ≥ ½) the dashpot's c v0 = 2z k L.
+template <SupportedReal Real>
+Real normal_force_max(const Contact<Real>& c) {
+  using std::exp;
+  using std::pow;
+  const Damping<Real>& d = c.damping();
+  const NormalForcePeak<Real> peak = normal_force_peak(d, c.q());
+  if (peak.ratio == 0) {
+    return 2 * d.z * c.k() * c.L();
+  }
+  if (d.z == 0) {
+    return spring_force_max(c);
+  }
+  const Real xi =
+      exp(-d.z * peak.sigma) * peak.sigma * sinc_rf(Real(d.mu * peak.sigma * peak.sigma));
+  const Real pq = c.p() * c.q();
+  return c.k() * pow(c.A(), c.p()) * pow(c.L(), pq) * pow(xi, pq) *
+         (1 - 2 * d.z * d.z + 2 * d.z / peak.ratio);
+}
+
+// The time of that peak, t = T·I(σ_F) (time.hpp); 0 at the onset.
+template <SupportedReal Real>
+Real t_normal_force_max(const Contact<Real>& c) {
+  using std::exp;
+  const ScaledTime<Real> scaled(c.damping(), c.q());
+  return exp(log_time_scale(c)) * scaled(normal_force_peak(c.damping(), c.q()).sigma);
 }
 
 // ln of the time scale T = A q L^ν / Ω0 with t = T·I(σ) (time.hpp).
@@ -250,16 +284,18 @@ enum Want : unsigned {
   want_t_peak = 1u << 2,
   want_tau = 1u << 3, // τ, ln τ, τ0, τ/τ0
   want_energy = 1u << 4,
-  want_force_max = 1u << 5,
-  want_dt_crit = 1u << 6, // seed and tangent bounds
-  want_capped = 1u << 7,  // e_cap, t_cut
-  want_all = (1u << 8) - 1,
+  want_spring_force_max = 1u << 5,
+  want_dt_crit = 1u << 6,      // seed and tangent bounds
+  want_capped = 1u << 7,       // e_cap, t_cut
+  want_normal_force = 1u << 8, // the peak normal force and its time
+  want_all = (1u << 9) - 1,
 };
 
 template <SupportedReal Real>
 struct Observables {
-  std::optional<Real> e, log_e, delta_max, force_max, t_peak, tau, log_tau, tau0, tau_ratio,
-      energy_load, energy_unload, dt_crit, dt_tangent, e_cap, t_cut;
+  std::optional<Real> e, log_e, delta_max, spring_force_max, normal_force_max, t_normal_force_max,
+      t_peak, tau, log_tau, tau0, tau_ratio, energy_load, energy_unload, dt_crit, dt_tangent, e_cap,
+      t_cut;
 };
 
 // Computes exactly the observables in `want`; the rest stay empty.
@@ -274,12 +310,18 @@ Observables<Real> observables(const Contact<Real>& c, unsigned want = want_all) 
   if (want & want_delta_max) {
     out.delta_max = delta_max(c);
   }
-  if (want & want_force_max) {
-    out.force_max = force_max(c);
+  if (want & want_spring_force_max) {
+    out.spring_force_max = spring_force_max(c);
   }
-  if (want & (want_t_peak | want_capped)) {
+  if (want & want_normal_force) {
+    out.normal_force_max = normal_force_max(c);
+  }
+  if (want & (want_t_peak | want_capped | want_normal_force)) {
     const ScaledTime<Real> scaled(c.damping(), c.q());
     const Real scale = exp(log_time_scale(c));
+    if (want & want_normal_force) {
+      out.t_normal_force_max = scale * scaled(normal_force_peak(c.damping(), c.q()).sigma);
+    }
     if (want & want_t_peak) {
       out.t_peak = scale * scaled(peak_phase(c.damping()));
     }

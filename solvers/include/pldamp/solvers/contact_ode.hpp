@@ -90,6 +90,36 @@ public:
     return k_ * (delta < 0 ? -magnitude : magnitude) + c_ * v;
   }
 
+  // The total normal force F = k δ^p + c δ^β v (δ > 0; positive = repulsive).
+  Real total_force(const Real& delta, const Real& v) const {
+    const Real d_a = dashpot_factor(delta);
+    return k_ * spring_factor(delta, d_a) + c_ * d_a * v;
+  }
+
+  // The sign of dF/dt = k p δ^(p−1) v + c β δ^(β−1) v² + c δ^β a (a = −F/m), positive while the
+  // normal force grows: the event function of its peak. For β > 0 the rate is multiplied by
+  // δ^(1−β) > 0,
+  //     k p δ^(p−β) v + c β v² + c δ a,
+  // finite at δ = 0 for every β ≤ p (β < 1 has an infinite rate there; β > 1 a rate that
+  // underflows to 0 over a whole stretch at large p, which root finders take for a root), and
+  // c β v0² > 0 at the onset: the force grows from 0. For β = 0 the dashpot's c v0 acts at once,
+  // and the rate at the onset, (k v0 if p = 1) − c² v0/m, may already be < 0: the peak is then at
+  // the onset (BasicCollision::offer_onset_force). Undamped, F = k δ^p peaks with δ: the sign of v.
+  Real force_rate_sign(const Real& delta, const Real& v) const {
+    using std::abs;
+    using std::pow;
+    if (c_ == 0) {
+      return v;
+    }
+    const Real d = abs(delta);
+    const Real acceleration = -total_force(d, v) / m_;
+    if (a_ > 0) {
+      return k_ * p_ * pow(d, p_ - a_) * v + c_ * a_ * v * v + c_ * d * acceleration;
+    }
+    const Real spring_rate = p_ == 1 ? k_ * v : k_ * p_ * pow(d, p_ - 1) * v;
+    return spring_rate + c_ * acceleration;
+  }
+
   // Dissipated-work-free mechanical energy ½ m v² + k |δ|^(p+1)/(p+1).
   Real mechanical_energy(const Real& delta, const Real& v) const {
     using std::abs;

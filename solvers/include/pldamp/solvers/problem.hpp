@@ -50,14 +50,16 @@ struct Problem {
 enum class End { overlap, force };
 
 // Observables a run is asked for (a bit set). Peak quantities alone let a run stop at the peak;
-// energy adds the dissipated work as a third state.
+// energy adds the dissipated work as a third state; normal_force the largest total normal force
+// k δ^p + c δ^β δ' and its time (it comes before the overlap's peak: a peak quantity).
 enum Want : unsigned {
   want_e = 1u << 0,
   want_delta_max = 1u << 1,
   want_t_peak = 1u << 2,
   want_tau = 1u << 3,
   want_energy = 1u << 4,
-  want_all = (1u << 5) - 1,
+  want_normal_force = 1u << 5,
+  want_all = (1u << 6) - 1,
 };
 
 // The relative tolerance of a solve that names none (DefaultTolerance::standard in registry.hpp).
@@ -178,7 +180,9 @@ constexpr std::string_view outcome_name(Outcome outcome) {
   return "unstable";
 }
 
-enum class EventKind { peak, exit };
+// The normal force's peak (dF/dt falling through 0, ContactOde::force_rate_sign), the overlap's
+// peak (v = 0) and the exit.
+enum class EventKind { force_peak, peak, exit };
 
 template <SupportedReal Real>
 struct Event {
@@ -192,12 +196,15 @@ struct Sample {
 };
 
 // Only what was wanted (and reached) is filled. Under End::force, e and tau are the capped
-// restitution and the cut time.
+// restitution and the cut time. normal_force_max is the largest total normal force
+// k δ^p + c δ^β δ' (at the onset, c v0, when the dashpot's jump is the largest), t_normal_force_max
+// its time.
 template <SupportedReal Real>
 struct Result {
   Outcome outcome = Outcome::step_limit;
   std::string invariant; // unstable: the invariant the answer broke, e.g. "energy gained: e = 2.7"
   std::optional<Real> e, delta_max, t_peak, tau, energy_load, energy_unload;
+  std::optional<Real> normal_force_max, t_normal_force_max;
   std::optional<Real> fixed_step; // the step of a fixed-step run (or Options::fixed_step)
   Real horizon = 0;               // where a contact not yet ended was given up (no_exit)
   long steps = 0;
