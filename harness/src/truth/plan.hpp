@@ -15,9 +15,11 @@
 #include "common/observables.hpp"
 #include "scene/scene.hpp"
 
+#include "pldamp/analytic/contact.hpp"
 #include "pldamp/core/real_types.hpp"
 
 #include <array>
+#include <limits>
 #include <map>
 #include <optional>
 #include <string>
@@ -102,5 +104,29 @@ std::optional<Exact> reference_at(const Plan& plan, const Cell& cell, std::size_
 // The precision α is rounded to for a configuration: its own, or Exact's for a solver running
 // wider than the truth (taylor in 50 digits gets the float128 α).
 std::string alpha_precision(const SolverConfig& config);
+
+// The seed's contact of a damping (a target e under `end`, or α_eff) at p, calibrated in Exact at
+// v0 = m = k = 1 (α is scale-free: MATH.md §7): every α of the plan comes from here.
+analytic::Contact<Exact> seed_contact(const Exact& p, Damping::Kind kind, const Exact& value,
+                                      analytic::ContactEnd end);
+
+// α as a solver in Real receives it: the Exact α rounded once to Real (Real no wider than Exact),
+// or, wider, exactly the Exact α (alpha_precision).
+template <SupportedReal Real>
+Real alpha_as_received(const Exact& alpha) {
+  return static_cast<Real>(alpha);
+}
+
+// The α `pldamp calibrate --e` answers in Real: the plan's for the same p and e (seed_contact,
+// rounded once), so that `calibrate` and `run` agree to the last bit. A Real wider than Exact
+// calibrates in Real (a run gives such a solver the float128 α instead).
+template <SupportedReal Real>
+Real seed_alpha_for_e(const Real& p, const Real& e, analytic::ContactEnd end) {
+  if constexpr (std::numeric_limits<Real>::digits > std::numeric_limits<Exact>::digits) {
+    return analytic::Contact<Real>::from_e(p, e, Real(1), Real(1), Real(1), end).alpha();
+  } else {
+    return alpha_as_received<Real>(seed_contact(Exact(p), Damping::Kind::e, Exact(e), end).alpha());
+  }
+}
 
 } // namespace pldamp::harness
