@@ -21,6 +21,9 @@ import sys
 
 PROTOCOL = "pldamp-solver"
 VERSION = 1
+# The settings of a fixed-step code (the handshake's `honours`): the step, sent both as
+# steps_per_contact and as dt, and the onset phase.
+FIXED_STEP_SETTINGS = ("steps_per_contact", "dt", "onset_phase")
 
 
 def _number(x):
@@ -33,11 +36,13 @@ def _write(obj):
     sys.stdout.flush()
 
 
-def serve(solver, run_problem, *, p=None, ends=None, damping_exponent="seed", unavailable=None):
+def serve(solver, run_problem, *, p=None, ends=None, damping_exponent="seed", unavailable=None,
+          honours=None):
     """Answers pldamp's handshake, then every problem line until standard input closes.
 
     solver: the adapter's name for what it runs (shown in reports).
-    p, ends, damping_exponent, unavailable: the handshake's optional keys (README).
+    p, ends, damping_exponent, unavailable, honours: the handshake's optional keys (README);
+    honours lists the settings the adapter acts on (pldamp refuses a scene that sets another).
     """
     hello = sys.stdin.readline()
     try:
@@ -54,6 +59,8 @@ def serve(solver, run_problem, *, p=None, ends=None, damping_exponent="seed", un
         reply["ends"] = list(ends)
     if unavailable:
         reply["unavailable"] = unavailable
+    if honours is not None:
+        reply["honours"] = list(honours)
     _write(reply)
     for line in sys.stdin:
         if not line.strip():

@@ -286,6 +286,7 @@ class LammpsAdapterTest(unittest.TestCase):
         self.assertIn("tsuji", hello["solver"])
         self.assertEqual(hello["p"], [1.5])
         self.assertEqual(sorted(hello["ends"]), ["force", "overlap"])
+        self.assertEqual(hello["honours"], ["steps_per_contact", "dt", "onset_phase"])
         self.assertNotIn("unavailable", hello)
         base = problem_for(1.5, 0.5, 1.0, 1.0, 1.0, 50, 0.07, 0.5, "overlap")
         cases = [

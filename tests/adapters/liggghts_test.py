@@ -143,6 +143,7 @@ class ProtocolTest(unittest.TestCase):
                 self.assertEqual(hello["p"], [p])
                 self.assertEqual(hello["ends"], ["overlap", "force"])
                 self.assertEqual(hello["damping_exponent"], "seed")
+                self.assertEqual(hello["honours"], ["steps_per_contact", "dt", "onset_phase"])
                 self.assertNotIn("unavailable", hello)
                 self.assertEqual(adapter.close(), 0)
 

@@ -1,8 +1,9 @@
 // The claim kinds judged on grids of their own (judge/claims.hpp), each with a claim that holds
 // and one that fails, their measured values against independent computations, the denser grid,
 // and `run --strict` with expect = "fails".
-#include "fixtures.hpp"
+#include "fake_solver.hpp"
 #include "judge/claims.hpp"
+#include "judge/solve.hpp"
 
 #include "pldamp/analytic/observables.hpp"
 #include "pldamp/analytic/seed.hpp"
@@ -10,6 +11,9 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <fstream>
+#include <iterator>
+#include <nlohmann/json.hpp>
 
 namespace pldamp::harness {
 namespace {
@@ -244,6 +248,125 @@ TEST(Claims, SceneErrorsNameTheLine) {
   EXPECT_NE(error_of("name = \"x\"\nexpect = \"maybe\"\nobservable = \"e\"\nbound = 1\n")
                 .find("expect must be holds or fails (got maybe)"),
             std::string::npos);
+  EXPECT_EQ(error_of("name = \"x\"\nobservable = \"e\"\nsolver = \"cvode-bdf\"\nrtol = 1e-8\n"
+                     "bound = 1\nallow_missing = 1\n"),
+            "claims.toml:12: allow_missing must be true or false");
+  EXPECT_EQ(error_of("name = \"x\"\nobservable = \"e\"\nsolver = \"cvode-bdf\"\nrtol = 1e-8\n"
+                     "bound = 1\ne = [1.5]\n"),
+            "claims.toml:12: e must be in (0, 1] (got 1.5)");
+  EXPECT_NE(error_of("name = \"x\"\nobservable = \"e\"\nconvention = \"lammps-tsuji\"\n"
+                     "bound = 1\nv0 = [2.0]\n")
+                .find("unknown key in [[claim]], expected name|"),
+            std::string::npos);
+}
+
+std::string file_text(const std::filesystem::path& path) {
+  std::ifstream in(path);
+  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+}
+
+// Issue 27, 7: a program that answers exited without e at p = 2 and whose handshake skips p = 3
+// made a bound claim over p in {1, 2, 3} hold on the one cell it had. A claim holds only on
+// every cell it names: the two without a value are counted, listed, and fail it.
+TEST(Claims, ABoundClaimFailsOnTheCellsWithoutAValueAndListsThem) {
+  const std::string scene = "name = \"gaps\"\nwant = [\"e\"]\n[grid]\np = [1, 2, 3]\ne = [0.5]\n"
+                            "v0 = [1]\n" +
+                            testing::fake_solver("gaps") +
+                            "[[claim]]\nname = \"fake e\"\nobservable = \"e\"\nsolver = "
+                            "\"fake\"\nbound = 1e-12\n";
+  const std::filesystem::path out = testing::scratch() / "gaps";
+  const testing::CliRun r = run({"run", write_file("gaps.toml", scene), "--out", out.string()});
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_NE(r.out.find("claim fake e: fails (2 of 3 cells without a value) (UNEXPECTED)"),
+            std::string::npos)
+      << r.out;
+  const nlohmann::json claim = nlohmann::json::parse(file_text(out / "report.json"))["claims"][0];
+  EXPECT_EQ(claim["verdict"], "fails");
+  EXPECT_EQ(claim["cells"], 3);
+  EXPECT_EQ(claim["missing_cells"], 2);
+  EXPECT_EQ(claim["failed_cells"], 0);
+  EXPECT_LT(claim["measured"].get<double>(), 1e-15); // p = 1, the cell it has, is exact
+  const nlohmann::json listed =
+      nlohmann::json::array({{{"cell", "p = 2, e = 0.5, v0 = 1, m = 1, k = 1"},
+                              {"why", "no e in the answer (exited)"},
+                              {"failed", false}},
+                             {{"cell", "p = 3, e = 0.5, v0 = 1, m = 1, k = 1"},
+                              {"why", "skipped: it runs p = 1, 2 only"},
+                              {"failed", false}}});
+  EXPECT_EQ(claim["without_value"], listed);
+  const std::string cells = "Without a value: p = 2, e = 0.5, v0 = 1, m = 1, k = 1 (no e in the "
+                            "answer (exited)); p = 3, e = 0.5, v0 = 1, m = 1, k = 1 (skipped: it "
+                            "runs p = 1, 2 only).";
+  for (const char* name : {"report.md", "report.html"}) {
+    const std::string text = file_text(out / name);
+    EXPECT_NE(text.find("fails (2 of 3 cells without a value), unexpected"), std::string::npos)
+        << name;
+    EXPECT_NE(text.find(cells), std::string::npos) << name;
+  }
+  // Allowed by the scene: it holds on 1 of 3 cells, which --strict does not take as expected.
+  const std::string allowed = write_file("gaps.toml", scene + "allow_missing = true\n");
+  const testing::CliRun partial = run({"run", allowed, "--out", out.string()});
+  EXPECT_EQ(partial.code, 0) << partial.err;
+  EXPECT_NE(partial.out.find("claim fake e: holds on 1 of 3 cells (UNEXPECTED)"), std::string::npos)
+      << partial.out;
+  EXPECT_EQ(nlohmann::json::parse(file_text(out / "report.json"))["claims"][0]["verdict"],
+            "partial");
+  const testing::CliRun strict = run({"run", allowed, "--out", out.string(), "--strict"});
+  EXPECT_EQ(strict.code, 1);
+  EXPECT_NE(strict.err.find("--strict: 1 claim's verdict is not the one expected"),
+            std::string::npos);
+}
+
+// "For all p in [1, 2]": a bound claim with a grid of its own is solved for it alone (its
+// configuration is not the plan's), each cell's error the one a solve of its own gives, and its
+// solves count in the plan's size.
+TEST(Claims, ABoundClaimOnAGridOfItsOwnIsSolvedForItAlone) {
+  const std::string claim = "[[solver]]\nname = \"cvode-bdf\"\nrtol = 1e-6\n"
+                            "[[claim]]\nname = \"cvode e\"\nobservable = \"e\"\nsolver = "
+                            "\"cvode-bdf\"\nrtol = 1e-7\nbound = 1e-4\np = [1.0, 2.0]\n"
+                            "e = [0.3, 0.8]\ndenser = true\n";
+  const std::string text = "name = \"own\"\nwant = [\"e\"]\n[grid]\np = [1.5]\ne = [0.5]\n"
+                           "v0 = [1.0]\n" +
+                           claim;
+  const Scene scene = parse_scene(text, "own.toml");
+  ASSERT_TRUE(scene.claims[0].own_grid);
+  const Plan plan = make_plan(scene);
+  EXPECT_EQ(plan.configs.size(), 1u); // the claim's rtol = 1e-7 is not run on the scene's grid
+  RunTotals totals;
+  const Verdict v = make_budgets(plan, run_plan(plan, 2, totals)).claims[0];
+  EXPECT_TRUE(v.holds);
+  EXPECT_EQ(v.cells, 4);
+  EXPECT_EQ(v.grid, "p in {1, 2} x e in {0.3, 0.8}: 4 cells");
+  double largest = 0;
+  for (const double p : {1.0, 2.0}) {
+    for (const double e : {0.3, 0.8}) {
+      // The truth at α as a double solver receives it, and a solve of its own.
+      const double alpha = static_cast<double>(
+          analytic::Contact<Exact>::from_e(Exact(p), Exact(e), Exact(1)).alpha());
+      const Exact truth = analytic::restitution(
+          analytic::Contact<Exact>::from_alpha(Exact(p), Exact(alpha), Exact(1)));
+      const double solved =
+          *solve_once(scene.claims[0].config, {p, alpha}, solvers::want_e, scene.limits).e;
+      largest = std::max(largest, static_cast<double>(abs(Exact(solved) - truth)));
+    }
+  }
+  EXPECT_GT(largest, 1e-12); // a solve's error, not rounding
+  EXPECT_EQ(v.measured, largest);
+  ASSERT_TRUE(v.denser);
+  EXPECT_EQ(v.denser->cells, 25); // 2 varied lists: 3 values between neighbours, 5 each
+  EXPECT_TRUE(v.denser->holds);
+  // 1 cell x 1 configuration, and the claim's 4 + 25 cells.
+  const std::string path = write_file("own.toml", text);
+  const std::string out = (testing::scratch() / "own").string();
+  const testing::CliRun r = run({"run", path, "--out", out, "--max-runs", "29"});
+  EXPECT_EQ(r.code, 2);
+  EXPECT_NE(r.err.find("the plan has 30 solver runs, above the limit of 29"), std::string::npos)
+      << r.err;
+  const testing::CliRun ok = run({"run", path, "--out", out});
+  EXPECT_NE(ok.out.find("1 cells x 1 solver configurations, 1 claims on grids of their own: 30 "
+                        "solver runs"),
+            std::string::npos)
+      << ok.out;
 }
 
 // A failing claim is a finding (exit 0); --strict exits 1 on a verdict other than the expected

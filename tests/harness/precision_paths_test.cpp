@@ -119,6 +119,24 @@ TEST(PrecisionPaths, ADoubleSolvePrintsDoubles) {
   }
 }
 
+// `solve` runs at the α `calibrate` prints (and `run` sends, external_checks_test.cpp), to the
+// last digit, in every precision, from e and from α_eff.
+TEST(PrecisionPaths, SolveRunsAtTheAlphaCalibratePrints) {
+  for_each_precision([&]<SupportedReal Real>() {
+    const std::string precision(precision_name<Real>());
+    for (const char* e : {"0.1", "0.3", "0.7", "0.9"}) {
+      const CliRun calibrated =
+          run({"calibrate", "--p", "1.5", "--e", e, "--precision", precision, "--json"});
+      const CliRun solved = run({"solve", "--solver", "taylor", "--p", "1.5", "--e", e, "--v0", "1",
+                                 "--want", "delta_max", "--precision", precision, "--json"});
+      ASSERT_EQ(calibrated.code, 0) << calibrated.err;
+      ASSERT_EQ(solved.code, 0) << solved.err;
+      EXPECT_EQ(raw_number(solved.out, "alpha"), raw_number(calibrated.out, "alpha"))
+          << "e = " << e << " in " << precision;
+    }
+  });
+}
+
 // `observables --damping-exponent B`: the truth of that dashpot, which depends on v0 (MATH.md
 // §12.1), from the reference solve: the viscoelastic Hertz contact at α = 0.3 gives e = 0.714 at
 // v0 = 1 (issue 27's figure, from `solve --solver taylor`), not the seed's 0.6536, and another e

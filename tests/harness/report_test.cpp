@@ -230,6 +230,13 @@ TEST(Diff, AClaimRegressesWhenItsVerdictLeavesTheExpectedOne) {
   EXPECT_EQ(regressions(before, fails),
             std::vector<std::string>{"REGRESSION claim_flipped | tight | verdict | 1 claim | held, "
                                      "now fails"});
+  // Holding on some cells only (the others without a value, allow_missing) is not holding.
+  nlohmann::json partial = old_report;
+  partial["claims"][0]["verdict"] = "partial";
+  EXPECT_EQ(regressions(old_report, partial),
+            std::vector<std::string>{"REGRESSION claim_flipped | tight | verdict | 1 claim | held, "
+                                     "now holds on some cells only"});
+  EXPECT_TRUE(regressions(partial, old_report).empty());
   nlohmann::json hostile = old_report;
   hostile["claims"][0]["expect"] = 7;
   EXPECT_THROW(read_report(hostile.dump(), "hostile.json"), InputError);

@@ -1,5 +1,6 @@
 #include "cli/contact_args.hpp"
 #include "common/observables.hpp"
+#include "truth/plan.hpp"
 #include "truth/reference_solve.hpp"
 
 #include "pldamp/analytic.hpp"
@@ -279,7 +280,9 @@ void run_calibrate(const ContactArgs& args, std::ostream& out) {
     o["end"] = args.end;
     o["p"] = exact_number(c.p());
     o["e"] = exact_number(parse_real<Real>("--e", *args.e));
-    o["alpha"] = exact_number(c.alpha());
+    // α as `run` sends it for this p and e: calibrated in Exact, rounded once (truth/plan.hpp).
+    o["alpha"] = exact_number(
+        seed_alpha(c.p(), Damping::Kind::e, parse_real<Real>("--e", *args.e), parse_end(args.end)));
     o["alpha_eff"] = exact_number(c.alpha_eff());
     if (parse_end(args.end) == ContactEnd::force) {
       // What the same α gives a code that lets the force turn attractive (overlap end).

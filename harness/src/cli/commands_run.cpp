@@ -122,6 +122,12 @@ double planned_runs(const Scene& scene) {
                                                   claim.config) == scene.configs.end();
     per_cell += own ? claim.config.onset_phases : 0;
     if (claim.kind == ClaimKind::bound) {
+      // A bound on a solver over a grid of its own, or ten times denser: solved for it alone.
+      if (!claim.convention) {
+        claim_runs += claim.config.onset_phases *
+                      ((claim.own_grid ? claim_grid_cells(claim.grid) : 0) +
+                       (claim.denser ? claim_grid_cells(denser_grid(claim.grid)) : 0));
+      }
       continue;
     }
     const bool two_solves = !claim.of_truth && claim.quantity == Quantity::tau_ratio;
@@ -197,8 +203,10 @@ int run_scene(const RunArgs& args, std::ostream& out, std::ostream& err) {
                                  runs, scene.limits.max_runs, args.scene));
   }
   require_writable_folder(args.out); // a folder that cannot be written fails before the work
-  const auto grid_claims = std::count_if(scene.claims.begin(), scene.claims.end(),
-                                         [](const Claim& c) { return c.kind != ClaimKind::bound; });
+  const auto grid_claims =
+      std::count_if(scene.claims.begin(), scene.claims.end(), [](const Claim& c) {
+        return c.kind != ClaimKind::bound || c.own_grid || (c.denser && !c.convention);
+      });
   out << fmt::format("{}: {:.0f} cells x {:.0f} solver configurations{}: {:.0f} solver runs (onset "
                      "phases, repeats{} included), about {:.3g} MB of records\n",
                      scene.name, cells, double(scene.configs.size()),
@@ -239,13 +247,13 @@ int run_scene(const RunArgs& args, std::ostream& out, std::ostream& err) {
   long unexpected = 0;
   for (const Verdict& v : budgets.claims) {
     unexpected += v.unexpected() ? 1 : 0;
-    out << "claim " << v.name << ": " << (v.holds ? "holds" : "fails")
+    out << "claim " << v.name << ": " << verdict_text(v)
         << (v.unexpected() ? (v.expect_holds ? " (UNEXPECTED)" : " (UNEXPECTED: pinned as fails)")
                            : (v.holds ? "" : " (expected)"))
         << fmt::format(" (measured {:.4g}, bound {:.4g}", v.measured, v.bound)
         << (v.worst.empty() ? "" : "; worst at " + v.worst) << ")";
-    if (v.denser && v.denser->holds != v.holds) {
-      out << "; on the denser grid it " << (v.denser->holds ? "holds" : "fails");
+    if (v.denser && verdict_text(*v.denser) != verdict_text(v)) {
+      out << "; on the denser grid it " << verdict_text(*v.denser);
     }
     out << "\n";
   }

@@ -46,8 +46,19 @@ void solve_in(const SolveArgs& args, const solvers::SolverInfo* solver, std::ost
     o["damping_exponent"] = exact_number(beta);
   } else {
     const analytic::Contact<Real> contact = make_contact<Real>(args.contact);
-    problem = {contact.p(), contact.m(), contact.k(), contact.v0(), contact.alpha()};
+    // α from e or α_eff as `calibrate` gives it and `run` sends it: calibrated in Exact, rounded
+    // once (truth/plan.hpp); --alpha as typed.
+    const Real alpha =
+        args.contact.alpha
+            ? parse_real<Real>("--alpha", *args.contact.alpha)
+            : seed_alpha(
+                  contact.p(), args.contact.e ? Damping::Kind::e : Damping::Kind::alpha_eff,
+                  parse_real<Real>(args.contact.e ? "--e" : "--alpha-eff",
+                                   args.contact.e ? *args.contact.e : *args.contact.alpha_eff),
+                  parse_end(args.contact.end));
+    problem = {contact.p(), contact.m(), contact.k(), contact.v0(), alpha};
     o = describe(contact, args.contact);
+    o["alpha"] = exact_number(alpha);
     o["damping_exponent"] = exact_number(Real((contact.p() - 1) / 2));
   }
   solvers::Options<Real> options;

@@ -21,57 +21,79 @@ void raise(std::optional<double>& slot, const std::optional<double>& value) {
   }
 }
 
-void conclude(Verdict& verdict, const std::optional<double>& measured, const Scene& scene) {
-  verdict.grid = grid_text(ClaimGrid{scene.p, scene.v0, scene.m, scene.k, scene.damping});
-  verdict.measured = measured.value_or(std::numeric_limits<double>::infinity());
-  verdict.holds = verdict.failed_cells == 0 && verdict.measured <= verdict.bound;
-  if (verdict.measured > 0 && std::isfinite(verdict.measured)) {
-    verdict.margin = verdict.bound / verdict.measured;
-    verdict.supported = std::pow(10.0, std::ceil(std::log10(verdict.measured)));
-  }
-}
-
 // The claim's measurement over its cells' errors (`where` names each cell): the largest, or the
-// quantile it asks for (nearest rank), and the cell it comes from.
-void conclude_errors(Verdict& verdict, const Claim& claim, const std::vector<double>& errors,
-                     const std::vector<std::string>& where, const Scene& scene) {
-  std::optional<double> measured;
+// quantile it asks for (nearest rank), and the cell it comes from; then what its cells without a
+// value make of it.
+void conclude_errors(Judgement& j, const Claim& claim, const std::vector<double>& errors,
+                     const std::vector<std::string>& where) {
+  j.measured = std::numeric_limits<double>::infinity();
   if (!errors.empty()) {
     const std::size_t at = nearest_rank(errors, claim.quantile);
-    measured = std::isnan(errors[at]) ? std::numeric_limits<double>::infinity() : errors[at];
-    verdict.worst = where[at];
+    if (!std::isnan(errors[at])) {
+      j.measured = errors[at];
+    }
+    j.worst = where[at];
   }
-  conclude(verdict, measured, scene);
+  j.holds = j.measured <= claim.bound;
+  if (j.measured > 0 && std::isfinite(j.measured)) {
+    j.margin = claim.bound / j.measured;
+  }
+  conclude_without_value(j, claim.allow_missing);
 }
 
 // A DEM code's calibration, by the closed forms: |e it gives − target| (relative: over the
 // target) over the grid's targets (and the p it has a model for).
-Verdict judge_convention(const Plan& plan, const Claim& claim) {
+Judgement judge_convention(const Claim& claim, const ClaimGrid& grid) {
   const analytic::Convention& convention = *analytic::find_convention(*claim.convention);
-  Verdict verdict = verdict_of(claim);
+  Judgement j;
+  j.grid = grid_text(grid);
   const bool cut = analytic::capped(convention, claim.limit_damping);
   std::vector<double> errors;
   std::vector<std::string> where;
-  for (const Point& point : plan.points) {
-    const bool model = (convention.linear && point.p == 1) || (convention.hertz && point.p == 1.5);
-    if (!model || point.damping.kind != Damping::Kind::e) {
-      continue;
+  for (const double p : grid.p) {
+    for (const Damping& damping : grid.damping) {
+      const bool model = (convention.linear && p == 1) || (convention.hertz && p == 1.5);
+      if (!model || damping.kind != Damping::Kind::e) {
+        continue;
+      }
+      const Exact target(damping.value);
+      const Exact given =
+          analytic::e_given(Exact(p), analytic::alpha_set(convention, Exact(p), target), cut);
+      const Exact error = abs(given - target);
+      errors.push_back(static_cast<double>(claim.relative ? error / target : error));
+      where.push_back(fmt::format("p = {:g}, {}", p, damping_text(damping)));
     }
-    const Exact p(point.p), target(point.damping.value);
-    const Exact given = analytic::e_given(p, analytic::alpha_set(convention, p, target), cut);
-    const Exact error = abs(given - target);
-    errors.push_back(static_cast<double>(claim.relative ? error / target : error));
-    where.push_back(fmt::format("p = {:g}, {}", point.p, damping_text(point.damping)));
   }
-  conclude_errors(verdict, claim, errors, where, plan.scene);
-  return verdict;
+  j.cells = static_cast<long>(errors.size());
+  conclude_errors(j, claim, errors, where);
+  return j;
 }
 
-Verdict judge(const Plan& plan, const std::vector<Record>& records, const Claim& claim) {
-  if (claim.convention) {
-    return judge_convention(plan, claim);
+// Why a record that did not fail gives a claim no value of an observable.
+std::string why_no_value(const Plan& plan, const Record& record, std::size_t observable) {
+  const std::string_view key = plan.observables[observable]->key;
+  if (record.skipped()) {
+    return "skipped: " + record.skip_reason;
   }
-  Verdict verdict = verdict_of(claim);
+  if (!record.value[observable]) {
+    return fmt::format("no {} in the answer ({})", key, record.outcome_name());
+  }
+  if (!record.reference[observable]) {
+    const Point& point = plan.points[plan.cells[record.cell].point];
+    return !point.no_truth.empty() ? "no truth: " + point.no_truth
+           : !record.note.empty()  ? record.note
+                                   : fmt::format("no reference {} at this contact end", key);
+  }
+  return fmt::format("{} unresolved: {} where the contact returns beyond the solver's horizon", key,
+                     record.outcome_name());
+}
+
+// A bound on a configuration's error over a plan's records: every record of it is a cell of the
+// claim, judged on its error, or without a value (failed, skipped, not measured, no truth).
+Judgement judge_records(const Plan& plan, const std::vector<Record>& records, const Claim& claim) {
+  Judgement j;
+  j.grid = grid_text(
+      ClaimGrid{plan.scene.p, plan.scene.v0, plan.scene.m, plan.scene.k, plan.scene.damping});
   const auto config = static_cast<std::size_t>(
       std::find(plan.configs.begin(), plan.configs.end(), claim.config) - plan.configs.begin());
   const auto observable = static_cast<std::size_t>(
@@ -84,21 +106,113 @@ Verdict judge(const Plan& plan, const std::vector<Record>& records, const Claim&
     if (record.config != config) {
       continue;
     }
-    if (record.failed()) {
-      ++verdict.failed_cells;
-    }
+    ++j.cells;
+    const std::string cell = cell_text(plan, plan.cells[record.cell]);
     const std::optional<double>& error =
         (claim.relative ? record.rel_error : record.abs_error)[observable];
+    if (record.failed()) {
+      add_without_value(j, cell,
+                        std::string(record.outcome_name()) +
+                            (record.failure.empty() ? "" : ": " + record.failure),
+                        true);
+    } else if (!error) {
+      add_without_value(j, cell, why_no_value(plan, record, observable), false);
+    }
     if (error) {
       errors.push_back(*error);
-      where.push_back(cell_text(plan, plan.cells[record.cell]));
+      where.push_back(cell);
     }
   }
-  conclude_errors(verdict, claim, errors, where, plan.scene);
+  conclude_errors(j, claim, errors, where);
+  return j;
+}
+
+// A bound claim on a grid of its own: its configuration alone solved over the grid's cells (a
+// plan of its own, as a search's), then judged on those records.
+Judgement judge_own_grid(const Scene& scene, const Claim& claim, const ClaimGrid& grid, int jobs) {
+  Scene cells = scene;
+  cells.p = grid.p;
+  cells.damping = grid.damping;
+  cells.v0 = grid.v0;
+  cells.m = grid.m;
+  cells.k = grid.k;
+  cells.configs = {claim.config};
+  cells.claims.clear();
+  cells.searches.clear();
+  cells.figures.clear();
+  cells.trajectories.clear();
+  cells.repeats = 1;
+  const Plan plan = make_plan(cells);
+  RunTotals totals;
+  const std::vector<Record> records = run_plan(plan, jobs, totals);
+  Judgement j = judge_records(plan, records, claim);
+  j.grid = grid_text(grid);
+  return j;
+}
+
+Verdict judge_bound(const Plan& plan, const std::vector<Record>& records, const Claim& claim,
+                    int jobs) {
+  Verdict verdict = verdict_of(claim);
+  const ClaimGrid scene_grid{plan.scene.p, plan.scene.v0, plan.scene.m, plan.scene.k,
+                             plan.scene.damping};
+  const ClaimGrid& grid = claim.own_grid ? claim.grid : scene_grid;
+  const auto judge_over = [&](const ClaimGrid& cells, bool the_plans) {
+    return claim.convention ? judge_convention(claim, cells)
+           : the_plans      ? judge_records(plan, records, claim)
+                            : judge_own_grid(plan.scene, claim, cells, jobs);
+  };
+  static_cast<Judgement&>(verdict) = judge_over(grid, !claim.own_grid);
+  if (verdict.measured > 0 && std::isfinite(verdict.measured)) {
+    verdict.supported = std::pow(10.0, std::ceil(std::log10(verdict.measured)));
+  }
+  if (claim.denser) {
+    verdict.denser = judge_over(denser_grid(grid), false);
+  }
   return verdict;
 }
 
 } // namespace
+
+void add_without_value(Judgement& j, const std::string& cell, const std::string& why, bool failed) {
+  ++(failed ? j.failed_cells : j.missing_cells);
+  constexpr std::size_t listed = 20;
+  if (j.without_value.size() < listed) {
+    j.without_value.push_back({cell, why, failed});
+  }
+}
+
+void conclude_without_value(Judgement& j, bool allow_missing) {
+  const auto first = [&](bool failed) {
+    const auto found = std::find_if(j.without_value.begin(), j.without_value.end(),
+                                    [&](const CellWithoutValue& c) { return c.failed == failed; });
+    return found == j.without_value.end() ? std::string() : found->cell + ": " + found->why;
+  };
+  const auto add_note = [&](const std::string& text) {
+    j.note += (j.note.empty() ? "" : "; ") + text;
+  };
+  if (j.failed_cells > 0) {
+    j.holds = false;
+    add_note(fmt::format("no answer at {} of {} cells (first: {})", j.failed_cells, j.cells,
+                         first(true)));
+  }
+  if (j.missing_cells > 0) {
+    j.holds = j.holds && allow_missing;
+    add_note(fmt::format("no value at {} of {} cells{} (first: {})", j.missing_cells, j.cells,
+                         allow_missing ? ", allowed (allow_missing): judged on the others" : "",
+                         first(false)));
+  }
+}
+
+std::string verdict_text(const Judgement& j) {
+  if (j.partial()) {
+    return fmt::format("holds on {} of {} cells", j.cells - j.missing_cells, j.cells);
+  }
+  const long without = j.failed_cells + j.missing_cells;
+  if (!j.holds && without > 0) {
+    return fmt::format("fails ({} of {} cells without a value)", without, j.cells);
+  }
+  return j.holds ? "holds" : "fails";
+}
 
 std::size_t nearest_rank(const std::vector<double>& values, double quantile) {
   std::vector<std::size_t> order(values.size());
@@ -236,11 +350,12 @@ Budgets make_budgets(const Plan& plan, const std::vector<Record>& records) {
       }
     }
   }
-  for (const Claim& claim : plan.scene.claims) {
-    budgets.claims.push_back(claim.kind == ClaimKind::bound ? judge(plan, records, claim)
-                                                            : judge_on_grid(plan.scene, claim));
-  }
   const int jobs = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+  for (const Claim& claim : plan.scene.claims) {
+    budgets.claims.push_back(claim.kind == ClaimKind::bound
+                                 ? judge_bound(plan, records, claim, jobs)
+                                 : judge_on_grid(plan.scene, claim));
+  }
   for (const Search& search : plan.scene.searches) {
     budgets.searches.push_back(run_search(plan.scene, search, jobs));
   }

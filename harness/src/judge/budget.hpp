@@ -41,8 +41,15 @@ struct WorkPoint {
 // observables: the mean over p of its time per cell, over the same mean of the closed forms'.
 double times_analytic(const std::vector<WorkPoint>& work);
 
+// A cell of a claim that gave it no value, and why.
+struct CellWithoutValue {
+  std::string cell, why;
+  bool failed = false; // the solve failed (else the value is missing: skipped, not measured)
+};
+
 // A claim judged over one grid. What `measured` and `margin` mean depends on the claim's kind
-// (claims.hpp, measure_meaning).
+// (claims.hpp, measure_meaning). A claim holds only on every cell it names
+// (conclude_without_value).
 struct Judgement {
   bool holds = false;
   double measured = 0;
@@ -50,8 +57,26 @@ struct Judgement {
   std::string worst;     // the cell where the claim comes closest to failing, or fails worst
   std::string grid;      // what it was judged over, "p in {1, 2} x e in [0.1, 0.99] (10): 20 cells"
   std::string note;      // what else the kind measured (ties, per-p orders, e at the Δt bound)
+  long cells = 0;        // the cells it names
   long failed_cells = 0; // cells without an answer (the solver failed): the claim then fails
+  // Cells without a value, not failed (a record skipped, a value the solver did not give, no
+  // truth): the claim fails, unless it allows them (allow_missing) and then holds on the others.
+  long missing_cells = 0;
+  std::vector<CellWithoutValue> without_value; // the failed and missing cells (the first 20)
+  // Holds on only some of its cells (the others without a value, as the claim allows).
+  bool partial() const { return holds && missing_cells > 0; }
 };
+
+// A claim's cell without a value, counted in `j` (failed: the solve failed; else missing) and
+// listed with why (the first 20).
+void add_without_value(Judgement& j, const std::string& cell, const std::string& why, bool failed);
+
+// What the cells without a value make of a judgement: a failed one fails it, a missing one too
+// unless `allow_missing`; the note counts them and names the first.
+void conclude_without_value(Judgement& j, bool allow_missing);
+
+// "holds", "fails", "holds on 8 of 9 cells", "fails (1 of 9 cells without a value)".
+std::string verdict_text(const Judgement& j);
 
 // The order in α_eff at which an asymptotic claim's two sides agree, per p, and the coefficient
 // of that leading term (|difference| ≈ coefficient · α_eff^round(order)).
@@ -65,6 +90,7 @@ struct Verdict : Judgement {
   std::string name, kind, observable, config, where, quote, figure;
   std::string meaning; // what measured and margin are for this kind (claims.hpp)
   bool expect_holds = true;
+  bool allow_missing = false; // cells without a value allowed: "holds on M of N cells"
   // Whether a lower measurement is the worse one (an order, a gap, a ratio of steps), not a
   // higher one (an error): how `pldamp diff` reads a change of it.
   bool worse_when_lower = false;
@@ -72,9 +98,9 @@ struct Verdict : Judgement {
   std::optional<double> supported; // bound: the tightest power of ten at or above the measurement
   std::optional<Judgement> denser; // the same claim on a grid ten times denser
   std::vector<MeasuredOrder> orders;
-  // A verdict other than the one expected (expect = "fails" pins a known-false claim): what
-  // `run --strict` exits 1 on.
-  bool unexpected() const { return holds != expect_holds; }
+  // A verdict other than the one expected (expect = "fails" pins a known-false claim), or one
+  // that holds on only some of its cells: what `run --strict` exits 1 on.
+  bool unexpected() const { return holds != expect_holds || partial(); }
 };
 
 struct Budgets {

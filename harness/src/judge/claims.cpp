@@ -170,28 +170,6 @@ void conclude_at_most(Judgement& j, const Largest& largest, double bound) {
   j.worst = largest.where();
 }
 
-// Failed cells: their count in the judgement, the first reason in its note.
-class Failures {
-public:
-  void add(const std::string& cell, const std::string& why) {
-    if (count_++ == 0) {
-      first_ = cell + ": " + why;
-    }
-  }
-  void into(Judgement& j) const {
-    j.failed_cells = count_;
-    if (count_ > 0) {
-      j.holds = false;
-      j.note += fmt::format("{}no answer at {} cell{} (first: {})", j.note.empty() ? "" : "; ",
-                            count_, count_ == 1 ? "" : "s", first_);
-    }
-  }
-
-private:
-  long count_ = 0;
-  std::string first_;
-};
-
 // The cells where a relation's two sides are equal within its tolerance, described by p: "p = 1
 // (every cell); p = 1.5, 2 at alpha_eff = 0".
 class Ties {
@@ -236,9 +214,9 @@ Judgement judge_relation(const Scene& scene, const Claim& claim, const ClaimGrid
   Judgement j;
   j.grid = grid_text(grid);
   const std::vector<ClaimCell> cells = cells_of(grid);
+  j.cells = static_cast<long>(cells.size());
   const double tolerance = claim.bound;
   const bool equal_within = claim.relation == Relation::equal_within;
-  Failures failures;
   Ties ties;
   // equal_within: the largest difference; bounds: the smallest gap of all, and of the cells
   // that are not ties.
@@ -254,9 +232,11 @@ Judgement judge_relation(const Scene& scene, const Claim& claim, const ClaimGrid
       const Exact a = quantity_value(scene, claim, c);
       const Exact f = seed::evaluate(claim.formula, c);
       if (!isfinite(a) || !isfinite(f) || (f == 0 && !claim.absolute)) {
-        failures.add(where, fmt::format("{} = {:.6g}, the formula {:.6g}",
-                                        name_of(quantities, claim.quantity), static_cast<double>(a),
-                                        static_cast<double>(f)));
+        add_without_value(j, where,
+                          fmt::format("{} = {:.6g}, the formula {:.6g}",
+                                      name_of(quantities, claim.quantity), static_cast<double>(a),
+                                      static_cast<double>(f)),
+                          true);
         continue;
       }
       if (equal_within) {
@@ -278,7 +258,7 @@ Judgement judge_relation(const Scene& scene, const Claim& claim, const ClaimGrid
         smallest_apart.see(gap, where);
       }
     } catch (const std::exception& e) {
-      failures.add(where, e.what());
+      add_without_value(j, where, e.what(), true);
     }
   }
   if (equal_within) {
@@ -302,7 +282,7 @@ Judgement judge_relation(const Scene& scene, const Claim& claim, const ClaimGrid
                            cells.size(), ties.text(per_p));
     }
   }
-  failures.into(j);
+  conclude_without_value(j, false);
   return j;
 }
 
@@ -325,10 +305,10 @@ Judgement judge_asymptotic(const Scene& scene, const Claim& claim, const ClaimGr
   const auto [from, to] = claim.range;
   j.grid = fmt::format("p in {} x {} alpha_eff log-spaced over [{:g}, {:g}]: {} cells",
                        list_text(grid.p), claim.points, from, to, grid.p.size() * claim.points);
+  j.cells = static_cast<long>(grid.p.size()); // a p fails whole: its cells are one
   // Below this relative difference the two sides are equal to the comparison's accuracy: the
   // truth's, or ten times a solver's tolerance.
   const double equal = claim.of_truth ? 1e-25 : 10 * claim.config.rtol.value_or(1e-8);
-  Failures failures;
   orders.clear();
   std::vector<std::string> notes;
   for (const double p : grid.p) {
@@ -359,7 +339,7 @@ Judgement judge_asymptotic(const Scene& scene, const Claim& claim, const ClaimGr
         log_difference.push_back(std::log(difference));
       }
     } catch (const std::exception& e) {
-      failures.add("p = " + number(p), e.what());
+      add_without_value(j, "p = " + number(p), e.what(), true);
       continue;
     }
     MeasuredOrder measured{p, std::nullopt, 0};
@@ -386,16 +366,17 @@ Judgement judge_asymptotic(const Scene& scene, const Claim& claim, const ClaimGr
     j.margin = j.measured - claim.bound;
   }
   j.note = fmt::format("{}", fmt::join(notes, "; "));
-  failures.into(j);
+  conclude_without_value(j, false);
   return j;
 }
 
 Judgement judge_recovered(const Scene& scene, const Claim& claim, const ClaimGrid& grid) {
   Judgement j;
   j.grid = grid_text(grid);
-  Failures failures;
   Largest worst;
-  for (const ClaimCell& cell : cells_of(grid)) {
+  const std::vector<ClaimCell> cells = cells_of(grid);
+  j.cells = static_cast<long>(cells.size());
+  for (const ClaimCell& cell : cells) {
     const std::string where = cell_text(grid, cell);
     try {
       const double found = alpha_by_bisection(claim.config, {cell.p, 0, cell.v0, cell.m, cell.k},
@@ -404,27 +385,27 @@ Judgement judge_recovered(const Scene& scene, const Claim& claim, const ClaimGri
       const double d = static_cast<double>(abs(Exact(found) / formula - 1));
       worst.see(d, where);
     } catch (const std::exception& e) {
-      failures.add(where, e.what());
+      add_without_value(j, where, e.what(), true);
     }
   }
   conclude_at_most(j, worst, claim.bound);
-  failures.into(j);
+  conclude_without_value(j, false);
   return j;
 }
 
 Judgement judge_stability(const Scene& scene, const Claim& claim, const ClaimGrid& grid) {
   Judgement j;
   j.grid = grid_text(grid);
-  Failures failures;
   Smallest smallest;
   Largest largest, worst_e;
   long unstable_at_bound = 0;
   const std::vector<ClaimCell> cells = cells_of(grid);
+  j.cells = static_cast<long>(cells.size());
   for (const ClaimCell& cell : cells) {
     const std::string where = cell_text(grid, cell);
     const Contact<Exact> c = truth_contact(cell);
     if (c.mu() <= 0) {
-      failures.add(where, "alpha_eff >= 1: the contact does not return");
+      add_without_value(j, where, "alpha_eff >= 1: the contact does not return", true);
       continue;
     }
     const double tau = static_cast<double>(analytic::contact_duration(c));
@@ -462,7 +443,7 @@ Judgement judge_stability(const Scene& scene, const Claim& claim, const ClaimGri
     }
     const solvers::Result<double> at_bound = run(bound);
     if (!limit.empty()) {
-      failures.add(where, limit);
+      add_without_value(j, where, limit, true);
       continue;
     }
     const double ratio = lo / bound;
@@ -494,7 +475,7 @@ Judgement judge_stability(const Scene& scene, const Claim& claim, const ClaimGri
                             worst_e.value(), worst_e.where());
     }
   }
-  failures.into(j);
+  conclude_without_value(j, false);
   return j;
 }
 
@@ -561,6 +542,7 @@ Verdict verdict_of(const Claim& claim) {
   v.quote = claim.quote;
   v.figure = claim.figure.value_or("");
   v.expect_holds = claim.expect_holds;
+  v.allow_missing = claim.allow_missing;
   v.bound = claim.bound;
   v.meaning = measure_meaning(claim);
   v.worse_when_lower =

@@ -21,7 +21,10 @@
 //                        smallest ratio, holds (the bound is conservative) if ≥ 1, margin =
 //                        that ratio. Also e's relative error at the formula's Δt, in the note.
 //
-// A cell without an answer (a solver out of its limits, a formula not finite) fails the claim.
+// A cell without an answer (a solver out of its limits, a formula not finite) fails the claim. A
+// bound claim (judge/budget.cpp) also counts a cell without a value (a record skipped, a value
+// the solver did not give, no truth) against it, unless it allows them (allow_missing): it then
+// "holds on M of N cells", which `run --strict` still counts as not the verdict expected.
 #pragma once
 
 #include "judge/budget.hpp"

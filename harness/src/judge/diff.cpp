@@ -701,7 +701,10 @@ void compare_claims(Findings& findings, const json& old_report, const json& new_
     const std::string verdict = is.at("verdict").get<std::string>();
     if (was == expected(claim) && verdict != expected(is)) {
       base.what = "claim_flipped";
-      base.worst = was == "holds" ? "held, now fails" : "failed as pinned, now holds";
+      // "partial": holds on some cells only, the others without a value (allow_missing).
+      base.worst = was != "holds"         ? "failed as pinned, now holds"
+                   : verdict == "partial" ? "held, now holds on some cells only"
+                                          : "held, now fails";
       findings.add(base);
     }
     // Its measured value: an error-like one ("worse": "higher") like an error; an order, gap or

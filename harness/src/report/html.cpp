@@ -525,7 +525,9 @@ std::string report_html(const RunReport& report, const std::string& gnuplot_prog
           << escape(row.kind) << "; " << escape(row.subject) << "). "
           << (row.quote.empty() ? "" : fmt::format("<q>{}</q> ", escape(row.quote)))
           << "Judged over " << escape(row.grid) << ". Measured: " << escape(row.meaning) << "."
-          << (row.note.empty() ? "" : fmt::format(" {}.", escape(row.note))) << "</li>\n";
+          << (row.note.empty() ? "" : fmt::format(" {}.", escape(row.note)))
+          << (row.without_value.empty() ? "" : fmt::format(" {}", escape(row.without_value)))
+          << "</li>\n";
     }
     out << "</ul>\n";
   }

@@ -341,9 +341,23 @@ ordered_json report_json(const RunReport& report) {
     out["trajectories"] = checks;
   }
   out["claims"] = ordered_json::array();
+  // "holds", "fails", or "partial": holds on some cells only, the others without a value.
+  const auto verdict_word = [](const Judgement& j) {
+    return j.partial() ? "partial" : j.holds ? "holds" : "fails";
+  };
+  const auto cells_json = [](const Judgement& j, ordered_json& into) {
+    into["cells"] = j.cells;
+    into["failed_cells"] = j.failed_cells;
+    into["missing_cells"] = j.missing_cells;
+    ordered_json listed = ordered_json::array();
+    for (const CellWithoutValue& c : j.without_value) {
+      listed.push_back({{"cell", c.cell}, {"why", c.why}, {"failed", c.failed}});
+    }
+    into["without_value"] = listed;
+  };
   for (const Verdict& v : budgets.claims) {
     ordered_json claim{{"name", v.name},
-                       {"verdict", v.holds ? "holds" : "fails"},
+                       {"verdict", verdict_word(v)},
                        {"expect", v.expect_holds ? "holds" : "fails"},
                        {"kind", v.kind},
                        {"where", v.where},
@@ -360,15 +374,16 @@ ordered_json report_json(const RunReport& report) {
                        {"observable", v.observable},
                        {"solver", v.config},
                        {"supported", number_or_null(v.supported)},
-                       {"failed_cells", v.failed_cells}};
+                       {"allow_missing", v.allow_missing}};
+    cells_json(v, claim);
     if (v.denser) {
-      claim["denser"] = {{"verdict", v.denser->holds ? "holds" : "fails"},
+      claim["denser"] = {{"verdict", verdict_word(*v.denser)},
                          {"measured", number_or_null(v.denser->measured)},
                          {"margin", number_or_null(v.denser->margin)},
                          {"worst", v.denser->worst},
                          {"grid", v.denser->grid},
-                         {"note", v.denser->note},
-                         {"failed_cells", v.denser->failed_cells}};
+                         {"note", v.denser->note}};
+      cells_json(*v.denser, claim["denser"]);
     }
     if (!v.orders.empty()) {
       claim["orders"] = ordered_json::array();
@@ -494,6 +509,7 @@ ordered_json report_json(const RunReport& report) {
                    {"p", point.p},
                    {"damping", point.damping.label()},
                    {"alpha_eff", point.alpha_eff},
+                   {"alpha", record.alpha},
                    {"v0", cell.v0},
                    {"m", cell.m},
                    {"k", cell.k},
@@ -503,6 +519,9 @@ ordered_json report_json(const RunReport& report) {
                    {"rhs_evals", record.rhs_evals},
                    {"wall_seconds", record.wall_seconds},
                    {"wall_seconds_slowest", record.wall_seconds_slowest}};
+    if (!record.alpha_digits.empty()) {
+      r["alpha_digits"] = record.alpha_digits; // α in the configuration's wider precision
+    }
     if (record.dt) {
       r["dt"] = *record.dt;
     }
@@ -578,7 +597,7 @@ ordered_json report_json(const RunReport& report) {
 
 std::string report_csv(const RunReport& report) {
   const Plan& plan = report.plan;
-  std::string out = "solver,precision,rtol,atol,steps_per_contact,p,damping,alpha_eff,v0,m,k,"
+  std::string out = "solver,precision,rtol,atol,steps_per_contact,p,damping,alpha_eff,alpha,v0,m,k,"
                     "outcome,steps,rhs_evals,wall_seconds,wall_seconds_slowest";
   for (const Observable* observable : plan.observables) {
     const std::string_view name = observable->key;
@@ -594,12 +613,12 @@ std::string report_csv(const RunReport& report) {
     const SolverConfig& config = plan.configs[record.config];
     const Cell& c = plan.cells[record.cell];
     const Point& point = plan.points[c.point];
-    out += fmt::format("{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{}", config.name,
+    out += fmt::format("{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{}", config.name,
                        config.precision, number(config.rtol), number(config.atol),
                        config.steps_per_contact ? std::to_string(*config.steps_per_contact) : "",
-                       point.p, point.damping.label(), point.alpha_eff, c.v0, c.m, c.k,
-                       record.outcome_name(), record.steps, record.rhs_evals, record.wall_seconds,
-                       record.wall_seconds_slowest);
+                       point.p, point.damping.label(), point.alpha_eff, record.alpha, c.v0, c.m,
+                       c.k, record.outcome_name(), record.steps, record.rhs_evals,
+                       record.wall_seconds, record.wall_seconds_slowest);
     for (std::size_t o = 0; o < plan.observables.size(); ++o) {
       out += fmt::format(",{},{},{},{},{}", number(record.value[o]), number(record.reference[o]),
                          number(record.error[o]), number(record.abs_error[o]),
@@ -634,21 +653,37 @@ std::vector<ClaimRow> claim_rows(const RunReport& report) {
     row.holds = v.holds;
     row.unexpected = v.unexpected();
     row.verdict =
-        std::string(v.holds ? "holds" : "fails") +
-        (v.unexpected() ? (v.expect_holds ? ", unexpected" : ", unexpected: pinned as fails")
-                        : (v.holds ? "" : " (expected)"));
+        verdict_text(v) + (v.unexpected()
+                               ? (v.expect_holds ? ", unexpected" : ", unexpected: pinned as fails")
+                               : (v.holds ? "" : " (expected)"));
     row.worst = v.worst.empty() ? "–" : v.worst;
     row.measured = short_number(v.measured, 3);
     row.bound = short_number(v.bound);
     row.margin = short_number(v.margin);
-    row.denser = !v.denser ? "–"
-                 : v.denser->holds == v.holds
-                     ? std::string(v.denser->holds ? "holds" : "fails") + ", unchanged (" +
-                           short_number(v.denser->measured, 3) + ")"
-                     : std::string(v.denser->holds ? "holds" : "fails") + ": CHANGED (" +
-                           short_number(v.denser->measured, 3) + " at " + v.denser->worst + ")";
+    row.denser =
+        !v.denser ? "–"
+        : v.denser->holds == v.holds
+            ? verdict_text(*v.denser) + ", unchanged (" + short_number(v.denser->measured, 3) + ")"
+            : verdict_text(*v.denser) + ": CHANGED (" + short_number(v.denser->measured, 3) +
+                  " at " + v.denser->worst + ")";
     row.grid = v.grid + (v.denser ? "; denser: " + v.denser->grid : "");
     row.note = v.note;
+    // Every cell without a value that the verdict keeps (the first 20), with why.
+    for (const Judgement* j :
+         {static_cast<const Judgement*>(&v), v.denser ? &*v.denser : nullptr}) {
+      if (j == nullptr || j->without_value.empty()) {
+        continue;
+      }
+      std::string listed;
+      for (const CellWithoutValue& c : j->without_value) {
+        listed += (listed.empty() ? "" : "; ") + c.cell + " (" + c.why + ")";
+      }
+      const long more = j->failed_cells + j->missing_cells - long(j->without_value.size());
+      row.without_value +=
+          fmt::format("{}Without a value{}: {}{}.", row.without_value.empty() ? "" : " ",
+                      j == &v ? "" : " on the denser grid", listed,
+                      more > 0 ? fmt::format("; and {} more", more) : "");
+    }
     row.meaning = v.meaning;
     rows.push_back(row);
   }
@@ -895,7 +930,7 @@ std::string report_markdown(const RunReport& report) {
       out << "- **" << row.name << "** (" << row.kind << "; " << row.subject << "). "
           << (row.quote.empty() ? "" : "\"" + row.quote + "\" ") << "Judged over " << row.grid
           << ". Measured: " << row.meaning << "." << (row.note.empty() ? "" : " " + row.note + ".")
-          << "\n";
+          << (row.without_value.empty() ? "" : " " + row.without_value) << "\n";
     }
     out << "\n";
   }

@@ -96,6 +96,7 @@ std::string unrepresentable_note(const Plan& plan);
 struct ClaimRow {
   std::string name, kind, subject, where, quote, figure, verdict, worst, measured, bound, margin,
       denser, grid, note, meaning;
+  std::string without_value; // "Without a value: CELL (why); ..." (empty: none)
   bool holds = false, unexpected = false;
 };
 std::vector<ClaimRow> claim_rows(const RunReport& report);

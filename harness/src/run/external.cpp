@@ -1,10 +1,8 @@
 #include "run/external.hpp"
 
 #include "common/observables.hpp"
+#include "run/answers.hpp"
 
-#include "pldamp/solvers/contact_ode.hpp"
-
-#include <boost/math/constants/constants.hpp>
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
@@ -32,19 +30,6 @@ struct ReportedError : std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
-// The fixed step of a configuration swept by steps per contact or dt (MATH.md §5: Δt = π δ_u/v0
-// over the steps, as pldamp's own fixed-step schemes take it), none for an error-controlled one.
-std::optional<double> step_of(const SolverConfig& config, const solvers::Problem<double>& problem) {
-  if (config.dt) {
-    return config.dt;
-  }
-  if (config.steps_per_contact) {
-    return boost::math::constants::pi<double>() *
-           solvers::ContactOde<double>(problem).time_scale() / double(*config.steps_per_contact);
-  }
-  return std::nullopt;
-}
-
 std::optional<solvers::Outcome> outcome_named(const std::string& name) {
   using solvers::Outcome;
   for (const Outcome outcome : {Outcome::exited, Outcome::peak, Outcome::no_exit,
@@ -56,8 +41,9 @@ std::optional<solvers::Outcome> outcome_named(const std::string& name) {
   return std::nullopt;
 }
 
-// A measured number of the reply: absent, a finite number >= 0, or "inf" where `infinite_ok`.
-std::optional<double> reply_number(const json& reply, const char* key, bool infinite_ok) {
+// A measured value of the reply: absent, a number (whatever its sign: impossible values are
+// judged by impossible_answer, the exchange is still in step), or "inf" where `infinite_ok`.
+std::optional<double> reply_value(const json& reply, const char* key, bool infinite_ok) {
   const auto found = reply.find(key);
   if (found == reply.end() || found->is_null()) {
     return std::nullopt;
@@ -69,16 +55,21 @@ std::optional<double> reply_number(const json& reply, const char* key, bool infi
     throw std::runtime_error(
         fmt::format("the reply's {} is not a number (got {})", key, quoted(found->dump())));
   }
-  const double value = found->get<double>();
-  if (!std::isfinite(value) || value < 0) {
+  return found->get<double>();
+}
+
+// A number of the reply's work (steps, rhs_evals, wall_seconds): absent, or a finite number >= 0.
+std::optional<double> reply_number(const json& reply, const char* key) {
+  const std::optional<double> value = reply_value(reply, key, false);
+  if (value && !(std::isfinite(*value) && *value >= 0)) {
     throw std::runtime_error(
-        fmt::format("the reply's {} must be a finite number >= 0 (got {})", key, value));
+        fmt::format("the reply's {} must be a finite number >= 0 (got {})", key, *value));
   }
   return value;
 }
 
 long reply_count(const json& reply, const char* key) {
-  const std::optional<double> value = reply_number(reply, key, false);
+  const std::optional<double> value = reply_number(reply, key);
   if (value && (*value != std::floor(*value) || *value > 9e15)) {
     throw std::runtime_error(
         fmt::format("the reply's {} must be a whole number (got {})", key, *value));
@@ -133,6 +124,9 @@ ExternalFacts read_handshake(const std::string& line, const std::string& who) {
         facts.ends.push_back(*end);
       }
     }
+    if (const auto honours = hello.find("honours"); honours != hello.end()) {
+      facts.honours = honours->get<std::vector<std::string>>();
+    }
     if (const auto unavailable = hello.find("unavailable"); unavailable != hello.end()) {
       facts.unavailable = unavailable->get<std::string>();
       if (facts.unavailable.empty()) {
@@ -158,10 +152,29 @@ std::string ExternalFacts::describe() const {
   if (damping_exponent) {
     out += fmt::format("; damping exponent {:g}", *damping_exponent);
   }
+  if (honours) {
+    out +=
+        "; honours " + (honours->empty() ? std::string("no setting")
+                                         : one_line(fmt::format("{}", fmt::join(*honours, ", "))));
+  }
   if (!unavailable.empty()) {
     out += "; unavailable: " + one_line(unavailable);
   }
   return out;
+}
+
+void ExternalFacts::require_honoured(const SolverConfig& config) const {
+  if (!honours || !unavailable.empty()) {
+    return;
+  }
+  const std::vector<std::string> ignored = settings_not_honoured(config, *honours);
+  if (!ignored.empty()) {
+    throw ProtocolError(fmt::format(
+        "[[solver]] {} ({}): sets {}, which its program does not honour (its handshake honours "
+        "{}): remove the setting from the scene, or teach the program it",
+        config.name, config.label(), fmt::join(ignored, ", "),
+        honours->empty() ? std::string("none") : fmt::format("{}", fmt::join(*honours, ", "))));
+  }
 }
 
 ExternalSolver::ExternalSolver(const SolverConfig& config, double limit_seconds)
@@ -182,8 +195,15 @@ void ExternalSolver::start() {
   program_ = std::make_unique<LineProgram>(config_.command);
   if (!program_->started()) {
     program_.reset();
-    throw ProtocolError(who + ": cannot start " + config_.command.front() +
-                        " (not found or not executable)");
+    // Named as the scene typed it, and where it was looked for.
+    const std::string& typed = config_.program.empty() ? config_.command.front() : config_.program;
+    const std::string& resolved = config_.command.front();
+    const std::string why =
+        typed != resolved ? "from the scene's folder: " + resolved + ", not found or not executable"
+        : typed.find('/') == std::string::npos
+            ? "not beside the scene nor on PATH, or not executable"
+            : "not found or not executable";
+    throw ProtocolError(who + ": cannot start " + typed + " (" + why + ")");
   }
   std::string line;
   if (!program_->write_line(
@@ -301,17 +321,17 @@ solvers::Result<double> ExternalSolver::parse_reply(const std::string& line, lon
   }
   solvers::Result<double> result;
   result.outcome = *known;
-  result.e = reply_number(reply, "e", false);
-  result.delta_max = reply_number(reply, "delta_max", false);
-  result.t_peak = reply_number(reply, "t_peak", false);
-  result.tau = reply_number(reply, "tau", true);
-  result.energy_load = reply_number(reply, "energy_load", false);
-  result.energy_unload = reply_number(reply, "energy_unload", false);
-  result.normal_force_max = reply_number(reply, "normal_force_max", false);
-  result.t_normal_force_max = reply_number(reply, "t_normal_force_max", false);
+  result.e = reply_value(reply, "e", false);
+  result.delta_max = reply_value(reply, "delta_max", false);
+  result.t_peak = reply_value(reply, "t_peak", false);
+  result.tau = reply_value(reply, "tau", true);
+  result.energy_load = reply_value(reply, "energy_load", false);
+  result.energy_unload = reply_value(reply, "energy_unload", false);
+  result.normal_force_max = reply_value(reply, "normal_force_max", false);
+  result.t_normal_force_max = reply_value(reply, "t_normal_force_max", false);
   result.steps = reply_count(reply, "steps");
   result.rhs_evals = reply_count(reply, "rhs_evals");
-  result.wall_seconds = reply_number(reply, "wall_seconds", false).value_or(0);
+  result.wall_seconds = reply_number(reply, "wall_seconds").value_or(0);
   if (*known == solvers::Outcome::unstable) {
     result.invariant = "the program says unstable: " + reason();
   }
@@ -371,6 +391,17 @@ solvers::Result<double> ExternalSolver::solve(const SolverConfig& config,
       result.wall_seconds = round_trip;
     }
     result.fixed_step = step_of(config, problem);
+    if (result.outcome != solvers::Outcome::unstable) {
+      // Held to the invariants of pldamp's own solvers: an impossible answer is unstable, with
+      // nothing measured kept (as BasicCollision::finish does).
+      if (const std::string why = impossible_answer(result, config, problem, options);
+          !why.empty()) {
+        result.outcome = solvers::Outcome::unstable;
+        result.invariant = "impossible answer: " + why;
+        result.e = result.delta_max = result.t_peak = result.tau = result.energy_load =
+            result.energy_unload = std::nullopt;
+      }
+    }
     return result;
   } catch (const Skipped&) {
     throw;

@@ -10,7 +10,9 @@
 // (ProtocolError, exit 2). Within the run, a malformed, missing, late or foreign reply, an `error`
 // outcome and a crash fail that record with the reason (std::runtime_error) and the program is
 // restarted for the next; `unsupported`, `unavailable` and a p or contact end outside the
-// handshake's skip it (Skipped).
+// handshake's skip it (Skipped). An answer that breaks an invariant of pldamp's own solvers
+// (answers.hpp) is `unstable`, with the reason. A configuration that sets what the handshake's
+// `honours` leaves out is refused before any work (ProtocolError).
 #pragma once
 
 #include "common/input.hpp"
@@ -50,13 +52,19 @@ struct ExternalFacts {
   std::vector<double> exponents;          // the p it runs (empty: any)
   std::vector<solvers::End> ends;         // the contact ends it runs
   std::string unavailable;                // not empty: it cannot run here (its code is missing)
+  // The settings it says it honours (steps_per_contact, dt, onset_phase, rtol, atol,
+  // options.KEY); none: it did not say, and is not checked.
+  std::optional<std::vector<std::string>> honours;
 
   // β at p.
   double beta(double p) const { return damping_exponent.value_or((p - 1) / 2); }
   // The closed forms are its truth at p: its dashpot is the seed's (MATH.md §1).
   bool seed_damping(double p) const;
-  // "LAMMPS granular hertz tsuji; damping exponent 0.5"
+  // "LAMMPS granular hertz tsuji; damping exponent 0.5; honours dt, onset_phase"
   std::string describe() const;
+  // Throws ProtocolError when `config` sets what the program declared it does not honour
+  // (answers.hpp, settings_not_honoured); an unavailable program is not asked.
+  void require_honoured(const SolverConfig& config) const;
 };
 
 class ExternalSolver {

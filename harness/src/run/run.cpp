@@ -139,9 +139,13 @@ void solve_record(const Plan& plan, Record& record, ExternalSolver* external) {
   const Point& point = plan.points[cell.point];
   const SolverConfig& config = plan.configs[record.config];
   solvers::Problem<Real> problem{Real(point.p), Real(cell.m), Real(cell.k), Real(cell.v0),
-                                 static_cast<Real>(cell.alpha)};
+                                 alpha_as_received<Real>(cell.alpha)};
   if (point.beta) {
     problem.damping_exponent = Real(*point.beta);
+  }
+  record.alpha = static_cast<double>(problem.alpha);
+  if constexpr (!std::is_same_v<Real, double>) {
+    record.alpha_digits = to_string_full(problem.alpha);
   }
   solvers::Options<Real> options;
   if (config.rtol) {
@@ -325,6 +329,7 @@ std::vector<Record> run_plan(const Plan& plan, int jobs, RunTotals& totals,
       programs.push_back(std::make_unique<ExternalSolver>(config, plan.scene.limits.max_seconds));
       externals[c] = programs.back().get();
     }
+    externals[c]->facts().require_honoured(config);
     totals.external[c] = externals[c]->facts().describe();
   }
   std::atomic<std::size_t> next{0};
@@ -338,10 +343,12 @@ std::vector<Record> run_plan(const Plan& plan, int jobs, RunTotals& totals,
           solve_record<Real>(plan, record, externals[record.config]);
         });
       } catch (const Skipped& e) {
-        const std::size_t cell = record.cell, config = record.config;
-        record = Record{};
-        record.cell = cell;
-        record.config = config;
+        Record skipped;
+        skipped.cell = record.cell;
+        skipped.config = record.config;
+        skipped.alpha = record.alpha;
+        skipped.alpha_digits = record.alpha_digits;
+        record = std::move(skipped);
         record.skip_reason = e.what();
         record.value.assign(plan.observables.size(), std::nullopt);
         record.reference = record.error = record.abs_error = record.rel_error = record.spread =

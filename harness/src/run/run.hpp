@@ -26,6 +26,11 @@ struct Record {
   // Per collision, the mean over onset phases of the fastest of the repeats (what a report
   // compares: the least disturbed by other load) and of the slowest (its spread).
   double wall_seconds = 0, wall_seconds_slowest = 0;
+  // α exactly as the solver received it (alpha_as_received, truth/plan.hpp): as a double, which is
+  // what a double solver and an external program get, and in full digits where the configuration
+  // runs wider than double (empty otherwise).
+  double alpha = 0;
+  std::string alpha_digits;
   int phases = 1;           // onset phases run (fixed-step configurations)
   std::optional<double> dt; // the fixed step a fixed-step run used
   // Per observable (Plan::observables): the value and the reference (rounded to double for the

@@ -311,11 +311,19 @@ void read_external_solver(const Reader& reader, const toml::table& entry, const 
       base.command.front().empty()) {
     reader.fail(*command, "command must be a non-empty list of strings, the program first");
   }
-  // A relative program path is the scene file's folder's, so a scene runs from anywhere.
-  const std::filesystem::path program(base.command.front());
-  if (program.is_relative() && base.command.front().find('/') != std::string::npos) {
-    base.command.front() =
-        (std::filesystem::path(scene.path).parent_path() / program).lexically_normal().string();
+  // The program, so that a scene runs from anywhere: a relative path ("./prog", "../x/prog") is
+  // the scene file's folder's; a bare name is the file of that name beside the scene when there
+  // is one, else found on PATH. A resolved path keeps a '/' ("./prog"), so that it is not
+  // looked up on PATH. Messages name the program as typed.
+  base.program = base.command.front();
+  const std::filesystem::path program(base.program);
+  const std::filesystem::path folder = std::filesystem::path(scene.path).parent_path();
+  const bool bare = base.program.find('/') == std::string::npos;
+  std::error_code ignored;
+  if (program.is_relative() &&
+      (!bare || std::filesystem::is_regular_file(folder / program, ignored))) {
+    std::string resolved = (folder / program).lexically_normal().string();
+    base.command.front() = resolved.find('/') == std::string::npos ? "./" + resolved : resolved;
   }
   const toml::node* label = entry.get("label");
   if (label == nullptr) {
@@ -440,7 +448,7 @@ void read_convention_claim(const Reader& reader, const toml::table& entry, const
                            const toml::node& node, Scene& scene, Claim& claim) {
   reader.only(entry,
               {"name", "kind", "where", "quote", "figure", "expect", "observable", "convention",
-               "limit_damping", "bound", "bound_rel", "quantile"},
+               "limit_damping", "bound", "bound_rel", "quantile", "p", "e", "denser"},
               "[[claim]]");
   const std::string name = reader.string(node, "convention");
   const analytic::Convention* convention = analytic::find_convention(name);
@@ -459,13 +467,13 @@ void read_convention_claim(const Reader& reader, const toml::table& entry, const
     }
     claim.limit_damping = *limit->value<bool>();
   }
-  const bool targets = std::any_of(scene.damping.begin(), scene.damping.end(),
+  const bool targets = std::any_of(claim.grid.damping.begin(), claim.grid.damping.end(),
                                    [](const Damping& d) { return d.kind == Damping::Kind::e; });
-  const bool models = std::any_of(scene.p.begin(), scene.p.end(), [&](double p) {
+  const bool models = std::any_of(claim.grid.p.begin(), claim.grid.p.end(), [&](double p) {
     return (convention->linear && p == 1) || (convention->hertz && p == 1.5);
   });
   if (!targets || !models) {
-    reader.fail(item, "[[claim]] " + claim.name + " needs target e in [grid] and a p " + name +
+    reader.fail(item, "[[claim]] " + claim.name + " needs target e and a p " + name +
                           " has a model for (" + (convention->linear ? "1 or 1.5" : "1.5") + ")");
   }
   claim.convention = name;
@@ -490,6 +498,8 @@ bool boolean(const Reader& reader, const toml::node& node, const std::string& wh
   }
   return *node.value<bool>();
 }
+
+constexpr std::array grid_keys{"p", "e", "alpha_eff", "v0", "m", "k"};
 
 // The grid lists of a [grid] or a claim (p, e, alpha_eff, v0, m, k) that `table` has, each
 // value checked against the domain (core/domain.hpp); the others stay as they are in `grid`. e
@@ -619,6 +629,16 @@ const SolverConfig* external_named(const Reader& reader, const toml::table& entr
     }
   }
   return nullptr;
+}
+
+// The scene with a grid's cells (p, v0, m, k), against which a claim's solver is checked.
+Scene with_cells(const Scene& scene, const ClaimGrid& grid) {
+  Scene cells = scene;
+  cells.p = grid.p;
+  cells.v0 = grid.v0;
+  cells.m = grid.m;
+  cells.k = grid.k;
+  return cells;
 }
 
 // The solver of a claim of the new kinds, in double (the seed's own runs were double): name,
@@ -762,12 +782,7 @@ void read_grid_claim(const Reader& reader, const toml::table& entry, const toml:
   if (solver || claim.kind == ClaimKind::recovered_parameter ||
       claim.kind == ClaimKind::stability) {
     // The solver's tolerances are checked against the claim's own cells.
-    Scene cells = scene;
-    cells.p = claim.grid.p;
-    cells.v0 = claim.grid.v0;
-    cells.m = claim.grid.m;
-    cells.k = claim.grid.k;
-    claim.config = claim_solver(reader, entry, item, cells, claim.kind);
+    claim.config = claim_solver(reader, entry, item, with_cells(scene, claim.grid), claim.kind);
   }
   const bool targets =
       std::all_of(claim.grid.damping.begin(), claim.grid.damping.end(),
@@ -781,6 +796,21 @@ void read_grid_claim(const Reader& reader, const toml::table& entry, const toml:
     claim.denser = boolean(reader, *denser, "denser");
   }
   scene.claims.push_back(claim);
+}
+
+// A bound claim's grid (the scene's, or its own lists), denser and allow_missing.
+void read_bound_grid(const Reader& reader, const toml::table& entry, const Scene& scene,
+                     Claim& claim) {
+  claim.grid = ClaimGrid{scene.p, scene.v0, scene.m, scene.k, scene.damping};
+  read_grid_lists(reader, entry, claim.grid);
+  claim.own_grid = std::any_of(grid_keys.begin(), grid_keys.end(),
+                               [&](const char* key) { return entry.get(key) != nullptr; });
+  if (const toml::node* denser = entry.get("denser")) {
+    claim.denser = boolean(reader, *denser, "denser");
+  }
+  if (const toml::node* allow = entry.get("allow_missing")) {
+    claim.allow_missing = boolean(reader, *allow, "allow_missing");
+  }
 }
 
 void read_claims(const Reader& reader, const toml::node& node, Scene& scene) {
@@ -819,15 +849,18 @@ void read_claims(const Reader& reader, const toml::node& node, Scene& scene) {
     }
     claim.observable = reader.string(*entry.get("observable"), "observable");
     read_error_bound(reader, entry, item, "[[claim]]", claim.bound, claim.relative, claim.quantile);
+    read_bound_grid(reader, entry, scene, claim);
     if (const toml::node* convention = entry.get("convention")) {
       read_convention_claim(reader, entry, item, *convention, scene, claim);
       continue;
     }
-    reader.only(entry,
-                {"name", "kind", "where", "quote", "figure", "expect", "observable", "solver",
-                 "rtol", "atol", "precision", "steps_per_contact", "end", "onset_phases", "bound",
-                 "bound_rel", "quantile"},
-                "[[claim]]");
+    std::vector<std::string_view> allowed{
+        "name",         "kind",         "where", "quote",     "figure",    "expect",
+        "observable",   "solver",       "rtol",  "atol",      "precision", "steps_per_contact",
+        "end",          "onset_phases", "bound", "bound_rel", "quantile",  "denser",
+        "allow_missing"};
+    allowed.insert(allowed.end(), grid_keys.begin(), grid_keys.end());
+    reader.only(entry, allowed, "[[claim]]");
     const SolverConfig* external = external_named(reader, entry, scene);
     if (external != nullptr) {
       claim.config = *external;
@@ -886,9 +919,7 @@ void read_claims(const Reader& reader, const toml::node& node, Scene& scene) {
       reader.fail(item, std::string("[[claim]] needs the ") +
                             (fixed_step ? "steps_per_contact" : "rtol") + " of its solver");
     }
-    if (!claim.convention) {
-      check_config(reader, item, scene, claim.config);
-    }
+    check_config(reader, item, with_cells(scene, claim.grid), claim.config);
     scene.claims.push_back(claim);
   }
 }
@@ -975,12 +1006,7 @@ void read_searches(const Reader& reader, const toml::node& node, Scene& scene) {
     if (search.parameter == SearchParameter::rtol) { // the tightest rtol against the precision
       SolverConfig tightest = search.config;
       tightest.rtol = search.range[0];
-      Scene cells = scene;
-      cells.p = search.grid.p;
-      cells.v0 = search.grid.v0;
-      cells.m = search.grid.m;
-      cells.k = search.grid.k;
-      check_config(reader, item, cells, tightest);
+      check_config(reader, item, with_cells(scene, search.grid), tightest);
     }
     scene.searches.push_back(search);
   }

@@ -6,7 +6,8 @@
 //     want = ["e", "delta_max", "t_peak", "tau", "energy"]
 //     [grid]      p, e and/or alpha_eff, v0, m (default [1]), k (default [1]): numbers or lists
 //     [[solver]]  an external program instead of name: command = [argv...] (a relative program path
-//                 is the scene file's folder's), label, options = {...} (passed through), replica
+//                 is the scene file's folder's, a bare name the file beside the scene if there is
+//                 one, else PATH's), label, options = {...} (passed through), replica
 //                 (pldamp's solver of the same scheme, compared on every problem), and
 //                 rtol, atol, steps_per_contact or dt (lists), end, onset_phases as below
 //     [[solver]]  name; rtol (number or list; a reference solver without it: its precision's
@@ -25,10 +26,12 @@
 //                 recovered_parameter: solver, rtol, atol, bound (relative, on alpha)
 //                 stability: solver (fixed-step), formula = "seed_dt_crit", fraction (of
 //                   it, default 1: DEM practice runs a fraction of a critical step)
-//                 and for all but bound, a grid of its own (p, e, alpha_eff, v0, m, k; each
+//                 and for all, a grid of its own (p, e, alpha_eff, v0, m, k; each
 //                 defaults to [grid]'s) and denser = true (also judged ten times denser)
 //                 bound claims: bound (absolute error) or bound_rel (relative), and quantile
-//                 (over the cells, nearest rank; default 1, the worst)
+//                 (over the cells, nearest rank; default 1, the worst); a grid of their own too
+//                 (solved for the claim alone; a convention's: p and e), denser = true, and
+//                 allow_missing = true (cells without a value allowed: "holds on M of N cells")
 //     [[search]]  name, where, quote; solver, precision, atol (and rtol or steps_per_contact,
 //                 whichever is not searched); parameter = rtol | steps_per_contact | dt; range =
 //                 [from, to] (either order); observable; bound or bound_rel; quantile; group_by = p
@@ -87,6 +90,7 @@ struct SolverConfig {
   // configuration; `name` is then the [[solver]]'s label. `options` is its [[solver]] options
   // table as JSON text, passed through in every problem.
   std::vector<std::string> command;
+  std::string program; // the program as the scene typed it (command[0] is it resolved)
   std::string options;
   // pldamp's own solver that replicates the program's scheme (e.g. dem-verlet for LAMMPS): run on
   // every problem beside it, the largest relative difference reported (they should agree to
@@ -172,8 +176,14 @@ struct Claim {
   // `quantile` (nearest rank; 1: the worst cell).
   bool relative = false;
   double quantile = 1;
-  // Judged from the plan's records (a bound on a solver's error), not on a grid of its own.
-  bool on_plan() const { return kind == ClaimKind::bound && !convention; }
+  // bound: the claim names a grid of its own (p, e, alpha_eff, v0, m, k), solved for it alone;
+  // else `grid` is the scene's and its records are judged.
+  bool own_grid = false;
+  // bound: cells without a value (skipped, not measured, no truth) allowed: the claim then holds
+  // on the others ("holds on M of N cells", which `run --strict` counts as unexpected).
+  bool allow_missing = false;
+  // Judged from the plan's records (a bound on a solver's error over the scene's grid).
+  bool on_plan() const { return kind == ClaimKind::bound && !convention && !own_grid; }
 };
 
 // The sweep parameter a search loosens.

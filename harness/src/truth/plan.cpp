@@ -92,19 +92,11 @@ double time_in_double(const Plan& plan, double p, double alpha) {
   return fastest;
 }
 
-template <SupportedReal Real>
-Contact<Real> contact_of(const Point& point, ContactEnd end) {
-  const Real p(point.p);
-  return point.damping.kind == Damping::Kind::e
-             ? Contact<Real>::from_e(p, Real(point.damping.value), Real(1), Real(1), Real(1), end)
-             : Contact<Real>::from_alpha_eff(p, Real(point.damping.value), Real(1));
-}
-
 // α as a solver in `precision` receives it, back in Exact.
 Exact rounded_alpha(const Exact& alpha, const std::string& precision) {
   Exact rounded = alpha;
   with_precision(precision,
-                 [&]<SupportedReal Real>() { rounded = Exact(static_cast<Real>(alpha)); });
+                 [&]<SupportedReal Real>() { rounded = Exact(alpha_as_received<Real>(alpha)); });
   return rounded;
 }
 
@@ -170,6 +162,13 @@ std::string alpha_precision(const SolverConfig& config) {
   return out;
 }
 
+Contact<Exact> seed_contact(const Exact& p, Damping::Kind kind, const Exact& value,
+                            ContactEnd end) {
+  return kind == Damping::Kind::e
+             ? Contact<Exact>::from_e(p, value, Exact(1), Exact(1), Exact(1), end)
+             : Contact<Exact>::from_alpha_eff(p, value, Exact(1));
+}
+
 Plan make_plan(const Scene& scene) {
   Plan plan;
   plan.scene = scene;
@@ -202,7 +201,8 @@ Plan make_plan(const Scene& scene) {
           continue;
         }
         Point point{p, damping, 0, 0, false, 0, {}, {}, 0, beta, false, {}, {}};
-        const Contact<Exact> calibrated = contact_of<Exact>(point, end);
+        const Contact<Exact> calibrated =
+            seed_contact(Exact(p), damping.kind, Exact(damping.value), end);
         point.alpha = calibrated.alpha();
         point.alpha_eff = static_cast<double>(calibrated.alpha_eff());
         point.overdamped = calibrated.alpha_eff() >= 1;

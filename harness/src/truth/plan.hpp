@@ -15,9 +15,11 @@
 #include "common/observables.hpp"
 #include "scene/scene.hpp"
 
+#include "pldamp/analytic/contact.hpp"
 #include "pldamp/core/real_types.hpp"
 
 #include <array>
+#include <limits>
 #include <map>
 #include <optional>
 #include <string>
@@ -105,5 +107,32 @@ std::optional<Exact> reference_at(const Plan& plan, const Cell& cell, std::size_
 // The precision α is rounded to for a configuration: its own, or Exact's for a solver running
 // wider than the truth (taylor in 50 digits gets the float128 α).
 std::string alpha_precision(const SolverConfig& config);
+
+// The seed's contact of a damping (a target e under `end`, or α_eff) at p, calibrated in Exact at
+// v0 = m = k = 1 (α is scale-free: MATH.md §7): every α of the plan comes from here.
+analytic::Contact<Exact> seed_contact(const Exact& p, Damping::Kind kind, const Exact& value,
+                                      analytic::ContactEnd end);
+
+// α as a solver in Real receives it: the Exact α rounded once to Real (Real no wider than Exact),
+// or, wider, exactly the Exact α (alpha_precision).
+template <SupportedReal Real>
+Real alpha_as_received(const Exact& alpha) {
+  return static_cast<Real>(alpha);
+}
+
+// The α `pldamp calibrate` and `pldamp solve` use in Real for a target e (or an α_eff): the
+// plan's for the same p and damping (seed_contact, rounded once), so that `calibrate`, `solve` and
+// `run` agree to the last bit. A Real wider than Exact calibrates in Real (a run gives such a
+// solver the float128 α instead).
+template <SupportedReal Real>
+Real seed_alpha(const Real& p, Damping::Kind kind, const Real& value, analytic::ContactEnd end) {
+  if constexpr (std::numeric_limits<Real>::digits > std::numeric_limits<Exact>::digits) {
+    return kind == Damping::Kind::e
+               ? analytic::Contact<Real>::from_e(p, value, Real(1), Real(1), Real(1), end).alpha()
+               : analytic::Contact<Real>::from_alpha_eff(p, value, Real(1)).alpha();
+  } else {
+    return alpha_as_received<Real>(seed_contact(Exact(p), kind, Exact(value), end).alpha());
+  }
+}
 
 } // namespace pldamp::harness

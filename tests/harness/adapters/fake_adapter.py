@@ -11,6 +11,13 @@ error        answers every problem with outcome "error"
 bad_json     answers a line that is not JSON
 wrong_id     answers for another problem
 negative     answers e = -0.5
+above_one    answers e = 1.3 (energy gained), the rest as good
+negative_delta  answers delta_max = -0.1, the rest as good
+peak         answers outcome peak (delta_max and t_peak only), whatever is wanted
+gained       answers energy_load = -0.2 m v0^2/2 (energy gained), the rest as good
+imbalance    answers the energies 0.1 m v0^2/2 more than the balance with e allows
+gaps         its handshake runs p = 1 and 2 only; at p = 2 it answers exited without any value
+honours      its handshake honours steps_per_contact and onset_phase only; answers as good
 no_outcome   answers without an outcome
 wrong_version  its handshake says version 2
 no_handshake   exits before its handshake
@@ -41,7 +48,10 @@ def closed_forms(problem):
     t_peak = math.atan2(root, zeta) / omega
     delta_max = v0 / omega * math.exp(-zeta * omega0 * t_peak) * math.sin(omega * t_peak)
     e = math.exp(-zeta * omega0 * tau)
+    # Dissipated: to the peak (at rest, the spring holding k delta_max^2/2), then to the exit.
+    kinetic0, spring = 0.5 * m * v0 * v0, 0.5 * k * delta_max * delta_max
     return {"outcome": "exited", "e": e, "delta_max": delta_max, "t_peak": t_peak, "tau": tau,
+            "energy_load": kinetic0 - spring, "energy_unload": spring - kinetic0 * e * e,
             "steps": 1, "wall_seconds": 1e-6}
 
 
@@ -67,6 +77,10 @@ def main():
         handshake["damping_exponent"] = 0.5
     if mode == "unavailable":
         handshake["unavailable"] = "fakecode not found on PATH"
+    if mode == "gaps":
+        handshake["p"] = [1, 2]
+    if mode == "honours":
+        handshake["honours"] = ["steps_per_contact", "onset_phase"]
     print(json.dumps(handshake), flush=True)
     for line in sys.stdin:
         problem = json.loads(line)
@@ -86,7 +100,9 @@ def main():
         if mode == "bad_json":
             print("e = 0.5", flush=True)
             continue
-        if mode == "unsupported" or problem["p"] != 1:
+        if mode == "gaps" and problem["p"] == 2:
+            reply.update(outcome="exited", steps=1)
+        elif mode == "unsupported" or problem["p"] != 1:
             reply.update(outcome="unsupported", reason="p = 1 only")
         elif mode == "error":
             reply.update(outcome="error", reason="fakecode: lost atoms")
@@ -94,6 +110,20 @@ def main():
             reply.update(closed_forms(problem), id=problem["id"] + 7)
         elif mode == "negative":
             reply.update(closed_forms(problem), e=-0.5)
+        elif mode == "above_one":
+            reply.update(closed_forms(problem), e=1.3)
+        elif mode == "negative_delta":
+            reply.update(closed_forms(problem), delta_max=-0.1)
+        elif mode == "peak":
+            forms = closed_forms(problem)
+            reply.update(outcome="peak", delta_max=forms["delta_max"], t_peak=forms["t_peak"],
+                         steps=1)
+        elif mode == "gained":
+            reply.update(closed_forms(problem))
+            reply["energy_load"] = -0.2 * 0.5 * problem["m"] * problem["v0"] ** 2
+        elif mode == "imbalance":
+            reply.update(closed_forms(problem))
+            reply["energy_unload"] += 0.1 * 0.5 * problem["m"] * problem["v0"] ** 2
         elif mode == "no_outcome":
             reply.update(closed_forms(problem))
             del reply["outcome"]

@@ -1,0 +1,45 @@
+// What an external program's answers and handshake are held to (README "The protocol, version
+// 1"): the invariants pldamp's own solvers are held to (solvers/src/collision.cpp,
+// BasicCollision::violated_invariant), and the settings of a configuration it says it honours.
+#pragma once
+
+#include "scene/scene.hpp"
+
+#include "pldamp/solvers/problem.hpp"
+
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace pldamp::harness {
+
+// The fixed step of a configuration swept by steps per contact or dt (MATH.md §5: Δt = π δ_u/v0
+// over the steps, as pldamp's own fixed-step schemes take it), none for an error-controlled one.
+std::optional<double> step_of(const SolverConfig& config, const solvers::Problem<double>& problem);
+
+// How far an answer's e may exceed 1, and its energy balance miss, relative to ½ m v0², as
+// pldamp's own solvers are allowed: with a fixed step min((ωΔt)²/8, 1/4), ω² = k p δ_u^(p−1)/m
+// at the undamped peak δ_u (the stiffest the contact gets); under error control
+// min(1e4 tol, √tol) + 1000 ε, tol the rtol (or atol over the problem's scales, where larger),
+// and for a program given neither, its own default taken as rtol = 1e-6.
+double answer_allowance(const SolverConfig& config, const solvers::Problem<double>& problem);
+
+// Why an answer (the program's outcome and values for `problem`, asked with `options`) is
+// impossible; empty when it is not. Impossible: a value that is not finite (τ may be infinite on
+// no_exit) or is negative; e above 1 beyond the allowance; an energy dissipated below
+// −allowance · ½ m v0² (energy gained); under error control the energy balance
+// ½ m v0² = ½ m (e v0)² + W off by more than the allowance (at the force end: W + ½ m (e v0)²
+// above it, the spring keeping the rest); `peak` where e, τ or the energies were wanted;
+// `no_exit` with e ≠ 0; `exited` with τ infinite.
+std::string impossible_answer(const solvers::Result<double>& answer, const SolverConfig& config,
+                              const solvers::Problem<double>& problem,
+                              const solvers::Options<double>& options);
+
+// The settings a configuration sends (steps_per_contact, dt, onset_phase when it runs more than
+// one phase, rtol, atol, and options.KEY for each key of its options) that are not among those a
+// program declared in its handshake's `honours`. steps_per_contact is honoured by a program
+// that honours dt (it is sent with its dt).
+std::vector<std::string> settings_not_honoured(const SolverConfig& config,
+                                               const std::vector<std::string>& honours);
+
+} // namespace pldamp::harness

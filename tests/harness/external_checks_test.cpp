@@ -1,0 +1,329 @@
+// What an external solver's answers and handshake are held to (run/answers.hpp): the invariants
+// of pldamp's own solvers, the settings it says it honours; where its program is found; and the
+// α it is sent, which `pldamp calibrate` gives to the last bit.
+#include "fake_solver.hpp"
+#include "run/answers.hpp"
+#include "run/external.hpp"
+
+#include <boost/math/constants/constants.hpp>
+#include <fmt/format.h>
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include <cmath>
+#include <fstream>
+#include <map>
+#include <sstream>
+
+#include <sys/stat.h>
+#include <unistd.h>
+
+namespace pldamp::harness {
+namespace {
+
+using namespace testing; // the fake adapter's scenes, run, scratch, write_file
+
+// Each impossible answer makes its record unstable, with the invariant it breaks and nothing
+// measured kept; the answer's work is kept (the exchange stayed in step).
+TEST(ExternalChecks, AnImpossibleAnswerIsUnstableWithItsReason) {
+  const std::string grid = "p = [1]\ne = [0.5]\nv0 = [1, 2]\n";
+  const std::string with_energy = "\"e\", \"delta_max\", \"t_peak\", \"tau\", \"energy\"";
+  struct Case {
+    std::string mode, extra, want, reason;
+  };
+  const std::vector<Case> cases{
+      {"above_one", "", "", "impossible answer: energy gained: e = 1.3 (allowed up to 1 + 0.001)"},
+      {"negative", "", "", "impossible answer: e = -0.5: negative"},
+      {"negative_delta", "", "", "impossible answer: delta_max = -0.1: negative"},
+      {"peak", "", "",
+       "impossible answer: outcome peak, but the problem wants what comes after the peak (e, tau "
+       "or energy_unload)"},
+      {"gained", "", with_energy,
+       "impossible answer: energy gained: energy_load = -0.1 (m v0^2/2 = 0.5)"},
+      {"imbalance", "rtol = [1e-10]\n", with_energy,
+       "impossible answer: energy balance off by 0.1"}};
+  for (const Case& c : cases) {
+    const std::string scene = c.want.empty() ? scene_with(c.mode, c.extra, "", grid)
+                                             : scene_with(c.mode, c.extra, "", grid, c.want);
+    const Ran ran = run_scene_text(scene);
+    ASSERT_EQ(ran.records.size(), 2u);
+    bool reason_seen = false;
+    for (const Record& record : ran.records) {
+      EXPECT_TRUE(record.failed()) << c.mode;
+      EXPECT_EQ(record.outcome_name(), "unstable") << c.mode;
+      EXPECT_EQ(record.steps, 1) << c.mode;
+      for (const std::optional<double>& value : record.value) {
+        EXPECT_FALSE(value.has_value()) << c.mode;
+      }
+      reason_seen = reason_seen || record.failure.find(c.reason) != std::string::npos;
+    }
+    EXPECT_TRUE(reason_seen) << c.mode << ": " << ran.records.front().failure;
+  }
+  // The same answers without the lie pass, energies and balance included, at rtol 1e-12.
+  const Ran good = run_scene_text(scene_with("good", "rtol = [1e-12]\n", "", grid, with_energy));
+  for (const Record& record : good.records) {
+    EXPECT_FALSE(record.failed()) << record.failure;
+    for (const std::optional<double>& error : record.rel_error) {
+      ASSERT_TRUE(error.has_value());
+      EXPECT_LT(*error, 1e-13);
+    }
+  }
+}
+
+// A fixed step's allowance (ωΔt)²/8 with ω² = k p δ_u^(p−1)/m and Δt = π δ_u/(v0 n) is, since
+// k δ_u^(p+1) = (p+1) m v0²/2, p (p+1) π² / (16 n²) whatever the scales.
+TEST(ExternalChecks, TheAllowanceIsPldampsOwnAndScaleFree) {
+  const double pi = boost::math::constants::pi<double>();
+  SolverConfig fixed;
+  fixed.command = {"x"};
+  for (const double p : {1.0, 1.5, 2.5}) {
+    for (const int n : {2, 20, 50}) {
+      fixed.steps_per_contact = n;
+      const double expected = std::min(p * (p + 1) * pi * pi / (16.0 * n * n), 0.25);
+      const solvers::Problem<double> problem{p, 2, 3, 0.5, 0.4};
+      EXPECT_NEAR(answer_allowance(fixed, problem), expected, 1e-14 * expected) << p << " " << n;
+    }
+  }
+  const solvers::Problem<double> unit{1.5, 1, 1, 1, 0.4};
+  const double eps = 1000 * std::numeric_limits<double>::epsilon();
+  SolverConfig controlled;
+  controlled.command = {"x"};
+  EXPECT_DOUBLE_EQ(answer_allowance(controlled, unit), 1e-3 + eps); // its default: rtol 1e-6
+  controlled.rtol = 1e-12;
+  EXPECT_DOUBLE_EQ(answer_allowance(controlled, unit), 1e-8 + eps);
+  controlled.atol = 1e-6; // over ½ m v0² = 0.5: 2e-6, √ of it the smaller
+  EXPECT_DOUBLE_EQ(answer_allowance(controlled, unit), std::sqrt(2e-6) + eps);
+  // At the edge: e within the allowance is possible, beyond it energy was gained.
+  fixed.steps_per_contact = 20;
+  const double allowance = answer_allowance(fixed, unit);
+  solvers::Result<double> answer;
+  answer.outcome = solvers::Outcome::exited;
+  solvers::Options<double> options;
+  options.want = solvers::want_e;
+  answer.e = 1 + 0.99 * allowance;
+  EXPECT_EQ(impossible_answer(answer, fixed, unit, options), "");
+  answer.e = 1 + 1.01 * allowance;
+  EXPECT_EQ(impossible_answer(answer, fixed, unit, options).substr(0, 18), "energy gained: e =");
+  // peak answers a problem that wants peak quantities only; no_exit is e = 0; exited is finite.
+  answer = {};
+  answer.outcome = solvers::Outcome::peak;
+  answer.delta_max = 1;
+  options.want = solvers::want_delta_max | solvers::want_t_peak;
+  EXPECT_EQ(impossible_answer(answer, fixed, unit, options), "");
+  answer.outcome = solvers::Outcome::no_exit;
+  answer.e = 0.1;
+  EXPECT_EQ(impossible_answer(answer, fixed, unit, options),
+            "no_exit with e = 0.1 (no return is e = 0)");
+  answer.outcome = solvers::Outcome::exited;
+  answer.e.reset();
+  answer.tau = std::numeric_limits<double>::infinity();
+  EXPECT_EQ(impossible_answer(answer, fixed, unit, options), "exited with tau = inf");
+}
+
+TEST(ExternalChecks, ASettingTheProgramDoesNotHonourIsRefusedBeforeAnyWork) {
+  const std::string declared = "(its handshake honours steps_per_contact, onset_phase)";
+  const std::vector<std::pair<std::string, std::string>> refused{
+      {"rtol = [1e-6]\n", "sets rtol, which its program does not honour " + declared},
+      {"dt = [0.01]\n", "sets dt, which its program does not honour"},
+      {"steps_per_contact = [20]\natol = 1e-9\n", "sets atol, which"},
+      {"steps_per_contact = [20]\noptions = { seed = 7, newton_off = true }\n",
+       "sets options.newton_off, options.seed, which its program does not honour"}};
+  for (const auto& [settings, message] : refused) {
+    try {
+      run_scene_text(scene_with("honours", settings));
+      ADD_FAILURE() << "accepted: " << settings;
+    } catch (const ProtocolError& e) {
+      EXPECT_NE(std::string(e.what()).find(message), std::string::npos) << e.what();
+    }
+  }
+  // What it honours runs, and the report says what it declared.
+  const Ran ran =
+      run_scene_text(scene_with("honours", "steps_per_contact = [20]\nonset_phases = 2\n"));
+  long judged = 0;
+  for (const Record& record : ran.records) {
+    EXPECT_FALSE(record.failed()) << record.failure;
+    judged += record.rel_error[0] ? 1 : 0;
+  }
+  EXPECT_EQ(judged, 4); // p = 1; p = 1.5 skipped
+  const std::string path = write_file("honours.toml", scene_with("honours", "rtol = [1e-6]\n"));
+  const fs::path out = scratch() / "honours";
+  const auto refused_run = run({"run", path, "--out", out.string()});
+  EXPECT_EQ(refused_run.code, 2);
+  EXPECT_NE(refused_run.err.find("error: [[solver]] fake"), std::string::npos) << refused_run.err;
+  EXPECT_FALSE(fs::exists(out / "report.json"));
+  const auto ran_cli =
+      run({"run", write_file("honoured.toml", scene_with("honours", "steps_per_contact = [20]\n")),
+           "--out", out.string()});
+  ASSERT_EQ(ran_cli.code, 0) << ran_cli.err;
+  std::ifstream md(out / "report.md");
+  const std::string text((std::istreambuf_iterator<char>(md)), std::istreambuf_iterator<char>());
+  EXPECT_NE(text.find("fake honours; honours steps_per_contact, onset_phase"), std::string::npos);
+  // The step is sent as dt too: a program that honours dt honours steps_per_contact.
+  SolverConfig stepped;
+  stepped.steps_per_contact = 20;
+  EXPECT_TRUE(settings_not_honoured(stepped, {"dt"}).empty());
+  EXPECT_EQ(settings_not_honoured(stepped, {}), std::vector<std::string>{"steps_per_contact"});
+}
+
+// Changes the working directory for a scope.
+class InFolder {
+public:
+  explicit InFolder(const fs::path& folder) : previous_(fs::current_path()) {
+    fs::current_path(folder);
+  }
+  InFolder(const InFolder&) = delete;
+  InFolder& operator=(const InFolder&) = delete;
+  ~InFolder() { fs::current_path(previous_); }
+
+private:
+  fs::path previous_;
+};
+
+TEST(ExternalChecks, AProgramBesideTheSceneStartsAsTyped) {
+  const fs::path folder = scratch() / "beside";
+  fs::create_directories(folder);
+  const fs::path program = folder / "adapter";
+  std::ofstream(program) << "#!/bin/sh\nexec python3 " PLDAMP_TEST_ADAPTERS
+                            "/fake_adapter.py good\n";
+  ::chmod(program.c_str(), 0755);
+  const auto scene = [](const std::string& command) {
+    return "name = \"beside\"\nwant = [\"e\"]\n[grid]\np = [1]\ne = [0.5]\nv0 = [1]\n"
+           "[[solver]]\ncommand = [\"" +
+           command + "\"]\nlabel = \"beside\"\n";
+  };
+  const auto judged = [](const Scene& s) {
+    RunTotals totals;
+    const std::vector<Record> records = run_plan(make_plan(s), 1, totals);
+    return records.size() == 1 && !records[0].failed() && records[0].rel_error[0].has_value();
+  };
+  // A bare name beside the scene is that file, wherever pldamp runs.
+  const Scene bare = parse_scene(scene("adapter"), (folder / "s.toml").string());
+  EXPECT_EQ(bare.configs[0].command[0], program.string());
+  EXPECT_EQ(bare.configs[0].program, "adapter");
+  EXPECT_TRUE(judged(bare));
+  {
+    // "./adapter" and "adapter" with the scene in the working directory (no folder in its path).
+    const InFolder in(folder);
+    for (const std::string typed : {"./adapter", "adapter"}) {
+      const Scene here = parse_scene(scene(typed), "s.toml");
+      EXPECT_EQ(here.configs[0].command[0], "./adapter");
+      EXPECT_TRUE(judged(here)) << typed;
+    }
+    std::ofstream("s.toml") << scene("./adapter");
+    const auto cli = run({"run", "s.toml", "--out", "report"});
+    EXPECT_EQ(cli.code, 0) << cli.err;
+    try {
+      judged(parse_scene(scene("./missing"), "s.toml"));
+      ADD_FAILURE() << "a missing program was started";
+    } catch (const ProtocolError& e) {
+      EXPECT_NE(std::string(e.what()).find(
+                    "[[solver]] beside: cannot start ./missing (not found or not executable)"),
+                std::string::npos)
+          << e.what();
+    }
+  }
+  // A bare name with no such file beside the scene is looked up on PATH.
+  EXPECT_EQ(parse_scene(scene("python3"), (folder / "s.toml").string()).configs[0].command[0],
+            "python3");
+  try {
+    judged(parse_scene(scene("no-such-program-anywhere"), (folder / "s.toml").string()));
+    ADD_FAILURE() << "a missing program was started";
+  } catch (const ProtocolError& e) {
+    EXPECT_NE(std::string(e.what()).find("cannot start no-such-program-anywhere (not beside the "
+                                         "scene nor on PATH, or not executable)"),
+              std::string::npos)
+        << e.what();
+  }
+}
+
+// `pldamp calibrate --json` α, parsed.
+double calibrated(const std::string& p, const std::string& e, const std::string& end) {
+  const auto r = run({"calibrate", "--p", p, "--e", e, "--end", end, "--json"});
+  EXPECT_EQ(r.code, 0) << r.err;
+  return nlohmann::json::parse(r.out).at("alpha").get<double>();
+}
+
+// `pldamp calibrate --precision PRECISION` α, its digits as printed.
+std::string calibrated_digits(const std::string& p, const std::string& e, const std::string& end,
+                              const std::string& precision) {
+  const auto r = run({"calibrate", "--p", p, "--e", e, "--end", end, "--precision", precision});
+  std::istringstream lines(r.out);
+  for (std::string key, value; lines >> key >> value;) {
+    if (key == "alpha") {
+      return value;
+    }
+  }
+  ADD_FAILURE() << r.out << r.err;
+  return "";
+}
+
+std::string hex(double x) {
+  std::ostringstream out;
+  out << std::hexfloat << x;
+  return out.str();
+}
+
+// The α of a (p, e) is the same double in `calibrate`, in a double solver's record, in the problem
+// line an external program reads and in the record of that program (1 or 2 ulp apart before: the
+// plan calibrated in float128, `calibrate` in the precision asked).
+TEST(ExternalChecks, CalibrateAndRunSendTheSameAlphaToTheLastBit) {
+  for (const std::string end : {"overlap", "force"}) {
+    const std::string log = (scratch() / ("alpha-" + end + ".jsonl")).string();
+    fs::remove(log);
+    const std::string text =
+        "name = \"alpha\"\nend = \"" + end +
+        "\"\nwant = [\"e\"]\n[grid]\np = [1, 1.5, 2.5]\n"
+        "e = [0.3, 0.9, 0.1, 0.7]\nv0 = [1, 3]\n" +
+        fake_solver("record", log) +
+        "[[solver]]\nname = \"cvode-bdf\"\nrtol = 1e-6\n"
+        "[[solver]]\nname = \"taylor\"\nprecision = \"long\"\nrtol = 1e-10\n" +
+        (PLDAMP_WITH_QUAD ? "[[solver]]\nname = \"taylor\"\nprecision = \"quad\"\nrtol = 1e-12\n"
+                          : "");
+    const fs::path out = scratch() / ("alpha-" + end);
+    const auto r = run({"run", write_file("alpha.toml", text), "--out", out.string()});
+    ASSERT_EQ(r.code, 0) << r.err;
+    std::ifstream file(out / "report.json");
+    const nlohmann::json report = nlohmann::json::parse(file);
+    std::map<std::pair<double, double>, double> expected;
+    long checked = 0;
+    for (const nlohmann::json& record : report["records"]) {
+      const double p = record["p"];
+      const std::string label = record["damping"];
+      const std::string e = label.substr(2); // "e=0.3"
+      const std::string ptext = to_string_full(p);
+      const std::string precision = record["precision"];
+      if (precision == "double") {
+        const double alpha = calibrated(ptext, e, end);
+        EXPECT_EQ(hex(record["alpha"].get<double>()), hex(alpha)) << record["key"];
+        expected[{p, std::stod(e)}] = alpha;
+      } else {
+        // A scene's numbers are doubles: the same inputs, typed for a wider precision, are their
+        // exact decimals (0.3 is 0.2999999999999999888977697537484345957636833190917969).
+        const std::string exact_e = fmt::format("{:.70g}", std::stod(e));
+        EXPECT_EQ(record["alpha_digits"], calibrated_digits(ptext, exact_e, end, precision))
+            << record["key"];
+      }
+      ++checked;
+    }
+    EXPECT_EQ(checked, 3 * 4 * 2 * (PLDAMP_WITH_QUAD ? 4 : 3));
+    // The problem lines the program read: the same doubles, at every v0.
+    std::ifstream problems(log);
+    long sent = 0;
+    for (std::string line; std::getline(problems, line); ++sent) {
+      const nlohmann::json problem = nlohmann::json::parse(line);
+      // The fake answers p = 1 only, but every p is sent (its handshake declares none).
+      bool found = false;
+      for (const auto& [key, alpha] : expected) {
+        if (key.first == problem["p"].get<double>() &&
+            hex(alpha) == hex(problem["alpha"].get<double>())) {
+          found = true;
+        }
+      }
+      EXPECT_TRUE(found) << line;
+    }
+    EXPECT_EQ(sent, 3 * 4 * 2);
+  }
+}
+
+} // namespace
+} // namespace pldamp::harness
