@@ -2,6 +2,7 @@
 #include "cli/commands.hpp"
 #include "common/files.hpp"
 #include "judge/claims.hpp"
+#include "judge/step_study.hpp"
 #include "report/report.hpp"
 
 #include <fmt/format.h>
@@ -146,6 +147,7 @@ double planned_runs(const Scene& scene) {
   for (const Search& search : scene.searches) {
     search_runs += search_runs_estimate(search);
   }
+  search_runs += step_study_runs_estimate(scene); // the time-step study's searches
   return grid_cells(scene) * per_cell * scene.repeats + claim_runs + search_runs;
 }
 

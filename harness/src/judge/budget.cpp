@@ -359,7 +359,7 @@ Budgets make_budgets(const Plan& plan, const std::vector<Record>& records) {
   for (const Search& search : plan.scene.searches) {
     budgets.searches.push_back(run_search(plan.scene, search, jobs));
   }
-  budgets.steps = make_step_study(plan, records);
+  budgets.steps = make_step_study(plan, records, jobs);
   return budgets;
 }
 

@@ -13,6 +13,15 @@
 namespace pldamp::harness {
 namespace {
 
+// The scan's density: values a decade apart by 10^(1/8) = 1.33.
+constexpr double scan_per_decade = 8;
+// More phases than this and the onset phase is no longer what moves the answer.
+constexpr int most_phases = 256;
+
+bool fixed_step(const Search& search) {
+  return search.parameter != SearchParameter::rtol;
+}
+
 // The parameter at a trial value, in the configuration.
 void set_parameter(SolverConfig& config, SearchParameter parameter, double value) {
   switch (parameter) {
@@ -28,8 +37,10 @@ void set_parameter(SolverConfig& config, SearchParameter parameter, double value
   }
 }
 
-// The group scenes of a search: its grid split by p, damping, both, or not at all.
-std::vector<std::pair<std::string, Scene>> groups_of(const Scene& scene, const Search& search) {
+} // namespace
+
+std::vector<std::pair<std::string, Scene>> search_groups_of(const Scene& scene,
+                                                            const Search& search) {
   Scene base = scene;
   base.p = search.grid.p;
   base.damping = search.grid.damping;
@@ -65,53 +76,18 @@ std::vector<std::pair<std::string, Scene>> groups_of(const Scene& scene, const S
   return groups;
 }
 
-struct Trial {
-  bool holds = false;
-  std::optional<double> measured;
-  std::string worst, failure;
-};
-
-Trial try_value(Plan& plan, const Search& search, double value, int jobs, long& runs) {
-  set_parameter(plan.configs.front(), search.parameter, value);
-  RunTotals totals;
-  const std::vector<Record> records = run_plan(plan, jobs, totals);
-  runs += totals.solver_runs;
-  const auto observable = static_cast<std::size_t>(
-      std::find_if(plan.observables.begin(), plan.observables.end(),
-                   [&](const Observable* o) { return o->key == search.observable; }) -
-      plan.observables.begin());
-  Trial trial;
-  std::vector<double> errors;
-  std::vector<std::string> where;
-  for (const Record& record : records) {
-    if (record.failed()) {
-      trial.failure =
-          fmt::format("{} at {}", record.outcome_name(), cell_text(plan, plan.cells[record.cell]));
-      return trial;
-    }
-    const std::optional<double>& error =
-        (search.relative ? record.rel_error : record.abs_error)[observable];
-    if (error) {
-      errors.push_back(*error);
-      where.push_back(cell_text(plan, plan.cells[record.cell]));
-    }
-  }
-  if (errors.empty()) {
-    trial.failure = "no cell gave " + search.observable;
-    return trial;
-  }
-  const std::size_t at = nearest_rank(errors, search.quantile);
-  trial.measured = errors[at];
-  trial.worst = where[at];
-  trial.holds = errors[at] <= search.bound;
-  return trial;
-}
+namespace {
 
 // Whether two trial values are close enough to stop: neighbours for an integer parameter, within
-// 12 % of each other otherwise.
+// 2 % for a step, 12 % for a tolerance.
 bool resolved(SearchParameter parameter, double a, double b) {
-  if (parameter == SearchParameter::steps_per_contact) {
+  switch (parameter) {
+  case SearchParameter::steps_per_contact:
     return std::abs(a - b) <= 1;
+  case SearchParameter::dt:
+    return std::abs(std::log(a / b)) <= std::log(1.02);
+  case SearchParameter::rtol:
+    break;
   }
   return std::abs(std::log(a / b)) <= std::log(1.12);
 }
@@ -122,89 +98,210 @@ double middle(SearchParameter parameter, double a, double b) {
   return parameter == SearchParameter::steps_per_contact ? std::round(mean) : mean;
 }
 
-SearchGroup search_group(const std::string& name, const Scene& scene, const Search& search,
-                         int jobs) {
-  SearchGroup group;
-  group.group = name;
-  Plan plan = make_plan(scene);
-  auto attempt = [&](double value) {
-    ++group.trials;
-    return try_value(plan, search, value, jobs, group.solver_runs);
-  };
+} // namespace
+
+std::vector<double> search_scan(const Search& search) {
   const double tightest = search.range[0], loosest = search.range[1];
-  Trial tight = attempt(tightest);
-  if (!tight.holds) {
-    group.failing = tightest;
+  const double decades = std::abs(std::log10(loosest / tightest));
+  const int intervals = std::max(1, static_cast<int>(std::ceil(decades * scan_per_decade)));
+  std::vector<double> values;
+  for (int i = 0; i <= intervals; ++i) {
+    double value =
+        i == intervals ? loosest : tightest * std::pow(loosest / tightest, double(i) / intervals);
+    if (search.parameter == SearchParameter::steps_per_contact) {
+      value = std::round(value);
+    }
+    if (values.empty() || value != values.back()) {
+      values.push_back(value);
+    }
+  }
+  return values;
+}
+
+GroupTrials::GroupTrials(std::string name, const Scene& group_scene, const Search& search, int jobs)
+    : name_(std::move(name)), plan_(make_plan(group_scene)), search_(search), jobs_(jobs) {}
+
+const GroupTrials::Trial& GroupTrials::trial(double value, int phases) {
+  const auto key = std::make_pair(value, phases);
+  if (const auto found = trials_.find(key); found != trials_.end()) {
+    return found->second;
+  }
+  SolverConfig& config = plan_.configs.front();
+  set_parameter(config, search_.parameter, value);
+  config.onset_phases = phases;
+  RunTotals totals;
+  const std::vector<Record> records = run_plan(plan_, jobs_, totals);
+  solver_runs_ += totals.solver_runs;
+  const auto observable = static_cast<std::size_t>(
+      std::find_if(plan_.observables.begin(), plan_.observables.end(),
+                   [&](const Observable* o) { return o->key == search_.observable; }) -
+      plan_.observables.begin());
+  Trial trial;
+  std::vector<double> errors;
+  std::vector<std::string> where;
+  for (const Record& record : records) {
+    const std::string cell = cell_text(plan_, plan_.cells[record.cell]);
+    if (record.failed()) {
+      trial.failure = fmt::format("{} at {}", record.outcome_name(), cell);
+      break;
+    }
+    const std::optional<double>& error =
+        (search_.relative ? record.rel_error : record.abs_error)[observable];
+    if (!error) { // a cell it cannot judge fails it, as a claim (claims.hpp)
+      trial.failure = fmt::format("no value of {} at {}{}", search_.observable, cell,
+                                  record.note.empty() ? "" : " (" + record.note + ")");
+      break;
+    }
+    errors.push_back(*error);
+    where.push_back(cell);
+  }
+  if (trial.failure.empty()) {
+    const std::size_t at = nearest_rank(errors, search_.quantile);
+    trial.measured = errors[at];
+    trial.worst = where[at];
+  }
+  return trials_.emplace(key, trial).first->second;
+}
+
+bool GroupTrials::holds(const Trial& trial, double bound) const {
+  return trial.failure.empty() && trial.measured && *trial.measured <= bound;
+}
+
+SearchGroup GroupTrials::answer(std::optional<double> bound_given) {
+  const double bound = bound_given.value_or(search_.bound);
+  const std::vector<double> scan = search_scan(search_);
+  int phases = fixed_step(search_) ? search_.onset_phases : 1;
+  SearchGroup group;
+  group.group = name_;
+  group.onset_phases = phases;
+  std::vector<double> tried;
+  auto attempt = [&](double value, int at_phases) -> const Trial& {
+    if (std::find(tried.begin(), tried.end(), value) == tried.end()) {
+      tried.push_back(value);
+    }
+    return trial(value, at_phases);
+  };
+  // Bisects between a value that held and one that failed, at `at_phases`; returns the loosest
+  // that held and sets group.failing.
+  auto bisect = [&](double held, double broke, int at_phases) {
+    while (!resolved(search_.parameter, held, broke)) {
+      const double mid = middle(search_.parameter, held, broke);
+      if (mid == held || mid == broke) {
+        break;
+      }
+      (holds(attempt(mid, at_phases), bound) ? held : broke) = mid;
+    }
+    group.failing = broke;
+    return held;
+  };
+  // The scan from the tightest end to the first failure, then the bisection there.
+  std::size_t first_failure = scan.size();
+  for (std::size_t i = 0; i < scan.size(); ++i) {
+    ++group.scanned;
+    if (!holds(attempt(scan[i], phases), bound)) {
+      first_failure = i;
+      break;
+    }
+  }
+  if (first_failure == 0) {
+    const Trial& tight = trial(scan[0], phases);
+    group.failing = scan[0];
     group.measured = tight.measured;
     group.worst = tight.worst;
     group.note = tight.failure.empty()
                      ? "the bound fails even at the tightest value of the range"
                      : "a record fails at the tightest value of the range: " + tight.failure;
-    return group;
+  } else if (first_failure == scan.size()) {
+    group.loosest = scan.back();
+    group.note =
+        fmt::format("the bound holds over the whole range ({} values scanned)", scan.size());
+  } else {
+    group.loosest = bisect(scan[first_failure - 1], scan[first_failure], phases);
   }
-  Trial loose = attempt(loosest);
-  if (loose.holds) {
-    group.loosest = loosest;
-    group.measured = loose.measured;
-    group.worst = loose.worst;
-    group.note = "the bound holds over the whole range";
-    return group;
-  }
-  double held = tightest, broke = loosest;
-  Trial best = tight;
-  while (!resolved(search.parameter, held, broke)) {
-    const double mid = middle(search.parameter, held, broke);
-    if (mid == held || mid == broke) {
+  // A fixed step: the answer at twice the phases. Where it fails there (the worst onset phase is
+  // a supremum the samples approach from below), the answer is sought again at those phases among
+  // the scan's tighter values, and accepted once it moves by less than 1 % (a step of a few
+  // hundred); otherwise the phases double again, up to 256.
+  const std::optional<double> first_answer = group.loosest;
+  const int first_phases = phases;
+  bool settled = false; // held at twice the phases, or moved by less than 1 % there
+  while (fixed_step(search_) && group.loosest) {
+    const int more = 2 * phases;
+    group.phases_checked = more;
+    if (holds(attempt(*group.loosest, more), bound)) {
+      settled = true;
       break;
     }
-    Trial trial = attempt(mid);
-    if (trial.holds) {
-      held = mid;
-      best = trial;
-    } else {
-      broke = mid;
+    const double before = *group.loosest;
+    std::optional<double> held;
+    for (std::size_t i = scan.size(); i-- > 0;) { // tighter scan values, loosest first
+      if ((search_.parameter == SearchParameter::steps_per_contact ? scan[i] > before
+                                                                   : scan[i] < before) &&
+          holds(attempt(scan[i], more), bound)) {
+        held = scan[i];
+        break;
+      }
     }
-  }
-  group.loosest = held;
-  group.failing = broke;
-  group.measured = best.measured;
-  group.worst = best.worst;
-  // The bisection assumed the error grows as the parameter loosens. Checked at the powers of ten
-  // strictly between the tightest value and the answer (an adaptive solver's error is not
-  // monotone in its tolerance): one that breaks the bound is said.
-  const double decade_from = std::log10(std::min(tightest, held));
-  const double decade_to = std::log10(std::max(tightest, held));
-  for (double decade = std::floor(decade_from) + 1; decade < decade_to; ++decade) {
-    const double value = std::pow(10.0, decade);
-    if (!resolved(search.parameter, value, tightest) && !resolved(search.parameter, value, held) &&
-        !attempt(value).holds) {
-      group.note = fmt::format("not monotone: the bound also breaks at {:g}, tighter than the "
-                               "answer",
-                               value);
+    phases = more;
+    group.onset_phases = phases;
+    if (!held) {
+      group.loosest.reset();
+      group.failing = scan.front();
+      group.note =
+          fmt::format("at {} onset phases the bound fails even at the tightest value", phases);
+      break;
+    }
+    group.loosest = bisect(*held, before, phases);
+    if (std::abs(*group.loosest - before) <= std::max(1.0, before / 100)) {
+      group.phases_checked = phases;
+      settled = true;
+      break;
+    }
+    if (2 * phases > most_phases) {
       break;
     }
   }
+  if (group.loosest && first_answer && *group.loosest != *first_answer) {
+    group.note +=
+        fmt::format("{}at {} onset phases {:g}, at {} {:g}{}", group.note.empty() ? "" : "; ",
+                    first_phases, *first_answer, phases, *group.loosest,
+                    settled ? "" : ": the worst onset phase is not resolved");
+  }
+  if (group.loosest) {
+    const Trial& best = trial(*group.loosest, phases);
+    group.measured = best.measured;
+    group.worst = best.worst;
+  }
+  if (group.failing) {
+    const Trial& beyond = trial(*group.failing, phases);
+    if (!beyond.failure.empty() && first_failure > 0) {
+      group.note += (group.note.empty() ? "" : "; ") + ("beyond it: " + beyond.failure);
+    }
+  }
+  group.trials = static_cast<int>(tried.size());
+  group.solver_runs = solver_runs_;
   return group;
 }
 
-} // namespace
-
 std::string search_measure(const Search& search) {
-  return fmt::format("the {} {} error of {} over the group's cells",
+  return fmt::format("the {} {} error of {} over the group's cells{}",
                      search.quantile == 1 ? std::string("largest")
                                           : fmt::format("{:g} quantile of the", search.quantile),
-                     search.relative ? "relative" : "absolute", search.observable);
+                     search.relative ? "relative" : "absolute", search.observable,
+                     fixed_step(search) ? " and onset phases" : "");
 }
 
 double search_runs_estimate(const Search& search) {
   const double cells = double(search.grid.p.size()) * double(search.grid.damping.size()) *
                        double(search.grid.v0.size()) * double(search.grid.m.size()) *
                        double(search.grid.k.size());
-  // Two ends, halvings of the log-range down to 12 % (or to neighbouring integers), then the
-  // powers of ten between.
-  const double span = std::abs(std::log(search.range[1] / search.range[0]));
-  return cells * (2 + std::ceil(std::log2(std::max(1.0, span / std::log(1.12)))) +
-                  std::ceil(span / std::log(10.0)));
+  // The scan, a bisection of one of its intervals (to 1 %), and for a fixed step the answer and
+  // its neighbour at twice the phases.
+  const double bisection =
+      std::ceil(std::log2(std::log(std::pow(10.0, 1 / scan_per_decade)) / std::log(1.01))) + 1;
+  const double values = double(search_scan(search).size()) + bisection;
+  const double phases = fixed_step(search) ? search.onset_phases : 1;
+  return cells * phases * (values + (fixed_step(search) ? 2 * 2 : 0));
 }
 
 SearchResult run_search(const Scene& scene, const Search& search, int jobs) {
@@ -217,11 +314,12 @@ SearchResult run_search(const Scene& scene, const Search& search, int jobs) {
   result.observable = search.observable;
   result.measure = search_measure(search);
   result.bound = search.bound;
-  for (const auto& [name, group_scene] : groups_of(scene, search)) {
+  for (const auto& [name, group_scene] : search_groups_of(scene, search)) {
     if (stop_requested()) {
       break;
     }
-    result.groups.push_back(search_group(name, group_scene, search, jobs));
+    GroupTrials trials(name, group_scene, search, jobs);
+    result.groups.push_back(trials.answer());
     result.solver_runs += result.groups.back().solver_runs;
   }
   return result;

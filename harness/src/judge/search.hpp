@@ -2,21 +2,31 @@
 // largest rtol or Δt, the fewest steps per contact) that keeps a bound on an observable's error,
 // over the group's cells (their worst, or a quantile).
 //
-// By bisection on the logarithm of the parameter between the range's two ends, assuming the
-// error grows as the parameter loosens: first the tightest end (if it fails, nothing in the range
-// keeps the bound), then the loosest (if it holds, the whole range does), then halving the
-// interval between the loosest value that held and the tightest that failed until they are
-// within 12 % of each other (rtol, Δt) or neighbours (steps per contact); then the powers of ten
-// between the tightest value and the answer are tried too, and one that breaks the bound is said
-// (the error of an adaptive solver is not monotone in its tolerance). Each trial solves every
-// cell of the group once, through a plan of its own (truth/plan.hpp: the same references and
-// errors as the run's records); the solver runs are counted.
+// The error is not monotone in the parameter (an adaptive solver's in its tolerance; a fixed
+// step's in Δt, as the exit falls at another place within a step), so the range is first scanned
+// from its tightest end towards its loosest at 8 values a decade (integers for steps per contact),
+// and only the interval between the last value that held and the first that failed is bisected,
+// down to neighbouring integers (steps per contact), 2 % (Δt) or 12 % (rtol). Values tighter than
+// the answer all held; nothing looser than the first failure is trusted.
+//
+// A fixed step's error depends on where in a step the contact begins (the onset phase, which a
+// simulation does not control): every trial of a steps_per_contact or dt search takes each cell's
+// worst over `onset_phases` phases k/n (default 8). The answer is then checked at twice as many
+// phases; if it fails there, the search starts again with the phases doubled (up to 256), so the
+// phases reported are ones that more phases do not change.
+//
+// Each trial solves every cell of the group once, through a plan of its own (truth/plan.hpp: the
+// same references and errors as the run's records); the solver runs are counted. A record that
+// failed, or a cell without a value of the observable, fails the trial with the reason.
 #pragma once
 
 #include "scene/scene.hpp"
+#include "truth/plan.hpp"
 
+#include <map>
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace pldamp::harness {
@@ -28,7 +38,10 @@ struct SearchGroup {
   std::optional<double> failing;  // the tightest value seen to break it (none: none did)
   std::optional<double> measured; // the error (or its quantile) at `loosest`
   std::string worst;              // the cell it comes from
-  int trials = 0;
+  int trials = 0;                 // values solved (each over the group's cells and phases)
+  int scanned = 0;                // of them, the scan's
+  int onset_phases = 1;           // the phases each fixed-step trial took its worst over
+  int phases_checked = 0;         // the phases the answer was checked at (0: not a fixed step)
   long solver_runs = 0;
   std::string note; // a failed record, the bound held over the whole range, ...
 };
@@ -40,14 +53,48 @@ struct SearchResult {
   long solver_runs = 0;
 };
 
+// The trials of one group of cells, kept per (value, phases), so that several bounds on one
+// observable (the time-step study's 1 %, 0.1 %, 0.01 %) share their solves.
+class GroupTrials {
+public:
+  GroupTrials(std::string name, const Scene& group_scene, const Search& search, int jobs);
+
+  // The loosest value keeping `bound` (the search's own when none is given).
+  SearchGroup answer(std::optional<double> bound = std::nullopt);
+
+private:
+  struct Trial {
+    std::optional<double> measured;
+    std::string worst, failure;
+  };
+  const Trial& trial(double value, int phases);
+  bool holds(const Trial& trial, double bound) const;
+  std::vector<double> scan_values() const;
+
+  std::string name_;
+  Plan plan_; // the group's cells and the search's configuration, its references computed once
+  const Search& search_;
+  int jobs_;
+  std::map<std::pair<double, int>, Trial> trials_;
+  long solver_runs_ = 0;
+};
+
+// The groups of cells a search answers for, each as a scene of its own: its grid split by p,
+// damping, both, or not at all, with the search's configuration alone.
+std::vector<std::pair<std::string, Scene>> search_groups_of(const Scene& scene,
+                                                            const Search& search);
+
 // Runs a search (on `jobs` threads per trial).
 SearchResult run_search(const Scene& scene, const Search& search, int jobs);
 
 // What a search's measured value is: "the largest relative error of e over the group's cells".
 std::string search_measure(const Search& search);
 
-// The solver runs a search costs at most: its cells times the trials a bisection of its range
-// can take.
+// The solver runs a search costs at most: its cells times the phases times the values a scan
+// and a bisection of its range can take (once more for the check at twice the phases).
 double search_runs_estimate(const Search& search);
+
+// The values a search's scan tries, tightest first.
+std::vector<double> search_scan(const Search& search);
 
 } // namespace pldamp::harness

@@ -1,11 +1,14 @@
 #include "judge/step_study.hpp"
 
+#include "judge/search.hpp"
+
 #include "pldamp/analytic.hpp"
 #include "pldamp/solvers/registry.hpp"
 
 #include <algorithm>
 #include <cmath>
 #include <map>
+#include <numbers>
 
 namespace pldamp::harness {
 namespace {
@@ -21,11 +24,11 @@ std::optional<std::size_t> index_of(const Plan& plan, std::string_view key) {
 
 // The sweeps: fixed-step configurations with a steps-per-contact value, grouped by line, coarse
 // to fine; only groups of two or more.
-std::vector<StepSweep> sweeps_of(const Plan& plan) {
+std::vector<StepSweep> sweeps_of(const std::vector<SolverConfig>& configs) {
   std::map<std::string, std::vector<std::size_t>> groups;
   std::vector<std::string> order;
-  for (std::size_t c = 0; c < plan.configs.size(); ++c) {
-    const SolverConfig& config = plan.configs[c];
+  for (std::size_t c = 0; c < configs.size(); ++c) {
+    const SolverConfig& config = configs[c];
     if (!config.steps_per_contact || !config.fixed_step()) {
       continue;
     }
@@ -36,16 +39,70 @@ std::vector<StepSweep> sweeps_of(const Plan& plan) {
   }
   std::vector<StepSweep> sweeps;
   for (const std::string& line : order) {
-    std::vector<std::size_t> configs = groups[line];
-    if (configs.size() < 2) {
+    std::vector<std::size_t> members = groups[line];
+    if (members.size() < 2) {
       continue;
     }
-    std::sort(configs.begin(), configs.end(), [&](std::size_t a, std::size_t b) {
-      return *plan.configs[a].steps_per_contact < *plan.configs[b].steps_per_contact;
+    std::sort(members.begin(), members.end(), [&](std::size_t a, std::size_t b) {
+      return *configs[a].steps_per_contact < *configs[b].steps_per_contact;
     });
-    sweeps.push_back({line, configs, {}, {}, {}});
+    StepSweep sweep;
+    sweep.line = line;
+    sweep.configs = members;
+    sweeps.push_back(sweep);
   }
   return sweeps;
+}
+
+bool compares_e_and_tau(const Scene& scene) {
+  const std::vector<const Observable*> wanted = observables_of(scene.want);
+  auto has = [&](std::string_view key) {
+    return std::any_of(wanted.begin(), wanted.end(),
+                       [&](const Observable* observable) { return observable->key == key; });
+  };
+  return has("e") && has("tau");
+}
+
+// The search that answers "how many steps per contact keep e within `target`" for a sweep at one
+// (p, damping) point, over the sweep's range (judge/search.hpp).
+Search study_search(const Scene& scene, const std::vector<SolverConfig>& configs,
+                    const StepSweep& sweep, double p, const Damping& damping) {
+  SolverConfig config = configs[sweep.configs.front()];
+  config.steps_per_contact.reset();
+  const int phases = Search{}.onset_phases; // doubled where the answer needs more
+  Search search{
+      .name = sweep.line,
+      .where = {},
+      .quote = {},
+      .config = config,
+      .parameter = SearchParameter::steps_per_contact,
+      .range = {double(*configs[sweep.configs.back()].steps_per_contact),
+                double(*configs[sweep.configs.front()].steps_per_contact)},
+      .observable = "e",
+      .bound = step_targets.front(),
+      .relative = true,
+      .group_by = SearchGroups::point,
+      // One cell: at a given steps per contact and onset phase, e is the same at
+      // every v0, m, k (MATH.md §7: the step is a fraction of the natural time).
+      .grid = ClaimGrid{{p}, {scene.v0.front()}, {scene.m.front()}, {scene.k.front()}, {damping}},
+      .onset_phases = phases};
+  return search;
+}
+
+// An external program's answer, off its sweep: the coarsest sweep value from which every finer
+// one held (the error at each point is the worst over the cells of its p and damping).
+StepsNeeded needed_from_sweep(const std::vector<std::pair<double, double>>& by_steps,
+                              double target) {
+  StepsNeeded needed;
+  needed.from_sweep = true;
+  for (std::size_t k = by_steps.size(); k-- > 0;) { // fine to coarse
+    if (!(by_steps[k].second <= target)) {
+      break;
+    }
+    needed.steps = by_steps[k].first;
+    needed.within_sweep = k > 0;
+  }
+  return needed;
 }
 
 // The least-squares slope of log y against log x.
@@ -68,52 +125,30 @@ std::optional<double> log_slope(const std::vector<std::pair<double, double>>& xy
   return (n * sxy - sx * sy) / denominator;
 }
 
-// The steps per contact where a cell's error falls to `target` for good, interpolated in log-log
-// between the last sweep point above it and the next; `points` are (τ/Δt, error), coarse to fine.
-StepsNeeded steps_for(const std::vector<std::pair<double, double>>& points, double target) {
-  std::size_t first_good = points.size();
-  for (std::size_t k = points.size(); k-- > 0;) {
-    if (!(points[k].second <= target)) {
-      break;
-    }
-    first_good = k;
-  }
-  if (first_good == points.size()) {
-    return {std::nullopt, true};
-  }
-  if (first_good == 0) {
-    return {points[0].first, false};
-  }
-  const auto [n_a, e_a] = points[first_good - 1];
-  const auto [n_b, e_b] = points[first_good];
-  if (!(e_b > 0) || !(e_a > e_b) || !std::isfinite(e_a)) {
-    return {n_b, true};
-  }
-  const double fraction = (std::log(target) - std::log(e_a)) / (std::log(e_b) - std::log(e_a));
-  return {std::exp(std::log(n_a) + fraction * (std::log(n_b) - std::log(n_a))), true};
-}
-
 } // namespace
 
-StepStudy make_step_study(const Plan& plan, const std::vector<Record>& records) {
+StepStudy make_step_study(const Plan& plan, const std::vector<Record>& records, int jobs) {
   StepStudy study;
   const std::optional<std::size_t> tau = index_of(plan, "tau"), e = index_of(plan, "e");
   if (!tau || !e) {
     return study;
   }
-  study.sweeps = sweeps_of(plan);
+  study.sweeps = sweeps_of(plan.configs);
   if (study.sweeps.empty()) {
     return study;
   }
   study.e = *e;
-  const std::size_t observables = plan.observables.size(), ps = plan.scene.p.size(),
-                    dampings = plan.scene.damping.size();
+  const std::size_t observables = plan.observables.size(), ps = plan.scene.p.size();
   for (const double p : plan.scene.p) {
     const auto undamped = analytic::Contact<double>::from_alpha(p, 0.0, 1.0);
     const double tau0 = analytic::undamped_duration(undamped);
     study.dt_crit_over_tau0.push_back(analytic::dt_crit_seed(undamped) / tau0);
     study.dt_tangent_over_tau0.push_back(analytic::dt_crit_tangent(undamped) / tau0);
   }
+  auto p_index_of = [&](double p) {
+    return static_cast<std::size_t>(std::find(plan.scene.p.begin(), plan.scene.p.end(), p) -
+                                    plan.scene.p.begin());
+  };
   // Records by (configuration, cell).
   std::map<std::pair<std::size_t, std::size_t>, const Record*> by_config_cell;
   for (const Record& record : records) {
@@ -121,61 +156,46 @@ StepStudy make_step_study(const Plan& plan, const std::vector<Record>& records) 
   }
   for (StepSweep& sweep : study.sweeps) {
     const std::size_t configs = sweep.configs.size();
+    const SolverConfig& first = plan.configs[sweep.configs.front()];
     sweep.points.assign(observables,
                         std::vector<std::vector<StepPoint>>(ps, std::vector<StepPoint>(configs)));
     sweep.order.assign(ps, std::nullopt);
-    sweep.needed.assign(ps, {});
     std::vector<std::vector<long>> counts(ps, std::vector<long>(configs, 0));
-    // Per p and target: the worst steps needed over the cells.
-    std::vector<std::array<StepsNeeded, 3>> worst(ps);
-    std::vector<std::array<bool, 3>> seen(ps, {false, false, false});
+    // by_steps[point][k]: the worst error in e over the point's cells at configuration k (an
+    // external program's answer is read off it).
+    std::vector<std::vector<double>> by_steps(plan.points.size(), std::vector<double>(configs, 0));
     for (std::size_t cell_index = 0; cell_index < plan.cells.size(); ++cell_index) {
       const Cell& cell = plan.cells[cell_index];
-      const std::size_t p_index = cell.point / dampings;
-      std::vector<std::pair<double, double>> e_by_steps; // (τ/Δt, error in e), coarse to fine
+      const std::size_t p_index = p_index_of(plan.points[cell.point].p);
       for (std::size_t k = 0; k < configs; ++k) {
         const auto found = by_config_cell.find({sweep.configs[k], cell_index});
         const std::optional<Exact> truth =
             reference_at(plan, cell, *tau, plan.configs[sweep.configs[k]]);
-        if (found == by_config_cell.end() || !found->second->dt || !truth || !isfinite(*truth)) {
+        const Record* record = found == by_config_cell.end() ? nullptr : found->second;
+        const std::optional<double> e_error =
+            record && !record->skipped() ? record->rel_error[*e] : std::nullopt;
+        by_steps[cell.point][k] = std::max(by_steps[cell.point][k],
+                                           e_error && !std::isnan(*e_error) ? *e_error : INFINITY);
+        if (!record || !record->dt || !truth || !isfinite(*truth)) {
           continue; // no return (overdamped): no contact duration to divide by
         }
-        const Record& record = *found->second;
-        if (record.skipped() || !record.note.empty()) {
+        if (record->skipped() || !record->note.empty()) {
           continue; // not run, or no truth to measure its error against
         }
-        const double dt_over_tau = *record.dt / static_cast<double>(*truth);
         for (std::size_t o = 0; o < observables; ++o) {
           StepPoint& point = sweep.points[o][p_index][k];
-          const std::optional<double>& error = record.rel_error[o];
+          const std::optional<double>& error = record->rel_error[o];
           if (error && (!point.error || !(*error <= *point.error))) {
             point.error = std::isnan(*error) ? INFINITY : *error;
           }
-          const std::optional<double>& spread = record.spread[o];
+          const std::optional<double>& spread = record->spread[o];
           if (spread && (!point.spread || *spread > *point.spread)) {
             point.spread = spread;
           }
         }
-        sweep.points[*e][p_index][k].dt_over_tau += dt_over_tau; // a sum, then a mean
+        // Δt/τ, a sum, then a mean
+        sweep.points[*e][p_index][k].dt_over_tau += *record->dt / static_cast<double>(*truth);
         ++counts[p_index][k];
-        const std::optional<double>& e_error = record.rel_error[*e];
-        e_by_steps.emplace_back(1 / dt_over_tau,
-                                e_error ? *e_error : std::numeric_limits<double>::infinity());
-      }
-      if (e_by_steps.size() < 2) {
-        continue;
-      }
-      for (std::size_t t = 0; t < step_targets.size(); ++t) {
-        const StepsNeeded needed = steps_for(e_by_steps, step_targets[t]);
-        StepsNeeded& w = worst[p_index][t];
-        if (!seen[p_index][t]) {
-          w = needed;
-          seen[p_index][t] = true;
-        } else if (!w.steps || !needed.steps) {
-          w = {std::nullopt, true};
-        } else if (*needed.steps > *w.steps || (needed.within_sweep && !w.within_sweep)) {
-          w = {std::max(*needed.steps, *w.steps), needed.within_sweep || w.within_sweep};
-        }
       }
     }
     for (std::size_t i = 0; i < ps; ++i) {
@@ -193,10 +213,101 @@ StepStudy make_step_study(const Plan& plan, const std::vector<Record>& records) 
         }
       }
       sweep.order[i] = log_slope(fine);
-      sweep.needed[i] = worst[i];
+    }
+    // The steps needed, per point: the search's answers (an external program's off its sweep).
+    sweep.by_point.assign(plan.points.size(), {});
+    for (std::size_t pi = 0; pi < plan.points.size() && !stop_requested(); ++pi) {
+      const Point& point = plan.points[pi];
+      std::array<StepsNeeded, 3>& needed = sweep.by_point[pi];
+      if (point.overdamped || !point.no_truth.empty()) {
+        for (StepsNeeded& each : needed) {
+          each.returns = false; // no return, so no restitution to keep within a bound
+        }
+        continue;
+      }
+      if (first.external()) {
+        std::vector<std::pair<double, double>> errors;
+        for (std::size_t k = 0; k < configs; ++k) {
+          errors.emplace_back(*plan.configs[sweep.configs[k]].steps_per_contact, by_steps[pi][k]);
+        }
+        for (std::size_t t = 0; t < step_targets.size(); ++t) {
+          needed[t] = needed_from_sweep(errors, step_targets[t]);
+        }
+      } else {
+        const Search search = study_search(plan.scene, plan.configs, sweep, point.p, point.damping);
+        const auto groups = search_groups_of(plan.scene, search);
+        GroupTrials trials(groups.front().first, groups.front().second, search, jobs);
+        long runs = 0; // the trials' solves so far: the bounds share them
+        for (std::size_t t = 0; t < step_targets.size(); ++t) {
+          const SearchGroup answer = trials.answer(step_targets[t]);
+          needed[t].steps = answer.loosest;
+          needed[t].within_sweep = answer.failing.has_value();
+          sweep.onset_phases = std::max(sweep.onset_phases, answer.onset_phases);
+          runs = answer.solver_runs;
+        }
+        sweep.solver_runs += runs;
+      }
+      // τ/Δt at the answer: steps per contact × τ / (π δ_u/v0), at unit scale.
+      const std::optional<Exact>& unit_tau =
+          point.reference.at({alpha_precision(first), end_of(plan.scene, first)})[*tau];
+      for (StepsNeeded& each : needed) {
+        if (each.steps && unit_tau && isfinite(*unit_tau)) {
+          const double delta_u = std::pow((point.p + 1) / 2, 1 / (point.p + 1));
+          each.tau_over_dt =
+              *each.steps * static_cast<double>(*unit_tau) / (std::numbers::pi * delta_u);
+        }
+      }
+    }
+    // Per p, the worst over its points: none if one is not reached; an upper bound if any is.
+    sweep.needed.assign(ps, {});
+    std::vector<bool> seen(ps, false);
+    for (std::array<StepsNeeded, 3>& worst : sweep.needed) {
+      for (StepsNeeded& each : worst) {
+        each.returns = false; // until a returning point of that p is seen
+      }
+    }
+    for (std::size_t pi = 0; pi < plan.points.size(); ++pi) {
+      const std::size_t i = p_index_of(plan.points[pi].p);
+      if (!sweep.by_point[pi].front().returns) {
+        continue;
+      }
+      for (std::size_t t = 0; t < step_targets.size(); ++t) {
+        const StepsNeeded& each = sweep.by_point[pi][t];
+        StepsNeeded& worst = sweep.needed[i][t];
+        if (!seen[i]) {
+          worst = {each.steps, each.within_sweep, each.from_sweep, std::nullopt, true};
+        } else if (!worst.steps || !each.steps) {
+          worst = {std::nullopt, true, worst.from_sweep || each.from_sweep, std::nullopt, true};
+        } else {
+          worst = {std::max(*worst.steps, *each.steps), worst.within_sweep || each.within_sweep,
+                   worst.from_sweep || each.from_sweep, std::nullopt, true};
+        }
+      }
+      seen[i] = true;
     }
   }
   return study;
+}
+
+double step_study_runs_estimate(const Scene& scene) {
+  if (!compares_e_and_tau(scene)) {
+    return 0;
+  }
+  double runs = 0;
+  for (const StepSweep& sweep : sweeps_of(scene.configs)) {
+    if (scene.configs[sweep.configs.front()].external()) {
+      continue;
+    }
+    for (const double p : scene.p) {
+      for (const Damping& damping : scene.damping) {
+        if (damping.kind == Damping::Kind::alpha_eff && damping.value >= 1) {
+          continue; // overdamped: no return, no search (make_step_study)
+        }
+        runs += search_runs_estimate(study_search(scene, scene.configs, sweep, p, damping));
+      }
+    }
+  }
+  return runs;
 }
 
 } // namespace pldamp::harness

@@ -1,10 +1,18 @@
 // The time-step study: what a DEM user can quote about a fixed-step scheme. For every sweep of a
 // fixed-step configuration over steps per contact (the configurations sharing a
 // SolverConfig::line), per p: the worst error of e, δ_max and τ over the grid's cells (and their
-// onset phases) against Δt/τ, the observed order in e, and the steps per contact τ/Δt needed for
-// e within 1 %, 0.1 % and 0.01 %, worst over the cells and onset phases (log-log interpolation
-// between the sweep's points). τ is each cell's true contact duration under the configuration's
-// end rule (t_cut when capped), so the study needs τ among the scene's observables.
+// onset phases) against Δt/τ, and the observed order in e; and, per (p, damping) point, the steps
+// per contact needed for e within 1 %, 0.1 % and 0.01 %.
+//
+// One name per quantity: steps per contact is always (π δ_u/v0) ÷ Δt, the parameter a scene and
+// `solve --steps-per-contact` set (δ_u the undamped peak overlap); the true contact duration per
+// step, τ ÷ Δt, is called tau_over_dt (τ under the configuration's end rule: t_cut when capped).
+//
+// The steps needed are the answers of [[search]]'s engine (judge/search.hpp) over the sweep's
+// range, one search per point, worst over 8 onset phases (or the sweep's own, if more) and checked
+// at twice as many: the same question asked as a [[search]] gets the same answer. An external
+// program is not searched (each run can cost milliseconds): its answer is read off its sweep, the
+// coarsest sweep value from which every finer one holds (an upper bound, `from_sweep`).
 #pragma once
 
 #include "run/run.hpp"
@@ -25,10 +33,13 @@ struct StepPoint {
   std::optional<double> spread; // the largest spread over onset phases (several phases run)
 };
 
-// The steps per contact (τ/Δt) needed for a target, worst over cells.
+// The steps per contact needed for a target.
 struct StepsNeeded {
-  std::optional<double> steps; // none: not reached in the sweep
-  bool within_sweep = true;    // false: reached already at the coarsest step (an upper bound)
+  std::optional<double> steps; // none: not reached at the sweep's finest step
+  bool within_sweep = true;    // false: held at the coarsest step already (an upper bound)
+  bool from_sweep = false;     // read off the sweep's points (external programs): an upper bound
+  std::optional<double> tau_over_dt; // τ/Δt at those steps (per point; none for a worst)
+  bool returns = true; // false: the point does not return (overdamped) or has no truth: no answer
 };
 
 struct StepSweep {
@@ -37,7 +48,11 @@ struct StepSweep {
   // points[o][p][k]: observable o (its index in Plan::observables), p index, configuration k.
   std::vector<std::vector<std::vector<StepPoint>>> points;
   std::vector<std::optional<double>> order;       // per p: observed order in e
-  std::vector<std::array<StepsNeeded, 3>> needed; // per p, per step_targets
+  std::vector<std::array<StepsNeeded, 3>> needed; // per p, per step_targets: worst over points
+  // by_point[point index of the plan][target]: each (p, damping) point's own answer.
+  std::vector<std::array<StepsNeeded, 3>> by_point;
+  int onset_phases = 0; // the phases the searches took their worst over (0: from the sweep)
+  long solver_runs = 0; // the searches' solves
 };
 
 struct StepStudy {
@@ -48,7 +63,11 @@ struct StepStudy {
   std::vector<double> dt_crit_over_tau0, dt_tangent_over_tau0;
 };
 
-// Empty (no sweeps) when the plan has no fixed-step sweep or does not compare τ.
-StepStudy make_step_study(const Plan& plan, const std::vector<Record>& records);
+// Empty (no sweeps) when the plan has no fixed-step sweep or does not compare e and τ. The
+// searches run on `jobs` threads.
+StepStudy make_step_study(const Plan& plan, const std::vector<Record>& records, int jobs);
+
+// The solver runs the study's searches are estimated to cost (the plan's size).
+double step_study_runs_estimate(const Scene& scene);
 
 } // namespace pldamp::harness

@@ -422,11 +422,11 @@ std::string step_study_html(const RunReport& report, const Gnuplot& gnuplot) {
   const Plan& plan = report.plan;
   const StepStudy& study = report.budgets.steps;
   std::string out = "<h2>Time-step study: steps per contact for e within 1 %, 0.1 %, 0.01 %</h2>\n"
-                    "<p>Worst over the grid's cells and onset phases; steps per contact is τ/Δt "
-                    "with τ each cell's true contact duration (t_cut under the force cap). The "
-                    "order is the slope of the worst error in e against Δt over the finest half "
-                    "of the sweep. The plots mark the seed's Δt_crit and the tangent-stiffness "
-                    "bound as fractions of the undamped τ0.</p>\n";
+                    "<p>" +
+                    escape(step_study_description(study)) +
+                    " The plots show the worst error against Δt/τ (τ each cell's true contact "
+                    "duration, t_cut under the force cap) and mark the seed's Δt_crit and the "
+                    "tangent-stiffness bound as fractions of the undamped τ0.</p>\n";
   MapTable table;
   table.header = {
       "sweep", "p", "order in e", "1 %", "0.1 %", "0.01 %", "spread of e over onset phases"};
@@ -435,13 +435,18 @@ std::string step_study_html(const RunReport& report, const Gnuplot& gnuplot) {
       std::vector<std::string> row{sweep.line, to_string_full(plan.scene.p[i]),
                                    short_number(sweep.order[i])};
       for (std::size_t t = 0; t < step_targets.size(); ++t) {
-        row.push_back(step_steps_text(sweep, i, t));
+        row.push_back(step_steps_text(plan, sweep, sweep.needed[i][t]));
       }
       row.push_back(phase_spread_text(sweep, study.e, i));
       table.rows.push_back(row);
     }
   }
   out += html_table(table);
+  for (const StepSweep& sweep : study.sweeps) {
+    out += "<p>" + escape(sweep.line) +
+           ", per point: steps per contact for 1 % / 0.1 % / 0.01 %</p>\n" +
+           html_table(step_points_table(plan, sweep));
+  }
   for (std::size_t i = 0; i < plan.scene.p.size(); ++i) {
     for (const std::string_view key : {"e", "delta_max", "tau"}) {
       for (std::size_t o = 0; o < plan.observables.size(); ++o) {

@@ -108,15 +108,48 @@ double mean_analytic_seconds(const Plan& plan) {
   return plan.cells.empty() ? 0 : sum / double(plan.cells.size());
 }
 
-std::string step_steps_text(const StepSweep& sweep, std::size_t p_index, std::size_t target) {
-  const StepsNeeded& needed = sweep.needed[p_index][target];
-  if (!needed.steps) {
-    const StepPoint& finest = sweep.points[0][p_index].back(); // Δt/τ is shared by observables
-    return finest.dt_over_tau > 0 ? fmt::format("> {:.0f}", 1 / finest.dt_over_tau) : "–";
+std::string step_steps_text(const Plan& plan, const StepSweep& sweep, const StepsNeeded& needed) {
+  if (!needed.returns) {
+    return "no return";
   }
-  return (needed.within_sweep ? "" : "≤ ") + fmt::format("{:.0f}", *needed.steps);
+  if (!needed.steps) {
+    return fmt::format("> {}", *plan.configs[sweep.configs.back()].steps_per_contact);
+  }
+  return (needed.within_sweep && !needed.from_sweep ? "" : "≤ ") +
+         fmt::format("{:.0f}", *needed.steps);
 }
 
+MapTable step_points_table(const Plan& plan, const StepSweep& sweep) {
+  return map_table(plan, [&](std::size_t point) {
+    std::string text;
+    for (const StepsNeeded& needed : sweep.by_point[point]) {
+      text += (text.empty() ? "" : " / ") + step_steps_text(plan, sweep, needed);
+    }
+    return text;
+  });
+}
+
+std::string step_study_description(const StepStudy& study) {
+  int phases = 0;
+  bool from_sweep = false;
+  for (const StepSweep& sweep : study.sweeps) {
+    phases = std::max(phases, sweep.onset_phases);
+    from_sweep = from_sweep || sweep.onset_phases == 0;
+  }
+  return fmt::format(
+      "Steps per contact is (π δ_u/v0)/Δt, the `steps_per_contact` a scene and `pldamp solve` "
+      "set (δ_u the undamped peak overlap); τ/Δt, each answer's true contact duration per step, "
+      "is given beside it. Each (p, damping) point's answer is that of a [[search]] over the "
+      "sweep's range (judge/search.hpp): scanned from the finest step, 8 values a decade, then "
+      "bisected at the first failure, each value's error the worst over the point's cells and {} "
+      "onset phases, the answer checked at twice as many{}. Per p, the worst over the grid's "
+      "dampings. The order is the slope of the worst error in e against Δt over the finest half "
+      "of the sweep.",
+      phases > 0 ? std::to_string(phases) : "the sweep's",
+      from_sweep ? "; an external program's answer is read off its sweep (≤: the coarsest sweep "
+                   "value from which every finer one held)"
+                 : "");
+}
 std::string phase_spread_text(const StepSweep& sweep, std::size_t e, std::size_t p_index) {
   const std::optional<double>& coarsest = sweep.points[e][p_index].front().spread;
   const std::optional<double>& finest = sweep.points[e][p_index].back().spread;
@@ -188,16 +221,23 @@ std::string markdown_map(const Plan& plan,
 }
 
 ordered_json step_study_json(const Plan& plan, const StepStudy& study) {
+  auto needed_json = [](const std::array<StepsNeeded, 3>& needed) {
+    ordered_json out = ordered_json::array();
+    for (std::size_t t = 0; t < step_targets.size(); ++t) {
+      out.push_back({{"target", step_targets[t]},
+                     {"steps_per_contact", number_or_null(needed[t].steps)},
+                     {"tau_over_dt", number_or_null(needed[t].tau_over_dt)},
+                     {"within_sweep", needed[t].within_sweep},
+                     {"returns", needed[t].returns},
+                     {"from_sweep", needed[t].from_sweep}});
+    }
+    return out;
+  };
   ordered_json sweeps = ordered_json::array();
   for (const StepSweep& sweep : study.sweeps) {
     ordered_json per_p = ordered_json::array();
     for (std::size_t i = 0; i < plan.scene.p.size(); ++i) {
-      ordered_json needed = ordered_json::array(), points;
-      for (std::size_t t = 0; t < step_targets.size(); ++t) {
-        needed.push_back({{"target", step_targets[t]},
-                          {"steps_per_contact", number_or_null(sweep.needed[i][t].steps)},
-                          {"within_sweep", sweep.needed[i][t].within_sweep}});
-      }
+      ordered_json points;
       for (std::size_t o = 0; o < plan.observables.size(); ++o) {
         ordered_json xy = ordered_json::array();
         for (const StepPoint& point : sweep.points[o][i]) {
@@ -207,10 +247,20 @@ ordered_json step_study_json(const Plan& plan, const StepStudy& study) {
       }
       per_p.push_back({{"p", plan.scene.p[i]},
                        {"order_e", number_or_null(sweep.order[i])},
-                       {"needed", needed},
+                       {"needed", needed_json(sweep.needed[i])},
                        {"dt_over_tau_and_worst_rel", points}});
     }
-    sweeps.push_back({{"line", sweep.line}, {"per_p", per_p}});
+    ordered_json per_point = ordered_json::array();
+    for (std::size_t pi = 0; pi < sweep.by_point.size(); ++pi) {
+      per_point.push_back({{"p", plan.points[pi].p},
+                           {"damping", plan.points[pi].damping.label()},
+                           {"needed", needed_json(sweep.by_point[pi])}});
+    }
+    sweeps.push_back({{"line", sweep.line},
+                      {"onset_phases", sweep.onset_phases},
+                      {"solver_runs", sweep.solver_runs},
+                      {"per_p", per_p},
+                      {"per_point", per_point}});
   }
   return {{"dt_crit_over_tau0", study.dt_crit_over_tau0},
           {"dt_tangent_over_tau0", study.dt_tangent_over_tau0},
@@ -218,11 +268,8 @@ ordered_json step_study_json(const Plan& plan, const StepStudy& study) {
 }
 
 std::string step_study_markdown(const Plan& plan, const StepStudy& study) {
-  std::string out =
-      "\n## Time-step study: steps per contact for e within 1 %, 0.1 %, 0.01 %\n\n"
-      "Worst over the grid's cells and onset phases; steps per contact is τ/Δt with τ each "
-      "cell's true contact duration (t_cut under the force cap); the order is the slope of the "
-      "worst error in e against Δt over the finest half of the sweep.\n";
+  std::string out = "\n## Time-step study: steps per contact for e within 1 %, 0.1 %, 0.01 %\n\n" +
+                    step_study_description(study) + "\n";
   for (const StepSweep& sweep : study.sweeps) {
     out += fmt::format("\n### {}\n\n| p | order in e | 1 % | 0.1 % | 0.01 % | spread of e over "
                        "onset phases, coarsest → finest step |\n|---|---|---|---|---|---|\n",
@@ -232,10 +279,12 @@ std::string step_study_markdown(const Plan& plan, const StepStudy& study) {
       out +=
           fmt::format("| {} | {} |", to_string_full(plan.scene.p[i]), short_number(sweep.order[i]));
       for (std::size_t t = 0; t < step_targets.size(); ++t) {
-        out += fmt::format(" {} |", step_steps_text(sweep, i, t));
+        out += fmt::format(" {} |", step_steps_text(plan, sweep, sweep.needed[i][t]));
       }
       out += fmt::format(" {} |\n", phase_spread_text(sweep, e, i));
     }
+    out += "\nPer point, steps per contact for 1 % / 0.1 % / 0.01 %:\n\n" +
+           markdown_table(step_points_table(plan, sweep)) + "\n";
   }
   out += "\nThe seed's Δt_crit and the tangent-stiffness bound (MATH.md §6), as steps per undamped "
          "contact τ0/Δt:";
@@ -404,6 +453,9 @@ ordered_json report_json(const RunReport& report) {
                         {"measured", number_or_null(group.measured)},
                         {"worst", group.worst},
                         {"trials", group.trials},
+                        {"scanned", group.scanned},
+                        {"onset_phases", group.onset_phases},
+                        {"phases_checked", group.phases_checked},
                         {"solver_runs", group.solver_runs},
                         {"note", group.note}});
     }

@@ -78,9 +78,13 @@ struct MapTable {
 // branch) columns after an empty separator column; `cell` gives each point's text.
 MapTable map_table(const Plan& plan, const std::function<std::string(std::size_t point)>& cell);
 
-// "230", "≤ 10" (reached at the coarsest step), "> 5000" (not within the sweep): the steps per
-// contact a sweep needs at a p for step_targets[target].
-std::string step_steps_text(const StepSweep& sweep, std::size_t p_index, std::size_t target);
+// "230", "≤ 10" (reached at the coarsest step, or read off an external program's sweep), "> 5000"
+// (not reached at the finest): the steps per contact a sweep needs for a target.
+std::string step_steps_text(const Plan& plan, const StepSweep& sweep, const StepsNeeded& needed);
+// The per-point answers of a sweep, p × damping, "41 / 380 / > 5000".
+MapTable step_points_table(const Plan& plan, const StepSweep& sweep);
+// How the time-step study's numbers are found and named (report.md and report.html).
+std::string step_study_description(const StepStudy& study);
 
 // The spread of e over onset phases at a sweep's coarsest and finest step, "3.1e-02 → 2e-05".
 std::string phase_spread_text(const StepSweep& sweep, std::size_t e, std::size_t p_index);

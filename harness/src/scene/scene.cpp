@@ -927,12 +927,12 @@ void read_claims(const Reader& reader, const toml::node& node, Scene& scene) {
 void read_searches(const Reader& reader, const toml::node& node, Scene& scene) {
   for (const toml::node& item : reader.entries(node, "search")) {
     const toml::table& entry = reader.table(item, "[[search]]");
-    reader.only(entry, {"name",      "where",     "quote",      "solver",
-                        "precision", "atol",      "rtol",       "steps_per_contact",
-                        "parameter", "range",     "observable", "bound",
-                        "bound_rel", "quantile",  "group_by",   "p",
-                        "e",         "alpha_eff", "v0",         "m",
-                        "k"},
+    reader.only(entry, {"name",      "where",        "quote",      "solver",
+                        "precision", "atol",         "rtol",       "steps_per_contact",
+                        "parameter", "range",        "observable", "bound",
+                        "bound_rel", "quantile",     "group_by",   "p",
+                        "e",         "alpha_eff",    "v0",         "m",
+                        "k",         "onset_phases", "end"},
                 "[[search]]");
     Search search;
     for (const char* key : {"name", "parameter", "range", "observable"}) {
@@ -947,6 +947,14 @@ void read_searches(const Reader& reader, const toml::node& node, Scene& scene) {
       }
     }
     search.config = base_config(reader, entry, "solver", "[[search]]", item);
+    if (entry.get("onset_phases") != nullptr) { // read (and checked) by base_config
+      search.onset_phases = search.config.onset_phases;
+    }
+    const std::vector<std::optional<solvers::End>> search_ends = read_ends(reader, entry);
+    if (search_ends.size() != 1) {
+      reader.fail(*entry.get("end"), "a search's end is one contact end (got a list)");
+    }
+    search.config.end = search_ends.front();
     const solvers::SolverInfo& info = solvers::solver_named(search.config.name);
     search.parameter = keyword(reader, *entry.get("parameter"), search_parameters, "parameter");
     const bool fixed = search.parameter != SearchParameter::rtol;

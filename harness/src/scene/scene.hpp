@@ -36,7 +36,7 @@
 //                 whichever is not searched); parameter = rtol | steps_per_contact | dt; range =
 //                 [from, to] (either order); observable; bound or bound_rel; quantile; group_by = p
 //                 | damping | point | all (default p); a grid of its own (p, e, alpha_eff, v0, m,
-//                 k; each defaults to [grid]'s)
+//                 k; each defaults to [grid]'s); onset_phases (fixed steps; default 8); end
 //     [[trajectory]] file (a CSV of t, delta and optionally v, F; the scene's folder's), label, p,
 //                 e or alpha or alpha_eff, v0, m, k (default 1), end: checked as `pldamp check`
 //     [[figure]]  kind (figures.hpp), solver, rtol, atol, p, e, alpha_eff: the seed's figures
@@ -213,6 +213,9 @@ struct Search {
   double quantile = 1;   // over the group's cells (1: the worst)
   SearchGroups group_by = SearchGroups::p;
   ClaimGrid grid;
+  // steps_per_contact and dt: the onset phases k/n each trial takes its worst over
+  // (judge/search.hpp checks the answer at twice as many).
+  int onset_phases = 8;
 };
 
 // [[trajectory]]: a contact's time series dumped by a code, checked as `pldamp check` checks it
