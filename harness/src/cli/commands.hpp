@@ -74,11 +74,16 @@ struct DiffArgs {
 int run_diff(const DiffArgs& args, std::ostream& out);
 
 // `pldamp check TRAJECTORY.csv`: one contact's time series against the closed forms
-// (judge/trajectory.hpp). The contact options without --precision: the truth is Exact.
+// (judge/trajectory.hpp). The contact options without --precision and --damping-exponent: the
+// truth is the seed's closed forms, in Exact.
 struct CheckArgs {
   std::string trajectory;
   ContactArgs contact;
+  // One relative tolerance for every observable, or "e=1e-3,tau=1e-2": judged, exit 1 on a fail.
+  std::optional<std::string> tolerance;
 };
-void run_check(const CheckArgs& args, std::ostream& out);
+// Returns the exit code: 0, or 1 when an observable judged under --tolerance fails. A file that
+// contradicts its arguments (judge/trajectory.hpp: contradiction()) is an InputError.
+int run_check(const CheckArgs& args, std::ostream& out);
 
 } // namespace pldamp::harness

@@ -259,6 +259,147 @@ std::pair<Extracted, Extracted> peak_of(const Curve& delta, std::size_t i) {
           Extracted{best.first, floored(t_spread, best.first), {}}};
 }
 
+// ---- What the file says of its parameters (MATH.md §10.2) -------------------------------------
+
+// The approach speed: v on the last row before contact; else δ's slope over the two rows before
+// contact (free flight); else δ's slope where it crosses 0 (one row before contact). Its estimate:
+// the speed's change over the spacing before (an approach that is not free: gravity) or, at the
+// crossing, over the crossing's interval, and the cells' rounding.
+std::pair<Extracted, std::string> approach_of(const TrajectoryColumns& c, const Curve& overlap,
+                                              std::size_t first, const Extracted& start) {
+  const std::vector<double>& t = c.t;
+  const std::vector<double>& delta = c.delta;
+  if (first == 0) {
+    return {missing("the series starts in contact"), ""};
+  }
+  const std::size_t a = first - 1;
+  if (c.v) {
+    const std::vector<double>& v = *c.v;
+    const double change = a >= 1 ? std::abs(v[a] - v[a - 1]) : 0;
+    const double rounding = resolution_of(c.digits.v) * std::abs(v[a]);
+    return {Extracted{v[a], floored(change + rounding, v[a]), {}},
+            "v on the last row before contact"};
+  }
+  // The secant over [i, i + 1] and its rounding (of δ's cells and of h).
+  const auto secant = [&](std::size_t i) {
+    const double h = t[i + 1] - t[i];
+    const double slope = (delta[i + 1] - delta[i]) / h;
+    const double rounding = 2 * resolution_of(c.digits.delta) *
+                                std::max(std::abs(delta[i]), std::abs(delta[i + 1])) / h +
+                            2 * resolution_of(c.digits.t) *
+                                std::max(std::abs(t[i]), std::abs(t[i + 1])) / h * std::abs(slope);
+    return std::pair{slope, rounding};
+  };
+  if (a >= 1 && delta[a] < 0 && delta[a - 1] < 0) {
+    const auto [slope, rounding] = secant(a - 1);
+    const double change = a >= 2 && delta[a - 2] < 0 ? std::abs(slope - secant(a - 2).first) : 0;
+    return {Extracted{slope, floored(change + rounding, slope), {}},
+            "delta's slope on the two rows before contact"};
+  }
+  if (delta[a] < 0 && start.value) {
+    const Interpolant across = overlap.across(a, +1);
+    const auto [value, lower] = overlap.slopes(*start.value, across);
+    const double change =
+        std::abs(overlap.slopes(t[first], across).first - overlap.slopes(t[a], across).first);
+    const double estimate = std::max(std::abs(value - lower), change) + secant(a).second;
+    return {Extracted{value, floored(estimate, value), {}}, "delta's slope where it crosses 0"};
+  }
+  return {missing("the overlap is 0 on the row before contact (clamped?) and there is no v column"),
+          ""};
+}
+
+// δ'' and, with an F column, F at the peak time t_star, from the rows i − 1 … i + 1 about the
+// largest overlap: δ'' the curvature of δ's parabola, compared with the parabolas one row over,
+// or the slope of v's parabola, compared with v's secants on either side of i and v's parabolas
+// one row over; F on its parabola, compared with the straight line. The cells' rounding is
+// added: 4 ε/(h₁h₂) on a second difference of values known to ε. And how far δ, δ'' (v's secants
+// or δ's second differences) and F stray from their peak values over the rows within three
+// spacings of row i: a force evaluated up to two steps away from the state dumped with it (a
+// staggered DEM loop's) lies within that of the peak's (MATH.md §10.2).
+void peak_law_of(const TrajectoryColumns& c, std::size_t i, std::size_t first, std::size_t last,
+                 double t_star, TrajectoryObservables& out) {
+  if (i < first + 1 || i + 1 > last) {
+    const std::string why = "fewer than three rows of contact about the peak";
+    out.peak_acceleration = missing(why);
+    out.peak_force = missing(why);
+    return;
+  }
+  const std::vector<double>& t = c.t;
+  const double h1 = t[i] - t[i - 1];
+  const double h2 = t[i + 1] - t[i];
+  const std::size_t k = t_star < t[i] ? i - 1 : i; // the interval holding t_star
+  const std::size_t lo = std::max(first, i - std::min(i, std::size_t(3)));
+  const std::size_t hi = std::min(last, i + 3);
+  const double t_rounding = resolution_of(c.digits.t) *
+                            std::max(std::abs(t[i - 1]), std::abs(t[i + 1])) /
+                            std::min(h1, h2); // relative, on a difference quotient
+  const auto largest = [&](const std::vector<double>& y) {
+    return std::max({std::abs(y[i - 1]), std::abs(y[i]), std::abs(y[i + 1])});
+  };
+  double acceleration = 0;
+  double estimate = 0;
+  std::vector<double> nearby; // δ'' over the rows about the peak
+  if (c.v) {
+    const Curve speed{t, *c.v, nullptr};
+    acceleration = speed.quadratic(i - 1).slope(t_star);
+    const double before = speed.slopes(t_star, speed.across(i - 1, +1)).second;
+    const double after = speed.slopes(t_star, speed.across(i, +1)).second;
+    estimate =
+        std::max({std::abs(acceleration - (k < i ? before : after)), std::abs(after - before)});
+    for (const std::size_t shifted : {i - 2, i}) { // v's parabolas one row over
+      if (shifted >= first && shifted + 2 <= last) {
+        estimate =
+            std::max(estimate, std::abs(acceleration - speed.quadratic(shifted).slope(t_star)));
+      }
+    }
+    estimate += 2 * resolution_of(c.digits.v) * largest(*c.v) * (1 / h1 + 1 / h2);
+    for (std::size_t j = lo; j < hi; ++j) {
+      nearby.push_back(((*c.v)[j + 1] - (*c.v)[j]) / (t[j + 1] - t[j]));
+    }
+  } else {
+    const Curve overlap{t, c.delta, nullptr};
+    acceleration = 2 * overlap.quadratic(i - 1).d012;
+    bool compared = false;
+    for (const std::size_t shifted : {i - 2, i}) {
+      if (shifted >= first && shifted + 2 <= last) {
+        estimate = std::max(estimate, std::abs(acceleration - 2 * overlap.quadratic(shifted).d012));
+        compared = true;
+      }
+    }
+    if (!compared) { // three rows of contact: nothing to compare with
+      estimate = std::abs(acceleration);
+    }
+    estimate += 4 * resolution_of(c.digits.delta) * largest(c.delta) / (h1 * h2);
+    for (std::size_t j = lo; j + 2 <= hi; ++j) {
+      nearby.push_back(2 * overlap.quadratic(j).d012);
+    }
+  }
+  estimate += 4 * t_rounding * std::abs(acceleration);
+  out.peak_acceleration = {acceleration, floored(estimate, acceleration), {}};
+  for (const double a : nearby) {
+    out.peak_acceleration_spread =
+        std::max(out.peak_acceleration_spread, std::abs(a - acceleration));
+  }
+  for (std::size_t j = lo; j <= hi; ++j) {
+    out.peak_overlap_spread = std::max(out.peak_overlap_spread, *out.delta_max.value - c.delta[j]);
+  }
+  if (!c.force) {
+    out.peak_force = missing("no F column");
+    return;
+  }
+  const std::vector<double>& force = *c.force;
+  const Curve total{t, force, nullptr};
+  const double value = total.quadratic(i - 1)(t_star);
+  const double line = force[k] + (force[k + 1] - force[k]) * ((t_star - t[k]) / (t[k + 1] - t[k]));
+  out.peak_force = {
+      value,
+      floored(std::abs(value - line) + resolution_of(c.digits.force) * largest(force), value),
+      {}};
+  for (std::size_t j = lo; j <= hi; ++j) {
+    out.peak_force_spread = std::max(out.peak_force_spread, std::abs(force[j] - value));
+  }
+}
+
 } // namespace
 
 double ForceLaw::operator()(double delta, double v) const {
@@ -330,6 +471,12 @@ TrajectoryObservables extract_observables(const TrajectoryColumns& columns,
       delta.begin());
   Extracted t_peak_absolute;
   std::tie(out.delta_max, t_peak_absolute) = peak_of(overlap, peak);
+  if (t_peak_absolute.value) {
+    peak_law_of(columns, peak, first, last, *t_peak_absolute.value, out);
+  } else {
+    out.peak_acceleration = missing(t_peak_absolute.missing);
+    out.peak_force = missing(t_peak_absolute.missing);
+  }
 
   // End: δ crosses 0 downward after the contact's last row, or F crosses 0 after the peak.
   std::optional<std::size_t> end_at; // the interval [end_at, end_at + 1] holding the end
@@ -424,6 +571,8 @@ TrajectoryObservables extract_observables(const TrajectoryColumns& columns,
   } else {
     out.e = missing(out.end.missing);
   }
+
+  std::tie(out.incoming_speed, out.incoming_from) = approach_of(columns, overlap, first, out.start);
 
   // Times from the start.
   auto since_start = [&](const Extracted& at) {

@@ -13,6 +13,7 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 
 namespace pldamp::harness {
 namespace {
@@ -85,6 +86,20 @@ std::optional<Column> column_named(std::string_view name) {
   return std::nullopt;
 }
 
+int& digits_of(TrajectoryColumns& columns, Column column) {
+  switch (column) {
+  case Column::t:
+    return columns.digits.t;
+  case Column::delta:
+    return columns.digits.delta;
+  case Column::v:
+    return columns.digits.v;
+  case Column::force:
+    break;
+  }
+  return columns.digits.force;
+}
+
 std::vector<double>& column_of(TrajectoryColumns& columns, Column column) {
   switch (column) {
   case Column::t:
@@ -99,6 +114,27 @@ std::vector<double>& column_of(TrajectoryColumns& columns, Column column) {
   return *columns.force;
 }
 } // namespace
+
+int significant_digits(std::string_view number) {
+  int digits = 0;
+  bool leading = true;
+  for (const char c : number) {
+    if (c == 'e' || c == 'E') {
+      break;
+    }
+    if (c < '0' || c > '9') {
+      continue; // sign, decimal point
+    }
+    leading = leading && c == '0';
+    digits += leading ? 0 : 1;
+  }
+  return digits;
+}
+
+double resolution_of(int digits) {
+  return std::max(0.5 * std::pow(10.0, 1 - std::max(digits, 1)),
+                  std::numeric_limits<double>::epsilon());
+}
 
 std::string trajectory_column_names() {
   std::string names, aliases;
@@ -115,6 +151,7 @@ std::string trajectory_column_names() {
 
 TrajectoryColumns parse_trajectory_csv(std::string_view text, const std::string& name) {
   TrajectoryColumns columns;
+  columns.digits = {.t = 0, .delta = 0, .v = 0, .force = 0}; // the largest seen, below
   std::vector<Column> order;
   std::size_t line_number = 0;
   std::size_t header_line = 0;
@@ -178,6 +215,8 @@ TrajectoryColumns parse_trajectory_csv(std::string_view text, const std::string&
         fail(column + " must be finite (got " + shown(cells[i]) + ")");
       }
       column_of(columns, order[i]).push_back(*value);
+      int& digits = digits_of(columns, order[i]);
+      digits = std::max(digits, significant_digits(cells[i]));
     }
     if (columns.t.size() > 1 && !(columns.t.back() > last_t)) {
       fail("t must increase from row to row (got " +
