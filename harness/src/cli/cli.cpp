@@ -6,7 +6,6 @@
 #include "judge/trajectory.hpp"
 #include "scene/scene.hpp"
 
-#include "pldamp/analytic/conventions.hpp"
 #include "pldamp/solvers/registry.hpp"
 
 #include <CLI/CLI.hpp>
@@ -79,7 +78,7 @@ int run_cli(int argc, const char* const* argv, std::ostream& out, std::ostream& 
   CLI::App* calibrate = app.add_subcommand("calibrate", "alpha for a target restitution e");
   add_contact_options(*calibrate, calibrate_args, true);
   calibrate->add_option("--code", calibrate_args.code,
-                        "what a DEM code sets and really gives: " + analytic::convention_names());
+                        "what a DEM code sets and really gives: " + calibrate_code_names());
   calibrate->add_flag("--limit-damping", calibrate_args.limit_damping,
                       "with --code: LAMMPS limit_damping / LIGGGHTS limitForce (force cap) on");
   calibrate->add_option(

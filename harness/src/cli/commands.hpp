@@ -57,6 +57,9 @@ struct RunArgs {
 TrajectoryCheck check_trajectory(const TrajectorySpec& spec, solvers::End scene_end);
 
 void run_calibrate(const ContactArgs& args, std::ostream& out);
+// "lammps-tsuji|...|lammps-mass-velocity": every --code calibrate takes (the DEM conventions of
+// analytic/conventions.hpp, then LAMMPS's velocity-dependent models), for its help and errors.
+std::string calibrate_code_names();
 void run_observables(const ContactArgs& args, std::ostream& out);
 void run_showcase(const std::string& precision, std::ostream& out);
 void run_solve(const SolveArgs& args, std::ostream& out);

@@ -35,10 +35,10 @@ std::string number(double x) {
   return fmt::format("{:.4g}", x);
 }
 
-// "a factor 7e+09 beyond the 1.003 its sampling and digits allow"
+// "a factor 7e+09 where its sampling and digits allow 1 + 0.0034"
 std::string by_how_much(const Against& a, const char* allowance) {
-  return std::isfinite(a.factor) ? fmt::format("a factor {} where its {} allow {}",
-                                               number(a.factor), allowance, number(a.allowed))
+  return std::isfinite(a.factor) ? fmt::format("a factor {} where its {} allow 1 + {:.2g}",
+                                               number(a.factor), allowance, a.allowed - 1)
                                  : std::string("of the opposite sign");
 }
 
