@@ -289,7 +289,8 @@ class LammpsAdapterTest(unittest.TestCase):
         self.assertIn("tsuji", hello["solver"])
         self.assertEqual(hello["p"], [1.5])
         self.assertEqual(sorted(hello["ends"]), ["force", "overlap"])
-        self.assertEqual(hello["honours"], ["steps_per_contact", "dt", "onset_phase"])
+        self.assertEqual(hello["honours"],
+                         ["steps_per_contact", "dt", "onset_phase", "options.entry"])
         self.assertNotIn("unavailable", hello)
         base = problem_for(1.5, 0.5, 1.0, 1.0, 1.0, 50, 0.07, 0.5, "overlap")
         cases = [
@@ -367,6 +368,31 @@ class LammpsAdapterTest(unittest.TestCase):
             print("\n  " + message, file=sys.stderr)
             self.assertLess(worst[2000], 2e-3, message)
             self.assertGreater(worst[200] / worst[2000], 6, message)  # first order: ~10
+        # Through a scene (pldamp run, 2000 steps per contact): the truth is e = 0.5, the record's
+        # value what LAMMPS gives for the entry; an option the handshake does not honour is
+        # refused before any work.
+        with tempfile.TemporaryDirectory() as folder:
+            def scene(options):
+                path = os.path.join(folder, "entry.toml")
+                with open(path, "w", encoding="utf-8") as out:
+                    out.write('want = ["e"]\n[grid]\np = 1.5\ne = 0.5\nv0 = 1.0\n[[solver]]\n'
+                              'command = [%s, "--normal", "hertz", "--damping", "tsuji"]\n'
+                              'label = "lammps hertz tsuji, entered"\n'
+                              'steps_per_contact = 2000\noptions = %s\n'
+                              '[report]\nformats = ["json"]\n'
+                              % (json.dumps(os.path.abspath(ADAPTER)), options))
+                return subprocess.run([PLDAMP, "run", path, "--out", folder], capture_output=True,
+                                      text=True, check=False)
+            for entry, _, target in cases:
+                run = scene("{ entry = %r }" % entry)
+                self.assertEqual(run.returncode, 0, run.stderr)
+                with open(os.path.join(folder, "report.json"), encoding="utf-8") as report:
+                    (record,) = json.load(report)["records"]
+                self.assertEqual(record["reference"]["e"], 0.5)
+                self.assertLess(abs(record["value"]["e"] - target), 2e-3, record)
+            refused = scene("{ entry = 0.5, newton_off = true }")
+            self.assertEqual(refused.returncode, 2)
+            self.assertIn("newton_off", refused.stderr)
         # an entry LAMMPS would refuse, and an option the adapter does not take
         base = problem_for(1.5, 0.5, 1.0, 1.0, 1.0, 50, 0.07, 0.5, "overlap")
         for options, words in (({"entry": 1.5}, "cor, in [0, 1]"), ({"entry": "x"}, "number"),

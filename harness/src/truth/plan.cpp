@@ -111,9 +111,8 @@ Point solved_point(const Plan& plan, const std::set<std::string>& precisions, do
   if (damping.kind == Damping::Kind::e) {
     group = group_for_e(p, beta, damping.value, plan.scene.end);
   } else if (damping.kind == Damping::Kind::alpha) { // at the scene's one cell (scene.cpp)
-    const std::array<Exact, 4> scales =
-        cell_scales(Exact(p), Exact(plan.scene.v0.front()), Exact(plan.scene.m.front()),
-                    Exact(plan.scene.k.front()));
+    const std::array scales = cell_scales(Exact(p), Exact(plan.scene.v0.front()),
+                                          Exact(plan.scene.m.front()), Exact(plan.scene.k.front()));
     group = group_of(p, beta, Exact(damping.value),
                      unit_overlap(p) * scales[std::size_t(Dimension::length)]);
   }
