@@ -402,3 +402,26 @@ TEST(CheckCli, ABadToleranceIsRefusedBeforeTheFileIsRead) {
 
 } // namespace
 } // namespace pldamp::harness
+
+namespace pldamp::harness {
+namespace {
+
+// A series starting in contact, its peak on its second row: the curvature there is read from the
+// rows there are (once, a parabola "one row before" was read from row −1).
+TEST(CheckConsistency, APeakOnTheSecondRowOfASeriesInContactIsReadFromItsRows) {
+  TrajectoryColumns c; // δ = 1 − (t − 0.1)², in contact from its first row
+  for (int i = 0; i <= 6; ++i) {
+    const double t = 0.1 * i;
+    c.t.push_back(t);
+    c.delta.push_back(1 - (t - 0.1) * (t - 0.1));
+  }
+  const TrajectoryObservables x = extract_observables(c, {.v0 = 1});
+  ASSERT_TRUE(x.peak_acceleration.value);
+  EXPECT_NEAR(*x.peak_acceleration.value, -2, 1e-12);
+  EXPECT_LT(x.peak_acceleration.sampling, 1e-10); // one parabola: the rows agree (ASan: in range)
+  EXPECT_FALSE(x.incoming_speed.value);
+  EXPECT_EQ(x.incoming_speed.missing, "the series starts in contact");
+}
+
+} // namespace
+} // namespace pldamp::harness

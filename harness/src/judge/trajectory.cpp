@@ -336,6 +336,14 @@ void peak_law_of(const TrajectoryColumns& c, std::size_t i, std::size_t first, s
   const auto largest = [&](const std::vector<double>& y) {
     return std::max({std::abs(y[i - 1]), std::abs(y[i]), std::abs(y[i + 1])});
   };
+  // The first rows of the parabolas one row over, i − 2 … i and i … i + 2, where in contact.
+  std::vector<std::size_t> one_row_over;
+  if (i >= first + 2) {
+    one_row_over.push_back(i - 2);
+  }
+  if (i + 2 <= last) {
+    one_row_over.push_back(i);
+  }
   double acceleration = 0;
   double estimate = 0;
   std::vector<double> nearby; // δ'' over the rows about the peak
@@ -346,11 +354,9 @@ void peak_law_of(const TrajectoryColumns& c, std::size_t i, std::size_t first, s
     const double after = speed.slopes(t_star, speed.across(i, +1)).second;
     estimate =
         std::max({std::abs(acceleration - (k < i ? before : after)), std::abs(after - before)});
-    for (const std::size_t shifted : {i - 2, i}) { // v's parabolas one row over
-      if (shifted >= first && shifted + 2 <= last) {
-        estimate =
-            std::max(estimate, std::abs(acceleration - speed.quadratic(shifted).slope(t_star)));
-      }
+    for (const std::size_t shifted : one_row_over) { // v's parabolas one row over
+      estimate =
+          std::max(estimate, std::abs(acceleration - speed.quadratic(shifted).slope(t_star)));
     }
     estimate += 2 * resolution_of(c.digits.v) * largest(*c.v) * (1 / h1 + 1 / h2);
     for (std::size_t j = lo; j < hi; ++j) {
@@ -360,11 +366,9 @@ void peak_law_of(const TrajectoryColumns& c, std::size_t i, std::size_t first, s
     const Curve overlap{t, c.delta, nullptr};
     acceleration = 2 * overlap.quadratic(i - 1).d012;
     bool compared = false;
-    for (const std::size_t shifted : {i - 2, i}) {
-      if (shifted >= first && shifted + 2 <= last) {
-        estimate = std::max(estimate, std::abs(acceleration - 2 * overlap.quadratic(shifted).d012));
-        compared = true;
-      }
+    for (const std::size_t shifted : one_row_over) {
+      estimate = std::max(estimate, std::abs(acceleration - 2 * overlap.quadratic(shifted).d012));
+      compared = true;
     }
     if (!compared) { // three rows of contact: nothing to compare with
       estimate = std::abs(acceleration);
