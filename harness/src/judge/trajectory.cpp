@@ -593,35 +593,4 @@ TrajectoryObservables extract_observables(const TrajectoryColumns& columns,
   return out;
 }
 
-SampledJudgement judge_extracted(const Extracted& measured, const std::optional<Exact>& truth) {
-  SampledJudgement j;
-  if (!measured.value) {
-    j.why_not = measured.missing;
-    return j;
-  }
-  if (!truth) {
-    j.why_not = "no closed form";
-    return j;
-  }
-  using std::isfinite;
-  if (!isfinite(*truth)) {
-    j.why_not = "the truth is infinite (no return in finite time)";
-    return j;
-  }
-  const Exact error = Exact(*measured.value) - *truth;
-  const Exact scale = *truth == 0 ? Exact(1) : Exact(abs(*truth));
-  j.error = static_cast<double>(error);
-  j.relative_error = static_cast<double>(error / scale);
-  j.relative_sampling = static_cast<double>(Exact(measured.sampling) / scale);
-  j.explained = abs(error) <= Exact(measured.sampling);
-  return j;
-}
-
-std::string verdict_name(const SampledJudgement& judgement) {
-  if (!judgement.explained) {
-    return "-";
-  }
-  return *judgement.explained ? "explained by sampling" : "beyond sampling";
-}
-
 } // namespace pldamp::harness

@@ -1,6 +1,7 @@
-// A trajectory file against the parameters it is checked under (`pldamp check`; MATH.md §10.2):
-// a forgotten --m or --k, or another v0, would otherwise be reported as errors of −100 % in
-// every observable, the code blamed for the arguments.
+// A measured trajectory judged (`pldamp check`): its observables against the closed forms
+// (MATH.md §10.1), and the file against the parameters it is checked under (§10.2): a forgotten
+// --m or --k, or another v0, would otherwise be reported as errors of −100 % in every
+// observable, the code blamed for the arguments.
 #include "judge/trajectory.hpp"
 
 #include "common/input.hpp"
@@ -101,6 +102,37 @@ std::optional<std::string> contradiction(const TrajectoryObservables& x, const S
                        by_how_much(ratio, rows), to_string_full(c.m), to_string_full(c.k));
   }
   return std::nullopt;
+}
+
+SampledJudgement judge_extracted(const Extracted& measured, const std::optional<Exact>& truth) {
+  SampledJudgement j;
+  if (!measured.value) {
+    j.why_not = measured.missing;
+    return j;
+  }
+  if (!truth) {
+    j.why_not = "no closed form";
+    return j;
+  }
+  using std::isfinite;
+  if (!isfinite(*truth)) {
+    j.why_not = "the truth is infinite (no return in finite time)";
+    return j;
+  }
+  const Exact error = Exact(*measured.value) - *truth;
+  const Exact scale = *truth == 0 ? Exact(1) : Exact(abs(*truth));
+  j.error = static_cast<double>(error);
+  j.relative_error = static_cast<double>(error / scale);
+  j.relative_sampling = static_cast<double>(Exact(measured.sampling) / scale);
+  j.explained = abs(error) <= Exact(measured.sampling);
+  return j;
+}
+
+std::string verdict_name(const SampledJudgement& judgement) {
+  if (!judgement.explained) {
+    return "-";
+  }
+  return *judgement.explained ? "explained by sampling" : "beyond sampling";
 }
 
 } // namespace pldamp::harness
