@@ -15,6 +15,9 @@ the protocol itself (a subprocess, one JSON line each way).
      pldamp's own solvers do not run.
   4. The protocol: handshake, a wrong version, problems the model cannot run, no library.
   5. The time per problem at 20 and 2000 steps per contact (printed, loosely bounded).
+  6. The code's own entry end to end: the cor `pldamp calibrate --code lammps-tsuji` says to enter
+     for e = 0.5, run by LAMMPS through the adapter's `entry` option, gives e = 0.5 within the
+     scheme's step error; entering 0.5 gives the e_given calibrate predicts.
 """
 
 import json
@@ -286,7 +289,8 @@ class LammpsAdapterTest(unittest.TestCase):
         self.assertIn("tsuji", hello["solver"])
         self.assertEqual(hello["p"], [1.5])
         self.assertEqual(sorted(hello["ends"]), ["force", "overlap"])
-        self.assertEqual(hello["honours"], ["steps_per_contact", "dt", "onset_phase"])
+        self.assertEqual(hello["honours"],
+                         ["steps_per_contact", "dt", "onset_phase", "options.entry"])
         self.assertNotIn("unavailable", hello)
         base = problem_for(1.5, 0.5, 1.0, 1.0, 1.0, 50, 0.07, 0.5, "overlap")
         cases = [
@@ -330,6 +334,72 @@ class LammpsAdapterTest(unittest.TestCase):
                                1e3 * sum(r["wall_seconds"] for r in replies) / 10),
                   file=sys.stderr)
             self.assertLess(round_trip, 1.0)
+        self.assertEqual(adapter.close(), 0)
+
+    def test_6_the_codes_own_entry_gives_what_calibrate_says(self):
+        """"Enter 0.36665, get 0.5", through the real code: the entry of LAMMPS's tsuji damping
+        (its cor) that pldamp calibrate prints, passed as the adapter's `entry` option, against
+        the target at 200 and 2000 steps per contact (worst of three onset phases): the error
+        falls at first order toward it, and every run agrees with dem-verlet at the alpha
+        LAMMPS sets for that cor (T(cor) in double) to round-off."""
+        code = pldamp("calibrate", "--code", "lammps-tsuji", "--p", 1.5, "--e", 0.5)
+        seed = pldamp("calibrate", "--p", 1.5, "--e", 0.5)
+        cases = [  # (entry, the alpha LAMMPS sets for it, the e it gives)
+            (code["e_to_enter"], seed["alpha"], 0.5),
+            (0.5, code["alpha"], code["e_given"]),
+        ]
+        self.assertGreater(abs(code["e_given"] - 0.5), 0.1)  # the two cases are far apart
+        adapter = self.adapter(["--normal", "hertz", "--damping", "tsuji"])
+        for entry, alpha, target in cases:
+            worst = {}
+            for spc in (200, 2000):
+                for phase in (0.1, 0.5, 0.85):
+                    ref = dem_verlet(1.5, alpha, 1.0, 1.0, 1.0, spc, phase, "overlap")
+                    # the problem's own alpha is another: the entry alone decides what runs
+                    problem = problem_for(1.5, 1.0, 1.0, 1.0, 1.0, spc, ref["dt"], phase,
+                                          "overlap")
+                    problem["options"] = {"entry": entry}
+                    got = adapter.solve(problem)
+                    label = "entry %r spc %d phase %g" % (entry, spc, phase)
+                    self.agree(got, ref, "overlap", label, ["e", "delta_max", "tau"])
+                    worst[spc] = max(worst.get(spc, 0.0), abs(got["e"] - target))
+            message = ("entry %r: |e - %.6g| at most %.3g at 200 steps per contact, %.3g at 2000"
+                       % (entry, target, worst[200], worst[2000]))
+            print("\n  " + message, file=sys.stderr)
+            self.assertLess(worst[2000], 2e-3, message)
+            self.assertGreater(worst[200] / worst[2000], 6, message)  # first order: ~10
+        # Through a scene (pldamp run, 2000 steps per contact): the truth is e = 0.5, the record's
+        # value what LAMMPS gives for the entry; an option the handshake does not honour is
+        # refused before any work.
+        with tempfile.TemporaryDirectory() as folder:
+            def scene(options):
+                path = os.path.join(folder, "entry.toml")
+                with open(path, "w", encoding="utf-8") as out:
+                    out.write('want = ["e"]\n[grid]\np = 1.5\ne = 0.5\nv0 = 1.0\n[[solver]]\n'
+                              'command = [%s, "--normal", "hertz", "--damping", "tsuji"]\n'
+                              'label = "lammps hertz tsuji, entered"\n'
+                              'steps_per_contact = 2000\noptions = %s\n'
+                              '[report]\nformats = ["json"]\n'
+                              % (json.dumps(os.path.abspath(ADAPTER)), options))
+                return subprocess.run([PLDAMP, "run", path, "--out", folder], capture_output=True,
+                                      text=True, check=False)
+            for entry, _, target in cases:
+                run = scene("{ entry = %r }" % entry)
+                self.assertEqual(run.returncode, 0, run.stderr)
+                with open(os.path.join(folder, "report.json"), encoding="utf-8") as report:
+                    (record,) = json.load(report)["records"]
+                self.assertEqual(record["reference"]["e"], 0.5)
+                self.assertLess(abs(record["value"]["e"] - target), 2e-3, record)
+            refused = scene("{ entry = 0.5, newton_off = true }")
+            self.assertEqual(refused.returncode, 2)
+            self.assertIn("newton_off", refused.stderr)
+        # an entry LAMMPS would refuse, and an option the adapter does not take
+        base = problem_for(1.5, 0.5, 1.0, 1.0, 1.0, 50, 0.07, 0.5, "overlap")
+        for options, words in (({"entry": 1.5}, "cor, in [0, 1]"), ({"entry": "x"}, "number"),
+                               ({"entry": 0.5, "newton_off": True}, "one option, entry")):
+            reply = adapter.solve(dict(base, options=options))
+            self.assertEqual(reply["outcome"], "unsupported", reply)
+            self.assertIn(words, reply["reason"])
         self.assertEqual(adapter.close(), 0)
 
 

@@ -5,6 +5,7 @@
 #include "cli_run.hpp"
 #include "fixtures.hpp"
 #include "judge/trajectory.hpp"
+#include "sampled_trajectories.hpp"
 
 #include "pldamp/analytic.hpp"
 #include "pldamp/solvers/registry.hpp"
@@ -26,6 +27,7 @@ namespace {
 
 using testing::CliRun;
 using testing::run;
+using testing::sampled;
 using testing::write_file;
 
 // δ = 1 − (t − 0.3)², sampled every 0.1 from −1.2: in contact on (−0.7, 1.3).
@@ -77,43 +79,6 @@ TEST(Trajectory, ASampledCubicGivesItsPeakExactlyWithV) {
   EXPECT_NEAR(*x.delta_max.value, peak * (2 - peak) * (1 + peak / 4), 1e-14);
   EXPECT_NEAR(*x.tau.value, 2, 1e-13);
   EXPECT_NEAR(*x.e.value, std::abs(a * 4 + b * 2 + cc) / 2, 1e-13);
-}
-
-// The closed-form trajectory at p, e (v0 = m = k = 1), sampled every τ/n from −φτ/n: free flight
-// at v0 before contact and at −e v0 after it.
-TrajectoryColumns sampled(double p, double e, int n, double phase, bool with_v, bool with_force) {
-  const auto contact = analytic::Contact<double>::from_e(p, e, 1.0);
-  const analytic::Trajectory<double> exact(contact);
-  const double tau = *analytic::observables(contact, analytic::want_tau).tau;
-  const double h = tau / n;
-  const ForceLaw law{p, 1, 1, contact.alpha()};
-  TrajectoryColumns c;
-  c.v.emplace();
-  c.force.emplace();
-  for (int i = -1; i <= n + 2; ++i) {
-    const double t = (i - phase) * h;
-    double delta = t;
-    double v = 1;
-    if (t >= tau) {
-      delta = -e * (t - tau);
-      v = -e;
-    } else if (t > 0) {
-      const auto at = exact.at_time(t);
-      delta = at.delta;
-      v = at.v;
-    }
-    c.t.push_back(t);
-    c.delta.push_back(delta);
-    c.v->push_back(v);
-    c.force->push_back(law(delta, v));
-  }
-  if (!with_v) {
-    c.v.reset();
-  }
-  if (!with_force) {
-    c.force.reset();
-  }
-  return c;
 }
 
 struct Truth {
@@ -399,6 +364,9 @@ TEST(CheckCli, BadInputIsOneLineAndExitTwo) {
             "give exactly one of --e, --alpha, --alpha-eff (got 0)"},
            {{"check", good, "--p", "1.5", "--e", "0.5", "--v0", "1", "--precision", "quad"},
             "unknown argument (got --precision quad)"},
+           // The truth is the seed's closed forms: check once took this and ignored it.
+           {{"check", good, "--p", "1.5", "--e", "0.5", "--v0", "1", "--damping-exponent", "0.5"},
+            "unknown argument (got --damping-exponent 0.5)"},
            {{"check", good, "--p", "1.5", "--e", "0.5", "--v0", "1", "--end", "force"},
             "the force end needs an F column, or a v column to compute F from (got the columns "
             "t, delta)"},

@@ -202,6 +202,33 @@ denser = true
   EXPECT_NE(v.denser->grid.find(": 25 cells"), std::string::npos) << v.denser->grid;
 }
 
+// [grid] alpha (the equation's α) keeps its kind through the claims' grid text and the denser
+// grid, beside e and alpha_eff (it once fell among the alpha_eff).
+TEST(Claims, GridAlphaKeepsItsKind) {
+  const ClaimGrid mixed{{1.5},
+                        {1.0},
+                        {1.0},
+                        {1.0},
+                        {{Damping::Kind::e, 0.5},
+                         {Damping::Kind::alpha, 0.2},
+                         {Damping::Kind::alpha, 0.4},
+                         {Damping::Kind::alpha_eff, 0.1}}};
+  EXPECT_EQ(grid_text(mixed),
+            "p in {1.5} x e in {0.5} and alpha in {0.2, 0.4} and alpha_eff in {0.1}: 4 cells");
+  const ClaimGrid dense = denser_grid(mixed);
+  std::vector<double> alphas;
+  for (const Damping& d : dense.damping) {
+    if (d.kind == Damping::Kind::alpha) {
+      alphas.push_back(d.value);
+    }
+  }
+  ASSERT_EQ(alphas.size(), 11u); // 9 between 0.2 and 0.4 (one list varies)
+  EXPECT_DOUBLE_EQ(alphas.front(), 0.2);
+  EXPECT_DOUBLE_EQ(alphas.back(), 0.4);
+  EXPECT_EQ(dense.damping.front().kind, Damping::Kind::e);
+  EXPECT_EQ(dense.damping.back().kind, Damping::Kind::alpha_eff);
+}
+
 TEST(Claims, SceneErrorsNameTheLine) {
   auto error_of = [](const std::string& claim) {
     try {

@@ -25,4 +25,15 @@ inline CliRun run(std::vector<std::string> args) {
   return {code, out.str(), err.str()};
 }
 
+// The digits of a JSON answer's number as printed (nlohmann would parse them into a double).
+inline std::string raw_number(const std::string& json, const std::string& key) {
+  const std::string quoted = "\"" + key + "\": ";
+  const auto at = json.find(quoted);
+  if (at == std::string::npos) {
+    return "missing " + key;
+  }
+  const std::string rest = json.substr(at + quoted.size());
+  return rest.substr(0, rest.find_first_of(",}"));
+}
+
 } // namespace pldamp::harness::testing

@@ -43,16 +43,7 @@ TEST(Cli, ObservablesJsonCarriesTheContractKeys) {
 }
 
 #if PLDAMP_WITH_QUAD
-// The digits of a JSON number as printed (nlohmann would parse them into a double).
-std::string raw_number(const std::string& json, const std::string& key) {
-  const std::string quoted = "\"" + key + "\": ";
-  const auto at = json.find(quoted);
-  if (at == std::string::npos) {
-    return "missing " + key;
-  }
-  const std::string rest = json.substr(at + quoted.size());
-  return rest.substr(0, rest.find_first_of(",}"));
-}
+using testing::raw_number;
 
 TEST(Cli, QuadPrintsThirtySixDigits) {
   const CliRun r = run(

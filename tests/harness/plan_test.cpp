@@ -5,6 +5,9 @@
 #include "pldamp/analytic.hpp"
 #include "pldamp/solvers/registry.hpp"
 
+#include <fmt/format.h>
+
+#include <cmath>
 #include <map>
 #include <set>
 
@@ -183,6 +186,73 @@ name = "taylor"
       EXPECT_LT(*record.rel_error[o], 1e-13) << plan.observables[o]->key;
     }
   }
+}
+
+// [grid] alpha is the equation's α, as the command line's --alpha: at every p its α_eff is
+// α/√(2(p + 1)), and the truth of each cell is what `pldamp observables --alpha` answers there.
+TEST(Plan, GridAlphaIsTheEquationsAlphaAsOnTheCommandLine) {
+  const Plan plan = make_plan(load_scene(write_file("alpha.toml", R"([grid]
+p = [1.0, 1.5, 3.0]
+alpha = [0.3, 2.5]
+v0 = [1.0, 2.0]
+m = 0.5
+[[solver]]
+name = "taylor"
+)")));
+  ASSERT_EQ(plan.points.size(), 6u);
+  for (const Point& point : plan.points) {
+    ASSERT_EQ(point.damping.kind, Damping::Kind::alpha);
+    EXPECT_EQ(point.damping.label(), "alpha=" + to_string_full(point.damping.value));
+    EXPECT_EQ(static_cast<double>(point.alpha), point.damping.value);
+    EXPECT_DOUBLE_EQ(point.alpha_eff, point.damping.value / std::sqrt(2 * (point.p + 1)));
+  }
+  EXPECT_TRUE(plan.points[1].overdamped); // p = 1, alpha 2.5: alpha_eff 1.25
+  for (const Cell& cell : plan.cells) {
+    const Point& point = plan.points[cell.point];
+    // The scene's α is a double: its exact decimal, not "0.3" (which quad reads closer).
+    const CliRun cli =
+        run({"observables", "--p", to_string_full(point.p), "--alpha",
+             fmt::format("{:.60g}", point.damping.value), "--v0", to_string_full(cell.v0), "--m",
+             "0.5", "--precision", std::string(precision_name<Exact>()), "--json"});
+    ASSERT_EQ(cli.code, 0) << cli.err;
+    for (std::size_t o = 0; o < plan.observables.size(); ++o) {
+      const std::string key(plan.observables[o]->key);
+      const std::optional<Exact> got = reference_at(plan, cell, o, plan.configs[0]);
+      const std::string number = raw_number(cli.out, key);
+      if (number == "null") { // an infinite τ (overdamped)
+        using std::isinf;
+        EXPECT_TRUE(got && isinf(*got)) << key << " " << point.damping.label();
+        continue;
+      }
+      ASSERT_TRUE(got) << key;
+      const Exact want(number);
+      const Exact scale = want == 0 ? Exact(1) : abs(want);
+      EXPECT_LT(static_cast<double>(abs(*got - want) / scale), 1e-32)
+          << key << " p=" << point.p << " " << point.damping.label() << " v0=" << cell.v0;
+    }
+  }
+}
+
+// Beyond the seed, α is converted at the scene's one cell, as `observables --damping-exponent
+// --alpha` converts it at its contact: the same α_eff, and the cell gets the α typed.
+TEST(Plan, GridAlphaBeyondTheSeedIsConvertedAtItsCell) {
+  const Plan plan = make_plan(load_scene(write_file("alpha_beyond.toml", R"(want = ["e"]
+[grid]
+p = 1.5
+damping_exponent = 0.5
+alpha = 0.4
+v0 = 2.0
+m = 0.5
+k = 3.0
+[[solver]]
+name = "taylor"
+)")));
+  ASSERT_EQ(plan.cells.size(), 1u);
+  EXPECT_EQ(static_cast<double>(plan.cells[0].alpha), 0.4);
+  const CliRun cli = run({"observables", "--p", "1.5", "--damping-exponent", "0.5", "--alpha",
+                          "0.4", "--v0", "2", "--m", "0.5", "--k", "3", "--json"});
+  ASSERT_EQ(cli.code, 0) << cli.err;
+  EXPECT_DOUBLE_EQ(plan.points[0].alpha_eff, std::stod(raw_number(cli.out, "alpha_eff")));
 }
 
 } // namespace

@@ -20,18 +20,8 @@ namespace pldamp::harness {
 namespace {
 
 using testing::CliRun;
+using testing::raw_number;
 using testing::run;
-
-// The digits of a JSON number as printed (nlohmann would parse them into a double).
-std::string raw_number(const std::string& json, const std::string& key) {
-  const std::string quoted = "\"" + key + "\": ";
-  const auto at = json.find(quoted);
-  if (at == std::string::npos) {
-    return "missing " + key;
-  }
-  const std::string rest = json.substr(at + quoted.size());
-  return rest.substr(0, rest.find_first_of(",}"));
-}
 
 // |value − 0.3| / 0.3 in units of Real's epsilon, both in Real.
 template <SupportedReal Real>

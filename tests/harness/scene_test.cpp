@@ -48,7 +48,15 @@ v0 = [1.0]
 p = [1.5]
 v0 = [1.0]
 )",
-       "1: [grid] needs e or alpha_eff"},
+       "1: [grid] needs e, alpha or alpha_eff"},
+      {"[grid]\np = 1.5\nalpha = [0.3, -0.1]\nv0 = 1.0\n",
+       "3: alpha must be in [0, 1e8] (got -0.1)"},
+      {"[grid]\np = 1.5\nalpha = [0.3, \"x\"]\nv0 = 1.0\n",
+       "3: alpha must be a number (got string)"},
+      // Beyond the seed α_eff depends on δ_u: α is converted at the one cell there is.
+      {"[grid]\np = 1.5\ndamping_exponent = 0.5\nalpha = 0.3\nv0 = [1.0, 2.0]\n",
+       "4: alpha with damping_exponent 0.5 at p = 1.5 needs one v0, m and k: the contact's "
+       "alpha_eff depends on them (give alpha_eff, or one cell)"},
       {valid_scene + "[[solver]]\nname = \"ode45\"\nrtol = 1e-6\n",
        "11: unknown solver, expected cvode-bdf|cvode-adams|arkode-dp5|arkode-erk8|arkode-dirk|"
        "odeint-rkf78|odeint-bs|taylor|verlet-predicted|dem-verlet|dem-symplectic-euler|dem-"

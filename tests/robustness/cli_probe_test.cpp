@@ -10,6 +10,8 @@
 //   outcome(set)   exit 0, JSON "outcome" in the set; e and delta_max checked as for ok when there;
 //                  a few cases also accept a refusal (outcome_or_refused)
 //   ok_or_refused  either, for input at the edge of the documented domain (each says why)
+//   judged_failing exit 1, stderr empty, the verdict on stdout (`check --tolerance` beyond it):
+//                  with --json one JSON object whose "passed" is false
 //
 // and for every case: exit code 0, 1 or 2 (a crash, an abort or exit 3 is a bug), never "internal"
 // on stderr, and an answer within 20 s of wall time.
@@ -69,7 +71,7 @@ using json = nlohmann::json;
 // ---------------------------------------------------------------------------------------------
 // The classes of answer.
 
-enum class Class { ok, refused, outcome, ok_or_refused };
+enum class Class { ok, refused, outcome, ok_or_refused, judged_failing };
 
 struct Expect {
   Class cls = Class::ok;
@@ -97,6 +99,9 @@ Expect outcome_or_refused(std::vector<std::string> set) {
 Expect ok_or_refused() {
   return {Class::ok_or_refused, {}, false, false};
 }
+Expect judged_failing() {
+  return {Class::judged_failing, {}, false, false};
+}
 
 std::string describe(const Expect& x) {
   switch (x.cls) {
@@ -106,6 +111,8 @@ std::string describe(const Expect& x) {
     return "refused";
   case Class::ok_or_refused:
     return "ok_or_refused";
+  case Class::judged_failing:
+    return "judged_failing";
   case Class::outcome:
     break;
   }
@@ -566,23 +573,28 @@ std::string check_answer_numbers(const json& j) {
   // e ≤ 1 within the solve's own accuracy: undamped, an error-controlled solve at rtol 1e-8
   // measures e = 1 + 8e-9 (the solvers' invariant allows min(1e4 rtol, √rtol); beyond it the
   // answer is `unstable`). 1e-6 covers every tolerance these cases ask for.
+  // `check` answers each observable as an object: its measured "value" is what is judged here.
+  const auto value_of = [&](const char* key) -> const json& {
+    const json& v = j.at(key);
+    return v.is_object() && v.contains("value") ? v.at("value") : v;
+  };
   for (const char* key : {"e", "e_cap"}) {
     if (j.contains(key)) {
-      const json& v = j.at(key);
+      const json& v = value_of(key);
       if (!v.is_number() || !(v.get<double>() >= 0 && v.get<double>() <= 1 + 1e-6)) {
         return std::string("\"") + key + "\" = " + v.dump() + " is not in [0, 1 + 1e-6]";
       }
     }
   }
   if (j.contains("delta_max")) {
-    const json& v = j.at("delta_max");
+    const json& v = value_of("delta_max");
     if (!v.is_number() || !(v.get<double>() >= 0)) {
       return "\"delta_max\" = " + v.dump() + " is not >= 0";
     }
   }
   for (const char* key : {"tau", "t_peak"}) {
     if (j.contains(key)) {
-      const json& v = j.at(key);
+      const json& v = value_of(key);
       if (!v.is_null() && (!v.is_number() || !(v.get<double>() > 0))) {
         return std::string("\"") + key + "\" = " + v.dump() + " is neither > 0 nor null";
       }
@@ -703,6 +715,28 @@ std::string check_outcome(const Case& c, const Seen& seen) {
   return check_answer_numbers(*j);
 }
 
+std::string check_judged_failing(const std::vector<std::string>& args, const Seen& seen) {
+  if (seen.code != 1) {
+    return "expected exit 1";
+  }
+  if (!seen.err.empty()) {
+    return "stderr is not empty";
+  }
+  if (!wants_json(args)) {
+    return seen.out.find("FAILED: ") == std::string::npos ? "stdout names no FAILED observable"
+                                                          : "";
+  }
+  std::string problem;
+  const std::optional<json> j = parse_json(seen.out, problem);
+  if (!j) {
+    return problem;
+  }
+  if (j->value("passed", true)) {
+    return "\"passed\" is not false";
+  }
+  return check_answer_numbers(*j);
+}
+
 // Every case: the exit code, "internal", the time.
 std::string check_every_case(const Case& c, const Seen& seen) {
   if (seen.killed) {
@@ -745,6 +779,9 @@ std::string judge(const Case& c, const std::vector<std::string>& args, const See
     break;
   case Class::ok_or_refused:
     p = seen.code == 0 ? check_ok(c, args, seen) : check_refused(args, seen, nan_in_input);
+    break;
+  case Class::judged_failing:
+    p = check_judged_failing(args, seen);
     break;
   }
   if (!p.empty() && (problems.empty() || problems.front() != p)) {
@@ -1669,6 +1706,22 @@ p = )" + std::string(1000, '[') +
     scene("grid_" + key + "_" + value,
           "name = \"g\"\n" + grid + "[[solver]]\nname = \"cvode-bdf\"\nrtol = 1e-6\n", refused());
   }
+  // [grid] alpha, the equation's α (as --alpha): at every p, beside e and alpha_eff; beyond the
+  // seed at one cell only.
+  const std::string cvode = "[[solver]]\nname = \"cvode-bdf\"\nrtol = 1e-6\n" + json_only;
+  scene("grid_alpha", "[grid]\np = [1.0, 1.5]\nalpha = [0.0, 0.3, 5.0]\nv0 = 1.0\n" + cvode, ok());
+  scene("grid_alpha_with_e_and_alpha_eff",
+        "[grid]\np = 1.5\ne = 0.5\nalpha = 0.3\nalpha_eff = 0.2\nv0 = 1.0\n" + cvode, ok());
+  scene("grid_alpha_beyond_the_seed_one_cell",
+        "[grid]\np = 1.5\ndamping_exponent = 0.5\nalpha = 0.3\nv0 = 2.0\n" + cvode, ok());
+  scene("grid_alpha_beyond_the_seed_two_v0",
+        "[grid]\np = 1.5\ndamping_exponent = 0.5\nalpha = 0.3\nv0 = [1.0, 2.0]\n" + cvode,
+        refused(), err_mentions({"one v0, m and k"}));
+  for (const char* alpha : {"-1.0", "nan", "inf", "1e9", "\"0.3\"", "[]", "true"}) {
+    scene(std::string("grid_alpha_") + alpha,
+          "[grid]\np = 1.5\nalpha = " + std::string(alpha) + "\nv0 = 1.0\n" + cvode, refused(),
+          err_lacks("unknown key"));
+  }
   // Solver sweeps with bad tolerances and steps.
   const std::string grid_only =
       "name = \"s\"\n[grid]\np = [1.5]\ne = [0.5]\nv0 = [1.0]\n" + json_only;
@@ -1756,6 +1809,85 @@ p = )" + std::string(1000, '[') +
   add(t, "run_no_scene", {"run", "--out", "{dir}/out"}, refused(), no_report_folder());
   add(t, "run_two_scenes", {"run", "{dir}/scene.toml", "{dir}/scene.toml", "--out", "{dir}/out"},
       refused(), no_report_folder(), write_scene(base_scene + json_only));
+  return t;
+}
+
+// -- check: a shipped trajectory (taylor, p = 1.5, e = 0.5, v0 = 1, every 0.1), its tolerance,
+// arguments that contradict it.
+std::vector<Case> check_cases() {
+  std::vector<Case> t;
+  const std::string file =
+      std::string(PLDAMP_DATA_DIR) + "/trajectories/hertz_taylor_every_0.1.csv";
+  const auto check = [&](std::vector<std::string> more) {
+    return cat({"check", file, "--p", "1.5", "--e", "0.5", "--v0", "1"}, more);
+  };
+  add(t, "text", check({}), ok());
+  add(t, "json", check({"--json"}), ok());
+  add(t, "end_force", check({"--end", "force", "--json"}), ok());
+  add(t, "alpha", {"check", file, "--p", "1.5", "--alpha", "0.4817692577645866", "--v0", "1"},
+      ok());
+  add(t, "alpha_eff",
+      {"check", file, "--p", "1.5", "--alpha-eff", "0.2154537619662468", "--v0", "1", "--json"},
+      ok());
+  add(t, "missing_file", {"check", "{dir}/none.csv", "--p", "1.5", "--e", "0.5", "--v0", "1"},
+      refused());
+  add(t, "damping_exponent", check({"--damping-exponent", "0.5"}), refused(),
+      err_mentions({"damping-exponent"}));
+  add(t, "precision", check({"--precision", "quad"}), refused());
+  // The file against its arguments (README "pldamp check"): another v0, a forgotten m or k.
+  add(t, "v0_contradicts", {"check", file, "--p", "1.5", "--e", "0.5", "--v0", "2"}, refused(),
+      err_mentions({"incoming speed"}));
+  add(t, "k_contradicts", check({"--k", "7e9"}), refused(), err_mentions({"give --m and --k"}));
+  add(t, "m_contradicts", check({"--m", "1e-300"}), refused());
+  add(t, "k_m_scaled_together", check({"--m", "7", "--k", "7"}), ok()); // only k/m: consistent
+  // --tolerance: within it (the file reads every observable within 2e-3), beyond it, per
+  // observable, and what is refused.
+  for (const char* tolerance : {"1e-2", "1e308", "e=1e-2,tau=1e-2", "tau=1", "delta_max=0.5"}) {
+    add(t, std::string("tolerance_") + tolerance, check({"--tolerance", tolerance}), ok());
+    add(t, std::string("tolerance_json_") + tolerance, check({"--tolerance", tolerance, "--json"}),
+        ok());
+  }
+  for (const char* tolerance : {"1e-9", "5e-324", "e=1e-2,tau=1e-9", "t_peak=1e-12"}) {
+    add(t, std::string("tolerance_fails_") + tolerance, check({"--tolerance", tolerance}),
+        judged_failing());
+    add(t, std::string("tolerance_fails_json_") + tolerance,
+        check({"--tolerance", tolerance, "--json"}), judged_failing());
+  }
+  // At the force end, the file's own α (its e = 0.5 is the overlap end's).
+  add(t, "tolerance_force_end",
+      {"check", file, "--p", "1.5", "--alpha", "0.4817692577645866", "--v0", "1", "--end", "force",
+       "--tolerance", "e_cap=1e-2,t_cut=1e-2"},
+      ok());
+  for (const char* tolerance : {"0",
+                                "-1e-3",
+                                "nan",
+                                "inf",
+                                "-inf",
+                                "1e400",
+                                "e",
+                                "e=",
+                                "=1e-3",
+                                "e=1e-3,",
+                                ",e=1e-3",
+                                "e=1e-3,,tau=1",
+                                "e=1e-3,e=1e-2",
+                                "speed=1e-3",
+                                "e_cap=1e-3",
+                                "E=1e-3",
+                                "e = 1e-3",
+                                "e=1e-3;tau=1e-3",
+                                "e=0",
+                                "tau=-1",
+                                "tau=1e-3=2"}) {
+    add(t, std::string("tolerance_bad_") + tolerance, check({"--tolerance", tolerance}), refused(),
+        err_mentions({"tolerance"}));
+  }
+  add(t, "tolerance_bad_e_at_force_end", check({"--end", "force", "--tolerance", "e=1e-3"}),
+      refused(), err_mentions({"e_cap"}));
+  add(t, "tolerance_without_value", check({"--tolerance"}), refused());
+  for (const Hostile& h : hostile_strings()) {
+    add(t, "tolerance_hostile_" + h.name, check({"--tolerance", h.text}), refused());
+  }
   return t;
 }
 
@@ -2049,12 +2181,13 @@ INSTANTIATE_TEST_SUITE_P(Solve, Probe, ::testing::ValuesIn(unique(solve_cases())
 INSTANTIATE_TEST_SUITE_P(Showcase, Probe, ::testing::ValuesIn(unique(showcase_cases())), case_name);
 INSTANTIATE_TEST_SUITE_P(Run, Probe, ::testing::ValuesIn(unique(run_cases())), case_name);
 INSTANTIATE_TEST_SUITE_P(Diff, Probe, ::testing::ValuesIn(unique(diff_cases())), case_name);
+INSTANTIATE_TEST_SUITE_P(Check, Probe, ::testing::ValuesIn(unique(check_cases())), case_name);
 
 // The table's own promise: every subcommand and every flag of each is probed.
 TEST(ProbeTable, CoversEveryCommandAndFlag) {
   std::vector<Case> all;
   for (auto cases : {command_cases(), calibrate_cases(), observables_cases(), solve_cases(),
-                     showcase_cases(), run_cases(), diff_cases()}) {
+                     showcase_cases(), run_cases(), diff_cases(), check_cases()}) {
     all.insert(all.end(), cases.begin(), cases.end());
   }
   EXPECT_GE(all.size(), 220u);
@@ -2072,6 +2205,9 @@ TEST(ProbeTable, CoversEveryCommandAndFlag) {
                  "--max-steps",   "--json"}},
       {"run", {"--out", "--jobs", "--max-runs"}},
       {"diff", {}},
+      {"check",
+       {"--p", "--e", "--alpha", "--alpha-eff", "--v0", "--m", "--k", "--end", "--json",
+        "--tolerance"}},
       {"showcase", {"--precision"}}};
   for (const auto& [command, wanted] : flags) {
     std::set<std::string> used;

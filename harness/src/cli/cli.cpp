@@ -6,7 +6,6 @@
 #include "judge/trajectory.hpp"
 #include "scene/scene.hpp"
 
-#include "pldamp/analytic/conventions.hpp"
 #include "pldamp/solvers/registry.hpp"
 
 #include <CLI/CLI.hpp>
@@ -79,7 +78,7 @@ int run_cli(int argc, const char* const* argv, std::ostream& out, std::ostream& 
   CLI::App* calibrate = app.add_subcommand("calibrate", "alpha for a target restitution e");
   add_contact_options(*calibrate, calibrate_args, true);
   calibrate->add_option("--code", calibrate_args.code,
-                        "what a DEM code sets and really gives: " + analytic::convention_names());
+                        "what a DEM code sets and really gives: " + calibrate_code_names());
   calibrate->add_flag("--limit-damping", calibrate_args.limit_damping,
                       "with --code: LAMMPS limit_damping / LIGGGHTS limitForce (force cap) on");
   calibrate->add_option(
@@ -190,6 +189,12 @@ int run_cli(int argc, const char* const* argv, std::ostream& out, std::ostream& 
       ->required();
   add_contact_options(*check, check_args.contact, false);
   check->remove_option(check->get_option("--precision")); // the truth is computed in Exact
+  // The truth is the seed's closed forms: another dashpot has none (`solve` takes it).
+  check->remove_option(check->get_option("--damping-exponent"));
+  check->add_option("--tolerance", check_args.tolerance,
+                    "judge the file: a relative tolerance T for every observable, or "
+                    "NAME=T,... for some (e, delta_max, t_peak, tau; e_cap, t_cut under --end "
+                    "force); exit 1 when one is beyond it");
 
   std::string showcase_precision = "double";
   CLI::App* showcase =
@@ -231,7 +236,7 @@ int run_cli(int argc, const char* const* argv, std::ostream& out, std::ostream& 
     } else if (diff->parsed()) {
       return run_diff(diff_args, out);
     } else if (check->parsed()) {
-      run_check(check_args, out);
+      return run_check(check_args, out);
     }
   } catch (const SceneError& e) { // already "file:line: message"
     err << one_line(e.what()) << "\n";

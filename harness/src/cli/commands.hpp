@@ -57,6 +57,9 @@ struct RunArgs {
 TrajectoryCheck check_trajectory(const TrajectorySpec& spec, solvers::End scene_end);
 
 void run_calibrate(const ContactArgs& args, std::ostream& out);
+// "lammps-tsuji|...|lammps-mass-velocity": every --code calibrate takes (the DEM conventions of
+// analytic/conventions.hpp, then LAMMPS's velocity-dependent models), for its help and errors.
+std::string calibrate_code_names();
 void run_observables(const ContactArgs& args, std::ostream& out);
 void run_showcase(const std::string& precision, std::ostream& out);
 void run_solve(const SolveArgs& args, std::ostream& out);
@@ -74,11 +77,16 @@ struct DiffArgs {
 int run_diff(const DiffArgs& args, std::ostream& out);
 
 // `pldamp check TRAJECTORY.csv`: one contact's time series against the closed forms
-// (judge/trajectory.hpp). The contact options without --precision: the truth is Exact.
+// (judge/trajectory.hpp). The contact options without --precision and --damping-exponent: the
+// truth is the seed's closed forms, in Exact.
 struct CheckArgs {
   std::string trajectory;
   ContactArgs contact;
+  // One relative tolerance for every observable, or "e=1e-3,tau=1e-2": judged, exit 1 on a fail.
+  std::optional<std::string> tolerance;
 };
-void run_check(const CheckArgs& args, std::ostream& out);
+// Returns the exit code: 0, or 1 when an observable judged under --tolerance fails. A file that
+// contradicts its arguments (judge/trajectory.hpp: contradiction()) is an InputError.
+int run_check(const CheckArgs& args, std::ostream& out);
 
 } // namespace pldamp::harness

@@ -22,9 +22,8 @@ namespace {
 void calibrate_for_code(const ContactArgs& args, std::ostream& out) {
   const analytic::Convention* convention = analytic::find_convention(*args.code);
   if (convention == nullptr) {
-    throw InputError("unknown --code, expected " + analytic::convention_names() +
-                     "|lammps-viscoelastic|lammps-hertz-history|lammps-mass-velocity (got " +
-                     *args.code + ")");
+    throw InputError("unknown --code, expected " + calibrate_code_names() + " (got " + *args.code +
+                     ")");
   }
   if (args.limit_damping && convention->cap != analytic::Cap::optional) {
     throw InputError(std::string(convention->name) +
@@ -94,6 +93,19 @@ const VelocityDependentCode* find_velocity_dependent(std::string_view name) {
   }
   return nullptr;
 }
+
+} // namespace
+
+std::string calibrate_code_names() {
+  std::string names = analytic::convention_names();
+  for (const VelocityDependentCode& code : velocity_dependent_codes) {
+    names += '|';
+    names += code.name;
+  }
+  return names;
+}
+
+namespace {
 
 // `calibrate --code` for a velocity-dependent model: the α (and the code's entry) that gives e at
 // the speed --v0, and the e the same α gives at other speeds (the reference solve, float128).

@@ -7,14 +7,23 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
+#include <array>
+#include <map>
+
 namespace pldamp::harness {
 namespace {
+
+// The observables a file is judged on, in the table's order (overlap-end keys).
+constexpr std::array<const char*, 4> checked_keys{"e", "delta_max", "t_peak", "tau"};
 
 struct Row {
   const Observable* observable;
   Extracted measured;
   std::optional<Exact> truth;
   SampledJudgement judgement;
+  std::optional<double> tolerance; // --tolerance: judged against it
+  std::string failure;             // judged and failed: why
 };
 
 // A file read, measured and judged against the closed forms of `args`.
@@ -39,18 +48,98 @@ Checked check(const ContactArgs& args, const std::string& path) {
                                double(c.contact.alpha())};
   options.force_jumps_at_contact = c.contact.p() == 1 && c.contact.alpha() > 0;
   c.x = extract_observables(c.columns, options);
+  const StatedContact stated{.p = options.force_law->p,
+                             .m = options.force_law->m,
+                             .k = options.force_law->k,
+                             .v0 = options.v0};
+  if (const std::optional<std::string> why = contradiction(c.x, stated)) {
+    throw InputError(*why);
+  }
   const unsigned want =
       solvers::want_e | solvers::want_delta_max | solvers::want_t_peak | solvers::want_tau;
   const analytic::Observables<Exact> closed =
       analytic::observables(c.contact, analytic_want_of(want, c.end));
-  for (const auto& [key, measured] :
-       {std::pair{"e", &c.x.e}, std::pair{"delta_max", &c.x.delta_max},
-        std::pair{"t_peak", &c.x.t_peak}, std::pair{"tau", &c.x.tau}}) {
+  const std::array<const Extracted*, checked_keys.size()> measured_of{&c.x.e, &c.x.delta_max,
+                                                                      &c.x.t_peak, &c.x.tau};
+  for (std::size_t i = 0; i < checked_keys.size(); ++i) {
+    const char* key = checked_keys[i];
+    const Extracted* measured = measured_of[i];
     const Observable* observable = find_observable(key);
     const std::optional<Exact> truth = observable->exact(closed, c.end);
-    c.rows.push_back({observable, *measured, truth, judge_extracted(*measured, truth)});
+    c.rows.push_back({observable, *measured, truth, judge_extracted(*measured, truth), {}, {}});
   }
   return c;
+}
+
+// --tolerance: one relative tolerance for every observable ("1e-3"), or some observables' own
+// ("e=1e-3,tau=1e-2", named as the table names them under the contact end).
+std::map<std::string, double> tolerances_of(const std::string& text,
+                                            const std::vector<std::string>& keys) {
+  std::string names;
+  for (const std::string& key : keys) {
+    names += (names.empty() ? "" : "|") + key;
+  }
+  const auto malformed = [&](const std::string& shown) {
+    return InputError("--tolerance takes a relative tolerance T or " + names +
+                      "=T,... with T > 0 (got " + shown + ")");
+  };
+  const auto value_of = [&](const std::string& number, const std::string& shown) {
+    double value = 0;
+    try {
+      value = parse_real<double>("--tolerance", number);
+    } catch (const InputError&) {
+      throw malformed(shown);
+    }
+    if (!(value > 0) || !std::isfinite(value)) {
+      throw InputError("a tolerance must be a finite number > 0 (got " + shown + ")");
+    }
+    return value;
+  };
+  std::map<std::string, double> out;
+  if (text.find('=') == std::string::npos) {
+    for (const std::string& key : keys) {
+      out[key] = value_of(text, text);
+    }
+    return out;
+  }
+  for (std::size_t from = 0; from <= text.size();) {
+    const std::size_t comma = std::min(text.find(',', from), text.size());
+    const std::string item = text.substr(from, comma - from);
+    const std::size_t equals = item.find('=');
+    const std::string name = item.substr(0, equals);
+    if (item.empty()) { // "e=1e-3,," or a leading comma
+      throw malformed(text);
+    }
+    if (std::find(keys.begin(), keys.end(), name) == keys.end()) {
+      throw InputError("unknown observable in --tolerance, expected " + names + " (got " +
+                       (equals == std::string::npos ? item : name) + ")");
+    }
+    if (out.count(name) != 0) {
+      throw InputError("--tolerance names an observable twice (got " + name + ")");
+    }
+    out[name] = value_of(equals == std::string::npos ? "" : item.substr(equals + 1), item);
+    from = comma + 1;
+  }
+  return out;
+}
+
+// A judged row passes when |rel error| <= its tolerance. The sampling estimate is not added to
+// the tolerance (a coarse file would then pass any tolerance); an estimate larger than the
+// tolerance fails the row instead: the file cannot tell the tolerance from its own sampling.
+std::string failure_of(const Row& row, double tolerance) {
+  const SampledJudgement& j = row.judgement;
+  if (!j.relative_error) {
+    return j.why_not;
+  }
+  if (!(std::abs(*j.relative_error) <= tolerance)) {
+    return fmt::format("|rel error| {:.3g} > {:.3g}", std::abs(*j.relative_error), tolerance);
+  }
+  if (*j.relative_sampling > tolerance) {
+    return fmt::format("its sampling estimate {:.3g} > {:.3g}: the file cannot resolve the "
+                       "tolerance, dump more often",
+                       *j.relative_sampling, tolerance);
+  }
+  return "";
 }
 
 std::string columns_of(const TrajectoryColumns& c) {
@@ -76,7 +165,39 @@ Answer json_row(const Row& row) {
     o["verdict"] = nullptr;
     o["why"] = row.judgement.why_not;
   }
+  if (row.tolerance) {
+    o["tolerance"] = exact_number(*row.tolerance);
+    o["pass"] = row.failure.empty();
+    if (!row.failure.empty()) {
+      o["failure"] = row.failure;
+    }
+  }
   return o;
+}
+
+// The judged rows that failed, by name: "t_peak, tau".
+std::string failing_of(const std::vector<Row>& rows, solvers::End end) {
+  std::string names;
+  for (const Row& row : rows) {
+    if (row.tolerance && !row.failure.empty()) {
+      names += (names.empty() ? "" : ", ") + std::string(row.observable->key_at(end));
+    }
+  }
+  return names;
+}
+
+// The judgement under --tolerance, after the table.
+std::string tolerance_text(const std::vector<Row>& rows, solvers::End end) {
+  std::string out = "\njudged: |rel error| <= tolerance (and the sampling estimate too)\n";
+  for (const Row& row : rows) {
+    if (row.tolerance) {
+      out += fmt::format("{:<10} {:>9.3g}  {}\n", row.observable->key_at(end), *row.tolerance,
+                         row.failure.empty() ? "pass" : "FAIL: " + row.failure);
+    }
+  }
+  const std::string failing = failing_of(rows, end);
+  return out + (failing.empty() ? "passed: every judged observable is within its tolerance\n"
+                                : "FAILED: " + failing + "\n");
 }
 
 std::string text_of(const std::string& path, const TrajectoryColumns& columns,
@@ -117,12 +238,36 @@ std::string text_of(const std::string& path, const TrajectoryColumns& columns,
 
 } // namespace
 
-void run_check(const CheckArgs& args, std::ostream& out) {
-  const Checked checked = check(args.contact, args.trajectory);
+int run_check(const CheckArgs& args, std::ostream& out) {
+  std::map<std::string, double> tolerances;
+  if (args.tolerance) { // refused before the file is read
+    const solvers::End stated_end = parse_end(args.contact.end) == ContactEnd::force
+                                        ? solvers::End::force
+                                        : solvers::End::overlap;
+    std::vector<std::string> keys;
+    for (const char* key : checked_keys) {
+      keys.emplace_back(find_observable(key)->key_at(stated_end));
+    }
+    tolerances = tolerances_of(*args.tolerance, keys);
+  }
+  Checked checked = check(args.contact, args.trajectory);
   const auto& [contact, end, columns, x, rows] = checked;
+  if (args.tolerance) {
+    for (Row& row : checked.rows) {
+      const auto given = tolerances.find(std::string(row.observable->key_at(end)));
+      if (given != tolerances.end()) {
+        row.tolerance = given->second;
+        row.failure = failure_of(row, given->second);
+      }
+    }
+  }
+  const bool passed = failing_of(rows, end).empty();
   if (!args.contact.json) {
     out << text_of(args.trajectory, columns, x, contact, end, rows);
-    return;
+    if (args.tolerance) {
+      out << tolerance_text(rows, end);
+    }
+    return passed ? 0 : 1;
   }
   Answer o = describe(contact, args.contact);
   o["trajectory"] = args.trajectory;
@@ -135,7 +280,11 @@ void run_check(const CheckArgs& args, std::ostream& out) {
     o[std::string(row.observable->key_at(end))] = json_row(row);
   }
   o["notes"] = x.notes;
+  if (args.tolerance) {
+    o["passed"] = passed;
+  }
   emit(o, true, out);
+  return passed ? 0 : 1;
 }
 
 TrajectoryCheck check_trajectory(const TrajectorySpec& spec, solvers::End scene_end) {

@@ -63,9 +63,11 @@ std::string cell_text(const ClaimGrid& grid, const ClaimCell& cell) {
 }
 
 Contact<Exact> truth_contact(const ClaimCell& cell) {
-  const Exact p(cell.p), value(cell.damping.value), v0(cell.v0), m(cell.m), k(cell.k);
-  return cell.damping.kind == Damping::Kind::e ? Contact<Exact>::from_e(p, value, v0, m, k)
-                                               : Contact<Exact>::from_alpha_eff(p, value, v0, m, k);
+  const Exact p(cell.p);
+  const Contact<Exact> unit =
+      seed_contact(p, cell.damping.kind, Exact(cell.damping.value), analytic::ContactEnd::overlap);
+  return Contact<Exact>::from_damping(p, unit.damping(), Exact(cell.v0), Exact(cell.m),
+                                      Exact(cell.k));
 }
 
 struct QuantityWants {
@@ -531,7 +533,7 @@ std::vector<double> refined(const std::vector<double>& values, int between) {
 } // namespace
 
 std::string damping_text(const Damping& d) {
-  return (d.kind == Damping::Kind::e ? "e = " : "alpha_eff = ") + number(d.value);
+  return std::string(d.key()) + " = " + number(d.value);
 }
 
 Verdict verdict_of(const Claim& claim) {
@@ -603,17 +605,24 @@ std::string measure_meaning(const Claim& claim) {
          "the bound is conservative)";
 }
 
+namespace {
+// A grid's dampings by kind (targets e, α, α_eff), each list in the grid's order.
+std::map<Damping::Kind, std::vector<double>> dampings_by_kind(const ClaimGrid& grid) {
+  std::map<Damping::Kind, std::vector<double>> out;
+  for (const Damping& d : grid.damping) {
+    out[d.kind].push_back(d.value);
+  }
+  return out;
+}
+} // namespace
+
 std::string grid_text(const ClaimGrid& grid) {
   std::string out = "p in " + list_text(grid.p);
-  std::vector<double> es, zs;
-  for (const Damping& d : grid.damping) {
-    (d.kind == Damping::Kind::e ? es : zs).push_back(d.value);
-  }
-  if (!es.empty()) {
-    out += " x e in " + list_text(es);
-  }
-  if (!zs.empty()) {
-    out += (es.empty() ? " x " : " and ") + std::string("alpha_eff in ") + list_text(zs);
+  bool first = true;
+  for (const auto& [kind, values] : dampings_by_kind(grid)) {
+    out += (first ? " x " : " and ") + std::string(Damping{kind, 0}.key()) + " in " +
+           list_text(values);
+    first = false;
   }
   const std::pair<const std::vector<double>*, const char*> scales[] = {
       {&grid.v0, "v0"}, {&grid.m, "m"}, {&grid.k, "k"}};
@@ -628,12 +637,11 @@ std::string grid_text(const ClaimGrid& grid) {
 }
 
 ClaimGrid denser_grid(const ClaimGrid& grid) {
-  std::vector<double> es, zs;
-  for (const Damping& d : grid.damping) {
-    (d.kind == Damping::Kind::e ? es : zs).push_back(d.value);
+  const std::map<Damping::Kind, std::vector<double>> dampings = dampings_by_kind(grid);
+  std::vector<const std::vector<double>*> lists{&grid.p, &grid.v0, &grid.m, &grid.k};
+  for (const auto& [kind, values] : dampings) {
+    lists.push_back(&values);
   }
-  const std::vector<const std::vector<double>*> lists{&grid.p,  &es,     &zs,
-                                                      &grid.v0, &grid.m, &grid.k};
   const auto varied = std::count_if(lists.begin(), lists.end(),
                                     [](const std::vector<double>* l) { return l->size() > 1; });
   // Each interval of each varied list cut into (between + 1): (between + 1)^varied ≥ 10 cells
@@ -645,11 +653,10 @@ ClaimGrid denser_grid(const ClaimGrid& grid) {
                 refined(grid.m, between),
                 refined(grid.k, between),
                 {}};
-  for (const double e : refined(es, between)) {
-    out.damping.push_back({Damping::Kind::e, e});
-  }
-  for (const double z : refined(zs, between)) {
-    out.damping.push_back({Damping::Kind::alpha_eff, z});
+  for (const auto& [kind, values] : dampings) {
+    for (const double value : refined(values, between)) {
+      out.damping.push_back({kind, value});
+    }
   }
   return out;
 }

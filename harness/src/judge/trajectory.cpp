@@ -4,101 +4,12 @@
 
 #include <algorithm>
 #include <array>
-#include <cctype>
-#include <cerrno>
-#include <charconv>
 #include <cmath>
-#include <cstring>
-#include <filesystem>
-#include <fstream>
 #include <limits>
 #include <tuple>
 
 namespace pldamp::harness {
 namespace {
-
-// ---- Reading -----------------------------------------------------------------------------------
-
-enum class Column { t, delta, v, force };
-
-struct ColumnName {
-  Column column;
-  std::string_view name, alias;
-};
-
-constexpr std::array column_names{
-    ColumnName{Column::t, "t", "time"}, ColumnName{Column::delta, "delta", "overlap"},
-    ColumnName{Column::v, "v", "velocity"}, ColumnName{Column::force, "F", "force"}};
-
-std::string_view trimmed(std::string_view text) {
-  const auto blank = [](char c) { return c == ' ' || c == '\t'; };
-  while (!text.empty() && blank(text.front())) {
-    text.remove_prefix(1);
-  }
-  while (!text.empty() && blank(text.back())) {
-    text.remove_suffix(1);
-  }
-  return text;
-}
-
-// A cell as quoted in a message: at most 60 characters.
-std::string shown(std::string_view cell) {
-  return cell.size() <= 60 ? std::string(cell) : std::string(cell.substr(0, 57)) + "...";
-}
-
-std::vector<std::string_view> cells_of(std::string_view line) {
-  std::vector<std::string_view> cells;
-  for (std::size_t from = 0;;) {
-    const std::size_t comma = line.find(',', from);
-    cells.push_back(trimmed(line.substr(from, comma - from)));
-    if (comma == std::string_view::npos) {
-      return cells;
-    }
-    from = comma + 1;
-  }
-}
-
-std::optional<double> number_in(std::string_view cell) {
-  if (!cell.empty() && cell.front() == '+') {
-    cell.remove_prefix(1);
-  }
-  double value = 0;
-  const auto [end, error] = std::from_chars(cell.data(), cell.data() + cell.size(), value);
-  if (cell.empty() || error != std::errc() || end != cell.data() + cell.size()) {
-    return std::nullopt;
-  }
-  return value;
-}
-
-std::optional<Column> column_named(std::string_view name) {
-  auto same = [&](std::string_view known) {
-    return name.size() == known.size() &&
-           std::equal(name.begin(), name.end(), known.begin(), [](char a, char b) {
-             return std::tolower(static_cast<unsigned char>(a)) ==
-                    std::tolower(static_cast<unsigned char>(b));
-           });
-  };
-  for (const ColumnName& known : column_names) {
-    if (same(known.name) || same(known.alias)) {
-      return known.column;
-    }
-  }
-  return std::nullopt;
-}
-
-std::vector<double>& column_of(TrajectoryColumns& columns, Column column) {
-  switch (column) {
-  case Column::t:
-    return columns.t;
-  case Column::delta:
-    return columns.delta;
-  case Column::v:
-    return *columns.v;
-  case Column::force:
-    break;
-  }
-  return *columns.force;
-}
 
 // ---- Interpolants ------------------------------------------------------------------------------
 
@@ -348,141 +259,158 @@ std::pair<Extracted, Extracted> peak_of(const Curve& delta, std::size_t i) {
           Extracted{best.first, floored(t_spread, best.first), {}}};
 }
 
-} // namespace
+// ---- What the file says of its parameters (MATH.md §10.2) -------------------------------------
 
-std::string trajectory_column_names() {
-  std::string names, aliases;
-  for (const ColumnName& known : column_names) {
-    if (!names.empty()) {
-      names += '|';
-      aliases += ", ";
-    }
-    names += known.name;
-    aliases += known.alias;
+// The approach speed: v on the last row before contact; else δ's slope over the two rows before
+// contact (free flight); else δ's slope where it crosses 0 (one row before contact). Its estimate:
+// the speed's change over the spacing before (an approach that is not free: gravity) or, at the
+// crossing, over the crossing's interval, and the cells' rounding.
+std::pair<Extracted, std::string> approach_of(const TrajectoryColumns& c, const Curve& overlap,
+                                              std::size_t first, const Extracted& start) {
+  const std::vector<double>& t = c.t;
+  const std::vector<double>& delta = c.delta;
+  if (first == 0) {
+    return {missing("the series starts in contact"), ""};
   }
-  return names + " (or " + aliases + ")";
+  const std::size_t a = first - 1;
+  if (c.v) {
+    const std::vector<double>& v = *c.v;
+    const double change = a >= 1 ? std::abs(v[a] - v[a - 1]) : 0;
+    const double rounding = resolution_of(c.digits.v) * std::abs(v[a]);
+    return {Extracted{v[a], floored(change + rounding, v[a]), {}},
+            "v on the last row before contact"};
+  }
+  // The secant over [i, i + 1] and its rounding (of δ's cells and of h).
+  const auto secant = [&](std::size_t i) {
+    const double h = t[i + 1] - t[i];
+    const double slope = (delta[i + 1] - delta[i]) / h;
+    const double rounding = 2 * resolution_of(c.digits.delta) *
+                                std::max(std::abs(delta[i]), std::abs(delta[i + 1])) / h +
+                            2 * resolution_of(c.digits.t) *
+                                std::max(std::abs(t[i]), std::abs(t[i + 1])) / h * std::abs(slope);
+    return std::pair{slope, rounding};
+  };
+  if (a >= 1 && delta[a] < 0 && delta[a - 1] < 0) {
+    const auto [slope, rounding] = secant(a - 1);
+    const double change = a >= 2 && delta[a - 2] < 0 ? std::abs(slope - secant(a - 2).first) : 0;
+    return {Extracted{slope, floored(change + rounding, slope), {}},
+            "delta's slope on the two rows before contact"};
+  }
+  if (delta[a] < 0 && start.value) {
+    const Interpolant across = overlap.across(a, +1);
+    const auto [value, lower] = overlap.slopes(*start.value, across);
+    const double change =
+        std::abs(overlap.slopes(t[first], across).first - overlap.slopes(t[a], across).first);
+    const double estimate = std::max(std::abs(value - lower), change) + secant(a).second;
+    return {Extracted{value, floored(estimate, value), {}}, "delta's slope where it crosses 0"};
+  }
+  return {missing("the overlap is 0 on the row before contact (clamped?) and there is no v column"),
+          ""};
 }
+
+// δ'' and, with an F column, F at the peak time t_star, from the rows i − 1 … i + 1 about the
+// largest overlap: δ'' the curvature of δ's parabola, compared with the parabolas one row over,
+// or the slope of v's parabola, compared with v's secants on either side of i and v's parabolas
+// one row over; F on its parabola, compared with the straight line. The cells' rounding is
+// added: 4 ε/(h₁h₂) on a second difference of values known to ε. And how far δ, δ'' (v's secants
+// or δ's second differences) and F stray from their peak values over the rows within three
+// spacings of row i: a force evaluated up to two steps away from the state dumped with it (a
+// staggered DEM loop's) lies within that of the peak's (MATH.md §10.2).
+void peak_law_of(const TrajectoryColumns& c, std::size_t i, std::size_t first, std::size_t last,
+                 double t_star, TrajectoryObservables& out) {
+  if (i < first + 1 || i + 1 > last) {
+    const std::string why = "fewer than three rows of contact about the peak";
+    out.peak_acceleration = missing(why);
+    out.peak_force = missing(why);
+    return;
+  }
+  const std::vector<double>& t = c.t;
+  const double h1 = t[i] - t[i - 1];
+  const double h2 = t[i + 1] - t[i];
+  const std::size_t k = t_star < t[i] ? i - 1 : i; // the interval holding t_star
+  const std::size_t lo = std::max(first, i - std::min(i, std::size_t(3)));
+  const std::size_t hi = std::min(last, i + 3);
+  const double t_rounding = resolution_of(c.digits.t) *
+                            std::max(std::abs(t[i - 1]), std::abs(t[i + 1])) /
+                            std::min(h1, h2); // relative, on a difference quotient
+  const auto largest = [&](const std::vector<double>& y) {
+    return std::max({std::abs(y[i - 1]), std::abs(y[i]), std::abs(y[i + 1])});
+  };
+  // The first rows of the parabolas one row over, i − 2 … i and i … i + 2, where in contact.
+  std::vector<std::size_t> one_row_over;
+  if (i >= first + 2) {
+    one_row_over.push_back(i - 2);
+  }
+  if (i + 2 <= last) {
+    one_row_over.push_back(i);
+  }
+  double acceleration = 0;
+  double estimate = 0;
+  std::vector<double> nearby; // δ'' over the rows about the peak
+  if (c.v) {
+    const Curve speed{t, *c.v, nullptr};
+    acceleration = speed.quadratic(i - 1).slope(t_star);
+    const double before = speed.slopes(t_star, speed.across(i - 1, +1)).second;
+    const double after = speed.slopes(t_star, speed.across(i, +1)).second;
+    estimate =
+        std::max({std::abs(acceleration - (k < i ? before : after)), std::abs(after - before)});
+    for (const std::size_t shifted : one_row_over) { // v's parabolas one row over
+      estimate =
+          std::max(estimate, std::abs(acceleration - speed.quadratic(shifted).slope(t_star)));
+    }
+    estimate += 2 * resolution_of(c.digits.v) * largest(*c.v) * (1 / h1 + 1 / h2);
+    for (std::size_t j = lo; j < hi; ++j) {
+      nearby.push_back(((*c.v)[j + 1] - (*c.v)[j]) / (t[j + 1] - t[j]));
+    }
+  } else {
+    const Curve overlap{t, c.delta, nullptr};
+    acceleration = 2 * overlap.quadratic(i - 1).d012;
+    bool compared = false;
+    for (const std::size_t shifted : one_row_over) {
+      estimate = std::max(estimate, std::abs(acceleration - 2 * overlap.quadratic(shifted).d012));
+      compared = true;
+    }
+    if (!compared) { // three rows of contact: nothing to compare with
+      estimate = std::abs(acceleration);
+    }
+    estimate += 4 * resolution_of(c.digits.delta) * largest(c.delta) / (h1 * h2);
+    for (std::size_t j = lo; j + 2 <= hi; ++j) {
+      nearby.push_back(2 * overlap.quadratic(j).d012);
+    }
+  }
+  estimate += 4 * t_rounding * std::abs(acceleration);
+  out.peak_acceleration = {acceleration, floored(estimate, acceleration), {}};
+  for (const double a : nearby) {
+    out.peak_acceleration_spread =
+        std::max(out.peak_acceleration_spread, std::abs(a - acceleration));
+  }
+  for (std::size_t j = lo; j <= hi; ++j) {
+    out.peak_overlap_spread = std::max(out.peak_overlap_spread, *out.delta_max.value - c.delta[j]);
+  }
+  if (!c.force) {
+    out.peak_force = missing("no F column");
+    return;
+  }
+  const std::vector<double>& force = *c.force;
+  const Curve total{t, force, nullptr};
+  const double value = total.quadratic(i - 1)(t_star);
+  const double line = force[k] + (force[k + 1] - force[k]) * ((t_star - t[k]) / (t[k + 1] - t[k]));
+  out.peak_force = {
+      value,
+      floored(std::abs(value - line) + resolution_of(c.digits.force) * largest(force), value),
+      {}};
+  for (std::size_t j = lo; j <= hi; ++j) {
+    out.peak_force_spread = std::max(out.peak_force_spread, std::abs(force[j] - value));
+  }
+}
+
+} // namespace
 
 double ForceLaw::operator()(double delta, double v) const {
   if (delta <= 0) {
     return 0;
   }
   return k * std::pow(delta, p) + alpha * std::sqrt(m * k) * std::pow(delta, (p - 1) / 2) * v;
-}
-
-TrajectoryColumns parse_trajectory_csv(std::string_view text, const std::string& name) {
-  TrajectoryColumns columns;
-  std::vector<Column> order;
-  std::size_t line_number = 0;
-  std::size_t header_line = 0;
-  double last_t = 0;
-  auto fail = [&](const std::string& what) {
-    throw InputError(name + ":" + std::to_string(line_number) + ": " + what);
-  };
-  for (std::size_t from = 0; from < text.size();) {
-    const std::size_t newline = text.find('\n', from);
-    std::string_view line = text.substr(from, newline - from);
-    from = newline == std::string_view::npos ? text.size() : newline + 1;
-    ++line_number;
-    if (!line.empty() && line.back() == '\r') {
-      line.remove_suffix(1);
-    }
-    if (trimmed(line).empty() || trimmed(line).front() == '#') {
-      continue;
-    }
-    const std::vector<std::string_view> cells = cells_of(line);
-    if (order.empty()) { // the header
-      header_line = line_number;
-      if (number_in(cells.front())) {
-        fail("the first line must name the columns, e.g. t,delta,v (got " + shown(line) + ")");
-      }
-      for (const std::string_view cell : cells) {
-        const std::optional<Column> column = column_named(cell);
-        if (!column) {
-          fail("unknown column, expected " + trajectory_column_names() + " (got " + shown(cell) +
-               ")");
-        }
-        if (std::find(order.begin(), order.end(), *column) != order.end()) {
-          fail("a column is named twice (got " + shown(cell) + ")");
-        }
-        order.push_back(*column);
-      }
-      for (const Column required : {Column::t, Column::delta}) {
-        if (std::find(order.begin(), order.end(), required) == order.end()) {
-          fail(std::string("the header names no ") + (required == Column::t ? "t" : "delta") +
-               " column (got " + shown(line) + ")");
-        }
-      }
-      if (std::find(order.begin(), order.end(), Column::v) != order.end()) {
-        columns.v.emplace();
-      }
-      if (std::find(order.begin(), order.end(), Column::force) != order.end()) {
-        columns.force.emplace();
-      }
-      continue;
-    }
-    if (cells.size() != order.size()) {
-      fail("a row has " + std::to_string(cells.size()) + " cells, the header names " +
-           std::to_string(order.size()) + " (got " + shown(line) + ")");
-    }
-    for (std::size_t i = 0; i < cells.size(); ++i) {
-      const std::string column(column_names[static_cast<std::size_t>(order[i])].name);
-      const std::optional<double> value = number_in(cells[i]);
-      if (!value) {
-        fail(column + " is not a number (got " + shown(cells[i]) + ")");
-      }
-      if (!std::isfinite(*value)) {
-        fail(column + " must be finite (got " + shown(cells[i]) + ")");
-      }
-      column_of(columns, order[i]).push_back(*value);
-    }
-    if (columns.t.size() > 1 && !(columns.t.back() > last_t)) {
-      fail("t must increase from row to row (got " +
-           shown(cells[static_cast<std::size_t>(std::find(order.begin(), order.end(), Column::t) -
-                                                order.begin())]) +
-           " after " + to_string_full(last_t) + ")");
-    }
-    last_t = columns.t.back();
-  }
-  if (order.empty()) {
-    throw InputError(name + ": no header line naming the columns, e.g. t,delta,v (got " +
-                     (text.empty() ? "an empty file" : "no line but comments") + ")");
-  }
-  if (columns.t.size() < 3) {
-    throw InputError(name + ":" + std::to_string(header_line) +
-                     ": at least 3 rows of numbers are needed after the header (got " +
-                     std::to_string(columns.t.size()) + ")");
-  }
-  return columns;
-}
-
-TrajectoryColumns load_trajectory(const std::string& path) {
-  std::error_code error;
-  if (std::filesystem::is_directory(path, error)) {
-    throw InputError("cannot read the trajectory: a directory (got " + path + ")");
-  }
-  const auto too_large = [&] {
-    return InputError("a trajectory file is at most " + std::to_string(max_trajectory_bytes) +
-                      " bytes; this one is larger (got " + path + ")");
-  };
-  if (const auto size = std::filesystem::file_size(path, error);
-      !error && size > max_trajectory_bytes) {
-    throw too_large();
-  }
-  std::ifstream in(path, std::ios::binary);
-  if (!in) {
-    throw InputError("cannot read the trajectory: " + std::string(std::strerror(errno)) + " (got " +
-                     path + ")");
-  }
-  std::string text;
-  std::array<char, 65536> buffer{};
-  while (in.read(buffer.data(), buffer.size()) || in.gcount() > 0) {
-    text.append(buffer.data(), static_cast<std::size_t>(in.gcount()));
-    if (text.size() > max_trajectory_bytes) { // a pipe or a device: no size known beforehand
-      throw too_large();
-    }
-  }
-  return parse_trajectory_csv(text, path);
 }
 
 TrajectoryObservables extract_observables(const TrajectoryColumns& columns,
@@ -547,6 +475,12 @@ TrajectoryObservables extract_observables(const TrajectoryColumns& columns,
       delta.begin());
   Extracted t_peak_absolute;
   std::tie(out.delta_max, t_peak_absolute) = peak_of(overlap, peak);
+  if (t_peak_absolute.value) {
+    peak_law_of(columns, peak, first, last, *t_peak_absolute.value, out);
+  } else {
+    out.peak_acceleration = missing(t_peak_absolute.missing);
+    out.peak_force = missing(t_peak_absolute.missing);
+  }
 
   // End: δ crosses 0 downward after the contact's last row, or F crosses 0 after the peak.
   std::optional<std::size_t> end_at; // the interval [end_at, end_at + 1] holding the end
@@ -642,6 +576,8 @@ TrajectoryObservables extract_observables(const TrajectoryColumns& columns,
     out.e = missing(out.end.missing);
   }
 
+  std::tie(out.incoming_speed, out.incoming_from) = approach_of(columns, overlap, first, out.start);
+
   // Times from the start.
   auto since_start = [&](const Extracted& at) {
     if (!at.value) {
@@ -655,37 +591,6 @@ TrajectoryObservables extract_observables(const TrajectoryColumns& columns,
   out.t_peak = since_start(t_peak_absolute);
   out.tau = since_start(out.end);
   return out;
-}
-
-SampledJudgement judge_extracted(const Extracted& measured, const std::optional<Exact>& truth) {
-  SampledJudgement j;
-  if (!measured.value) {
-    j.why_not = measured.missing;
-    return j;
-  }
-  if (!truth) {
-    j.why_not = "no closed form";
-    return j;
-  }
-  using std::isfinite;
-  if (!isfinite(*truth)) {
-    j.why_not = "the truth is infinite (no return in finite time)";
-    return j;
-  }
-  const Exact error = Exact(*measured.value) - *truth;
-  const Exact scale = *truth == 0 ? Exact(1) : Exact(abs(*truth));
-  j.error = static_cast<double>(error);
-  j.relative_error = static_cast<double>(error / scale);
-  j.relative_sampling = static_cast<double>(Exact(measured.sampling) / scale);
-  j.explained = abs(error) <= Exact(measured.sampling);
-  return j;
-}
-
-std::string verdict_name(const SampledJudgement& judgement) {
-  if (!judgement.explained) {
-    return "-";
-  }
-  return *judgement.explained ? "explained by sampling" : "beyond sampling";
 }
 
 } // namespace pldamp::harness

@@ -23,7 +23,21 @@ namespace pldamp::harness {
 struct TrajectoryColumns {
   std::vector<double> t, delta;
   std::optional<std::vector<double>> v, force;
+  // The most significant digits a cell of each column has: the precision it was written with
+  // (17, a double's round trip, for columns built in code). Each cell is known to half a unit in
+  // that digit: resolution_of().
+  struct Digits {
+    int t = 17, delta = 17, v = 17, force = 17;
+  } digits;
 };
+
+// The significant digits of a number as written ("0.0480886": 6, "1.50": 3, "7e9": 1); 0 for
+// text that is not one.
+int significant_digits(std::string_view number);
+
+// The relative rounding of a number written with `digits` significant digits: half a unit in the
+// last, and at least a double's epsilon.
+double resolution_of(int digits);
 
 // A larger file is refused before it is read whole (64 MiB: some two million rows of four
 // columns, far more than one contact needs).
@@ -73,6 +87,15 @@ struct TrajectoryObservables {
   Extracted start, end;            // the contact's start and end on the file's clock
   std::size_t contact_samples = 0; // rows with δ > 0 in the (first) contact
   std::vector<std::string> notes;  // what a reader should know: an ignored second contact, ...
+  // What the file says of the contact's parameters (MATH.md §10.2), each estimate including the
+  // cells' rounding: the approach speed (`incoming_from` says read from what); δ'' at the peak,
+  // where v = 0 and so m δ'' = −k δ^p; F there (an F column only). And how far δ, δ'' and F
+  // stray from their peak values over the rows within three spacings of the peak: a force
+  // evaluated up to two steps away from the state dumped with it (a staggered DEM loop's) lies
+  // within that.
+  Extracted incoming_speed, peak_acceleration, peak_force;
+  std::string incoming_from;
+  double peak_overlap_spread = 0, peak_acceleration_spread = 0, peak_force_spread = 0;
 };
 
 // Throws InputError when the series has no contact (δ never > 0), or asks the force end with
@@ -90,6 +113,18 @@ struct SampledJudgement {
 };
 
 SampledJudgement judge_extracted(const Extracted& measured, const std::optional<Exact>& truth);
+
+// The parameters a trajectory is checked under, as given (`pldamp check`, a scene's
+// [[trajectory]]).
+struct StatedContact {
+  double p, m, k, v0;
+};
+
+// The first way the file contradicts the stated parameters beyond what its sampling and digits
+// allow (MATH.md §10.2): its approach speed against v0, its force at the peak against k δ^p, its
+// force against m δ'' there (or, without F, δ'' against (k/m) δ^p); one line ending in "(got
+// <the options>)" that says by how much and what to give. None: no contradiction found.
+std::optional<std::string> contradiction(const TrajectoryObservables& x, const StatedContact& c);
 
 // "explained by sampling", "beyond sampling", or "-" without a verdict.
 std::string verdict_name(const SampledJudgement& judgement);

@@ -499,11 +499,11 @@ bool boolean(const Reader& reader, const toml::node& node, const std::string& wh
   return *node.value<bool>();
 }
 
-constexpr std::array grid_keys{"p", "e", "alpha_eff", "v0", "m", "k"};
+constexpr std::array grid_keys{"p", "e", "alpha", "alpha_eff", "v0", "m", "k"};
 
-// The grid lists of a [grid] or a claim (p, e, alpha_eff, v0, m, k) that `table` has, each
-// value checked against the domain (core/domain.hpp); the others stay as they are in `grid`. e
-// and alpha_eff replace its damping together.
+// The grid lists of a [grid] or a claim (p, e, alpha, alpha_eff, v0, m, k) that `table` has,
+// each value checked against the domain (core/domain.hpp); the others stay as they are in `grid`.
+// e, alpha and alpha_eff replace its damping together.
 void read_grid_lists(const Reader& reader, const toml::table& table, ClaimGrid& grid) {
   auto list = [&](const char* key, std::vector<double>& into, auto&& check) {
     if (const toml::node* at = table.get(key)) {
@@ -521,16 +521,18 @@ void read_grid_lists(const Reader& reader, const toml::table& table, ClaimGrid& 
   list("v0", grid.v0, [](double x) { domain::require_scale("v0", x); });
   list("m", grid.m, [](double x) { domain::require_scale("m", x); });
   list("k", grid.k, [](double x) { domain::require_scale("k", x); });
-  std::vector<double> es, zs;
+  std::vector<double> es, alphas, zs;
   list("e", es, [](double x) { require(x > 0 && x <= 1, "e must be in (0, 1]", x); });
+  list("alpha", alphas, [](double a) { domain::require_alpha(a); });
   list("alpha_eff", zs, [](double z) { domain::require_alpha_eff(z); });
-  if (!es.empty() || !zs.empty()) {
+  if (!es.empty() || !alphas.empty() || !zs.empty()) {
     grid.damping.clear();
-    for (const double e : es) {
-      grid.damping.push_back({Damping::Kind::e, e});
-    }
-    for (const double z : zs) {
-      grid.damping.push_back({Damping::Kind::alpha_eff, z});
+    for (const auto& [kind, values] :
+         {std::pair{Damping::Kind::e, &es}, std::pair{Damping::Kind::alpha, &alphas},
+          std::pair{Damping::Kind::alpha_eff, &zs}}) {
+      for (const double value : *values) {
+        grid.damping.push_back({kind, value});
+      }
     }
   }
 }
@@ -790,7 +792,7 @@ void read_grid_claim(const Reader& reader, const toml::table& entry, const toml:
   if (claim.kind == ClaimKind::recovered_parameter && !targets) {
     reader.fail(item, "[[claim]] " + claim.name +
                           " recovers alpha for target e: its grid needs "
-                          "e in (0, 1), not alpha_eff");
+                          "e in (0, 1), not alpha or alpha_eff");
   }
   if (const toml::node* denser = entry.get("denser")) {
     claim.denser = boolean(reader, *denser, "denser");
@@ -1096,14 +1098,15 @@ void read_figures(const Reader& reader, const toml::node& node, Scene& scene) {
 
 void read_grid(const Reader& reader, const toml::node& node, Scene& scene) {
   const toml::table& grid = reader.table(node, "[grid]");
-  reader.only(grid, {"p", "e", "alpha_eff", "v0", "m", "k", "damping_exponent"}, "[grid]");
+  reader.only(grid, {"p", "e", "alpha", "alpha_eff", "v0", "m", "k", "damping_exponent"}, "[grid]");
   for (const char* key : {"p", "v0"}) {
     if (grid.get(key) == nullptr) {
       reader.fail(node, std::string("[grid] needs ") + key);
     }
   }
-  if (grid.get("e") == nullptr && grid.get("alpha_eff") == nullptr) {
-    reader.fail(node, "[grid] needs e or alpha_eff");
+  if (grid.get("e") == nullptr && grid.get("alpha") == nullptr &&
+      grid.get("alpha_eff") == nullptr) {
+    reader.fail(node, "[grid] needs e, alpha or alpha_eff");
   }
   ClaimGrid lists{{}, {1.0}, {1.0}, {1.0}, {}};
   read_grid_lists(reader, grid, lists);
@@ -1127,6 +1130,17 @@ void read_grid(const Reader& reader, const toml::node& node, Scene& scene) {
         } catch (const std::invalid_argument& e) {
           reader.fail(*at, std::string(e.what()) + " at p = " + to_string_full(p));
         }
+        // With another dashpot α_eff depends on δ_u (MATH.md §12.1): α is converted at the one
+        // cell there is, as the command line's --alpha is at its contact.
+        const bool by_alpha = grid.get("alpha") != nullptr;
+        const bool one_cell = scene.v0.size() == 1 && scene.m.size() == 1 && scene.k.size() == 1;
+        if (beta != (p - 1) / 2 && by_alpha && !one_cell) {
+          reader.fail(*grid.get("alpha"),
+                      "alpha with damping_exponent " + to_string_full(beta) +
+                          " at p = " + to_string_full(p) +
+                          " needs one v0, m and k: the contact's alpha_eff depends on them "
+                          "(give alpha_eff, or one cell)");
+        }
       }
     }
   }
@@ -1135,7 +1149,11 @@ void read_grid(const Reader& reader, const toml::node& node, Scene& scene) {
 } // namespace
 
 std::string Damping::label() const {
-  return (kind == Kind::e ? "e=" : "z=") + to_string_full(value);
+  return (kind == Kind::e ? "e=" : kind == Kind::alpha ? "alpha=" : "z=") + to_string_full(value);
+}
+
+std::string_view Damping::key() const {
+  return kind == Kind::e ? "e" : kind == Kind::alpha ? "alpha" : "alpha_eff";
 }
 
 std::string SolverConfig::label() const {

@@ -4,7 +4,8 @@
 //     name = "quick"
 //     end  = "overlap"                      # or "force"
 //     want = ["e", "delta_max", "t_peak", "tau", "energy"]
-//     [grid]      p, e and/or alpha_eff, v0, m (default [1]), k (default [1]): numbers or lists
+//     [grid]      p, e, alpha and/or alpha_eff, v0, m (default [1]), k (default [1]): numbers or
+//                 lists
 //     [[solver]]  an external program instead of name: command = [argv...] (a relative program path
 //                 is the scene file's folder's, a bare name the file beside the scene if there is
 //                 one, else PATH's), label, options = {...} (passed through), replica
@@ -68,12 +69,14 @@ struct SceneError : InputError {
   using InputError::InputError;
 };
 
-// The damping of a grid point: a target restitution (under the scene's end) or α_eff.
+// The damping of a grid point: a target restitution (under the scene's end), α (the equation's,
+// as the command line's --alpha) or α_eff.
 struct Damping {
-  enum class Kind { e, alpha_eff };
+  enum class Kind { e, alpha, alpha_eff };
   Kind kind;
   double value;
-  std::string label() const; // "e=0.5", "z=1.5"
+  std::string label() const;    // "e=0.5", "alpha=0.3", "z=1.5"
+  std::string_view key() const; // the scene's word: "e", "alpha", "alpha_eff"
 };
 
 // One solver configuration: a point of a solver entry's sweep.

@@ -110,6 +110,11 @@ Point solved_point(const Plan& plan, const std::set<std::string>& precisions, do
   std::optional<Exact> group = Exact(damping.value);
   if (damping.kind == Damping::Kind::e) {
     group = group_for_e(p, beta, damping.value, plan.scene.end);
+  } else if (damping.kind == Damping::Kind::alpha) { // at the scene's one cell (scene.cpp)
+    const std::array scales = cell_scales(Exact(p), Exact(plan.scene.v0.front()),
+                                          Exact(plan.scene.m.front()), Exact(plan.scene.k.front()));
+    group = group_of(p, beta, Exact(damping.value),
+                     unit_overlap(p) * scales[std::size_t(Dimension::length)]);
   }
   if (!group) {
     point.no_truth =
@@ -164,9 +169,15 @@ std::string alpha_precision(const SolverConfig& config) {
 
 Contact<Exact> seed_contact(const Exact& p, Damping::Kind kind, const Exact& value,
                             ContactEnd end) {
-  return kind == Damping::Kind::e
-             ? Contact<Exact>::from_e(p, value, Exact(1), Exact(1), Exact(1), end)
-             : Contact<Exact>::from_alpha_eff(p, value, Exact(1));
+  switch (kind) {
+  case Damping::Kind::e:
+    return Contact<Exact>::from_e(p, value, Exact(1), Exact(1), Exact(1), end);
+  case Damping::Kind::alpha: // α_eff = α/√(2(p + 1)) at this p (MATH.md §3), as --alpha
+    return Contact<Exact>::from_alpha(p, value, Exact(1));
+  case Damping::Kind::alpha_eff:
+    break;
+  }
+  return Contact<Exact>::from_alpha_eff(p, value, Exact(1));
 }
 
 Plan make_plan(const Scene& scene) {
@@ -203,7 +214,9 @@ Plan make_plan(const Scene& scene) {
         Point point{p, damping, 0, 0, false, 0, {}, {}, 0, beta, false, {}, {}};
         const Contact<Exact> calibrated =
             seed_contact(Exact(p), damping.kind, Exact(damping.value), end);
-        point.alpha = calibrated.alpha();
+        // α given: the one typed, not its round trip through α_eff
+        point.alpha =
+            damping.kind == Damping::Kind::alpha ? Exact(damping.value) : calibrated.alpha();
         point.alpha_eff = static_cast<double>(calibrated.alpha_eff());
         point.overdamped = calibrated.alpha_eff() >= 1;
         point.log_duration = *analytic::observables(calibrated, analytic::want_tau).log_tau;

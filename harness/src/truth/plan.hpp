@@ -108,8 +108,9 @@ std::optional<Exact> reference_at(const Plan& plan, const Cell& cell, std::size_
 // wider than the truth (taylor in 50 digits gets the float128 α).
 std::string alpha_precision(const SolverConfig& config);
 
-// The seed's contact of a damping (a target e under `end`, or α_eff) at p, calibrated in Exact at
-// v0 = m = k = 1 (α is scale-free: MATH.md §7): every α of the plan comes from here.
+// The seed's contact of a damping (a target e under `end`, α as the command line's --alpha, or
+// α_eff) at p, calibrated in Exact at v0 = m = k = 1 (α is scale-free: MATH.md §7): every α of
+// the plan comes from here.
 analytic::Contact<Exact> seed_contact(const Exact& p, Damping::Kind kind, const Exact& value,
                                       analytic::ContactEnd end);
 
@@ -126,6 +127,9 @@ Real alpha_as_received(const Exact& alpha) {
 // solver the float128 α instead).
 template <SupportedReal Real>
 Real seed_alpha(const Real& p, Damping::Kind kind, const Real& value, analytic::ContactEnd end) {
+  if (kind == Damping::Kind::alpha) {
+    return value;
+  }
   if constexpr (std::numeric_limits<Real>::digits > std::numeric_limits<Exact>::digits) {
     return kind == Damping::Kind::e
                ? analytic::Contact<Real>::from_e(p, value, Real(1), Real(1), Real(1), end).alpha()

@@ -1,0 +1,145 @@
+// What the README says of the command line against what the command line says of itself: the
+// synopsis under "The command line" lists exactly the options of each command's --help, and every
+// --code the README names is taken by calibrate and listed in its --help. So they cannot drift.
+#include "cli_run.hpp"
+
+#include <gtest/gtest.h>
+
+#include <fstream>
+#include <map>
+#include <regex>
+#include <set>
+#include <sstream>
+#include <string>
+
+namespace pldamp::harness {
+namespace {
+
+using testing::CliRun;
+using testing::run;
+
+std::string readme() {
+  std::ifstream in(std::string(PLDAMP_DATA_DIR) + "/../README.md");
+  std::ostringstream text;
+  text << in.rdbuf();
+  return text.str();
+}
+
+std::set<std::string> options_in(const std::string& text) {
+  static const std::regex option(R"((?:^|[\s\[(|])(--[a-z][a-z0-9-]*))");
+  std::set<std::string> out;
+  for (std::sregex_iterator it(text.begin(), text.end(), option), end; it != end; ++it) {
+    out.insert((*it)[1]);
+  }
+  return out;
+}
+
+// The synopsis: the block of `pldamp <command> ...` lines (and their continuation lines) under
+// "## The command line", before "Examples:".
+std::map<std::string, std::set<std::string>> synopsis() {
+  const std::string text = readme();
+  const std::size_t from = text.find("## The command line");
+  const std::size_t to = text.find("Examples:", from);
+  std::istringstream block(text.substr(from, to - from));
+  std::map<std::string, std::set<std::string>> out;
+  std::string command;
+  for (std::string line; std::getline(block, line);) {
+    if (line.rfind("    pldamp ", 0) == 0) {
+      std::istringstream words(line.substr(11));
+      words >> command;
+      line = line.substr(11 + command.size());
+    } else if (line.rfind("        ", 0) != 0) {
+      continue; // prose, blank lines
+    }
+    if (!command.empty()) {
+      const std::set<std::string> found = options_in(line);
+      out[command].insert(found.begin(), found.end());
+    }
+  }
+  return out;
+}
+
+// The options a command's --help lists (its "Options:" lines), --help itself aside.
+std::set<std::string> help_options(const std::string& command) {
+  const CliRun help = run({command, "--help"});
+  EXPECT_EQ(help.code, 0) << command;
+  static const std::regex listed(R"(^\s+(?:-[a-z],)?(--[a-z][a-z0-9-]*))");
+  std::set<std::string> out;
+  std::istringstream lines(help.out);
+  for (std::string line; std::getline(lines, line);) {
+    std::smatch match;
+    if (std::regex_search(line, match, listed) && match[1] != "--help") {
+      out.insert(match[1]);
+    }
+  }
+  return out;
+}
+
+TEST(CliDocs, TheReadmeSynopsisListsExactlyTheOptionsOfEachCommandsHelp) {
+  const auto documented = synopsis();
+  const std::set<std::string> commands{"calibrate", "observables", "solve",   "run",
+                                       "diff",      "check",       "showcase"};
+  std::set<std::string> seen;
+  for (const auto& [command, options] : documented) {
+    seen.insert(command);
+  }
+  EXPECT_EQ(seen, commands);
+  for (const std::string& command : commands) {
+    const std::set<std::string> helped = help_options(command);
+    const std::set<std::string>& readme_options =
+        documented.count(command) != 0 ? documented.at(command) : std::set<std::string>{};
+    EXPECT_FALSE(helped.empty()) << command;
+    for (const std::string& option : helped) {
+      EXPECT_EQ(readme_options.count(option), 1u)
+          << "pldamp " << command << " --help lists " << option << "; the README's synopsis does "
+          << "not";
+    }
+    for (const std::string& option : readme_options) {
+      EXPECT_EQ(helped.count(option), 1u) << "the README's synopsis gives pldamp " << command << " "
+                                          << option << "; its --help does not";
+    }
+  }
+}
+
+// Every `--code NAME` (or `--code A | B | C`, across lines) the README writes.
+std::set<std::string> readme_codes() {
+  const std::string text = readme();
+  static const std::regex code(R"(--code ([a-z][a-z0-9-]*(?:\s+\|\s+[a-z][a-z0-9-]*)*))");
+  std::set<std::string> out;
+  for (std::sregex_iterator it(text.begin(), text.end(), code), end; it != end; ++it) {
+    std::istringstream names((*it)[1].str());
+    for (std::string name; names >> name;) {
+      if (name != "|") {
+        out.insert(name);
+      }
+    }
+  }
+  return out;
+}
+
+TEST(CliDocs, EveryCodeTheReadmeNamesIsTakenByCalibrateAndListedInItsHelp) {
+  const std::set<std::string> codes = readme_codes();
+  EXPECT_GE(codes.size(), 10u); // the 7 conventions and LAMMPS's 3 velocity-dependent models
+  const CliRun help = run({"calibrate", "--help"});
+  const std::size_t at = help.out.find("--code");
+  ASSERT_NE(at, std::string::npos);
+  const std::string line = help.out.substr(at, help.out.find('\n', at) - at);
+  std::set<std::string> listed;
+  std::istringstream names(line.substr(line.rfind(": ") + 2));
+  for (std::string name; std::getline(names, name, '|');) {
+    listed.insert(name);
+  }
+  EXPECT_EQ(listed, codes) << line;
+  for (const std::string& name : codes) {
+    // Hertz: every code has a model at p = 1.5.
+    const CliRun r = run({"calibrate", "--code", name, "--p", "1.5", "--e", "0.5", "--json"});
+    EXPECT_EQ(r.code, 0) << name << ": " << r.err;
+    EXPECT_NE(r.out.find("\"code\": \"" + name + "\""), std::string::npos) << r.out;
+  }
+  const CliRun unknown = run({"calibrate", "--code", "ode45", "--p", "1.5", "--e", "0.5"});
+  EXPECT_EQ(unknown.err, "error: unknown --code, expected " + line.substr(line.rfind(": ") + 2) +
+                             " (got ode45)\n");
+}
+
+} // namespace
+} // namespace pldamp::harness
