@@ -25,14 +25,16 @@
 namespace {
 
 // A valid report (in a build with or without float128) with keys of records in corpus/report,
-// so that a fuzzed report's records are found, gone, newly failed or grown against it.
+// so that a fuzzed report's records are found, gone, newly failed or grown against it, and a
+// work-precision point checked against its records. (Its schema must be report_schema: a report
+// read_report refuses is compared with nothing.)
 constexpr std::string_view other_text = R"({
-  "schema": 1,
+  "schema": 2,
   "claims": [{"name": "seed Table II", "verdict": "holds"},
              {"name": "too tight", "verdict": "fails"}],
   "records": [
     {"key": "cvode-bdf rtol=1e-06 | p=1 e=0.9 v0=0.1 m=1 k=1", "precision": "double",
-     "outcome": "exited", "failed": false,
+     "config": "cvode-bdf rtol=1e-06", "p": 1, "outcome": "exited", "failed": false,
      "rel_error": {"e": 1e-06, "delta_max": 2e-07, "tau": null}},
     {"key": "taylor long | p=1.5 e=0.5 v0=1 m=1 k=1", "precision": "long",
      "outcome": "exited", "failed": false, "rel_error": {"e": 1e-19, "tau": 0}},
@@ -40,7 +42,12 @@ constexpr std::string_view other_text = R"({
      "precision": "double", "outcome": "exited", "failed": false, "rel_error": {"e": 0.1}},
     {"key": "verlet-predicted n=1000 | p=2.5 z=2 v0=10 m=1 k=1", "outcome": "no_exit",
      "failed": true, "rel_error": {}}
-  ]
+  ],
+  "budgets": {"work_precision": [
+    {"config": "cvode-bdf rtol=1e-06", "p": 1, "max_rel": 1e-06, "cells": 1, "skipped_cells": 0,
+     "cells_without": 0, "by_observable": {"e": {"max_rel": 1e-06, "cells_without": 0},
+                                           "tau": {"max_rel": null, "cells_without": 1}}}
+  ]}
 })";
 
 const nlohmann::json& other_report() {

@@ -33,7 +33,8 @@ TEST(Budgets, ArithmeticOnHandMadeRecords) {
   // Work at p = 2: the means over the four cells; the error the worst of all observables.
   EXPECT_DOUBLE_EQ(b.work[0][0].seconds, 3e-3);
   EXPECT_DOUBLE_EQ(b.work[0][0].rhs_evals, 250);
-  EXPECT_EQ(*b.work[0][0].error, 5e-4);
+  EXPECT_EQ(*b.work[0][0].worst_of_all.error, 5e-4);
+  EXPECT_EQ(*b.work[0][0].observables[1].error, 7e-6); // δ_max's own
   // The claim: largest absolute error 2.5e-4 under the bound 3e-4.
   ASSERT_EQ(b.claims.size(), 1u);
   EXPECT_TRUE(b.claims[0].holds);
@@ -81,6 +82,49 @@ TEST(Budgets, ABoundClaimOnTheRelativeErrorAtAQuantile) {
             "the 0.5 quantile of the relative error over the grid; margin = bound / measured");
   h.plan.scene.claims.front().quantile = 0.75; // the 3rd: 3e-6, above the bound
   EXPECT_FALSE(make_budgets(h.plan, h.records).claims[0].holds);
+}
+
+TEST(Budgets, AWorkPointPerObservableShowsItsOwnErrorAndCountsTheCellsWithout) {
+  HandMade h = energy_worse_than_e();
+  ASSERT_EQ(h.plan.observables.size(), 3u);
+  ASSERT_EQ(h.plan.observables[0]->key, "e");
+  ASSERT_EQ(h.plan.observables[2]->key, "energy_unload");
+  const Budgets b = make_budgets(h.plan, h.records);
+  ASSERT_EQ(b.work[0].size(), 1u);
+  const WorkPoint& w = b.work[0][0];
+  // e: the largest of its own errors (4e-9), not the energy's 5e-2; its third cell counted.
+  ASSERT_TRUE(w.observables[0].error);
+  EXPECT_EQ(*w.observables[0].error, 4e-9);
+  EXPECT_EQ(w.observables[0].cells_without, 1);
+  EXPECT_EQ(*w.observables[1].error, 2e-9);
+  EXPECT_EQ(*w.observables[2].error, 5e-2);
+  EXPECT_EQ(w.observables[2].cells_without, 0);
+  // The worst of all, as before: the energy's; every cell gave some observable.
+  EXPECT_EQ(*w.worst_of_all.error, 5e-2);
+  EXPECT_EQ(w.worst_of_all.cells_without, 0);
+  EXPECT_EQ(w.cells, 3);
+  EXPECT_DOUBLE_EQ(w.rhs_evals, 200); // (100 + 200 + 300) / 3
+  // The series shown by default: e, then the worst of all.
+  const std::vector<WorkPanel> panels = work_panels(h.plan);
+  ASSERT_EQ(panels.size(), 2u);
+  EXPECT_EQ(panels[0].key, "e");
+  EXPECT_EQ(&error_of(w, panels[0]), &w.observables[0]);
+  EXPECT_EQ(panels[1].key, "worst");
+  EXPECT_FALSE(panels[1].observable);
+  EXPECT_EQ(&error_of(w, panels[1]), &w.worst_of_all);
+
+  // A skipped record (an external solver's unsupported cell): no cost, no error, counted.
+  h.records[0].skip_reason = "unsupported";
+  const WorkPoint skipped = make_budgets(h.plan, h.records).work[0][0];
+  EXPECT_EQ(skipped.cells, 3);
+  EXPECT_EQ(skipped.skipped_cells, 1);
+  EXPECT_EQ(skipped.observables[0].cells_without, 2); // skipped, and the one without e
+  EXPECT_EQ(*skipped.observables[0].error, 4e-9);
+  EXPECT_EQ(skipped.observables[1].cells_without, 1);
+  EXPECT_EQ(*skipped.observables[1].error, 1e-9); // cell 0's 2e-9 not counted
+  EXPECT_EQ(skipped.worst_of_all.cells_without, 1);
+  EXPECT_DOUBLE_EQ(skipped.rhs_evals, 250); // (200 + 300) / 2
+  EXPECT_DOUBLE_EQ(skipped.seconds, 2.5e-3);
 }
 
 TEST(Budgets, NearestRankCountsNaNAsTheLargest) {

@@ -4,6 +4,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include <algorithm>
 #include <chrono>
 #include <csignal>
 #include <fstream>
@@ -66,16 +67,38 @@ TEST(EndToEnd, QuickSceneWritesEveryReportWithItsPlots) {
        at = html.str().find("<svg", at + 1)) {
     ++plots;
   }
-  // Per p: time and rhs evaluations in double, time in extended precision, and the time-step
-  // study of verlet-predicted's sweep in e, δ_max and τ; a map per configuration (18).
-  EXPECT_EQ(plots, 3u * 3u + 3u * 3u + 18u);
+  // Per p and work-precision series (e and the worst of all, by default): time and rhs
+  // evaluations in double, time in extended precision; per p the time-step study of
+  // verlet-predicted's sweep in e, δ_max and τ; a map per configuration (18).
+  EXPECT_EQ(plots, 2u * 3u * 3u + 3u * 3u + 18u);
   EXPECT_NE(html.str().find("seed Table II"), std::string::npos);
   EXPECT_EQ(html.str().find("nan"), std::string::npos);
   // The cost against the closed forms: a multiple in every work point and table.
+  // Per observable: its error, at most the worst of all's and equal to the largest of its
+  // records' at that configuration and p (recomputed here from the records).
+  std::map<std::pair<std::string, double>, std::map<std::string, double>> largest;
+  for (const auto& record : report["records"]) {
+    auto& of = largest[{record["config"].get<std::string>(), record["p"].get<double>()}];
+    for (const auto& [name, error] : record["rel_error"].items()) {
+      if (error.is_number()) {
+        of[name] = std::max(of[name], error.get<double>());
+      }
+    }
+  }
+  EXPECT_EQ(report["scene"]["work_precision"], nlohmann::ordered_json({"e", "worst"}));
   for (const auto& work : report["budgets"]["work_precision"]) {
     EXPECT_GT(work["x_analytic"].get<double>(), 1.0) << work["config"];
     EXPECT_NEAR(work["x_analytic"].get<double>(),
                 work["seconds"].get<double>() / work["analytic_seconds"].get<double>(), 1e-9);
+    EXPECT_EQ(work["cells"], 15); // 5 dampings × 3 v0
+    EXPECT_EQ(work["by_observable"].size(), 6u);
+    const auto& of = largest[{work["config"].get<std::string>(), work["p"].get<double>()}];
+    for (const auto& [name, point] : work["by_observable"].items()) {
+      if (point["max_rel"].is_number()) {
+        EXPECT_EQ(point["max_rel"].get<double>(), of.at(name)) << work["config"] << " " << name;
+        EXPECT_LE(point["max_rel"].get<double>(), work["max_rel"].get<double>());
+      }
+    }
   }
   for (const auto& point : report["budgets"]["analytic_double"]) {
     EXPECT_LT(point["seconds"].get<double>(), 1e-4) << point["damping"];
@@ -88,6 +111,9 @@ TEST(EndToEnd, QuickSceneWritesEveryReportWithItsPlots) {
     EXPECT_NE(page.find("How to read this report."), std::string::npos);
     EXPECT_NE(page.find("× analytic"), std::string::npos);
   }
+  EXPECT_NE(md.str().find("| p | configuration | rhs_evals / cell | µs / cell | × analytic | e | "
+                          "worst of all observables |"),
+            std::string::npos);
 }
 
 TEST(EndToEnd, PaperSceneReproducesTableTwoAndTheSixFigures) {

@@ -88,4 +88,41 @@ bound = 3e-4
   return h;
 }
 
+// A plan of p = 2, e = 0.5, v0 in {0.1, 1, 10}, wanting e and the energies (e, energy_load,
+// energy_unload), one configuration, with records made by hand: e within 4e-9, the energy of the
+// unloading (computed by balance, ill-conditioned) off by 5e-2, and the third cell without e (an
+// answer that left it out).
+inline HandMade energy_worse_than_e() {
+  const std::string path = write_file("energy.toml", R"(want = ["e", "energy"]
+[grid]
+p = [2.0]
+e = [0.5]
+v0 = [0.1, 1.0, 10.0]
+[[solver]]
+name = "cvode-bdf"
+rtol = 1e-8
+)");
+  HandMade h{make_plan(load_scene(path)), {}};
+  const std::optional<double> rel_e[] = {1e-9, 4e-9, std::nullopt};
+  const double rel_load[] = {2e-9, 1e-9, 1e-9}, rel_unload[] = {3e-3, 5e-2, 1e-3};
+  for (std::size_t cell = 0; cell < 3; ++cell) {
+    Record r;
+    r.cell = cell;
+    r.config = 0;
+    r.outcome = solvers::Outcome::exited;
+    r.rhs_evals = long(100 * (cell + 1));
+    r.wall_seconds = 1e-3 * double(cell + 1);
+    r.wall_seconds_slowest = r.wall_seconds;
+    r.value = {rel_e[cell] ? std::optional(0.5) : std::nullopt, 1.0, 0.25};
+    r.reference = {0.5, 1.0, 0.25};
+    r.rel_error = {rel_e[cell], rel_load[cell], rel_unload[cell]};
+    r.abs_error = {rel_e[cell] ? std::optional(*rel_e[cell] * 0.5) : std::nullopt, rel_load[cell],
+                   rel_unload[cell] * 0.25};
+    r.error = r.abs_error;
+    r.spread = {std::nullopt, std::nullopt, std::nullopt};
+    h.records.push_back(r);
+  }
+  return h;
+}
+
 } // namespace pldamp::harness::testing

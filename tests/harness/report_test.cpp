@@ -77,6 +77,94 @@ std::vector<std::string> lines_starting(const DiffResult& result, std::string_vi
   return out;
 }
 
+// The section of a Markdown report that starts with `heading`, up to the next "## ".
+std::string section(const std::string& markdown, const std::string& heading) {
+  const std::size_t start = markdown.find(heading);
+  if (start == std::string::npos) {
+    return "";
+  }
+  return markdown.substr(start, markdown.find("\n## ", start + 1) - start);
+}
+
+TEST(WorkPrecision, TheReportsShowEachChosenObservablesOwnError) {
+  HandMade h = energy_worse_than_e(); // e within 4e-9, energy_unload off by 5e-2
+  const RunTotals totals{600, 3, 1.0, {}};
+  {
+    const Budgets b = make_budgets(h.plan, h.records);
+    const nlohmann::ordered_json json = report_json({h.plan, h.records, b, totals, {}});
+    EXPECT_EQ(json.at("scene").at("work_precision"), nlohmann::ordered_json({"e", "worst"}));
+    const auto& point = json.at("budgets").at("work_precision").at(0);
+    EXPECT_EQ(point.at("config"), "cvode-bdf rtol=1e-08");
+    EXPECT_EQ(point.at("max_rel").get<double>(), 5e-2); // the worst of all, as schema 2 had it
+    EXPECT_EQ(point.at("cells"), 3);
+    EXPECT_EQ(point.at("skipped_cells"), 0);
+    EXPECT_EQ(point.at("cells_without"), 0);
+    const auto& e = point.at("by_observable").at("e");
+    EXPECT_EQ(e.at("max_rel").get<double>(), 4e-9);
+    EXPECT_EQ(e.at("cells_without"), 1);
+    EXPECT_EQ(point.at("by_observable").at("energy_unload").at("max_rel").get<double>(), 5e-2);
+
+    // report.md's table: cost (rhs_evals 200, 2000 µs per cell), then e's error with its cell
+    // without, then the worst of all.
+    const std::string table = section(report_markdown({h.plan, h.records, b, totals, {}}),
+                                      "## Work precision: cost against error, per p");
+    EXPECT_NE(table.find("| p | configuration | rhs_evals / cell | µs / cell | × analytic | e | "
+                         "worst of all observables |"),
+              std::string::npos)
+        << table;
+    const std::size_t row = table.find("| 2 | cvode-bdf rtol=1e-08 | 200 | 2000 | ");
+    ASSERT_NE(row, std::string::npos) << table;
+    const std::string line = table.substr(row, table.find('\n', row) - row);
+    EXPECT_TRUE(line.ends_with(" | 4e-09 (1 of 3 cells without) | 0.05 |")) << line;
+    // report.html: the same table, folded under the plots.
+    EXPECT_NE(report_html({h.plan, h.records, b, totals, {}}, "")
+                  .find("<td>4e-09 (1 of 3 cells without)</td><td>0.05</td>"),
+              std::string::npos);
+  }
+  // The scene's choice, in its order.
+  h.plan.scene.work_precision = {"energy_unload", "e"};
+  const Budgets b = make_budgets(h.plan, h.records);
+  EXPECT_EQ(report_json({h.plan, h.records, b, totals, {}}).at("scene").at("work_precision"),
+            nlohmann::ordered_json({"energy_unload", "e"}));
+  const std::string table = section(report_markdown({h.plan, h.records, b, totals, {}}),
+                                    "## Work precision: cost against error, per p");
+  EXPECT_NE(table.find("| × analytic | energy_unload | e |\n"), std::string::npos) << table;
+  EXPECT_NE(table.find(" | 0.05 | 4e-09 (1 of 3 cells without) |\n"), std::string::npos) << table;
+  // A key the plan does not compare (a scene made in code; load_scene refuses it) is refused.
+  h.plan.scene.work_precision = {"tau"};
+  EXPECT_THROW(work_panels(h.plan), InputError);
+}
+
+TEST(Diff, AWorkPointMustBeItsRecordsLargestAndAReportBeforeThemStillReads) {
+  const HandMade h = energy_worse_than_e();
+  const Budgets b = make_budgets(h.plan, h.records);
+  const RunTotals totals{600, 3, 1.0, {}};
+  const nlohmann::json report = report_json({h.plan, h.records, b, totals, {}});
+  EXPECT_EQ(diff_reports(report, report).regressions, 0);
+  // e's point showing the energy's error (the worst of all, as every point did before).
+  nlohmann::json wrong = report;
+  wrong["budgets"]["work_precision"][0]["by_observable"]["e"]["max_rel"] = 5e-2;
+  EXPECT_EQ(lines_starting(diff_reports(report, wrong), "REGRESSION"),
+            (std::vector<std::string>{
+                "REGRESSION work_precision_inconsistent | cvode-bdf rtol=1e-08 | e | 1 point | "
+                "point 0.05, its records' largest 4e-09 at p=2"}));
+  // A schema-2 report written before the points had observables: read, compared both ways.
+  nlohmann::json before = report;
+  for (auto& point : before["budgets"]["work_precision"]) {
+    for (const char* key : {"cells", "skipped_cells", "cells_without", "by_observable"}) {
+      point.erase(key);
+    }
+  }
+  EXPECT_NO_THROW(read_report(before.dump(), "before.json"));
+  for (const auto& [old_report, new_report] :
+       {std::pair<const nlohmann::json*, const nlohmann::json*>{&before, &report},
+        {&report, &before}}) {
+    const DiffResult result = diff_reports(*old_report, *new_report);
+    EXPECT_EQ(result.regressions, 0);
+    EXPECT_EQ(result.changes, 0);
+  }
+}
+
 TEST(Diff, SameReportHasNothingToSay) {
   const nlohmann::json report = hand_made_report();
   const DiffResult same = diff_reports(report, report);
@@ -124,6 +212,8 @@ TEST(Diff, EachInjectedRegressionIsOneGroupedLine) {
               " | record | 1 record | present -> missing at p=2 z=2 v0=10 m=1 k=1",
           "REGRESSION budget_inconsistent | " + config +
               " | delta_max | 1 budget | budget 1e-09, its records' largest 0.0003",
+          "REGRESSION work_precision_inconsistent | " + config +
+              " | delta_max | 1 point | point 7e-06, its records' largest 0.0003 at p=2",
           "REGRESSION analytic_grew | closed forms in double | e | 1 point | " + analytic_grew}));
   EXPECT_EQ(lines_starting(result, "CHANGE"),
             (std::vector<std::string>{
@@ -131,7 +221,7 @@ TEST(Diff, EachInjectedRegressionIsOneGroupedLine) {
                     " | rhs_evals | 1 record | 200 -> 210 (x1.05) at p=2 e=0.5 v0=10 m=1 k=1",
                 "CHANGE budget_fell | " + config +
                     " | delta_max | 1 budget | 7e-06 -> 1e-09 (x0.000143)"}));
-  EXPECT_EQ(result.lines.back(), "9 regressions, 2 changes");
+  EXPECT_EQ(result.lines.back(), "10 regressions, 2 changes");
   EXPECT_EQ(regressions(old_report, worse), lines_starting(result, "REGRESSION"));
 
   // Grouped: two records of one configuration and observable are one line, with the worse; every
@@ -140,6 +230,7 @@ TEST(Diff, EachInjectedRegressionIsOneGroupedLine) {
   twice["records"][0]["rel_error"]["delta_max"] = 3e-4; // 100x
   twice["records"][1]["rel_error"]["delta_max"] = 1e-3; // 1000x
   twice["budgets"]["worst"][1]["max_rel"] = 1e-3;
+  twice["budgets"]["work_precision"][0]["by_observable"]["delta_max"]["max_rel"] = 1e-3;
   DiffOptions verbose;
   verbose.verbose = true;
   EXPECT_EQ(
@@ -159,6 +250,7 @@ TEST(Diff, ThresholdsComeFromTheSceneAndFlagsOverrideThem) {
   nlohmann::json nine = old_report;
   nine["records"][1]["rel_error"]["delta_max"] = 9e-6; // 9x
   nine["budgets"]["worst"][1]["max_rel"] = 9e-6;
+  nine["budgets"]["work_precision"][0]["by_observable"]["delta_max"]["max_rel"] = 9e-6;
   EXPECT_EQ(diff_reports(old_report, nine).regressions, 0);
   nine["scene"]["diff"]["error_factor"] = 5;                // the new report's [diff]
   EXPECT_EQ(diff_reports(old_report, nine).regressions, 1); // the record (its budget grew 1.3x)
@@ -199,6 +291,7 @@ TEST(Diff, ADifferentSceneIsRefusedUnlessAllowedThenWhatChangedIsListed) {
   other["records"] = kept;
   other["scene"]["configs"].push_back(old_report["scene"]["configs"][0]);
   other["budgets"]["worst"][0]["max_rel"] = 2e-4; // e over the records kept
+  other["budgets"]["work_precision"][0]["by_observable"]["e"]["max_rel"] = 2e-4;
   EXPECT_THROW(diff_reports(old_report, other), InputError);
   DiffOptions allow;
   allow.allow_scene_change = true;
@@ -274,6 +367,7 @@ TEST(Diff, ThroughTheCommandLine) {
   nlohmann::json worse = old_report;
   worse["records"][0]["rel_error"]["delta_max"] = 3e-4;
   worse["budgets"]["worst"][1]["max_rel"] = 3e-4;
+  worse["budgets"]["work_precision"][0]["by_observable"]["delta_max"]["max_rel"] = 3e-4;
   const std::string a = write_file("old.json", old_report.dump());
   const std::string c = write_file("new.json", worse.dump());
   EXPECT_EQ(run({"diff", a, c}).code, 1);

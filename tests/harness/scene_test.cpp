@@ -81,6 +81,19 @@ v0 = [1.0]
        "m v0^2/2) (got 1e+300)"},
       {valid_scene + "[report]\nformats = []\n",
        "11: formats names no report format, expected some of json|csv|md|html"},
+      {valid_scene + "[report]\nwork_precision = []\n",
+       "11: work_precision names nothing, expected some of "
+       "e|delta_max|t_peak|tau|energy_load|energy_unload|worst"},
+      {valid_scene + "[report]\nwork_precision = [\"e\", \"energy\"]\n", // a want word
+       "11: work_precision names an observable the scene does not want, expected "
+       "e|delta_max|t_peak|tau|energy_load|energy_unload|worst (got energy)"},
+      {valid_scene + "[report]\nwork_precision = [\"e\", \"normal_force_max\"]\n",
+       "11: work_precision names an observable the scene does not want, expected "
+       "e|delta_max|t_peak|tau|energy_load|energy_unload|worst (got normal_force_max)"},
+      {valid_scene + "[report]\nwork_precision = [\"worst\", \"e\", \"worst\"]\n",
+       "11: work_precision names worst twice"},
+      {valid_scene + "[report]\nwork_precision = [\"e\", 1]\n",
+       "11: work_precision must be a string (got integer)"},
       {valid_scene + "[limits]\nmax_steps = 0\n",
        "11: max_steps must be an integer in [1, 1e12] (got 0)"},
       {valid_scene + "[limits]\nmax_seconds = -1\n",
@@ -185,6 +198,28 @@ v0 = [1.0]
   EXPECT_EQ(missing.code, 2);
   EXPECT_NE(missing.err.find("no-such.toml:0: cannot read the scene"), std::string::npos)
       << missing.err;
+}
+
+// [report] work_precision: the series of the work-precision diagrams and table, in the scene's
+// order; without it, e and the worst of all, or the one observable a scene wants alone.
+TEST(Scene, WorkPrecisionChoosesTheReportsSeries) {
+  const auto keys = [](const std::string& text) {
+    std::vector<std::string> out;
+    for (const WorkPanel& panel : work_panels(make_plan(load_scene(write_file("wp.toml", text))))) {
+      out.push_back(panel.key + (panel.observable ? "" : " (all)"));
+    }
+    return out;
+  };
+  using Keys = std::vector<std::string>;
+  EXPECT_EQ(keys(valid_scene), (Keys{"e", "worst (all)"}));
+  EXPECT_EQ(keys(valid_scene + "[report]\nwork_precision = [\"tau\", \"worst\", \"e\"]\n"),
+            (Keys{"tau", "worst (all)", "e"}));
+  EXPECT_EQ(keys(valid_scene + "[report]\nwork_precision = \"energy_unload\"\n"),
+            (Keys{"energy_unload"}));
+  const std::string grid = "[grid]\np = 1.5\ne = 0.5\nv0 = 1.0\n[[solver]]\nname = \"taylor\"\n";
+  EXPECT_EQ(keys("want = [\"tau\"]\n" + grid), (Keys{"tau"}));
+  EXPECT_EQ(keys("want = [\"e\"]\n" + grid), (Keys{"e"}));
+  EXPECT_EQ(keys("want = [\"tau\", \"delta_max\"]\n" + grid), (Keys{"worst (all)"}));
 }
 
 TEST(Scene, SweepsExpandIntoConfigurations) {

@@ -275,6 +275,41 @@ std::optional<double> worst_at(const Budgets& budgets, std::size_t config, std::
   return out;
 }
 
+std::vector<WorkPanel> work_panels(const Plan& plan) {
+  const auto index_of = [&](std::string_view key) -> std::optional<std::size_t> {
+    for (std::size_t o = 0; o < plan.observables.size(); ++o) {
+      if (plan.observables[o]->key == key) {
+        return o;
+      }
+    }
+    return std::nullopt;
+  };
+  std::vector<WorkPanel> panels;
+  for (const std::string& key : plan.scene.work_precision) {
+    const std::optional<std::size_t> observable = index_of(key);
+    if (!observable && key != worst_of_all_key) { // load_scene refuses it first
+      throw InputError("work_precision names an observable the scene does not want (got " + key +
+                       ")");
+    }
+    panels.push_back({observable, key});
+  }
+  if (!panels.empty()) {
+    return panels;
+  }
+  if (plan.observables.size() == 1) { // its own worst: the one series, by its name
+    return {{0, std::string(plan.observables.front()->key)}};
+  }
+  if (const std::optional<std::size_t> e = index_of("e")) {
+    panels.push_back({e, "e"});
+  }
+  panels.push_back({std::nullopt, std::string(worst_of_all_key)});
+  return panels;
+}
+
+const WorkError& error_of(const WorkPoint& point, const WorkPanel& panel) {
+  return panel.observable ? point.observables.at(*panel.observable) : point.worst_of_all;
+}
+
 bool last_of_its_solver(const Plan& plan, std::size_t config) {
   const std::size_t next = config + 1;
   return next == plan.configs.size() || plan.configs[next].line() != plan.configs[config].line();
@@ -295,17 +330,31 @@ Budgets make_budgets(const Plan& plan, const std::vector<Record>& records) {
   for (std::size_t c = 0; c < configs; ++c) {
     for (std::size_t i = 0; i < ps.size(); ++i) {
       budgets.work[c][i].p = ps[i];
+      budgets.work[c][i].observables.resize(observables);
     }
   }
   for (const Record& record : records) {
     budgets.failed_records += record.failed() ? 1 : 0;
-    if (record.skipped()) {
-      continue; // not run: no error, no cost
-    }
     const Cell& cell = plan.cells[record.cell];
     const double p = plan.points[cell.point].p;
     const auto p_index = static_cast<std::size_t>(std::find(ps.begin(), ps.end(), p) - ps.begin());
     WorkPoint& work = budgets.work[record.config][p_index];
+    ++work.cells;
+    bool any_error = false;
+    for (std::size_t o = 0; o < observables; ++o) {
+      const std::optional<double> error =
+          record.skipped() || o >= record.rel_error.size() ? std::nullopt : record.rel_error[o];
+      WorkError& of = work.observables[o];
+      of.cells_without += error ? 0 : 1;
+      raise(of.error, error);
+      raise(work.worst_of_all.error, error);
+      any_error = any_error || error.has_value();
+    }
+    work.worst_of_all.cells_without += any_error ? 0 : 1;
+    if (record.skipped()) {
+      ++work.skipped_cells;
+      continue; // not run: no error, no cost
+    }
     work.seconds += record.wall_seconds;
     work.analytic_seconds += plan.points[cell.point].analytic_seconds;
     work.rhs_evals += double(record.rhs_evals);
@@ -327,7 +376,6 @@ Budgets make_budgets(const Plan& plan, const std::vector<Record>& records) {
       }
       raise(worst.spread, record.spread[o]);
       raise(budgets.map[record.config][o][cell.point], record.rel_error[o]);
-      raise(work.error, record.rel_error[o]);
     }
   }
   for (Cost& cost : budgets.cost) {

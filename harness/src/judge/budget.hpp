@@ -29,13 +29,37 @@ struct Cost {
   RegimeCost underdamped, overdamped;
 };
 
+// A work-precision point's error: the largest relative error over the cells that gave one, and
+// how many cells gave none (failed, skipped, not measured, no truth): counted, never dropped.
+struct WorkError {
+  std::optional<double> error;
+  long cells_without = 0;
+};
+
 // What a solver configuration costs and achieves at one p: mean wall time and rhs_evals per
-// cell, and the largest relative error of any observable in any cell.
+// cell run, and per observable its largest relative error over the cells; and the worst of all
+// observables (its cells_without: the cells without a value of any observable). One ill-
+// conditioned observable (an energy by balance) dominates the worst of all: a user reads the
+// observable they care about (issue 27, part 10).
 struct WorkPoint {
   double p = 0, seconds = 0, rhs_evals = 0;
   double analytic_seconds = 0; // the closed forms' cost per cell in double, over the same cells
-  std::optional<double> error;
+  long cells = 0;              // the configuration's records at this p, skipped ones included
+  long skipped_cells = 0;      // not run: no cost, no error (counted in cells_without)
+  std::vector<WorkError> observables; // Plan::observables' order
+  WorkError worst_of_all;
 };
+
+// A series of the work-precision diagrams and table: one observable's errors, or the worst of
+// all (`observable` none; its key worst_of_all_key).
+struct WorkPanel {
+  std::optional<std::size_t> observable; // into Plan::observables
+  std::string key;
+};
+// The scene's [report] work_precision, in its order; by default e (when wanted) and the worst
+// of all, or the one observable a scene wants alone.
+std::vector<WorkPanel> work_panels(const Plan& plan);
+const WorkError& error_of(const WorkPoint& point, const WorkPanel& panel);
 
 // What a configuration costs as a multiple of the closed forms for the same cells and
 // observables: the mean over p of its time per cell, over the same mean of the closed forms'.

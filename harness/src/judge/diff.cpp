@@ -564,6 +564,53 @@ void compare_records(Findings& findings, const json& old_report, const json& new
   }
 }
 
+// budgets.work_precision: each point's error per observable is the largest of its records' at
+// its configuration and p (a point that shows another observable's error, or a stale one, is a
+// bug). A point without by_observable (a report before it) has nothing to check.
+void compare_work_points(Findings& findings, const json& new_report) {
+  namespace key = work_precision_key;
+  const auto point_key = [](const json& object, std::string_view config, std::string_view p) {
+    const std::optional<double> at = number_in(object, p);
+    return string_in(object, config) + "\x1f" + (at ? to_string_full(*at) : "?");
+  };
+  std::map<std::string, std::map<std::string, std::optional<double>>> largest;
+  for (const json& record : new_report.at("records")) {
+    auto& of = largest[point_key(record, "config", "p")];
+    for (const auto& [name, error] : record.at("rel_error").items()) {
+      std::optional<double>& slot = of[name];
+      if (error.is_number() && (!slot || error.get<double>() > *slot)) {
+        slot = error.get<double>();
+      }
+    }
+  }
+  for (const json& point : array_in(member_or_null(new_report, "budgets"), "work_precision")) {
+    const json& by_observable = member_or_null(point, key::by_observable);
+    if (!by_observable.is_object()) {
+      continue;
+    }
+    const auto records = largest.find(point_key(point, key::config, key::p));
+    for (const auto& [name, entry] : by_observable.items()) {
+      const std::optional<double> shown = number_in(entry, key::max_rel);
+      if (!shown) {
+        continue; // none, or not finite: as budgets.worst, nothing to compare
+      }
+      const std::optional<double> measured =
+          records == largest.end() || !records->second.contains(name) ? std::nullopt
+                                                                      : records->second.at(name);
+      if (measured != shown) {
+        const std::optional<double> p = number_in(point, key::p);
+        const std::string worst =
+            fmt::format("point {}, its records' largest {}", number_text(*shown),
+                        measured ? number_text(*measured) : "none");
+        const std::string cell = "p=" + (p ? to_string_full(*p) : "?");
+        findings.add({Severity::regression, "work_precision_inconsistent",
+                      string_in(point, key::config), name, "point", 1, worst, cell,
+                      worst + " at " + cell});
+      }
+    }
+  }
+}
+
 // budgets.worst: each configuration's largest error per observable, against the old report's,
 // and against the new report's own records (a budget that no longer matches them is a bug).
 void compare_budgets(Findings& findings, const json& old_report, const json& new_report,
@@ -624,6 +671,7 @@ void compare_budgets(Findings& findings, const json& old_report, const json& new
                     string_in(entry, "observable"), "budget", 1, worst, "", worst});
     }
   }
+  compare_work_points(findings, new_report);
   // The analytic layer in double against the truth, per (p, damping) and observable.
   const auto point_key = [](const json& point) {
     const std::optional<double> p = number_in(point, "p");

@@ -13,7 +13,8 @@
 //   time        per configuration, the sum of its records' fastest repeats: above time_factor a
 //               regression when the old sum is at least time_floor seconds (below it: noise)
 // and beyond the records: budgets.worst and the analytic layer's own budget like errors, a
-// budget that no longer matches its records (inconsistent), a claim whose verdict left the
+// budget or a work-precision point (per observable) that no longer matches its records
+// (inconsistent), a claim whose verdict left the
 // expected one, a claim's measured value that moved the wrong way (more than error_factor for an
 // error, 10 % for an order, gap or ratio) or disappeared, a search that no longer finds a value.
 //
@@ -47,6 +48,21 @@ namespace pldamp::harness {
 // The version of report.json (report/ writes it, diff reads it). 2: scene fingerprints and diff
 // thresholds, records' reference and signed error, cost per regime, searches.
 inline constexpr int report_schema = 2;
+
+// The keys of a point of report.json's budgets.work_precision (report/ writes them, diff reads
+// them). Schema 2 had config, solver, p, seconds, rhs_evals, analytic_seconds, x_analytic and
+// max_rel (the worst of all observables); extended compatibly by cells, skipped_cells,
+// cells_without (of any observable) and by_observable: per observable key, its max_rel and
+// cells_without. diff reads a point without them as before (nothing of them to check).
+namespace work_precision_key {
+inline constexpr const char* config = "config";
+inline constexpr const char* p = "p";
+inline constexpr const char* max_rel = "max_rel";
+inline constexpr const char* cells = "cells";
+inline constexpr const char* skipped_cells = "skipped_cells";
+inline constexpr const char* cells_without = "cells_without";
+inline constexpr const char* by_observable = "by_observable";
+} // namespace work_precision_key
 
 // The thresholds (scene/scene.hpp, DiffThresholds) come from the new report's scene (its [diff]
 // table, written into report.json), each overridden by its flag.

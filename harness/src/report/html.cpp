@@ -10,8 +10,7 @@
 // plots put double and the extended precisions on separate panels (their errors lie 15 decades
 // apart); error maps use a perceptually ordered sequential palette (viridis) with the exponent
 // printed in each cell.
-#include "common/process.hpp"
-#include "report/report.hpp"
+#include "report/html_parts.hpp"
 
 #include <fmt/format.h>
 
@@ -23,7 +22,24 @@
 #include <sstream>
 
 namespace pldamp::harness {
-namespace {
+namespace html {
+
+Gnuplot::Gnuplot(std::string program) : program_(std::move(program)) {
+  available_ = !program_.empty() && run_program({program_, "--version"}, "").succeeded();
+}
+
+std::string Gnuplot::svg(const std::string& script, int width, int height) const {
+  if (!available_) {
+    return "";
+  }
+  const std::string header = fmt::format(
+      "set terminal svg size {},{} fixed enhanced font 'sans,11' background rgb 'white'\n"
+      "set output\n",
+      width, height);
+  const ProgramRun run = run_program({program_}, header + script + "\n");
+  const auto start = run.out.find("<svg");
+  return run.succeeded() && start != std::string::npos ? run.out.substr(start) : "";
+}
 
 std::string escape(std::string_view text) {
   std::string out;
@@ -48,7 +64,6 @@ std::string escape(std::string_view text) {
   return out;
 }
 
-// A gnuplot single-quoted string: nothing inside is interpreted but '' for a quote.
 std::string gnuplot_string(std::string_view text) {
   std::string out = "'";
   for (const char c : text) {
@@ -56,37 +71,6 @@ std::string gnuplot_string(std::string_view text) {
   }
   return out + "'";
 }
-
-// gnuplot, started per plot; the SVG it writes on stdout, or "".
-class Gnuplot {
-public:
-  explicit Gnuplot(std::string program) : program_(std::move(program)) {
-    available_ = !program_.empty() && run_program({program_, "--version"}, "").succeeded();
-  }
-  bool available() const { return available_; }
-
-  std::string svg(const std::string& script, int width, int height) const {
-    if (!available_) {
-      return "";
-    }
-    const std::string header = fmt::format(
-        "set terminal svg size {},{} fixed enhanced font 'sans,11' background rgb 'white'\n"
-        "set output\n",
-        width, height);
-    const ProgramRun run = run_program({program_}, header + script + "\n");
-    const auto start = run.out.find("<svg");
-    return run.succeeded() && start != std::string::npos ? run.out.substr(start) : "";
-  }
-
-private:
-  std::string program_;
-  bool available_ = false;
-};
-
-struct Style {
-  std::string colour;
-  int marker, dash;
-};
 
 // Okabe & Ito's palette without yellow; gnuplot's filled markers, then the open ones.
 constexpr std::array<const char*, 7> colours{"#0072B2", "#D55E00", "#009E73", "#CC79A7",
@@ -98,14 +82,6 @@ Style style_of(std::size_t line) {
           int(1 + line / colours.size() % 4)};
 }
 
-// A solver's lines: configurations differing only in their sweep value (SolverConfig::line), in
-// sweep order, with the style of their first appearance in the scene.
-struct Line {
-  std::string name;
-  bool extended; // a precision wider than double
-  Style style;
-  std::vector<std::size_t> configs;
-};
 std::vector<Line> solver_lines(const Plan& plan) {
   std::vector<Line> lines;
   for (std::size_t c = 0; c < plan.configs.size(); ++c) {
@@ -121,110 +97,39 @@ std::vector<Line> solver_lines(const Plan& plan) {
   return lines;
 }
 
-// The closed forms in double at one p: their cost per cell and their worst representable error.
-struct ClosedForm {
-  double seconds = 0;
-  std::optional<double> error;
-};
-ClosedForm closed_form_at(const Plan& plan, std::size_t p_index) {
-  ClosedForm out;
-  long cells = 0;
-  const std::size_t dampings = plan.scene.damping.size();
-  for (const Cell& cell : plan.cells) {
-    if (cell.point / dampings == p_index) {
-      out.seconds += plan.points[cell.point].analytic_seconds;
-      ++cells;
-      const std::optional<double> error = analytic_worst(plan.points[cell.point]);
-      if (error && (!out.error || *error > *out.error)) {
-        out.error = error;
-      }
-    }
-  }
-  out.seconds /= double(std::max(cells, 1L));
-  return out;
-}
-
-enum class Axis { time, rhs_evals };
-
-// A plot's height with its legend below it, two entries a row: the plot keeps 400 pixels.
 int key_height(int entries) {
   return 400 + 18 * ((entries + 1) / 2);
 }
 
-// Error against time (or rhs evaluations) at one p, one line per solver of the chosen panel
-// (double or extended precision), with the closed forms as references: their cost per cell (a
-// vertical line, on time axes) and their own error in double (a horizontal line).
-std::string work_precision_plot(const Gnuplot& gnuplot, const RunReport& report,
-                                std::size_t p_index, Axis axis, bool extended) {
-  const Plan& plan = report.plan;
-  std::ostringstream script;
-  script << "set logscale xy\nset format y '10^{%L}'\nset format x '10^{%L}'\nset grid\n"
-         << "set key outside below left Left reverse maxcols 2 noenhanced\nset xlabel "
-         << (axis == Axis::time ? "'wall time per collision [s]'"
-                                : "'rhs evaluations per collision'")
-         << "\nset ylabel 'largest relative error'\nset title "
-         << gnuplot_string(fmt::format("p = {}, {}", plan.scene.p[p_index],
-                                       extended ? "extended precision" : "double precision"))
-         << " noenhanced\n";
-  std::string plot;
-  int block = 0;
-  // The ranges cover the data and the references (gnuplot would clip a reference outside).
-  double x_low = std::numeric_limits<double>::infinity(), x_high = 0, y_low = x_low, y_high = 0;
-  auto cover = [](double& low, double& high, double value) {
-    low = std::min(low, value);
-    high = std::max(high, value);
-  };
-  for (const Line& line : solver_lines(plan)) {
-    if (line.extended != extended) {
-      continue;
-    }
-    std::string data;
-    for (const std::size_t c : line.configs) {
-      const WorkPoint& w = report.budgets.work[c][p_index];
-      const double x = axis == Axis::time ? w.seconds : w.rhs_evals;
-      if (w.error && *w.error > 0 && std::isfinite(*w.error) && x > 0) {
-        data += fmt::format("{:.17g} {:.17g}\n", x, *w.error);
-        cover(x_low, x_high, x);
-        cover(y_low, y_high, *w.error);
-      }
-    }
-    if (data.empty()) {
-      continue;
-    }
-    script << "$d" << block << " << EOD\n" << data << "EOD\n";
-    plot += fmt::format("{}$d{} with linespoints lw 2 lc rgb '{}' pt {} ps 0.9 dt {} title {}",
-                        plot.empty() ? "plot " : ", ", block, line.style.colour, line.style.marker,
-                        line.style.dash, gnuplot_string(line.name));
-    ++block;
+std::string html_table(const MapTable& table, const std::string& css_class) {
+  std::string out = css_class.empty() ? "<table><tr>" : "<table class='" + css_class + "'><tr>";
+  for (const std::string& head : table.header) {
+    out += "<th>" + escape(head) + "</th>";
   }
-  if (block == 0) {
+  out += "</tr>\n";
+  for (const std::vector<std::string>& row : table.rows) {
+    out += "<tr>";
+    for (const std::string& entry : row) {
+      out += "<td>" + escape(entry) + "</td>";
+    }
+    out += "</tr>\n";
+  }
+  return out + "</table>\n";
+}
+
+std::string figure_html(const std::string& svg, const std::string& caption) {
+  if (svg.empty()) {
     return "";
   }
-  const ClosedForm closed = closed_form_at(plan, p_index);
-  const bool cost_line = axis == Axis::time && closed.seconds > 0;
-  const bool error_line = !extended && closed.error && *closed.error > 0;
-  if (cost_line) {
-    cover(x_low, x_high, closed.seconds);
-    script << fmt::format("set arrow from {0:.17g}, graph 0 to {0:.17g}, graph 1 nohead lw 1.5 "
-                          "lc rgb '#555555' dt 2 front\n"
-                          "set label 'closed forms' at {0:.17g}, graph 0.97 left offset 0.4,0 "
-                          "tc rgb '#555555' font ',9' noenhanced front\n",
-                          closed.seconds);
-  }
-  if (error_line) {
-    cover(y_low, y_high, *closed.error);
-    script << fmt::format("set arrow from graph 0, first {0:.17g} to graph 1, first {0:.17g} "
-                          "nohead lw 1.5 lc rgb '#555555' dt 3 front\n"
-                          "set label 'closed forms'' own error' at graph 0.02, first {0:.17g} "
-                          "offset 0,0.7 tc rgb '#555555' font ',9' noenhanced front\n",
-                          *closed.error);
-  }
-  // Half a decade of room on each side (a whole one above, for the labels).
-  script << fmt::format("set xrange [{:.17g}:{:.17g}]\nset yrange [{:.17g}:{:.17g}]\n", x_low / 3,
-                        x_high * 3, y_low / 3, y_high * 10);
-  script << plot << "\n";
-  return gnuplot.svg(script.str(), 640, key_height(block));
+  return "<figure>" + svg + (caption.empty() ? "" : "<figcaption>" + caption + "</figcaption>") +
+         "</figure>\n";
 }
+
+} // namespace html
+
+using namespace html;
+
+namespace {
 
 // The time-step study at one p, one observable: the worst error against Δt/τ per sweep, with
 // the seed's Δt_crit and the tangent-stiffness bound (as fractions of the undamped τ0) marked.
@@ -397,26 +302,6 @@ std::string figure_plot(const Gnuplot& gnuplot, const Figure& figure) {
   return gnuplot.svg(script.str(), 720, 440 + 17 * static_cast<int>(figure.series.size()));
 }
 
-// `css_class`: "wrap" for a table of text that wraps within the page (External solvers).
-std::string html_table(const MapTable& table, const std::string& css_class = "") {
-  std::string out = css_class.empty() ? "<table><tr>" : "<table class='" + css_class + "'><tr>";
-  for (const std::string& head : table.header) {
-    out += "<th>" + escape(head) + "</th>";
-  }
-  out += "</tr>\n";
-  for (const std::vector<std::string>& row : table.rows) {
-    out += "<tr>";
-    for (const std::string& entry : row) {
-      out += "<td>" + escape(entry) + "</td>";
-    }
-    out += "</tr>\n";
-  }
-  return out + "</table>\n";
-}
-
-// A <figure> holding an SVG, or nothing when gnuplot drew none.
-std::string figure_html(const std::string& svg, const std::string& caption = "");
-
 // The time-step study: the table a DEM user quotes, then error against Δt/τ per p.
 std::string step_study_html(const RunReport& report, const Gnuplot& gnuplot) {
   const Plan& plan = report.plan;
@@ -459,14 +344,6 @@ std::string step_study_html(const RunReport& report, const Gnuplot& gnuplot) {
   return out;
 }
 
-std::string figure_html(const std::string& svg, const std::string& caption) {
-  if (svg.empty()) {
-    return "";
-  }
-  return "<figure>" + svg + (caption.empty() ? "" : "<figcaption>" + caption + "</figcaption>") +
-         "</figure>\n";
-}
-
 } // namespace
 
 std::string report_html(const RunReport& report, const std::string& gnuplot_program) {
@@ -488,6 +365,8 @@ std::string report_html(const RunReport& report, const std::string& gnuplot_prog
          "details.map figure svg{max-width:none}"
          "details.map:not([open]){margin:0.2em 0.5em 0.2em 0}"
          "figure svg{display:block;max-width:100%;height:auto}"
+         // A caption wraps within its plot's width instead of widening the figure.
+         "figcaption{width:0;min-width:100%;font-size:0.9em}"
          "p.read{max-width:60em;line-height:1.4}"
          // The claim table's words wrap, left-aligned; its numbers stay on one line.
          "table.claims td{text-align:left;white-space:normal;vertical-align:top}"
@@ -539,17 +418,7 @@ std::string report_html(const RunReport& report, const std::string& gnuplot_prog
   const bool any_extended =
       std::any_of(plan.configs.begin(), plan.configs.end(),
                   [](const SolverConfig& c) { return c.precision != "double"; });
-  out << "<h2>Work-precision</h2>\n<p>Each line is a solver, each point one of its "
-         "configurations: the mean cost per cell against the largest relative error of any "
-         "observable at that p. The dashed grey lines are the closed forms: their time per cell "
-         "in double and their own error in double.</p>\n";
-  for (std::size_t i = 0; i < plan.scene.p.size(); ++i) {
-    out << figure_html(work_precision_plot(gnuplot, report, i, Axis::time, false))
-        << figure_html(work_precision_plot(gnuplot, report, i, Axis::rhs_evals, false));
-    if (any_extended) {
-      out << figure_html(work_precision_plot(gnuplot, report, i, Axis::time, true));
-    }
-  }
+  out << work_precision_html(report, gnuplot, any_extended);
   if (!budgets.searches.empty()) {
     out << "<h2>Searches: the loosest setting that keeps a bound</h2>\n"
         << html_table(search_table(report)) << "<p class='read'>"

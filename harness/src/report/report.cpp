@@ -16,13 +16,14 @@
 #include <sstream>
 
 namespace pldamp::harness {
-namespace {
 
 using nlohmann::ordered_json;
 
 ordered_json number_or_null(const std::optional<double>& x) {
   return x && std::isfinite(*x) ? ordered_json(*x) : ordered_json(nullptr);
 }
+
+namespace {
 
 // 64-bit FNV-1a of a text, in hex: a name for what a scene computes, not a security measure.
 std::string fingerprint(std::string_view text) {
@@ -346,6 +347,11 @@ ordered_json report_json(const RunReport& report) {
   scene["name"] = plan.scene.name;
   scene["path"] = plan.scene.path;
   scene["repeats"] = plan.scene.repeats;
+  // What the work-precision diagrams and report.md's table show (a choice of presentation: not
+  // in the fingerprint; budgets.work_precision has every observable).
+  for (const WorkPanel& panel : work_panels(plan)) {
+    scene["work_precision"].push_back(panel.key);
+  }
   scene["diff"] = {{"error_factor", plan.scene.diff.error_factor},
                    {"work_factor", plan.scene.diff.work_factor},
                    {"time_factor", plan.scene.diff.time_factor},
@@ -471,7 +477,7 @@ ordered_json report_json(const RunReport& report) {
                                {"groups", groups}});
   }
   ordered_json worst = ordered_json::array(), maps = ordered_json::array(),
-               work = ordered_json::array(), cost = ordered_json::array();
+               cost = ordered_json::array();
   for (std::size_t c = 0; c < plan.configs.size(); ++c) {
     const std::string label = plan.configs[c].label();
     ordered_json regimes{{"config", label}};
@@ -499,16 +505,6 @@ ordered_json report_json(const RunReport& report) {
       }
       maps.push_back(
           {{"config", label}, {"observable", plan.observables[o]->key}, {"max_rel", map}});
-    }
-    for (const WorkPoint& point : budgets.work[c]) {
-      work.push_back({{"config", label},
-                      {"solver", plan.configs[c].name},
-                      {"p", point.p},
-                      {"seconds", point.seconds},
-                      {"rhs_evals", point.rhs_evals},
-                      {"analytic_seconds", point.analytic_seconds},
-                      {"x_analytic", number_or_null(point.seconds / point.analytic_seconds)},
-                      {"max_rel", number_or_null(point.error)}});
     }
   }
   ordered_json analytic = ordered_json::array();
@@ -547,7 +543,7 @@ ordered_json report_json(const RunReport& report) {
                     {"maps", maps},
                     {"analytic_double", analytic},
                     {"cost_per_cell", cost},
-                    {"work_precision", work}};
+                    {"work_precision", work_precision_json(report)}};
   if (!budgets.steps.sweeps.empty()) {
     out["budgets"]["step_study"] = step_study_json(plan, budgets.steps);
   }
@@ -1001,6 +997,9 @@ std::string report_markdown(const RunReport& report) {
       << markdown_table(error_table(report)) << "\n## Cost per cell\n\n"
       << markdown_table(cost_table(report));
   out << "\n" << budget_table_note(plan) << "\n";
+  out << "\n## Work precision: cost against error, per p\n\n"
+      << markdown_table(work_precision_table(report)) << "\n"
+      << work_precision_note(plan) << "\n";
   if (!budgets.steps.sweeps.empty()) {
     out << step_study_markdown(plan, budgets.steps);
   }

@@ -1,8 +1,8 @@
 // A run's reports (DESIGN.md "Reports"), written into one folder:
 //   report.json  complete (schema, scene, totals, claims, budgets, records); the input of diff
 //   report.csv   one row per cell and solver configuration
-//   report.md    worst errors per observable and configuration, claim verdicts, the analytic
-//                layer's own budget; fit for a CI log
+//   report.md    worst errors per observable and configuration, claim verdicts, the
+//                work-precision table, the analytic layer's own budget; fit for a CI log
 //   report.html  self-contained: the tables and inline SVG plots drawn by gnuplot (error maps
 //                over p × α_eff, work-precision diagrams, the claim table); without gnuplot the
 //                plots are skipped and the page says so
@@ -41,6 +41,9 @@ inline constexpr std::string_view how_to_read =
     "is a configuration's time per cell as a multiple of the closed forms' time for the same "
     "observables in double. Every record (one cell, one configuration) is in report.json and "
     "report.csv; `pldamp diff OLD.json NEW.json` lists what regressed between two runs.";
+
+// A number for report.json: null when absent or not finite (JSON has no inf or NaN).
+nlohmann::ordered_json number_or_null(const std::optional<double>& x);
 
 // A number for a table: `digits` + 1 significant digits, "inf", or "–" when absent.
 std::string short_number(const std::optional<double>& x, int digits = 2);
@@ -120,6 +123,18 @@ MapTable trajectory_table(const RunReport& report);
 MapTable external_table(const RunReport& report);
 // What the two tables' columns mean, a paragraph under them.
 std::string budget_table_note(const Plan& plan);
+
+// Work precision (work_precision.cpp): report.json's budgets.work_precision, one point per
+// configuration and p with every observable's error and the worst of all; the table of
+// report.md (and report.html), one row per p and configuration, its cost and the error of each
+// series work_panels chooses, with the cells without a value counted; what its columns mean.
+nlohmann::ordered_json work_precision_json(const RunReport& report);
+MapTable work_precision_table(const RunReport& report);
+std::string work_precision_note(const Plan& plan);
+// "3.1e-07", "3.1e-07 (3 of 15 cells without)", "–".
+std::string work_error_text(const WorkError& error, long cells);
+// "e", or "worst of all observables".
+std::string work_panel_title(const WorkPanel& panel);
 
 // A record's identity across runs: "configuration | p=.. damping v0=.. m=.. k=.." (diff's key).
 std::string record_key(const Plan& plan, const Record& record);

@@ -145,6 +145,35 @@ unsigned read_want(const Reader& reader, const toml::node& node) {
   return want;
 }
 
+// [report] work_precision: observables the scene wants, or the worst of all, each once.
+std::vector<std::string> read_work_precision(const Reader& reader, const toml::node& node,
+                                             unsigned want) {
+  const std::vector<const Observable*> wanted = observables_of(want);
+  std::string words;
+  for (const Observable* observable : wanted) {
+    words += std::string(observable->key) + "|";
+  }
+  words += worst_of_all_key;
+  const std::vector<std::string> keys = reader.strings(node, "work_precision");
+  if (keys.empty()) {
+    reader.fail(node, "work_precision names nothing, expected some of " + words);
+  }
+  for (std::size_t i = 0; i < keys.size(); ++i) {
+    const std::string& key = keys[i];
+    if (key != worst_of_all_key &&
+        std::none_of(wanted.begin(), wanted.end(),
+                     [&](const Observable* observable) { return observable->key == key; })) {
+      reader.fail(node, "work_precision names an observable the scene does not want, expected " +
+                            words + " (got " + key + ")");
+    }
+    if (std::find(keys.begin(), keys.begin() + std::ptrdiff_t(i), key) !=
+        keys.begin() + std::ptrdiff_t(i)) {
+      reader.fail(node, "work_precision names " + key + " twice");
+    }
+  }
+  return keys;
+}
+
 // The solver (under `key`: name in [[solver]], solver in [[claim]] and [[figure]]), precision and
 // atol of an entry; tolerances and steps are the caller's.
 SolverConfig base_config(const Reader& reader, const toml::table& entry, const char* key,
@@ -1345,7 +1374,7 @@ Scene parse_scene(std::string_view text, const std::string& path) {
   }
   if (const toml::node* report = root.get("report")) {
     const toml::table& table = reader.table(*report, "[report]");
-    reader.only(table, {"formats"}, "[report]");
+    reader.only(table, {"formats", "work_precision"}, "[report]");
     if (const toml::node* formats = table.get("formats")) {
       scene.formats.clear();
       for (const std::string& name : reader.strings(*formats, "formats")) {
@@ -1360,6 +1389,9 @@ Scene parse_scene(std::string_view text, const std::string& path) {
         reader.fail(*formats,
                     "formats names no report format, expected some of " + names_of(report_formats));
       }
+    }
+    if (const toml::node* series = table.get("work_precision")) {
+      scene.work_precision = read_work_precision(reader, *series, scene.want);
     }
   }
   if (const toml::node* limits = root.get("limits")) {

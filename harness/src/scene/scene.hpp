@@ -41,7 +41,9 @@
 //     [[trajectory]] file (a CSV of t, delta and optionally v, F; the scene's folder's), label, p,
 //                 e or alpha or alpha_eff, v0, m, k (default 1), end: checked as `pldamp check`
 //     [[figure]]  kind (figures.hpp), solver, rtol, atol, p, e, alpha_eff: the seed's figures
-//     [report]    formats = ["json", "csv", "md", "html"]
+//     [report]    formats = ["json", "csv", "md", "html"]; work_precision = ["e", "worst"] (the
+//                 series of the work-precision diagrams and of report.md's table: observables the
+//                 scene wants, and "worst", the largest error of any; default: e and worst)
 //     [timing]    repeats = 3   (wall time of a run: the minimum over repeats)
 //     [diff]      error_factor = 10, work_factor = 1.5, time_factor = 2, time_floor = 0.005:
 //                 when `pldamp diff` calls a change a regression (judge/diff.hpp)
@@ -264,6 +266,10 @@ inline constexpr NameTable<ReportFormat, 4> report_formats{{{ReportFormat::json,
                                                             {ReportFormat::md, "md"},
                                                             {ReportFormat::html, "html"}}};
 
+// The word for the worst of all observables: in [report] work_precision, in report.json's
+// scene.work_precision, and as the report's series.
+inline constexpr std::string_view worst_of_all_key = "worst";
+
 // "overlap", "force".
 inline constexpr NameTable<solvers::End, 2> contact_ends{
     {{solvers::End::overlap, "overlap"}, {solvers::End::force, "force"}}};
@@ -298,6 +304,9 @@ struct Scene {
   std::vector<TrajectorySpec> trajectories;
   std::vector<ReportFormat> formats{ReportFormat::json, ReportFormat::csv, ReportFormat::md,
                                     ReportFormat::html};
+  // [report] work_precision: observable keys and worst_of_all_key, in the order shown; empty:
+  // the default (judge/budget.hpp, work_panels).
+  std::vector<std::string> work_precision;
   int repeats = 1;
   Limits limits;
   DiffThresholds diff;
