@@ -16,6 +16,7 @@ namespace pldamp::harness {
 namespace {
 
 using testing::CliRun;
+using testing::help_options;
 using testing::run;
 
 std::string readme() {
@@ -54,22 +55,6 @@ std::map<std::string, std::set<std::string>> synopsis() {
     if (!command.empty()) {
       const std::set<std::string> found = options_in(line);
       out[command].insert(found.begin(), found.end());
-    }
-  }
-  return out;
-}
-
-// The options a command's --help lists (its "Options:" lines), --help itself aside.
-std::set<std::string> help_options(const std::string& command) {
-  const CliRun help = run({command, "--help"});
-  EXPECT_EQ(help.code, 0) << command;
-  static const std::regex listed(R"(^\s+(?:-[a-z],)?(--[a-z][a-z0-9-]*))");
-  std::set<std::string> out;
-  std::istringstream lines(help.out);
-  for (std::string line; std::getline(lines, line);) {
-    std::smatch match;
-    if (std::regex_search(line, match, listed) && match[1] != "--help") {
-      out.insert(match[1]);
     }
   }
   return out;

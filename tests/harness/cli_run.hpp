@@ -3,6 +3,8 @@
 
 #include "pldamp/harness/cli.hpp"
 
+#include <regex>
+#include <set>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -34,6 +36,21 @@ inline std::string raw_number(const std::string& json, const std::string& key) {
   }
   const std::string rest = json.substr(at + quoted.size());
   return rest.substr(0, rest.find_first_of(",}"));
+}
+
+// The options a command's --help lists (its "Options:" lines), --help itself aside.
+inline std::set<std::string> help_options(const std::string& command) {
+  const CliRun help = run({command, "--help"});
+  static const std::regex listed(R"(^\s+(?:-[a-z],)?(--[a-z][a-z0-9-]*))");
+  std::set<std::string> out;
+  std::istringstream lines(help.out);
+  for (std::string line; std::getline(lines, line);) {
+    std::smatch match;
+    if (std::regex_search(line, match, listed) && match[1] != "--help") {
+      out.insert(match[1]);
+    }
+  }
+  return out;
 }
 
 } // namespace pldamp::harness::testing

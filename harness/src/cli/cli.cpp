@@ -224,6 +224,12 @@ int run_cli(int argc, const char* const* argv, std::ostream& out, std::ostream& 
       throw InputError(describe(e, app, arguments));
     }
     if (calibrate->parsed()) {
+      for (const char* option : {"--v0", "--m", "--k", "--speeds", "--reff"}) {
+        if (const CLI::Option* given = calibrate->get_option(option); given->count() > 0) {
+          calibrate_args.speed_options_given.push_back(std::string(option) + " " +
+                                                       CLI::detail::join(given->results(), ","));
+        }
+      }
       run_calibrate(calibrate_args, out);
     } else if (observables->parsed()) {
       run_observables(observables_args, out);

@@ -26,6 +26,9 @@ struct ContactArgs {
   // the effective radius that LAMMPS's damping entry is divided by.
   std::vector<std::string> speeds;
   std::string reff = "1";
+  // calibrate: the options above that only a velocity-dependent --code takes, as given ("--v0 3";
+  // the seed's α is scale-free: without such a code they would be ignored, so they are refused).
+  std::vector<std::string> speed_options_given;
 };
 
 // `pldamp solve`: the contact options plus the solver's.

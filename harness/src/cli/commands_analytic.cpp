@@ -278,6 +278,16 @@ void run_calibrate(const ContactArgs& args, std::ostream& out) {
       calibrate_velocity_dependent(args, *code, out);
       return;
     }
+  }
+  if (!args.speed_options_given.empty()) {
+    const std::string& given = args.speed_options_given.front();
+    throw InputError(given.substr(0, given.find(' ')) +
+                     " goes with a velocity-dependent --code (lammps-viscoelastic|"
+                     "lammps-hertz-history|lammps-mass-velocity): the seed's alpha for an e does "
+                     "not depend on v0, m or k (got " +
+                     given + ")");
+  }
+  if (args.code) {
 
     calibrate_for_code(args, out);
     return;
