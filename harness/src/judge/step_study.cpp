@@ -219,7 +219,9 @@ StepStudy make_step_study(const Plan& plan, const std::vector<Record>& records, 
     for (std::size_t pi = 0; pi < plan.points.size() && !stop_requested(); ++pi) {
       const Point& point = plan.points[pi];
       std::array<StepsNeeded, 3>& needed = sweep.by_point[pi];
-      if (point.overdamped || !point.no_truth.empty()) {
+      // Overdamped, a contact still returns under the force cap (e_cap > 0, MATH.md §4).
+      const bool returns = !point.overdamped || end_of(plan.scene, first) == solvers::End::force;
+      if (!returns || !point.no_truth.empty()) {
         for (StepsNeeded& each : needed) {
           each.returns = false; // no return, so no restitution to keep within a bound
         }
@@ -300,7 +302,8 @@ double step_study_runs_estimate(const Scene& scene) {
     }
     for (const double p : scene.p) {
       for (const Damping& damping : scene.damping) {
-        if (damping.kind == Damping::Kind::alpha_eff && damping.value >= 1) {
+        if (damping.kind == Damping::Kind::alpha_eff && damping.value >= 1 &&
+            end_of(scene, scene.configs[sweep.configs.front()]) == solvers::End::overlap) {
           continue; // overdamped: no return, no search (make_step_study)
         }
         runs += search_runs_estimate(study_search(scene, scene.configs, sweep, p, damping));
