@@ -248,7 +248,9 @@ std::map<std::string, double> truth_at(double p, double e, solvers::End end) {
   return {{"e", double(capped ? *x.e_cap : *x.e)},
           {"delta_max", double(*x.delta_max)},
           {"t_peak", double(*x.t_peak)},
-          {"tau", double(capped ? *x.t_cut : *x.tau)}};
+          {"tau", double(capped ? *x.t_cut : *x.tau)},
+          {"normal_force_max", double(*x.normal_force_max)},
+          {"t_normal_force_max", double(*x.t_normal_force_max)}};
 }
 
 // A velocity-Verlet loop at 50 steps per contact, judged under --tolerance: the observables
@@ -261,8 +263,10 @@ TEST(CheckCli, ToleranceJudgesEachObservableAndExitsOneOnAFailure) {
   const TrajectoryObservables x = measured(dump, contact);
   const std::map<std::string, double> truth = truth_at(1.5, 0.5, solvers::End::overlap);
   std::map<std::string, double> rel, rel_sampling;
-  for (const auto& [key, value] : {std::pair{"e", &x.e}, std::pair{"delta_max", &x.delta_max},
-                                   std::pair{"t_peak", &x.t_peak}, std::pair{"tau", &x.tau}}) {
+  for (const auto& [key, value] :
+       {std::pair{"e", &x.e}, std::pair{"delta_max", &x.delta_max}, std::pair{"t_peak", &x.t_peak},
+        std::pair{"tau", &x.tau}, std::pair{"normal_force_max", &x.normal_force_max},
+        std::pair{"t_normal_force_max", &x.t_normal_force_max}}) {
     rel[key] = std::abs(*value->value - truth.at(key)) / truth.at(key);
     rel_sampling[key] = value->sampling / truth.at(key);
     EXPECT_GT(rel[key], 1e-4) << key; // the loop's first-order errors
@@ -300,7 +304,8 @@ TEST(CheckCli, ToleranceJudgesEachObservableAndExitsOneOnAFailure) {
   std::sort(sorted.begin(), sorted.end());
   const double between = std::sqrt(sorted[1] * sorted[2]);
   std::string failing;
-  for (const char* key : {"e", "delta_max", "t_peak", "tau"}) {
+  for (const char* key :
+       {"e", "delta_max", "t_peak", "tau", "normal_force_max", "t_normal_force_max"}) {
     if (rel[key] > between || rel_sampling[key] > between) {
       failing += (failing.empty() ? "" : ", ") + std::string(key);
     }
@@ -344,7 +349,7 @@ TEST(CheckCli, ToleranceFailsWhatTheFileCannotShow) {
       run({"check", open, "--p", "1.5", "--e", "0.5", "--v0", "1", "--tolerance", "tau=1"});
   EXPECT_EQ(missing.code, 1);
   EXPECT_EQ(missing.out.substr(missing.out.rfind("\ntau ")),
-            fmt::format("\n{:<10} {:>9}  FAIL: the contact does not end within the series\nFAILED: "
+            fmt::format("\n{:<18} {:>9}  FAIL: the contact does not end within the series\nFAILED: "
                         "tau\n",
                         "tau", 1))
       << missing.out;
@@ -369,7 +374,8 @@ TEST(CheckCli, ToleranceFailsWhatTheFileCannotShow) {
 }
 
 TEST(CheckCli, ABadToleranceIsRefusedBeforeTheFileIsRead) {
-  const std::string expected = "e|delta_max|t_peak|tau=T,... with T > 0";
+  const std::string expected =
+      "e|delta_max|t_peak|tau|normal_force_max|t_normal_force_max=T,... with T > 0";
   for (const auto& [tolerance, message] : std::vector<std::pair<std::string, std::string>>{
            {"0", "a tolerance must be a finite number > 0 (got 0)"},
            {"-1e-3", "a tolerance must be a finite number > 0 (got -1e-3)"},
@@ -381,10 +387,10 @@ TEST(CheckCli, ABadToleranceIsRefusedBeforeTheFileIsRead) {
            {"e=1e-3,",
             "--tolerance takes a relative tolerance T or " + expected + " (got e=1e-3,)"},
            {"e=0", "a tolerance must be a finite number > 0 (got e=0)"},
-           {"speed=1e-3",
-            "unknown observable in --tolerance, expected e|delta_max|t_peak|tau (got speed)"},
-           {"e_cap=1e-3",
-            "unknown observable in --tolerance, expected e|delta_max|t_peak|tau (got e_cap)"},
+           {"speed=1e-3", "unknown observable in --tolerance, expected "
+                          "e|delta_max|t_peak|tau|normal_force_max|t_normal_force_max (got speed)"},
+           {"e_cap=1e-3", "unknown observable in --tolerance, expected "
+                          "e|delta_max|t_peak|tau|normal_force_max|t_normal_force_max (got e_cap)"},
            {"e=1e-3,tau", "--tolerance takes a relative tolerance T or " + expected + " (got tau)"},
            {"e=1e-3,e=1e-2", "--tolerance names an observable twice (got e)"}}) {
     const CliRun r = run({"check", "/no/such.csv", "--p", "1.5", "--e", "0.5", "--v0", "1",
@@ -396,8 +402,8 @@ TEST(CheckCli, ABadToleranceIsRefusedBeforeTheFileIsRead) {
   const CliRun force = run({"check", "/no/such.csv", "--p", "1.5", "--e", "0.5", "--v0", "1",
                             "--end", "force", "--tolerance", "e=1e-3"});
   EXPECT_EQ(force.err,
-            "error: unknown observable in --tolerance, expected e_cap|delta_max|t_peak|t_cut (got "
-            "e)\n");
+            "error: unknown observable in --tolerance, expected "
+            "e_cap|delta_max|t_peak|t_cut|normal_force_max|t_normal_force_max (got e)\n");
 }
 
 } // namespace

@@ -148,6 +148,42 @@ TEST(Trajectory, ConvergesWithinTheSamplingEstimateAtTheForceCut) {
   expect_converges(3.0, solvers::End::force, false, {1.8, 2.5, 1.5, 1.8}, 1.1);
 }
 
+// The peak of the total normal force read off the F column (or computed from v by the model's
+// law): within its sampling estimate, converging with the sampling; p = 1 at α_eff ≥ ½ peaks at the
+// onset (the dashpot's jump), read at the first row in contact (docs/MATH.md §3).
+TEST(Trajectory, TheNormalForcePeakConvergesWithinItsSamplingEstimate) {
+  for (const bool with_force : {true, false}) {
+    for (const double p : {1.5, 3.0}) {
+      const auto c = analytic::Contact<double>::from_e(p, 0.5, 1.0);
+      const double force = analytic::normal_force_max(c), time = analytic::t_normal_force_max(c);
+      ExtractOptions options{.v0 = 1};
+      options.force_law = ForceLaw{p, 1, 1, c.alpha()};
+      double first = 0, last = 0;
+      for (const int n : {40, 320}) {
+        for (const double phase : {0.1, 0.5, 0.85}) {
+          const TrajectoryObservables x =
+              extract_observables(sampled(p, 0.5, n, phase, true, with_force), options);
+          ASSERT_TRUE(x.normal_force_max.value && x.t_normal_force_max.value);
+          const double error = std::abs(*x.normal_force_max.value - force);
+          EXPECT_LE(error, x.normal_force_max.sampling) << p << " " << n << " " << phase;
+          EXPECT_LE(std::abs(*x.t_normal_force_max.value - time), x.t_normal_force_max.sampling)
+              << p << " " << n << " " << phase;
+          double& worst = n == 40 ? first : last;
+          worst = std::max(worst, error);
+        }
+      }
+      EXPECT_GE(std::log(first / last) / std::log(8.0), 1.9) << p; // second order, at least
+    }
+  }
+  const auto onset = analytic::Contact<double>::from_alpha_eff(1.0, 0.7, 1.0);
+  const TrajectoryObservables x = extract_observables(
+      testing::sampled_contact(onset, 80, 0.3, true, true), ExtractOptions{.v0 = 1});
+  ASSERT_TRUE(x.normal_force_max.value);
+  EXPECT_LE(std::abs(*x.normal_force_max.value - analytic::normal_force_max(onset)),
+            x.normal_force_max.sampling);
+  EXPECT_LT(*x.t_normal_force_max.value, x.t_normal_force_max.sampling + 1e-12);
+}
+
 TEST(Trajectory, ForceEndComputesFFromVWithTheForceLaw) {
   const auto contact = analytic::Contact<double>::from_e(1.5, 0.5, 1.0);
   ExtractOptions options{.v0 = 1, .end = solvers::End::force};
@@ -409,7 +445,7 @@ TEST(CheckScene, EachTrajectoryGivesWhatCheckGivesAndABadFileFailsOnlyItself) {
                           "--v0", "1", "--json"});
   ASSERT_EQ(cli.code, 0) << cli.err;
   const nlohmann::json json = nlohmann::json::parse(cli.out);
-  ASSERT_EQ(good.rows.size(), 4u);
+  ASSERT_EQ(good.rows.size(), 6u);
   for (const TrajectoryRow& row : good.rows) {
     ASSERT_TRUE(row.value && row.truth) << row.key;
     EXPECT_EQ(*row.value, json[row.key]["value"].get<double>()) << row.key;

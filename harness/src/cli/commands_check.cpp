@@ -15,7 +15,8 @@ namespace pldamp::harness {
 namespace {
 
 // The observables a file is judged on, in the table's order (overlap-end keys).
-constexpr std::array<const char*, 4> checked_keys{"e", "delta_max", "t_peak", "tau"};
+constexpr std::array<const char*, 6> checked_keys{"e",   "delta_max",        "t_peak",
+                                                  "tau", "normal_force_max", "t_normal_force_max"};
 
 struct Row {
   const Observable* observable;
@@ -55,12 +56,13 @@ Checked check(const ContactArgs& args, const std::string& path) {
   if (const std::optional<std::string> why = contradiction(c.x, stated)) {
     throw InputError(*why);
   }
-  const unsigned want =
-      solvers::want_e | solvers::want_delta_max | solvers::want_t_peak | solvers::want_tau;
+  const unsigned want = solvers::want_e | solvers::want_delta_max | solvers::want_t_peak |
+                        solvers::want_tau | solvers::want_normal_force;
   const analytic::Observables<Exact> closed =
       analytic::observables(c.contact, analytic_want_of(want, c.end));
-  const std::array<const Extracted*, checked_keys.size()> measured_of{&c.x.e, &c.x.delta_max,
-                                                                      &c.x.t_peak, &c.x.tau};
+  const std::array<const Extracted*, checked_keys.size()> measured_of{
+      &c.x.e,   &c.x.delta_max,        &c.x.t_peak,
+      &c.x.tau, &c.x.normal_force_max, &c.x.t_normal_force_max};
   for (std::size_t i = 0; i < checked_keys.size(); ++i) {
     const char* key = checked_keys[i];
     const Extracted* measured = measured_of[i];
@@ -191,7 +193,7 @@ std::string tolerance_text(const std::vector<Row>& rows, solvers::End end) {
   std::string out = "\njudged: |rel error| <= tolerance (and the sampling estimate too)\n";
   for (const Row& row : rows) {
     if (row.tolerance) {
-      out += fmt::format("{:<10} {:>9.3g}  {}\n", row.observable->key_at(end), *row.tolerance,
+      out += fmt::format("{:<18} {:>9.3g}  {}\n", row.observable->key_at(end), *row.tolerance,
                          row.failure.empty() ? "pass" : "FAIL: " + row.failure);
     }
   }
@@ -213,13 +215,13 @@ std::string text_of(const std::string& path, const TrajectoryColumns& columns,
                      double(contact.p()), double(contact.alpha()), double(contact.v0()),
                      double(contact.m()), double(contact.k()),
                      end == solvers::End::force ? "force" : "overlap", precision_name<Exact>());
-  out += fmt::format("{:<10} {:>16} {:>16} {:>10} {:>9}  {}\n", "observable", "measured", "truth",
+  out += fmt::format("{:<18} {:>16} {:>16} {:>10} {:>9}  {}\n", "observable", "measured", "truth",
                      "rel error", "sampling", "verdict");
   std::string why;
   for (const Row& row : rows) {
     const std::string key(row.observable->key_at(end));
     const SampledJudgement& j = row.judgement;
-    out += fmt::format("{:<10} {:>16} {:>16} {:>10} {:>9}  {}\n", key,
+    out += fmt::format("{:<18} {:>16} {:>16} {:>10} {:>9}  {}\n", key,
                        row.measured.value ? general(*row.measured.value) : "missing",
                        row.truth ? general(*row.truth) : "-",
                        j.relative_error ? fmt::format("{:+.2e}", *j.relative_error) : "-",

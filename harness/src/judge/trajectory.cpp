@@ -223,6 +223,29 @@ std::pair<double, double> hermite_peak(const Curve& delta, std::size_t i) {
   return {t_best, y_best};
 }
 
+// The largest total normal force and its time (absolute) over the contact's rows first .. last:
+// the vertex of the parabola through the largest sample and its neighbours, against the sample
+// itself (its sampling estimate). Largest at the first row (p = 1 and α_eff ≥ ½: the dashpot's
+// jump at the onset, MATH.md §3): that row, which a sampling one row finer could raise by the
+// change to the next.
+std::pair<Extracted, Extracted> force_peak_of(const Curve& force, std::size_t first,
+                                              std::size_t last) {
+  const auto i = static_cast<std::size_t>(
+      std::max_element(force.y.begin() + static_cast<std::ptrdiff_t>(first),
+                       force.y.begin() + static_cast<std::ptrdiff_t>(last + 1)) -
+      force.y.begin());
+  if (i == first || i == last) {
+    const std::size_t next = i == first ? std::min(i + 1, last) : i - 1;
+    return {Extracted{force.y[i], std::abs(force.y[i] - force.y[next]), {}},
+            Extracted{force.t[i], std::abs(force.t[i] - force.t[next]), {}}};
+  }
+  const std::pair<double, double> vertex =
+      vertex_of(force, i - 1).value_or(std::pair{force.t[i], force.y[i]});
+  return {
+      Extracted{vertex.second, floored(std::abs(vertex.second - force.y[i]), vertex.second), {}},
+      Extracted{vertex.first, floored(std::abs(vertex.first - force.t[i]), vertex.first), {}}};
+}
+
 // The largest overlap and its time (absolute), about the largest sample i. With v: the largest
 // value of the cubic Hermite pieces on both sides of it, against the parabola through the three
 // samples; without: that parabola's vertex, against the largest sample and against the vertex
@@ -482,6 +505,26 @@ TrajectoryObservables extract_observables(const TrajectoryColumns& columns,
     out.peak_force = missing(t_peak_absolute.missing);
   }
 
+  // The total normal force: the F column, else the model's law on δ and v.
+  std::vector<double> computed;
+  if (!columns.force && columns.v && options.force_law) {
+    computed.resize(n);
+    for (std::size_t i = 0; i < n; ++i) {
+      computed[i] = (*options.force_law)(delta[i], (*columns.v)[i]);
+    }
+  }
+  const std::vector<double>* force = columns.force      ? &*columns.force
+                                     : computed.empty() ? nullptr
+                                                        : &computed;
+  Extracted t_force_absolute;
+  if (force != nullptr) {
+    std::tie(out.normal_force_max, t_force_absolute) =
+        force_peak_of(Curve{t, *force, nullptr}, first, last);
+  } else {
+    out.normal_force_max = t_force_absolute =
+        missing("no F column, and no v column to compute F from");
+  }
+
   // End: δ crosses 0 downward after the contact's last row, or F crosses 0 after the peak.
   std::optional<std::size_t> end_at; // the interval [end_at, end_at + 1] holding the end
   if (options.end == solvers::End::overlap) {
@@ -497,22 +540,16 @@ TrajectoryObservables extract_observables(const TrajectoryColumns& columns,
       }
     }
   } else {
-    std::vector<double> computed;
+    if (force == nullptr) {
+      throw InputError("the force end needs an F column, or a v column to compute F from (got "
+                       "the columns t, delta)");
+    }
     if (!columns.force) {
-      if (!columns.v || !options.force_law) {
-        throw InputError("the force end needs an F column, or a v column to compute F from (got "
-                         "the columns t, delta)");
-      }
-      computed.resize(n);
-      for (std::size_t i = 0; i < n; ++i) {
-        computed[i] = (*options.force_law)(delta[i], (*columns.v)[i]);
-      }
       out.notes.push_back("F computed from delta and v by the model's force law");
     }
-    const std::vector<double>& force = columns.force ? *columns.force : computed;
-    const Curve total{t, force, nullptr};
+    const Curve total{t, *force, nullptr};
     for (std::size_t b = peak + 1; b < n; ++b) {
-      if (force[b] <= 0 && force[b - 1] > 0) {
+      if ((*force)[b] <= 0 && (*force)[b - 1] > 0) {
         end_at = b - 1;
         break;
       }
@@ -521,7 +558,7 @@ TrajectoryObservables extract_observables(const TrajectoryColumns& columns,
       out.end = missing("the force does not return to 0 after the peak within the series");
     } else {
       const std::size_t b = *end_at + 1;
-      const bool clamped = force[b] == 0 && b + 1 < n && force[b + 1] == 0;
+      const bool clamped = (*force)[b] == 0 && b + 1 < n && (*force)[b + 1] == 0;
       out.end = total.crossing(*end_at, std::nullopt, false, -1, clamped);
       if (clamped) {
         out.notes.push_back("F 0 on the rows after the cut (clamped): the cut is placed within a "
@@ -589,6 +626,7 @@ TrajectoryObservables extract_observables(const TrajectoryColumns& columns,
     return Extracted{*at.value - *out.start.value, at.sampling + out.start.sampling, {}};
   };
   out.t_peak = since_start(t_peak_absolute);
+  out.t_normal_force_max = since_start(t_force_absolute);
   out.tau = since_start(out.end);
   return out;
 }

@@ -84,6 +84,9 @@ struct Extracted {
 // Times are absolute (the file's clock) for start and end, relative to the start for t_peak, tau.
 struct TrajectoryObservables {
   Extracted e, delta_max, t_peak, tau;
+  // The peak of the total normal force (from an F column, else the model's law on δ and v) and
+  // its time from the start: the parabola through the largest sample and its neighbours.
+  Extracted normal_force_max, t_normal_force_max;
   Extracted start, end;            // the contact's start and end on the file's clock
   std::size_t contact_samples = 0; // rows with δ > 0 in the (first) contact
   std::vector<std::string> notes;  // what a reader should know: an ignored second contact, ...
