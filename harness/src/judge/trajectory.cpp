@@ -223,9 +223,33 @@ std::pair<double, double> hermite_peak(const Curve& delta, std::size_t i) {
   return {t_best, y_best};
 }
 
+// The largest value of the cubic through samples from .. from + 3, and where: golden-section
+// search over their span (the cubic is unimodal there about a sampled maximum).
+std::pair<double, double> cubic_peak(const Curve& curve, std::size_t from) {
+  const double* x = &curve.t[from];
+  const double* y = &curve.y[from];
+  // Newton's divided differences.
+  const double d01 = (y[1] - y[0]) / (x[1] - x[0]), d12 = (y[2] - y[1]) / (x[2] - x[1]),
+               d23 = (y[3] - y[2]) / (x[3] - x[2]);
+  const double d012 = (d12 - d01) / (x[2] - x[0]), d123 = (d23 - d12) / (x[3] - x[1]);
+  const double d0123 = (d123 - d012) / (x[3] - x[0]);
+  auto at = [&](double t) {
+    return y[0] + (t - x[0]) * (d01 + (t - x[1]) * (d012 + (t - x[2]) * d0123));
+  };
+  const double ratio = (std::sqrt(5.0) - 1) / 2;
+  double a = x[0], b = x[3];
+  for (int i = 0; i < 80; ++i) {
+    const double c = b - ratio * (b - a), d = a + ratio * (b - a);
+    (at(c) > at(d) ? b : a) = at(c) > at(d) ? d : c;
+  }
+  const double t = (a + b) / 2;
+  return {t, at(t)};
+}
+
 // The largest total normal force and its time (absolute) over the contact's rows first .. last:
-// the vertex of the parabola through the largest sample and its neighbours, against the sample
-// itself (its sampling estimate). Largest at the first row (p = 1 and α_eff ≥ ½: the dashpot's
+// the vertex of the parabola through the largest sample and its neighbours, against the peaks of
+// the cubics through four samples about it (one order higher: its sampling estimate; the sample
+// itself where there are not four). Largest at the first row (p = 1 and α_eff ≥ ½: the dashpot's
 // jump at the onset, MATH.md §3): that row, which a sampling one row finer could raise by the
 // change to the next.
 std::pair<Extracted, Extracted> force_peak_of(const Curve& force, std::size_t first,
@@ -239,11 +263,26 @@ std::pair<Extracted, Extracted> force_peak_of(const Curve& force, std::size_t fi
     return {Extracted{force.y[i], std::abs(force.y[i] - force.y[next]), {}},
             Extracted{force.t[i], std::abs(force.t[i] - force.t[next]), {}}};
   }
-  const std::pair<double, double> vertex =
-      vertex_of(force, i - 1).value_or(std::pair{force.t[i], force.y[i]});
-  return {
-      Extracted{vertex.second, floored(std::abs(vertex.second - force.y[i]), vertex.second), {}},
-      Extracted{vertex.first, floored(std::abs(vertex.first - force.t[i]), vertex.first), {}}};
+  const std::pair<double, double> sample{force.t[i], force.y[i]};
+  const std::pair<double, double> vertex = vertex_of(force, i - 1).value_or(sample);
+  // The cubics through four samples about the peak, the fourth before and after: the larger
+  // disagreement (one alone can agree with the parabola by accident: 36-fold too small at p = 3).
+  double t_spread = 0, y_spread = 0;
+  bool compared = false;
+  for (const std::size_t before : {1, 2}) { // samples before i among the four
+    if (i >= first + before && i - before + 3 <= last) {
+      const std::pair<double, double> cubic = cubic_peak(force, i - before);
+      t_spread = std::max(t_spread, std::abs(vertex.first - cubic.first));
+      y_spread = std::max(y_spread, std::abs(vertex.second - cubic.second));
+      compared = true;
+    }
+  }
+  if (!compared) {
+    t_spread = std::abs(vertex.first - sample.first);
+    y_spread = std::abs(vertex.second - sample.second);
+  }
+  return {Extracted{vertex.second, floored(y_spread, vertex.second), {}},
+          Extracted{vertex.first, floored(t_spread, vertex.first), {}}};
 }
 
 // The largest overlap and its time (absolute), about the largest sample i. With v: the largest
