@@ -7,7 +7,6 @@
 
 #include <fstream>
 #include <map>
-#include <regex>
 #include <set>
 #include <sstream>
 #include <string>
@@ -17,6 +16,7 @@ namespace {
 
 using testing::CliRun;
 using testing::help_options;
+using testing::options_in;
 using testing::run;
 
 std::string readme() {
@@ -24,15 +24,6 @@ std::string readme() {
   std::ostringstream text;
   text << in.rdbuf();
   return text.str();
-}
-
-std::set<std::string> options_in(const std::string& text) {
-  static const std::regex option(R"((?:^|[\s\[(|])(--[a-z][a-z0-9-]*))");
-  std::set<std::string> out;
-  for (std::sregex_iterator it(text.begin(), text.end(), option), end; it != end; ++it) {
-    out.insert((*it)[1]);
-  }
-  return out;
 }
 
 // The synopsis: the block of `pldamp <command> ...` lines (and their continuation lines) under
@@ -89,14 +80,19 @@ TEST(CliDocs, TheReadmeSynopsisListsExactlyTheOptionsOfEachCommandsHelp) {
 // Every `--code NAME` (or `--code A | B | C`, across lines) the README writes.
 std::set<std::string> readme_codes() {
   const std::string text = readme();
-  static const std::regex code(R"(--code ([a-z][a-z0-9-]*(?:\s+\|\s+[a-z][a-z0-9-]*)*))");
   std::set<std::string> out;
-  for (std::sregex_iterator it(text.begin(), text.end(), code), end; it != end; ++it) {
-    std::istringstream names((*it)[1].str());
-    for (std::string name; names >> name;) {
-      if (name != "|") {
-        out.insert(name);
+  for (std::size_t at = text.find("--code "); at != std::string::npos;
+       at = text.find("--code ", at + 7)) {
+    std::size_t next = at + 7;
+    for (std::string name = testing::name_at(text, next); !name.empty();) {
+      out.insert(name);
+      next += name.size();
+      const std::size_t bar = text.find_first_not_of(" \n", next);
+      if (bar == std::string::npos || text[bar] != '|') {
+        break;
       }
+      next = text.find_first_not_of(" \n", bar + 1);
+      name = next == std::string::npos ? "" : testing::name_at(text, next);
     }
   }
   return out;

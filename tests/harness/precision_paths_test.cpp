@@ -5,6 +5,8 @@
 // precision itself. And `observables --damping-exponent`, once silently the seed's answer, gives
 // the reference solve's.
 #include "cli_run.hpp"
+#include "fixtures.hpp"
+#include "sampled_trajectories.hpp"
 #include "support.hpp"
 
 #include "common/input.hpp"
@@ -95,6 +97,18 @@ TEST(PrecisionPaths, ThreeTenthsComesBackInEveryPrecisionOnEveryPath) {
           << c.name << " in " << precision << ": " << c.key << " = " << printed;
     });
   }
+}
+
+// `check` judges against the closed forms in float128 whatever the file: its inputs are parsed
+// there, so the truth of e = 0.3 is float128's 0.3 (through a double it would be 1.1e-17 off).
+TEST(PrecisionPaths, CheckParsesItsInputsInTheTruthsPrecision) {
+  const auto contact = analytic::Contact<double>::from_e(2.5, 0.3, 0.4);
+  const std::string file = testing::write_file(
+      "precision.csv", testing::csv_of(testing::sampled_contact(contact, 80, 0.3, true, false)));
+  const CliRun r = run({"check", file, "--p", "2.5", "--e", "0.3", "--v0", "0.4", "--json"});
+  ASSERT_EQ(r.code, 0) << r.err;
+  const std::string e = r.out.substr(r.out.find("\"e\": {"));
+  EXPECT_LE(epsilons_from_three_tenths<Exact>(testing::raw_number(e, "truth")), 16) << e;
 }
 
 // The α a solve prints is the α it ran with, in its own precision; a double solve prints double
