@@ -148,19 +148,19 @@ std::string columns_of(const TrajectoryColumns& c) {
   return std::string("t, delta") + (c.v ? ", v" : "") + (c.force ? ", F" : "");
 }
 
-Answer number_or_null(const std::optional<double>& value) {
+Answer exact_or_null(const std::optional<double>& value) {
   return value ? exact_number(*value) : Answer(nullptr);
 }
 
 Answer json_row(const Row& row) {
   Answer o;
-  o["value"] = number_or_null(row.measured.value);
+  o["value"] = exact_or_null(row.measured.value);
   o["sampling"] =
-      number_or_null(row.measured.value ? std::optional(row.measured.sampling) : std::nullopt);
+      exact_or_null(row.measured.value ? std::optional(row.measured.sampling) : std::nullopt);
   o["truth"] = row.truth ? exact_number(*row.truth) : Answer(nullptr);
-  o["error"] = number_or_null(row.judgement.error);
-  o["rel_error"] = number_or_null(row.judgement.relative_error);
-  o["rel_sampling"] = number_or_null(row.judgement.relative_sampling);
+  o["error"] = exact_or_null(row.judgement.error);
+  o["rel_error"] = exact_or_null(row.judgement.relative_error);
+  o["rel_sampling"] = exact_or_null(row.judgement.relative_sampling);
   if (row.judgement.explained) {
     o["verdict"] = verdict_name(row.judgement);
   } else {
@@ -276,8 +276,8 @@ int run_check(const CheckArgs& args, std::ostream& out) {
   o["rows"] = columns.t.size();
   o["columns"] = columns_of(columns);
   o["contact_samples"] = x.contact_samples;
-  o["t_start"] = number_or_null(x.start.value);
-  o["t_end"] = number_or_null(x.end.value);
+  o["t_start"] = exact_or_null(x.start.value);
+  o["t_end"] = exact_or_null(x.end.value);
   for (const Row& row : rows) {
     o[std::string(row.observable->key_at(end))] = json_row(row);
   }

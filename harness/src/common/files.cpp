@@ -13,16 +13,6 @@
 namespace pldamp::harness {
 namespace {
 
-// A file descriptor closed on every path out.
-struct Descriptor {
-  int fd = -1;
-  ~Descriptor() {
-    if (fd >= 0) {
-      ::close(fd);
-    }
-  }
-};
-
 // mkstemp on ".NAME.XXXXXX" beside `path`: O_CREAT | O_EXCL, mode 0600.
 // Throws InputError "`what` (reason)".
 std::string create_temporary(const std::filesystem::path& path, Descriptor& file,
@@ -35,14 +25,21 @@ std::string create_temporary(const std::filesystem::path& path, Descriptor& file
   name.append(".XXXXXX");
   std::vector<char> buffer(name.begin(), name.end());
   buffer.push_back('\0');
-  file.fd = ::mkstemp(buffer.data());
-  if (file.fd < 0) {
+  file.reset(::mkstemp(buffer.data()));
+  if (file.get() < 0) {
     throw InputError(what + " (" + std::strerror(errno) + ")");
   }
   return std::string(buffer.data());
 }
 
 } // namespace
+
+void Descriptor::reset(int fd) {
+  if (fd_ >= 0) {
+    ::close(fd_);
+  }
+  fd_ = fd;
+}
 
 void write_file_atomically(const std::filesystem::path& path, std::string_view content) {
   Descriptor file;
@@ -54,11 +51,11 @@ void write_file_atomically(const std::filesystem::path& path, std::string_view c
   // The permissions a new file of this user gets (mkstemp's are 0600).
   const mode_t mask = ::umask(0);
   ::umask(mask);
-  if (::fchmod(file.fd, 0666 & ~mask) != 0) {
+  if (::fchmod(file.get(), 0666 & ~mask) != 0) {
     fail(errno);
   }
   for (std::size_t done = 0; done < content.size();) {
-    const ssize_t n = ::write(file.fd, content.data() + done, content.size() - done);
+    const ssize_t n = ::write(file.get(), content.data() + done, content.size() - done);
     if (n < 0) {
       if (errno == EINTR) {
         continue;
@@ -67,11 +64,11 @@ void write_file_atomically(const std::filesystem::path& path, std::string_view c
     }
     done += static_cast<std::size_t>(n);
   }
-  if (::fsync(file.fd) != 0) {
+  if (::fsync(file.get()) != 0) {
     fail(errno);
   }
-  const int descriptor = file.fd;
-  file.fd = -1;
+  const int descriptor = file.get();
+  file.release();
   if (::close(descriptor) != 0) {
     fail(errno);
   }

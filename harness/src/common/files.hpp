@@ -9,6 +9,21 @@
 
 namespace pldamp::harness {
 
+// A file descriptor closed when it goes out of scope (files here, pipes in process.cpp).
+class Descriptor {
+public:
+  explicit Descriptor(int fd = -1) : fd_(fd) {}
+  Descriptor(const Descriptor&) = delete;
+  Descriptor& operator=(const Descriptor&) = delete;
+  ~Descriptor() { reset(); }
+  int get() const { return fd_; }
+  void release() { fd_ = -1; } // ownership passed on
+  void reset(int fd = -1);
+
+private:
+  int fd_;
+};
+
 // Throws InputError "cannot write PATH (reason)"; the temporary is removed on failure.
 void write_file_atomically(const std::filesystem::path& path, std::string_view content);
 

@@ -1,5 +1,7 @@
 #include "common/process.hpp"
 
+#include "common/files.hpp"
+
 #include <cerrno>
 #include <csignal>
 #include <ctime>
@@ -17,26 +19,6 @@ extern char** environ;
 
 namespace pldamp::harness {
 namespace {
-
-// A file descriptor closed when it goes out of scope.
-class Descriptor {
-public:
-  explicit Descriptor(int fd = -1) : fd_(fd) {}
-  Descriptor(const Descriptor&) = delete;
-  Descriptor& operator=(const Descriptor&) = delete;
-  ~Descriptor() { reset(); }
-  int get() const { return fd_; }
-  void release() { fd_ = -1; } // ownership passed on
-  void reset(int fd = -1) {
-    if (fd_ >= 0) {
-      ::close(fd_);
-    }
-    fd_ = fd;
-  }
-
-private:
-  int fd_;
-};
 
 // Both ends of a pipe, close-on-exec so the child keeps only what posix_spawn gives it.
 bool make_pipe(Descriptor& read_end, Descriptor& write_end) {
