@@ -1,5 +1,5 @@
-// The CLI contract of DESIGN.md, run in-process: JSON keys and digits, the force end, and every
-// kind of bad input producing one "error: <what> (got <value>)" line and exit code 2.
+// The CLI contract (docs/design.md §7), run in-process: JSON keys and digits, the force end, and
+// every kind of bad input producing one "error: <what> (got <value>)" line and exit code 2.
 #include "cli_run.hpp"
 #include "pldamp/analytic.hpp"
 

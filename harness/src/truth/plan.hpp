@@ -1,8 +1,8 @@
 // The plan of a scene: its cells (grid points), its solver configurations (the sweeps, plus any
 // claim configuration not among them), the observables to compare, and the reference truth.
 //
-// Reference truth is the analytic layer in the Exact precision (float128; DESIGN.md) or, for a
-// damping exponent other than the seed's, taylor in Exact (reference_solve.hpp), computed
+// Reference truth is the analytic layer in the Exact precision (float128; docs/design.md §3) or,
+// for a damping exponent other than the seed's, taylor in Exact (reference_solve.hpp), computed
 // once per (p, damping) at v0 = m = k = 1 and scaled to each cell by the observable's dimension:
 // lengths by (m v0²/k)^(1/(p+1)), times by that over v0, energies by m v0² (MATH.md §7; e is
 // scale-free). Only the wanted observables are computed, so no time quadrature runs unless t_peak

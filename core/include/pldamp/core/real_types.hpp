@@ -1,4 +1,4 @@
-// The real types pldamp supports, in one list (convention 1 of DESIGN.md).
+// The real types pldamp supports, in one list (docs/design.md §8, convention 1).
 //
 // PLDAMP_FOR_EACH_PRECISION is that list: double, long double, boost::multiprecision::float128
 // when PLDAMP_WITH_QUAD is on (the default; it needs GCC's __float128 and -std=gnu++20), and

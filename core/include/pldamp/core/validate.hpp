@@ -1,5 +1,5 @@
-// Validation at the API boundary (convention 4 of DESIGN.md): every public entry point checks its
-// arguments and throws std::invalid_argument whose message names the parameter and prints the
+// Validation at the API boundary (docs/design.md §8, convention 4): every public entry point checks
+// its arguments and throws std::invalid_argument whose message names the parameter and prints the
 // offending value at full precision, e.g. "p must be >= 1 (got 0.5)". The CLI prints that message
 // after "error: " and exits 2.
 #pragma once

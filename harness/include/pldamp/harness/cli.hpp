@@ -1,4 +1,4 @@
-// The `pldamp` command line (DESIGN.md "CLI contract"), callable in-process so tests can check
+// The `pldamp` command line (docs/design.md §7), callable in-process so tests can check
 // outputs and exit codes: 0 success, 2 bad input (one line "error: <what> (got <value>)" on
 // `err`), 3 an internal failure (a non-finite result where a finite one was due).
 #pragma once

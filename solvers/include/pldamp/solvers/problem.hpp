@@ -1,4 +1,4 @@
-// The solver interface (DESIGN.md "Solver interface"): what to integrate (Problem), what to compute
+// The solver interface (docs/design.md §4): what to integrate (Problem), what to compute
 // and how (Options), what came out (Result). Every solver in the registry takes and returns these.
 //
 // The equation is MATH.md §1 in physical time, with the damping exponent β of MATH.md §12,
