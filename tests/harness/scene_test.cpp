@@ -249,7 +249,7 @@ bound = 1e-2
 )");
   const Plan plan = make_plan(load_scene(with_claim));
   ASSERT_EQ(plan.configs.size(), 3u);
-  EXPECT_EQ(plan.scene.claims[0].config, plan.configs[2]);
+  EXPECT_EQ(std::get<BoundClaim>(plan.scene.claims[0].kind).config, plan.configs[2]);
   const CliRun no_folder = run({"run", with_claim, "--out", "/proc/pldamp-report"});
   EXPECT_EQ(no_folder.code, 2);
   EXPECT_EQ(no_folder.err.rfind("error: cannot create the report folder", 0), 0u) << no_folder.err;
