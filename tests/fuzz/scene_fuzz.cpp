@@ -30,6 +30,7 @@
 #include <stdexcept>
 #include <string>
 #include <string_view>
+#include <variant>
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   // load_scene refuses a larger file before parsing it.
@@ -49,7 +50,13 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
       (void)config.line();
     }
     for (const pldamp::harness::Claim& claim : scene.claims) {
-      (void)claim.config.label();
+      std::visit(
+          [](const auto& stated) {
+            if constexpr (requires { stated.config; }) {
+              (void)stated.config.label();
+            }
+          },
+          claim.kind);
     }
     for (const pldamp::harness::FigureSpec& figure : scene.figures) {
       (void)figure.config.label();

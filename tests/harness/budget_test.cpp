@@ -69,10 +69,11 @@ TEST(Budgets, NameTheirWorstCellAndSplitCostByRegime) {
 TEST(Budgets, ABoundClaimOnTheRelativeErrorAtAQuantile) {
   HandMade h = hand_made();
   Claim claim = h.plan.scene.claims.front();
-  claim.observable = "delta_max";
-  claim.relative = true;
-  claim.quantile = 0.5; // nearest rank: the 2nd smallest of {3e-6, 1e-6, 7e-6, 2e-6}
-  claim.bound = 2.5e-6;
+  BoundClaim& bound = std::get<BoundClaim>(claim.kind);
+  bound.observable = "delta_max";
+  bound.error.relative = true;
+  bound.error.quantile = 0.5; // nearest rank: the 2nd smallest of {3e-6, 1e-6, 7e-6, 2e-6}
+  bound.error.bound = 2.5e-6;
   h.plan.scene.claims = {claim};
   const Budgets b = make_budgets(h.plan, h.records);
   EXPECT_EQ(b.claims[0].measured, 2e-6);
@@ -80,7 +81,7 @@ TEST(Budgets, ABoundClaimOnTheRelativeErrorAtAQuantile) {
   EXPECT_EQ(b.claims[0].worst, "p = 2, alpha_eff = 2, v0 = 10, m = 1, k = 1");
   EXPECT_EQ(b.claims[0].meaning,
             "the 0.5 quantile of the relative error over the grid; margin = bound / measured");
-  h.plan.scene.claims.front().quantile = 0.75; // the 3rd: 3e-6, above the bound
+  std::get<BoundClaim>(h.plan.scene.claims.front().kind).error.quantile = 0.75; // the 3rd: 3e-6
   EXPECT_FALSE(make_budgets(h.plan, h.records).claims[0].holds);
 }
 

@@ -356,7 +356,7 @@ TEST(Claims, ABoundClaimOnAGridOfItsOwnIsSolvedForItAlone) {
                            "v0 = [1.0]\n" +
                            claim;
   const Scene scene = parse_scene(text, "own.toml");
-  ASSERT_TRUE(scene.claims[0].own_grid);
+  ASSERT_TRUE(std::get<BoundClaim>(scene.claims[0].kind).own_grid);
   const Plan plan = make_plan(scene);
   EXPECT_EQ(plan.configs.size(), 1u); // the claim's rtol = 1e-7 is not run on the scene's grid
   RunTotals totals;
@@ -372,8 +372,9 @@ TEST(Claims, ABoundClaimOnAGridOfItsOwnIsSolvedForItAlone) {
           analytic::Contact<Exact>::from_e(Exact(p), Exact(e), Exact(1)).alpha());
       const Exact truth = analytic::restitution(
           analytic::Contact<Exact>::from_alpha(Exact(p), Exact(alpha), Exact(1)));
-      const double solved =
-          *solve_once(scene.claims[0].config, {p, alpha}, solvers::want_e, scene.limits).e;
+      const double solved = *solve_once(std::get<BoundClaim>(scene.claims[0].kind).config,
+                                        {p, alpha}, solvers::want_e, scene.limits)
+                                 .e;
       largest = std::max(largest, static_cast<double>(abs(Exact(solved) - truth)));
     }
   }

@@ -200,6 +200,43 @@ v0 = [1.0]
       << missing.err;
 }
 
+// A value's own refusal names its line once (a [[trajectory]]'s was caught by the domain checks
+// and prefixed again with the entry's line); the domain's own refusals name the entry. Figures
+// check p as [grid] does (core/domain.hpp), a relation's tolerance says the range it checks, and a
+// search's observable is refused with the observables the scene wants, as a claim's is.
+TEST(Scene, RefusalsOfTrajectoriesFiguresAndTolerances) {
+  const std::string file = write_file("refusals.csv", "t,delta\n0,0\n");
+  const auto refusal = [](const std::string& text) {
+    const std::string path = write_file("refusals.toml", text);
+    try {
+      load_scene(path);
+    } catch (const SceneError& e) {
+      return std::string(e.what()).substr(path.size() + 1);
+    }
+    return std::string("no error");
+  };
+  const std::string trajectory =
+      "[grid]\np = 1.5\ne = 0.5\nv0 = 1.0\n[[trajectory]]\nfile = \"refusals.csv\"\np = 1.5\n"
+      "e = 0.5\n";
+  EXPECT_EQ(refusal(trajectory + "v0 = \"x\"\n"), "9: v0 must be a number (got string)");
+  EXPECT_EQ(refusal(trajectory + "v0 = 0.0\n"), "5: v0 must be in [1e-30, 1e30] (got 0)");
+  EXPECT_EQ(refusal(valid_scene + "[[figure]]\nkind = \"alpha_vs_e\"\nsolver = \"arkode-dp5\"\n"
+                                  "p = [1.5, 1001.0]\ne = 0.5\n"),
+            "13: p must be in [1, 1000] (got 1001)");
+  const std::string relation = valid_scene + "[[claim]]\nname = \"c\"\nkind = \"relation\"\n"
+                                             "of = \"truth\"\nquantity = \"e\"\nformula = "
+                                             "\"seed_restitution\"\nrelation = \"equal_within\"\n";
+  EXPECT_EQ(refusal(relation + "tolerance = -1\n"), "17: tolerance must be in [0, 1e300) (got -1)");
+  EXPECT_EQ(refusal(relation + "tolerance = 1e300\n"),
+            "17: tolerance must be in [0, 1e300) (got 1e+300)");
+  EXPECT_EQ(refusal(relation + "tolerance = 0.5\n"), "no error");
+  // A search's observable is refused as a claim's is, naming those the scene wants.
+  EXPECT_EQ(refusal("want = [\"e\", \"tau\"]\n" + valid_scene.substr(valid_scene.find("[grid]")) +
+                    "[[search]]\nname = \"s\"\nsolver = \"cvode-bdf\"\nparameter = \"rtol\"\n"
+                    "range = [1e-8, 1e-3]\nobservable = \"delta_max\"\nbound = 1e-3\n"),
+            "14: search observable must be one the scene wants: e|tau (got delta_max)");
+}
+
 // [report] work_precision: the series of the work-precision diagrams and table, in the scene's
 // order; without it, e and the worst of all, or the one observable a scene wants alone.
 TEST(Scene, WorkPrecisionChoosesTheReportsSeries) {
@@ -249,7 +286,7 @@ bound = 1e-2
 )");
   const Plan plan = make_plan(load_scene(with_claim));
   ASSERT_EQ(plan.configs.size(), 3u);
-  EXPECT_EQ(plan.scene.claims[0].config, plan.configs[2]);
+  EXPECT_EQ(std::get<BoundClaim>(plan.scene.claims[0].kind).config, plan.configs[2]);
   const CliRun no_folder = run({"run", with_claim, "--out", "/proc/pldamp-report"});
   EXPECT_EQ(no_folder.code, 2);
   EXPECT_EQ(no_folder.err.rfind("error: cannot create the report folder", 0), 0u) << no_folder.err;

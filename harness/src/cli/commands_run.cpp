@@ -15,7 +15,9 @@
 #include <optional>
 #include <sstream>
 #include <thread>
+#include <type_traits>
 #include <unistd.h>
+#include <variant>
 
 namespace pldamp::harness {
 namespace {
@@ -107,48 +109,64 @@ double claim_grid_cells(const ClaimGrid& grid) {
          double(grid.m.size()) * double(grid.k.size());
 }
 
+// The solver runs of a claim judged on cells of its own, at what each costs per cell
+// (claims.hpp): a bound on a solver over a grid of its own, or ten times denser, solved for it
+// alone; a solve or two per cell of a solver's relation (a closed-form evaluation, of about a
+// solve's cost, for the truth's), a bisection (about 20 solves) for a recovered α, a scan and
+// bisection (about 40) for a largest stable step.
+double claim_runs(const Claim& claim) {
+  const auto over = [&](auto&& cells) {
+    return cells(claim.grid) + (claim.denser ? cells(denser_grid(claim.grid)) : 0);
+  };
+  const auto solves_over = [&](double solves) { return solves * over(claim_grid_cells); };
+  // τ(α)/τ(0) of a solver: two solves.
+  const auto solves_of = [](const MeasuredQuantity& of) {
+    return of.solver && of.quantity == Quantity::tau_ratio ? 2.0 : 1.0;
+  };
+  return std::visit(
+      [&](const auto& stated) -> double {
+        using Kind = std::decay_t<decltype(stated)>;
+        if constexpr (std::is_same_v<Kind, BoundClaim>) {
+          return stated.config.onset_phases *
+                 ((stated.own_grid ? claim_grid_cells(claim.grid) : 0) +
+                  (claim.denser ? claim_grid_cells(denser_grid(claim.grid)) : 0));
+        } else if constexpr (std::is_same_v<Kind, ConventionClaim>) {
+          return 0; // closed forms
+        } else if constexpr (std::is_same_v<Kind, RelationClaim>) {
+          return solves_over(solves_of(stated.of));
+        } else if constexpr (std::is_same_v<Kind, AsymptoticClaim>) {
+          return solves_of(stated.of) *
+                 over([&](const ClaimGrid& grid) { return double(grid.p.size()) * stated.points; });
+        } else if constexpr (std::is_same_v<Kind, RecoveredParameterClaim>) {
+          return solves_over(20);
+        } else {
+          return solves_over(40);
+        }
+      },
+      claim.kind);
+}
+
 // The solver runs a scene asks for: cells × (each configuration's onset phases) × repeats, claim
-// configurations included; and the claims judged on grids of their own, at what each costs per
-// cell (claims.hpp): a solve or two per cell of a solver's relation (a closed-form evaluation,
-// of about a solve's cost, for the truth's), a bisection (about 20 solves) for a recovered α, a
-// scan and bisection (about 40) for a largest stable step.
+// configurations included; and the claims judged on grids of their own (claim_runs).
 double planned_runs(const Scene& scene) {
   double per_cell = 0;
   for (const SolverConfig& config : scene.configs) {
     per_cell += config.onset_phases;
   }
-  double claim_runs = 0;
+  double claim_solves = 0;
   for (const Claim& claim : scene.claims) { // a configuration of its own, as make_plan adds it
-    const bool own = claim.on_plan() && std::find(scene.configs.begin(), scene.configs.end(),
-                                                  claim.config) == scene.configs.end();
-    per_cell += own ? claim.config.onset_phases : 0;
-    if (claim.kind == ClaimKind::bound) {
-      // A bound on a solver over a grid of its own, or ten times denser: solved for it alone.
-      if (!claim.convention) {
-        claim_runs += claim.config.onset_phases *
-                      ((claim.own_grid ? claim_grid_cells(claim.grid) : 0) +
-                       (claim.denser ? claim_grid_cells(denser_grid(claim.grid)) : 0));
-      }
-      continue;
-    }
-    const bool two_solves = !claim.of_truth && claim.quantity == Quantity::tau_ratio;
-    const double solves = claim.kind == ClaimKind::recovered_parameter ? 20
-                          : claim.kind == ClaimKind::stability         ? 40
-                          : two_solves                                 ? 2
-                                                                       : 1;
-    auto cells = [&](const ClaimGrid& grid) {
-      return claim.kind == ClaimKind::asymptotic ? double(grid.p.size()) * claim.points
-                                                 : claim_grid_cells(grid);
-    };
-    claim_runs +=
-        solves * (cells(claim.grid) + (claim.denser ? cells(denser_grid(claim.grid)) : 0));
+    const BoundClaim* bound = claim.on_plan();
+    const bool own = bound != nullptr && std::find(scene.configs.begin(), scene.configs.end(),
+                                                   bound->config) == scene.configs.end();
+    per_cell += own ? bound->config.onset_phases : 0;
+    claim_solves += claim_runs(claim);
   }
   double search_runs = 0;
   for (const Search& search : scene.searches) {
     search_runs += search_runs_estimate(search);
   }
   search_runs += step_study_runs_estimate(scene); // the time-step study's searches
-  return grid_cells(scene) * per_cell * scene.repeats + claim_runs + search_runs;
+  return grid_cells(scene) * per_cell * scene.repeats + claim_solves + search_runs;
 }
 
 // The report at `path`, read whole and checked (judge/diff.hpp).
@@ -207,7 +225,9 @@ int run_scene(const RunArgs& args, std::ostream& out, std::ostream& err) {
   require_writable_folder(args.out); // a folder that cannot be written fails before the work
   const auto grid_claims =
       std::count_if(scene.claims.begin(), scene.claims.end(), [](const Claim& c) {
-        return c.kind != ClaimKind::bound || c.own_grid || (c.denser && !c.convention);
+        const BoundClaim* bound = std::get_if<BoundClaim>(&c.kind);
+        const ConventionClaim* convention = std::get_if<ConventionClaim>(&c.kind);
+        return bound ? bound->own_grid || c.denser : !convention || convention->own_grid;
       });
   out << fmt::format("{}: {:.0f} cells x {:.0f} solver configurations{}: {:.0f} solver runs (onset "
                      "phases, repeats{} included), about {:.3g} MB of records\n",

@@ -24,27 +24,27 @@ void raise(std::optional<double>& slot, const std::optional<double>& value) {
 // The claim's measurement over its cells' errors (`where` names each cell): the largest, or the
 // quantile it asks for (nearest rank), and the cell it comes from; then what its cells without a
 // value make of it.
-void conclude_errors(Judgement& j, const Claim& claim, const std::vector<double>& errors,
-                     const std::vector<std::string>& where) {
+void conclude_errors(Judgement& j, const ErrorBound& bound, bool allow_missing,
+                     const std::vector<double>& errors, const std::vector<std::string>& where) {
   j.measured = std::numeric_limits<double>::infinity();
   if (!errors.empty()) {
-    const std::size_t at = nearest_rank(errors, claim.quantile);
+    const std::size_t at = nearest_rank(errors, bound.quantile);
     if (!std::isnan(errors[at])) {
       j.measured = errors[at];
     }
     j.worst = where[at];
   }
-  j.holds = j.measured <= claim.bound;
+  j.holds = j.measured <= bound.bound;
   if (j.measured > 0 && std::isfinite(j.measured)) {
-    j.margin = claim.bound / j.measured;
+    j.margin = bound.bound / j.measured;
   }
-  conclude_without_value(j, claim.allow_missing);
+  conclude_without_value(j, allow_missing);
 }
 
 // A DEM code's calibration, by the closed forms: |e it gives − target| (relative: over the
 // target) over the grid's targets (and the p it has a model for).
-Judgement judge_convention(const Claim& claim, const ClaimGrid& grid) {
-  const analytic::Convention& convention = *analytic::find_convention(*claim.convention);
+Judgement judge_convention(const ConventionClaim& claim, const ClaimGrid& grid) {
+  const analytic::Convention& convention = *analytic::find_convention(claim.convention);
   Judgement j;
   j.grid = grid_text(grid);
   const bool cut = analytic::capped(convention, claim.limit_damping);
@@ -60,12 +60,12 @@ Judgement judge_convention(const Claim& claim, const ClaimGrid& grid) {
       const Exact given =
           analytic::e_given(Exact(p), analytic::alpha_set(convention, Exact(p), target), cut);
       const Exact error = abs(given - target);
-      errors.push_back(static_cast<double>(claim.relative ? error / target : error));
+      errors.push_back(static_cast<double>(claim.error.relative ? error / target : error));
       where.push_back(fmt::format("p = {:g}, {}", p, damping_text(damping)));
     }
   }
   j.cells = static_cast<long>(errors.size());
-  conclude_errors(j, claim, errors, where);
+  conclude_errors(j, claim.error, false, errors, where);
   return j;
 }
 
@@ -90,7 +90,8 @@ std::string why_no_value(const Plan& plan, const Record& record, std::size_t obs
 
 // A bound on a configuration's error over a plan's records: every record of it is a cell of the
 // claim, judged on its error, or without a value (failed, skipped, not measured, no truth).
-Judgement judge_records(const Plan& plan, const std::vector<Record>& records, const Claim& claim) {
+Judgement judge_records(const Plan& plan, const std::vector<Record>& records,
+                        const BoundClaim& claim) {
   Judgement j;
   j.grid = grid_text(
       ClaimGrid{plan.scene.p, plan.scene.v0, plan.scene.m, plan.scene.k, plan.scene.damping});
@@ -109,7 +110,7 @@ Judgement judge_records(const Plan& plan, const std::vector<Record>& records, co
     ++j.cells;
     const std::string cell = cell_text(plan, plan.cells[record.cell]);
     const std::optional<double>& error =
-        (claim.relative ? record.rel_error : record.abs_error)[observable];
+        (claim.error.relative ? record.rel_error : record.abs_error)[observable];
     if (record.failed()) {
       add_without_value(j, cell,
                         std::string(record.outcome_name()) +
@@ -123,13 +124,14 @@ Judgement judge_records(const Plan& plan, const std::vector<Record>& records, co
       where.push_back(cell);
     }
   }
-  conclude_errors(j, claim, errors, where);
+  conclude_errors(j, claim.error, claim.allow_missing, errors, where);
   return j;
 }
 
 // A bound claim on a grid of its own: its configuration alone solved over the grid's cells (a
 // plan of its own, as a search's), then judged on those records.
-Judgement judge_own_grid(const Scene& scene, const Claim& claim, const ClaimGrid& grid, int jobs) {
+Judgement judge_own_grid(const Scene& scene, const BoundClaim& claim, const ClaimGrid& grid,
+                         int jobs) {
   Scene cells = scene;
   cells.p = grid.p;
   cells.damping = grid.damping;
@@ -155,13 +157,16 @@ Verdict judge_bound(const Plan& plan, const std::vector<Record>& records, const 
   Verdict verdict = verdict_of(claim);
   const ClaimGrid scene_grid{plan.scene.p, plan.scene.v0, plan.scene.m, plan.scene.k,
                              plan.scene.damping};
-  const ClaimGrid& grid = claim.own_grid ? claim.grid : scene_grid;
+  const ConventionClaim* convention = std::get_if<ConventionClaim>(&claim.kind);
+  const BoundClaim* bound = std::get_if<BoundClaim>(&claim.kind);
+  const bool own_grid = convention ? convention->own_grid : bound->own_grid;
+  const ClaimGrid& grid = own_grid ? claim.grid : scene_grid;
   const auto judge_over = [&](const ClaimGrid& cells, bool the_plans) {
-    return claim.convention ? judge_convention(claim, cells)
-           : the_plans      ? judge_records(plan, records, claim)
-                            : judge_own_grid(plan.scene, claim, cells, jobs);
+    return convention  ? judge_convention(*convention, cells)
+           : the_plans ? judge_records(plan, records, *bound)
+                       : judge_own_grid(plan.scene, *bound, cells, jobs);
   };
-  static_cast<Judgement&>(verdict) = judge_over(grid, !claim.own_grid);
+  static_cast<Judgement&>(verdict) = judge_over(grid, !own_grid);
   if (verdict.measured > 0 && std::isfinite(verdict.measured)) {
     verdict.supported = std::pow(10.0, std::ceil(std::log10(verdict.measured)));
   }
@@ -400,7 +405,7 @@ Budgets make_budgets(const Plan& plan, const std::vector<Record>& records) {
   }
   const int jobs = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
   for (const Claim& claim : plan.scene.claims) {
-    budgets.claims.push_back(claim.kind == ClaimKind::bound
+    budgets.claims.push_back(claim.claim_kind() == ClaimKind::bound
                                  ? judge_bound(plan, records, claim, jobs)
                                  : judge_on_grid(plan.scene, claim));
   }

@@ -72,7 +72,7 @@ struct CellWithoutValue {
 };
 
 // A claim judged over one grid. What `measured` and `margin` mean depends on the claim's kind
-// (claims.hpp, measure_meaning). A claim holds only on every cell it names
+// (claims.hpp, verdict_of). A claim holds only on every cell it names
 // (conclude_without_value).
 struct Judgement {
   bool holds = false;

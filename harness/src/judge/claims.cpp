@@ -13,54 +13,14 @@
 #include <limits>
 #include <map>
 #include <stdexcept>
+#include <type_traits>
+#include <variant>
 
 namespace pldamp::harness {
 namespace {
 
 using analytic::Contact;
 namespace seed = analytic::seed;
-
-struct ClaimCell {
-  double p;
-  Damping damping;
-  double v0, m, k;
-};
-
-std::vector<ClaimCell> cells_of(const ClaimGrid& grid) {
-  std::vector<ClaimCell> cells;
-  for (const double p : grid.p) {
-    for (const Damping& damping : grid.damping) {
-      for (const double v0 : grid.v0) {
-        for (const double m : grid.m) {
-          for (const double k : grid.k) {
-            cells.push_back({p, damping, v0, m, k});
-          }
-        }
-      }
-    }
-  }
-  return cells;
-}
-
-std::string number(double x) {
-  return fmt::format("{:.6g}", x);
-}
-
-std::string list_text(const std::vector<double>& values);
-
-// "p = 1.5, e = 0.5", with v0, m and k where the grid varies them.
-std::string cell_text(const ClaimGrid& grid, const ClaimCell& cell) {
-  std::string out = "p = " + number(cell.p) + ", " + damping_text(cell.damping);
-  const std::pair<const std::vector<double>*, const char*> scales[] = {
-      {&grid.v0, "v0"}, {&grid.m, "m"}, {&grid.k, "k"}};
-  const double values[] = {cell.v0, cell.m, cell.k};
-  for (std::size_t i = 0; i < 3; ++i) {
-    if (scales[i].first->size() > 1) {
-      out += fmt::format(", {} = {}", scales[i].second, number(values[i]));
-    }
-  }
-  return out;
-}
 
 Contact<Exact> truth_contact(const ClaimCell& cell) {
   const Exact p(cell.p);
@@ -118,22 +78,21 @@ Exact truth_value(Quantity quantity, const Contact<Exact>& c) {
 
 // The claim's quantity at a contact: the closed form in Exact, or the solver's in double (its
 // τ(α)/τ(0) from two solves). Throws std::runtime_error when the solver gives none.
-Exact quantity_value(const Scene& scene, const Claim& claim, const Contact<Exact>& c) {
-  if (claim.of_truth) {
-    return truth_value(claim.quantity, c);
+Exact quantity_value(const Scene& scene, const MeasuredQuantity& of, const Contact<Exact>& c) {
+  if (!of.solver) {
+    return truth_value(of.quantity, c);
   }
-  const QuantityWants wants = wants_of(claim.quantity);
-  const char* name = name_of(quantities, claim.quantity).data();
+  const QuantityWants wants = wants_of(of.quantity);
+  const char* name = name_of(quantities, of.quantity).data();
   Inputs in{static_cast<double>(c.p()), static_cast<double>(c.alpha()), static_cast<double>(c.v0()),
             static_cast<double>(c.m()), static_cast<double>(c.k())};
-  const double value =
-      solved_value(claim.config, in, wants.solver, wants.value, name, scene.limits);
-  if (claim.quantity != Quantity::tau_ratio) {
+  const double value = solved_value(*of.solver, in, wants.solver, wants.value, name, scene.limits);
+  if (of.quantity != Quantity::tau_ratio) {
     return Exact(value);
   }
   in.alpha = 0;
   return Exact(value) /
-         Exact(solved_value(claim.config, in, wants.solver, wants.value, name, scene.limits));
+         Exact(solved_value(*of.solver, in, wants.solver, wants.value, name, scene.limits));
 }
 
 // The largest (Most) or smallest (Least) value seen over a grid, and the cell it came from. NaN
@@ -196,9 +155,9 @@ public:
         where = " (every cell)";
       }
       if (!groups.empty() && groups.back().second == where) {
-        groups.back().first += ", " + number(p);
+        groups.back().first += ", " + verdict_number(p);
       } else {
-        groups.emplace_back("p = " + number(p), where);
+        groups.emplace_back("p = " + verdict_number(p), where);
       }
     }
     std::string out;
@@ -212,12 +171,13 @@ private:
   std::map<double, std::vector<std::string>> by_p_;
 };
 
-Judgement judge_relation(const Scene& scene, const Claim& claim, const ClaimGrid& grid) {
+Judgement judge(const Scene& scene, const RelationClaim& claim, const ClaimGrid& grid,
+                std::vector<MeasuredOrder>&) {
   Judgement j;
   j.grid = grid_text(grid);
   const std::vector<ClaimCell> cells = cells_of(grid);
   j.cells = static_cast<long>(cells.size());
-  const double tolerance = claim.bound;
+  const double tolerance = claim.tolerance;
   const bool equal_within = claim.relation == Relation::equal_within;
   Ties ties;
   // equal_within: the largest difference; bounds: the smallest gap of all, and of the cells
@@ -231,13 +191,13 @@ Judgement judge_relation(const Scene& scene, const Claim& claim, const ClaimGrid
     const std::string where = cell_text(grid, cell);
     try {
       const Contact<Exact> c = truth_contact(cell);
-      const Exact a = quantity_value(scene, claim, c);
+      const Exact a = quantity_value(scene, claim.of, c);
       const Exact f = seed::evaluate(claim.formula, c);
       if (!isfinite(a) || !isfinite(f) || (f == 0 && !claim.absolute)) {
         add_without_value(j, where,
                           fmt::format("{} = {:.6g}, the formula {:.6g}",
-                                      name_of(quantities, claim.quantity), static_cast<double>(a),
-                                      static_cast<double>(f)),
+                                      name_of(quantities, claim.of.quantity),
+                                      static_cast<double>(a), static_cast<double>(f)),
                           true);
         continue;
       }
@@ -267,7 +227,7 @@ Judgement judge_relation(const Scene& scene, const Claim& claim, const ClaimGrid
     conclude_at_most(j, largest, tolerance);
     if (lowest_ratio && !j.holds) {
       j.note = fmt::format("formula / {} from {:.4g} ({}) to {:.4g} ({})",
-                           name_of(quantities, claim.quantity), lowest_ratio.value(),
+                           name_of(quantities, claim.of.quantity), lowest_ratio.value(),
                            lowest_ratio.where(), highest_ratio.value(), highest_ratio.where());
     }
   } else {
@@ -301,8 +261,8 @@ double slope(const std::vector<double>& x, const std::vector<double>& y) {
   return (n * sxy - sx * sy) / (n * sxx - sx * sx);
 }
 
-Judgement judge_asymptotic(const Scene& scene, const Claim& claim, const ClaimGrid& grid,
-                           std::vector<MeasuredOrder>& orders) {
+Judgement judge(const Scene& scene, const AsymptoticClaim& claim, const ClaimGrid& grid,
+                std::vector<MeasuredOrder>& orders) {
   Judgement j;
   const auto [from, to] = claim.range;
   j.grid = fmt::format("p in {} x {} alpha_eff log-spaced over [{:g}, {:g}]: {} cells",
@@ -310,7 +270,7 @@ Judgement judge_asymptotic(const Scene& scene, const Claim& claim, const ClaimGr
   j.cells = static_cast<long>(grid.p.size()); // a p fails whole: its cells are one
   // Below this relative difference the two sides are equal to the comparison's accuracy: the
   // truth's, or ten times a solver's tolerance.
-  const double equal = claim.of_truth ? 1e-25 : 10 * claim.config.rtol.value_or(1e-8);
+  const double equal = claim.of.solver ? 10 * claim.of.solver->rtol.value_or(1e-8) : 1e-25;
   orders.clear();
   std::vector<std::string> notes;
   for (const double p : grid.p) {
@@ -323,12 +283,12 @@ Judgement judge_asymptotic(const Scene& scene, const Claim& claim, const ClaimGr
         ClaimCell cell = at_p;
         cell.damping.value = from * std::pow(to / from, double(i) / (claim.points - 1));
         const Contact<Exact> c = truth_contact(cell);
-        const Exact a = quantity_value(scene, claim, c);
+        const Exact a = quantity_value(scene, claim.of, c);
         const Exact f = seed::evaluate(claim.formula, c);
         const double difference = static_cast<double>(abs(a - f));
         if (!std::isfinite(difference)) {
           throw std::runtime_error("a side is not finite at alpha_eff = " +
-                                   number(cell.damping.value));
+                                   verdict_number(cell.damping.value));
         }
         if (difference <= equal * static_cast<double>(abs(f))) {
           continue;
@@ -341,7 +301,7 @@ Judgement judge_asymptotic(const Scene& scene, const Claim& claim, const ClaimGr
         log_difference.push_back(std::log(difference));
       }
     } catch (const std::exception& e) {
-      add_without_value(j, "p = " + number(p), e.what(), true);
+      add_without_value(j, "p = " + verdict_number(p), e.what(), true);
       continue;
     }
     MeasuredOrder measured{p, std::nullopt, 0};
@@ -350,9 +310,10 @@ Judgement judge_asymptotic(const Scene& scene, const Claim& claim, const ClaimGr
       const double leading = std::max(1.0, std::round(*measured.order));
       measured.coefficient = its_difference / std::pow(smallest_z, leading);
       notes.push_back(fmt::format("p = {}: order {:.3f}, |difference| ~ {:.4g} alpha_eff^{:g}",
-                                  number(p), *measured.order, measured.coefficient, leading));
+                                  verdict_number(p), *measured.order, measured.coefficient,
+                                  leading));
     } else {
-      notes.push_back(fmt::format("p = {}: equal within {:g}", number(p), equal));
+      notes.push_back(fmt::format("p = {}: equal within {:g}", verdict_number(p), equal));
     }
     orders.push_back(measured);
   }
@@ -360,19 +321,20 @@ Judgement judge_asymptotic(const Scene& scene, const Claim& claim, const ClaimGr
   for (const MeasuredOrder& o : orders) {
     if (o.order && *o.order < j.measured) {
       j.measured = *o.order;
-      j.worst = "p = " + number(o.p);
+      j.worst = "p = " + verdict_number(o.p);
     }
   }
-  j.holds = j.measured >= claim.bound - 0.05;
+  j.holds = j.measured >= claim.order - 0.05;
   if (std::isfinite(j.measured)) {
-    j.margin = j.measured - claim.bound;
+    j.margin = j.measured - claim.order;
   }
   j.note = fmt::format("{}", fmt::join(notes, "; "));
   conclude_without_value(j, false);
   return j;
 }
 
-Judgement judge_recovered(const Scene& scene, const Claim& claim, const ClaimGrid& grid) {
+Judgement judge(const Scene& scene, const RecoveredParameterClaim& claim, const ClaimGrid& grid,
+                std::vector<MeasuredOrder>&) {
   Judgement j;
   j.grid = grid_text(grid);
   Largest worst;
@@ -395,7 +357,8 @@ Judgement judge_recovered(const Scene& scene, const Claim& claim, const ClaimGri
   return j;
 }
 
-Judgement judge_stability(const Scene& scene, const Claim& claim, const ClaimGrid& grid) {
+Judgement judge(const Scene& scene, const StabilityClaim& claim, const ClaimGrid& grid,
+                std::vector<MeasuredOrder>&) {
   Judgement j;
   j.grid = grid_text(grid);
   Smallest smallest;
@@ -481,184 +444,105 @@ Judgement judge_stability(const Scene& scene, const Claim& claim, const ClaimGri
   return j;
 }
 
+// The verdict's grid-independent fields of each kind: what it measures, of what, against what.
+struct Described {
+  std::string observable, config;
+  double bound;
+  bool worse_when_lower;
+  std::string meaning;
+};
+
+std::string error_meaning(const ErrorBound& error) {
+  return fmt::format("the {} {} error over the grid; margin = bound / measured",
+                     error.quantile == 1 ? std::string("largest")
+                                         : fmt::format("{:g} quantile of the", error.quantile),
+                     error.relative ? "relative" : "absolute");
+}
+
+std::string config_text(const MeasuredQuantity& of) {
+  return of.solver ? of.solver->label() : "truth (closed forms, float128)";
+}
+
+Described describe(const BoundClaim& claim) {
+  return {claim.observable, claim.config.label(), claim.error.bound, false,
+          error_meaning(claim.error)};
+}
+
+Described describe(const ConventionClaim& claim) {
+  return {"e", claim.convention + (claim.limit_damping ? " limit_damping" : ""), claim.error.bound,
+          false, error_meaning(claim.error)};
+}
+
+Described describe(const RelationClaim& claim) {
+  const bool equal_within = claim.relation == Relation::equal_within;
+  return {fmt::format("{} {} {}", name_of(quantities, claim.of.quantity),
+                      name_of(relations, claim.relation), seed::info_of(claim.formula).name),
+          config_text(claim.of), claim.tolerance, !equal_within,
+          !equal_within
+              ? "the smallest gap (quantity - formula) / |formula| (formula - quantity for "
+                "an upper bound), negative where the bound is crossed; margin = the "
+                "smallest gap among cells not equal within the tolerance"
+          : claim.absolute ? "the largest |quantity - formula|; margin = tolerance / measured"
+                           : "the largest |quantity / formula - 1|; margin = tolerance / measured"};
+}
+
+Described describe(const AsymptoticClaim& claim) {
+  return {fmt::format("{} vs {}", name_of(quantities, claim.of.quantity),
+                      seed::info_of(claim.formula).name),
+          config_text(claim.of), claim.order, true,
+          "the smallest order over p at which the two sides agree as alpha_eff -> 0; margin = "
+          "measured - the order the claim implies"};
+}
+
+Described describe(const RecoveredParameterClaim& claim) {
+  return {"alpha by bisection vs seed alpha(e)", claim.config.label(), claim.bound, false,
+          "the largest |alpha found / seed alpha(e) - 1|; margin = bound / measured"};
+}
+
+Described describe(const StabilityClaim& claim) {
+  return {"largest stable dt vs " +
+              (claim.fraction != 1 ? fmt::format("{:g} ", claim.fraction) : std::string()) +
+              std::string(seed::info_of(claim.formula).name),
+          claim.config.label(), 1, true,
+          "the smallest ratio largest stable dt / the formula's dt; margin = that ratio (>= 1: "
+          "the bound is conservative)"};
+}
+
+// A claim of the kinds judged on a grid of their own, over `grid`.
 Judgement judge_kind(const Scene& scene, const Claim& claim, const ClaimGrid& grid,
                      std::vector<MeasuredOrder>& orders) {
-  switch (claim.kind) {
-  case ClaimKind::relation:
-    return judge_relation(scene, claim, grid);
-  case ClaimKind::asymptotic:
-    return judge_asymptotic(scene, claim, grid, orders);
-  case ClaimKind::recovered_parameter:
-    return judge_recovered(scene, claim, grid);
-  case ClaimKind::stability:
-    return judge_stability(scene, claim, grid);
-  case ClaimKind::bound:
-    break;
-  }
-  throw std::logic_error("a bound claim is judged from the plan's records (judge/budget.cpp)");
-}
-
-// A list for the grid text: "{1, 1.5, 2}", or "[0.1, 0.99] (10 values)".
-std::string list_text(const std::vector<double>& values) {
-  if (values.size() <= 6) {
-    std::vector<std::string> parts;
-    for (const double x : values) {
-      parts.push_back(number(x));
-    }
-    return fmt::format("{{{}}}", fmt::join(parts, ", "));
-  }
-  const auto [lo, hi] = std::minmax_element(values.begin(), values.end());
-  return fmt::format("[{}, {}] ({} values)", number(*lo), number(*hi), values.size());
-}
-
-// A list refined by `between` points between each pair of neighbours.
-std::vector<double> refined(const std::vector<double>& values, int between) {
-  if (values.size() < 2) {
-    return values;
-  }
-  const auto [lo, hi] = std::minmax_element(values.begin(), values.end());
-  const bool logarithmic = *lo > 0 && *hi > 10 * *lo;
-  std::vector<double> out;
-  for (std::size_t i = 0; i + 1 < values.size(); ++i) {
-    for (int j = 0; j <= between; ++j) {
-      const double t = double(j) / (between + 1);
-      const double a = values[i], b = values[i + 1];
-      out.push_back(logarithmic ? a * std::pow(b / a, t) : a + (b - a) * t);
-    }
-  }
-  out.push_back(values.back());
-  return out;
+  return std::visit(
+      [&](const auto& stated) -> Judgement {
+        if constexpr (std::decay_t<decltype(stated)>::claim_kind == ClaimKind::bound) {
+          throw std::logic_error(
+              "a bound claim is judged from the plan's records (judge/budget.cpp)");
+        } else {
+          return judge(scene, stated, grid, orders);
+        }
+      },
+      claim.kind);
 }
 
 } // namespace
 
-std::string damping_text(const Damping& d) {
-  return std::string(d.key()) + " = " + number(d.value);
-}
-
 Verdict verdict_of(const Claim& claim) {
+  const Described described =
+      std::visit([](const auto& stated) { return describe(stated); }, claim.kind);
+  const BoundClaim* bound = std::get_if<BoundClaim>(&claim.kind);
   Verdict v;
   v.name = claim.name;
-  v.kind = std::string(name_of(claim_kinds, claim.kind));
+  v.kind = std::string(name_of(claim_kinds, claim.claim_kind()));
   v.where = claim.where;
   v.quote = claim.quote;
   v.figure = claim.figure.value_or("");
   v.expect_holds = claim.expect_holds;
-  v.allow_missing = claim.allow_missing;
-  v.bound = claim.bound;
-  v.meaning = measure_meaning(claim);
-  v.worse_when_lower =
-      claim.kind == ClaimKind::asymptotic || claim.kind == ClaimKind::stability ||
-      (claim.kind == ClaimKind::relation && claim.relation != Relation::equal_within);
-  switch (claim.kind) {
-  case ClaimKind::bound:
-    v.observable = claim.observable;
-    v.config = claim.convention ? *claim.convention + (claim.limit_damping ? " limit_damping" : "")
-                                : claim.config.label();
-    break;
-  case ClaimKind::relation:
-  case ClaimKind::asymptotic:
-    v.observable =
-        fmt::format("{} {} {}", name_of(quantities, claim.quantity),
-                    claim.kind == ClaimKind::asymptotic ? "vs" : name_of(relations, claim.relation),
-                    seed::info_of(claim.formula).name);
-    v.config = claim.of_truth ? "truth (closed forms, float128)" : claim.config.label();
-    break;
-  case ClaimKind::recovered_parameter:
-    v.observable = "alpha by bisection vs seed alpha(e)";
-    v.config = claim.config.label();
-    break;
-  case ClaimKind::stability:
-    v.observable = "largest stable dt vs " +
-                   (claim.fraction != 1 ? fmt::format("{:g} ", claim.fraction) : std::string()) +
-                   std::string(seed::info_of(claim.formula).name);
-    v.config = claim.config.label();
-    break;
-  }
+  v.allow_missing = bound != nullptr && bound->allow_missing;
+  v.bound = described.bound;
+  v.meaning = described.meaning;
+  v.worse_when_lower = described.worse_when_lower;
+  v.observable = described.observable;
+  v.config = described.config;
   return v;
-}
-
-std::string measure_meaning(const Claim& claim) {
-  switch (claim.kind) {
-  case ClaimKind::bound:
-    return fmt::format("the {} {} error over the grid; margin = bound / measured",
-                       claim.quantile == 1 ? std::string("largest")
-                                           : fmt::format("{:g} quantile of the", claim.quantile),
-                       claim.relative ? "relative" : "absolute");
-  case ClaimKind::relation:
-    if (claim.relation == Relation::equal_within) {
-      return claim.absolute ? "the largest |quantity - formula|; margin = tolerance / measured"
-                            : "the largest |quantity / formula - 1|; margin = tolerance / measured";
-    }
-    return "the smallest gap (quantity - formula) / |formula| (formula - quantity for an upper "
-           "bound), negative where the bound is crossed; margin = the smallest gap among cells "
-           "not equal within the tolerance";
-  case ClaimKind::asymptotic:
-    return "the smallest order over p at which the two sides agree as alpha_eff -> 0; margin = "
-           "measured - the order the claim implies";
-  case ClaimKind::recovered_parameter:
-    return "the largest |alpha found / seed alpha(e) - 1|; margin = bound / measured";
-  case ClaimKind::stability:
-    break;
-  }
-  return "the smallest ratio largest stable dt / the formula's dt; margin = that ratio (>= 1: "
-         "the bound is conservative)";
-}
-
-namespace {
-// A grid's dampings by kind (targets e, α, α_eff), each list in the grid's order.
-std::map<Damping::Kind, std::vector<double>> dampings_by_kind(const ClaimGrid& grid) {
-  std::map<Damping::Kind, std::vector<double>> out;
-  for (const Damping& d : grid.damping) {
-    out[d.kind].push_back(d.value);
-  }
-  return out;
-}
-} // namespace
-
-std::string grid_text(const ClaimGrid& grid) {
-  std::string out = "p in " + list_text(grid.p);
-  bool first = true;
-  for (const auto& [kind, values] : dampings_by_kind(grid)) {
-    out += (first ? " x " : " and ") + std::string(Damping{kind, 0}.key()) + " in " +
-           list_text(values);
-    first = false;
-  }
-  const std::pair<const std::vector<double>*, const char*> scales[] = {
-      {&grid.v0, "v0"}, {&grid.m, "m"}, {&grid.k, "k"}};
-  for (const auto& [values, name] : scales) {
-    if (values->size() > 1) {
-      out += fmt::format(" x {} in {}", name, list_text(*values));
-    }
-  }
-  const std::size_t cells =
-      grid.p.size() * grid.damping.size() * grid.v0.size() * grid.m.size() * grid.k.size();
-  return out + fmt::format(": {} cells", cells);
-}
-
-ClaimGrid denser_grid(const ClaimGrid& grid) {
-  const std::map<Damping::Kind, std::vector<double>> dampings = dampings_by_kind(grid);
-  std::vector<const std::vector<double>*> lists{&grid.p, &grid.v0, &grid.m, &grid.k};
-  for (const auto& [kind, values] : dampings) {
-    lists.push_back(&values);
-  }
-  const auto varied = std::count_if(lists.begin(), lists.end(),
-                                    [](const std::vector<double>* l) { return l->size() > 1; });
-  // Each interval of each varied list cut into (between + 1): (between + 1)^varied ≥ 10 cells
-  // per square of the grid.
-  const int between =
-      varied == 0 ? 0 : static_cast<int>(std::ceil(std::pow(10.0, 1.0 / double(varied)))) - 1;
-  ClaimGrid out{refined(grid.p, between),
-                refined(grid.v0, between),
-                refined(grid.m, between),
-                refined(grid.k, between),
-                {}};
-  for (const auto& [kind, values] : dampings) {
-    for (const double value : refined(values, between)) {
-      out.damping.push_back({kind, value});
-    }
-  }
-  return out;
 }
 
 Verdict judge_on_grid(const Scene& scene, const Claim& claim) {

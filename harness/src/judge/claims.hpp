@@ -1,5 +1,5 @@
-// Claims judged on grids of their own (scene.hpp ClaimKind), each into a verdict, the cell where
-// it comes closest to failing, and a margin:
+// Claims judged on grids of their own (scene.hpp, RelationClaim to StabilityClaim), each into a
+// verdict, the cell where it comes closest to failing, and a margin:
 //
 //   relation             per cell, a quantity (the truth in float128, or a solver in double)
 //                        against a formula of the seed (analytic/seed.hpp) at the cell's inputs.
@@ -28,30 +28,14 @@
 #pragma once
 
 #include "judge/budget.hpp"
+#include "judge/claim_grid.hpp"
 #include "scene/scene.hpp"
-
-#include <string>
-#include <string_view>
 
 namespace pldamp::harness {
 
-// A damping as a claim's cells name it: "e = 0.5", "alpha_eff = 1.5".
-std::string damping_text(const Damping& d);
-
-// A claim's verdict with what the scene says of it (name, kind, source, expectation), not yet
-// judged.
+// A claim's verdict with what the scene says of it (name, kind, source, expectation) and what its
+// kind measures (observable, configuration, bound, meaning), not yet judged.
 Verdict verdict_of(const Claim& claim);
-
-// What a claim kind's measured value and margin are, for the reports.
-std::string measure_meaning(const Claim& claim);
-
-// The grid text of a verdict: "p in {1, 1.5, 2} x e in [0.1, 0.99] (10 values): 30 cells".
-std::string grid_text(const ClaimGrid& grid);
-
-// The grid with each list of more than one value refined (log-spaced where it spans more than a
-// decade of positive values) so that every square of the grid holds at least ten cells: with d
-// varied lists, ⌈10^(1/d)⌉ − 1 values between each pair of neighbours.
-ClaimGrid denser_grid(const ClaimGrid& grid);
 
 // Judges a claim of the kinds relation, asymptotic, recovered_parameter or stability over its
 // grid, and over the denser grid when the claim asks for it.

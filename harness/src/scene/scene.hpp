@@ -1,55 +1,7 @@
 // A scene: what one `pldamp run` computes (DESIGN.md "Scenes"). Read from TOML by toml++; every
-// problem with the file is reported as `file:line: message` before any work starts.
-//
-//     name = "quick"
-//     end  = "overlap"                      # or "force"
-//     want = ["e", "delta_max", "t_peak", "tau", "energy"]
-//     [grid]      p, e, alpha and/or alpha_eff, v0, m (default [1]), k (default [1]): numbers or
-//                 lists
-//     [[solver]]  an external program instead of name: command = [argv...] (a relative program path
-//                 is the scene file's folder's, a bare name the file beside the scene if there is
-//                 one, else PATH's), label, options = {...} (passed through), replica
-//                 (pldamp's solver of the same scheme, compared on every problem), and
-//                 rtol, atol, steps_per_contact or dt (lists), end, onset_phases as below
-//     [[solver]]  name; rtol (number or list; a reference solver without it: its precision's
-//                 epsilon); atol; precision (double|long|quad|50, where the solver runs in it);
-//                 steps_per_contact (fixed-step solvers, list); end (overlap|force, or both
-//                 as a list: the contact-end rule when not the scene's); onset_phases (an
-//                 integer n: fixed-step runs at the onset phases k/n, the worst reported)
-//     [[claim]]   name; kind (default bound); where, quote (the source's section and words);
-//                 figure (a [[figure]] kind that shows it); expect = "holds" | "fails" (pins a
-//                 known-false claim); then by kind:
-//                 bound: observable, solver, rtol, atol, precision, bound (max abs error); or
-//                   observable = "e", convention (a DEM code's), limit_damping, bound
-//                 relation: quantity, of = "truth" | solver (rtol, atol), formula, relation
-//                   (lower_bound|upper_bound|equal_within), tolerance, absolute
-//                 asymptotic: quantity, of | solver, formula, order, range = [from, to], points
-//                 recovered_parameter: solver, rtol, atol, bound (relative, on alpha)
-//                 stability: solver (fixed-step), formula = "seed_dt_crit", fraction (of
-//                   it, default 1: DEM practice runs a fraction of a critical step)
-//                 and for all, a grid of its own (p, e, alpha_eff, v0, m, k; each
-//                 defaults to [grid]'s) and denser = true (also judged ten times denser)
-//                 bound claims: bound (absolute error) or bound_rel (relative), and quantile
-//                 (over the cells, nearest rank; default 1, the worst); a grid of their own too
-//                 (solved for the claim alone; a convention's: p and e), denser = true, and
-//                 allow_missing = true (cells without a value allowed: "holds on M of N cells")
-//     [[search]]  name, where, quote; solver, precision, atol (and rtol or steps_per_contact,
-//                 whichever is not searched); parameter = rtol | steps_per_contact | dt; range =
-//                 [from, to] (either order); observable; bound or bound_rel; quantile; group_by = p
-//                 | damping | point | all (default p); a grid of its own (p, e, alpha_eff, v0, m,
-//                 k; each defaults to [grid]'s); onset_phases (fixed steps; default 8); end
-//     [[trajectory]] file (a CSV of t, delta and optionally v, F; the scene's folder's), label, p,
-//                 e or alpha or alpha_eff, v0, m, k (default 1), end: checked as `pldamp check`
-//     [[figure]]  kind (figures.hpp), solver, rtol, atol, p, e, alpha_eff: the seed's figures
-//     [report]    formats = ["json", "csv", "md", "html"]; work_precision = ["e", "worst"] (the
-//                 series of the work-precision diagrams and of report.md's table: observables the
-//                 scene wants, and "worst", the largest error of any; default: e and worst)
-//     [timing]    repeats = 3   (wall time of a run: the minimum over repeats)
-//     [diff]      error_factor = 10, work_factor = 1.5, time_factor = 2, time_floor = 0.005:
-//                 when `pldamp diff` calls a change a regression (judge/diff.hpp)
-//     [limits]    max_steps = 1000000, max_seconds = 30 (each solve's budget: a solve that spends
-//                 it is a failed record, step_limit or time_limit, and the run goes on);
-//                 max_runs = 1000000 (a larger plan is refused before any work)
+// problem with the file is reported as `file:line: message` before any work starts. What a scene
+// may say (every table and key, its type, range and default) is docs/scenes.md; scene/keys.hpp
+// lists the keys of each table, and tests/harness/scene_docs_test.cpp holds the two together.
 #pragma once
 
 #include "common/input.hpp"
@@ -62,6 +14,7 @@
 #include <optional>
 #include <string>
 #include <string_view>
+#include <variant>
 #include <vector>
 
 namespace pldamp::harness {
@@ -112,9 +65,10 @@ struct SolverConfig {
   bool operator==(const SolverConfig&) const = default;
 };
 
-// What a claim states (judge/claims.hpp says how each is judged):
-//   bound                a solver configuration's largest absolute error of an observable over
-//                        the scene's grid (or a DEM code's calibration, by `convention`)
+// What a claim states (judge/claims.hpp says how each is judged), by its `kind`:
+//   bound                a solver configuration's error of an observable over the cells
+//                        (BoundClaim), or a DEM code's calibration by `convention`
+//                        (ConventionClaim)
 //   relation             a quantity of the truth or of a solver against a named formula of the
 //                        inputs: lower_bound, upper_bound or equal_within
 //   asymptotic           the order in α_eff at which a quantity and a formula agree as α_eff → 0
@@ -150,45 +104,101 @@ struct ClaimGrid {
   std::vector<Damping> damping;
 };
 
+// A bound on an error over cells: on the absolute error (`bound`) or the relative one
+// (`bound_rel`), over the cells' `quantile` (nearest rank; 1: the worst cell).
+struct ErrorBound {
+  double bound = 0;
+  bool relative = false;
+  double quantile = 1;
+};
+
+// kind = "bound": a solver configuration's error of an observable the scene wants.
+struct BoundClaim {
+  static constexpr ClaimKind claim_kind = ClaimKind::bound;
+  std::string observable;
+  SolverConfig config;
+  ErrorBound error;
+  // The claim names a grid of its own (p, e, alpha, alpha_eff, v0, m, k): its configuration is
+  // solved over it for the claim alone; else the plan's records on the scene's grid are judged.
+  bool own_grid = false;
+  // Cells without a value (skipped, not measured, no truth) allowed: the claim then holds on the
+  // others ("holds on M of N cells", which `run --strict` counts as unexpected).
+  bool allow_missing = false;
+};
+
+// kind = "bound" with a `convention` (analytic/conventions.hpp): the e a DEM code really gives
+// for each target e of the cells is within the bound (closed forms, no solver).
+struct ConventionClaim {
+  static constexpr ClaimKind claim_kind = ClaimKind::bound;
+  std::string convention;
+  bool limit_damping = false; // the convention's optional force cap switched on
+  ErrorBound error;
+  bool own_grid = false; // p or e of its own
+};
+
+// The quantity a relation or asymptotic claim measures, and whose it is.
+struct MeasuredQuantity {
+  Quantity quantity = Quantity::e;
+  std::optional<SolverConfig> solver; // none: the truth's (of = "truth")
+};
+
+// kind = "relation": the quantity against a formula of analytic/seed.hpp, cell by cell.
+struct RelationClaim {
+  static constexpr ClaimKind claim_kind = ClaimKind::relation;
+  MeasuredQuantity of;
+  analytic::seed::Formula formula = analytic::seed::Formula::tau_ratio_curve;
+  Relation relation = Relation::equal_within;
+  // equal_within: how far apart the two sides may be; a lower or upper bound: how far it may be
+  // crossed (relative; default 1e-25, the truth's rounding in float128).
+  double tolerance = 0;
+  bool absolute = false; // |a − f| ≤ tolerance rather than |a/f − 1| ≤ tolerance
+};
+
+// kind = "asymptotic": the order in α_eff at which the quantity and a formula agree.
+struct AsymptoticClaim {
+  static constexpr ClaimKind claim_kind = ClaimKind::asymptotic;
+  MeasuredQuantity of;
+  analytic::seed::Formula formula = analytic::seed::Formula::tau_ratio_curve;
+  double order = 0;                        // the order the claim implies
+  std::array<double, 2> range{1e-4, 1e-2}; // α_eff from, to (log-spaced)
+  int points = 9;                          // over the range, per p
+};
+
+// kind = "recovered_parameter": α found by bisection on a solver's e for each target e.
+struct RecoveredParameterClaim {
+  static constexpr ClaimKind claim_kind = ClaimKind::recovered_parameter;
+  SolverConfig config;
+  double bound = 0; // on the largest relative error of α against the seed's α(e)
+};
+
+// kind = "stability": a fixed-step scheme's largest stable Δt against a fraction of a formula's.
+struct StabilityClaim {
+  static constexpr ClaimKind claim_kind = ClaimKind::stability;
+  SolverConfig config;
+  analytic::seed::Formula formula = analytic::seed::Formula::dt_crit;
+  double fraction = 1; // DEM practice runs a fraction of a critical step
+};
+
 struct Claim {
   std::string name;
-  ClaimKind kind = ClaimKind::bound;
   std::string where, quote;          // the source's section and its words (shown in reports)
   std::optional<std::string> figure; // the kind of the scene's figure that shows it
   bool expect_holds = true;          // expect = "fails": a known-false claim, pinned
-  std::string observable;            // bound: an observable key the scene wants
-  Quantity quantity = Quantity::e;   // relation, asymptotic
-  SolverConfig config;               // the solver's claims
-  bool of_truth = false; // relation, asymptotic: the closed forms' quantity, not a solver's
-  // A DEM code's convention (analytic/conventions.hpp): the claim is that the e it really gives
-  // for each target e of the grid is within the bound (closed forms, no solver).
-  std::optional<std::string> convention;
-  bool limit_damping = false; // the convention's optional force cap switched on
-  // relation, asymptotic, stability: the formula of analytic/seed.hpp compared against
-  analytic::seed::Formula formula = analytic::seed::Formula::tau_ratio_curve;
-  Relation relation = Relation::equal_within;
-  bool absolute = false; // equal_within: |a − b| ≤ bound rather than |a/b − 1| ≤ bound
-  // bound: on the largest absolute error; relation: equal_within's tolerance, or how far a
-  // lower/upper bound may be crossed (relative: rounding); asymptotic: the order the claim
-  // implies; recovered_parameter: on the largest relative error of α; stability: 1 (Δt ratio).
-  double bound = 0;
-  ClaimGrid grid;
-  bool denser = false;                     // also judged on a grid ten times denser
-  std::array<double, 2> range{1e-4, 1e-2}; // asymptotic: α_eff from, to (log-spaced)
-  int points = 9;                          // asymptotic: points over the range, per p
-  double fraction = 1; // stability: the bound is this fraction of the formula's Δt
-  // bound: on the relative error (bound_rel) rather than the absolute one, and over the cells'
-  // `quantile` (nearest rank; 1: the worst cell).
-  bool relative = false;
-  double quantile = 1;
-  // bound: the claim names a grid of its own (p, e, alpha_eff, v0, m, k), solved for it alone;
-  // else `grid` is the scene's and its records are judged.
-  bool own_grid = false;
-  // bound: cells without a value (skipped, not measured, no truth) allowed: the claim then holds
-  // on the others ("holds on M of N cells", which `run --strict` counts as unexpected).
-  bool allow_missing = false;
-  // Judged from the plan's records (a bound on a solver's error over the scene's grid).
-  bool on_plan() const { return kind == ClaimKind::bound && !convention && !own_grid; }
+  ClaimGrid grid;                    // its own lists, else the scene's
+  bool denser = false;               // also judged on a grid ten times denser
+  std::variant<BoundClaim, ConventionClaim, RelationClaim, AsymptoticClaim, RecoveredParameterClaim,
+               StabilityClaim>
+      kind;
+
+  ClaimKind claim_kind() const {
+    return std::visit([](const auto& stated) { return stated.claim_kind; }, kind);
+  }
+  // The bound claim judged from the plan's records (a solver's error over the scene's grid), or
+  // nullptr.
+  const BoundClaim* on_plan() const {
+    const BoundClaim* bound = std::get_if<BoundClaim>(&kind);
+    return bound != nullptr && !bound->own_grid ? bound : nullptr;
+  }
 };
 
 // The sweep parameter a search loosens.

@@ -186,9 +186,10 @@ Plan make_plan(const Scene& scene) {
   plan.observables = observables_of(scene.want);
   plan.configs = scene.configs;
   for (const Claim& claim : scene.claims) {
-    if (claim.on_plan() &&
-        std::find(plan.configs.begin(), plan.configs.end(), claim.config) == plan.configs.end()) {
-      plan.configs.push_back(claim.config);
+    const BoundClaim* bound = claim.on_plan();
+    if (bound != nullptr &&
+        std::find(plan.configs.begin(), plan.configs.end(), bound->config) == plan.configs.end()) {
+      plan.configs.push_back(bound->config);
     }
   }
   std::set<std::string> precisions;
