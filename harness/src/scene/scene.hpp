@@ -1,4 +1,4 @@
-// A scene: what one `pldamp run` computes (DESIGN.md "Scenes"). Read from TOML by toml++; every
+// A scene: what one `pldamp run` computes (docs/design.md §3). Read from TOML by toml++; every
 // problem with the file is reported as `file:line: message` before any work starts. What a scene
 // may say (every table and key, its type, range and default) is docs/scenes.md; scene/keys.hpp
 // lists the keys of each table, and tests/harness/scene_docs_test.cpp holds the two together.
