@@ -303,7 +303,7 @@ ordered_json report_json(const RunReport& report) {
   const Plan& plan = report.plan;
   const Budgets& budgets = report.budgets;
   ordered_json out;
-  out["schema"] = report_schema;
+  out["schema"] = schema::version;
   ordered_json scene;
   scene["end"] = plan.scene.end == solvers::End::force ? "force" : "overlap";
   for (const Observable* observable : plan.observables) {

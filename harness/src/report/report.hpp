@@ -12,6 +12,7 @@
 #include "judge/diff.hpp"
 #include "judge/figures.hpp"
 #include "judge/trajectory.hpp"
+#include "report/schema.hpp"
 
 #include <nlohmann/json.hpp>
 

@@ -15,7 +15,7 @@ namespace pldamp::harness {
 using nlohmann::ordered_json;
 
 ordered_json work_precision_json(const RunReport& report) {
-  namespace key = work_precision_key;
+  namespace key = schema::key;
   const Plan& plan = report.plan;
   ordered_json points = ordered_json::array();
   for (std::size_t c = 0; c < plan.configs.size(); ++c) {
