@@ -1,7 +1,7 @@
-// libFuzzer target: pldamp::harness::read_report (judge/diff.hpp), the reader of a report.json,
-// on arbitrary bytes; when it accepts them, `regressions` between that report and itself and
-// between it and a small valid report, both ways (what `pldamp diff OLD NEW` computes). An
-// InputError (an std::invalid_argument) is the answer to bad input; any other exception escapes
+// libFuzzer target: pldamp::harness::schema::read_report (report/schema.hpp), the reader of a
+// report.json, on arbitrary bytes; when it accepts them, `regressions` between that report and
+// itself and between it and a small valid report, both ways (what `pldamp diff OLD NEW` computes).
+// An InputError (an std::invalid_argument) is the answer to bad input; any other exception escapes
 // and aborts, and libFuzzer reports it with a crash, a hang (-timeout), a leak or an ASan/UBSan
 // report.
 //
@@ -14,6 +14,7 @@
 //   $F -dict=tests/fuzz/report.dict /tmp/report-corpus tests/fuzz/corpus/report   # until Ctrl-C
 //   $F tests/fuzz/corpus/report/crash-...                  # replays one input
 #include "judge/diff.hpp"
+#include "report/schema.hpp"
 
 #include <nlohmann/json.hpp>
 
@@ -26,7 +27,7 @@ namespace {
 
 // A valid report (in a build with or without float128) with keys of records in corpus/report,
 // so that a fuzzed report's records are found, gone, newly failed or grown against it, and a
-// work-precision point checked against its records. (Its schema must be report_schema: a report
+// work-precision point checked against its records. (Its schema must be schema::version: a report
 // read_report refuses is compared with nothing.)
 constexpr std::string_view other_text = R"({
   "schema": 2,
@@ -51,7 +52,8 @@ constexpr std::string_view other_text = R"({
 })";
 
 const nlohmann::json& other_report() {
-  static const nlohmann::json report = pldamp::harness::read_report(other_text, "other.json");
+  static const nlohmann::json report =
+      pldamp::harness::schema::read_report(other_text, "other.json");
   return report;
 }
 
@@ -61,7 +63,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   const std::string_view text(reinterpret_cast<const char*>(data), size);
   nlohmann::json report;
   try {
-    report = pldamp::harness::read_report(text, "fuzz.json");
+    report = pldamp::harness::schema::read_report(text, "fuzz.json");
   } catch (const std::invalid_argument&) {
     return 0; // InputError: a damaged or foreign file, the expected answer
   }

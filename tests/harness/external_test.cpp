@@ -2,7 +2,7 @@
 // (adapters/fake_adapter.py) that behaves, or misbehaves in one way per mode.
 #include "fake_solver.hpp"
 #include "judge/claims.hpp"
-#include "report/report.hpp"
+#include "report/sections.hpp"
 #include "run/answers.hpp"
 #include "run/external.hpp"
 

@@ -1,9 +1,12 @@
 // Reports and diff: a figure that fails is reported beside the others without losing the run,
 // only the formats asked are written, and regressions injected into a report are each found,
 // one line each.
+#include "fake_solver.hpp"
 #include "fixtures.hpp"
 
+#include "judge/diff.hpp"
 #include "report/report.hpp"
+#include "report/schema.hpp"
 
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
@@ -155,7 +158,7 @@ TEST(Diff, AWorkPointMustBeItsRecordsLargestAndAReportBeforeThemStillReads) {
       point.erase(key);
     }
   }
-  EXPECT_NO_THROW(read_report(before.dump(), "before.json"));
+  EXPECT_NO_THROW(schema::read_report(before.dump(), "before.json"));
   for (const auto& [old_report, new_report] :
        {std::pair<const nlohmann::json*, const nlohmann::json*>{&before, &report},
         {&report, &before}}) {
@@ -332,7 +335,7 @@ TEST(Diff, AClaimRegressesWhenItsVerdictLeavesTheExpectedOne) {
   EXPECT_TRUE(regressions(partial, old_report).empty());
   nlohmann::json hostile = old_report;
   hostile["claims"][0]["expect"] = 7;
-  EXPECT_THROW(read_report(hostile.dump(), "hostile.json"), InputError);
+  EXPECT_THROW(schema::read_report(hostile.dump(), "hostile.json"), InputError);
 }
 
 TEST(Diff, ANameCannotForgeALineOrShiftTheFields) {
@@ -358,6 +361,51 @@ TEST(Diff, ANameCannotForgeALineOrShiftTheFields) {
   EXPECT_EQ(std::vector<std::string>(lines.begin(), lines.begin() + 2),
             (std::vector<std::string>{"SCENE added search | loosest rtol",
                                       "SCENE changed end | overlap -> force"}));
+}
+
+TEST(Diff, ASolverLabelHoldingTheFieldSeparatorKeepsItsRecordsApart) {
+  // An external solver's label may hold " | " (the scene accepts any label), the separator of a
+  // record's key: written, read back from the file and diffed, its records keep the label whole
+  // and their cells apart, never the key split at its first " | ".
+  std::string scene = testing::scene_with("good", "", "", "p = [1]\ne = [0.3]\nv0 = [1, 2]\n");
+  const std::size_t label = scene.find("label = \"fake\"");
+  ASSERT_NE(label, std::string::npos);
+  scene.replace(label, 14, "label = \"fake | v2\"");
+  const testing::Ran ran = testing::run_scene_text(scene);
+  Plan plan = ran.plan;
+  plan.scene.formats = {ReportFormat::json};
+  const Budgets b = make_budgets(plan, ran.records);
+  const RunTotals totals{0, 0, 0, {"fake good"}};
+  const std::vector<Figure> figures;
+  const fs::path out = scratch() / "separator-label";
+  fs::remove_all(out);
+  ASSERT_TRUE(
+      write_reports({plan, ran.records, b, totals, figures}, out.string()).failures.empty());
+  const std::string written = read(out / "report.json");
+  const nlohmann::json old_report = schema::read_report(written, "report.json");
+  ASSERT_EQ(old_report["records"].size(), 2u);
+  const nlohmann::json& first = old_report["records"][0];
+  EXPECT_EQ(first["key"], "fake | v2 | p=1 e=0.3 v0=1 m=1 k=1");
+  EXPECT_EQ(first["config"], "fake | v2");
+  EXPECT_EQ(first["outcome"], "exited");
+  nlohmann::json worse = old_report;
+  worse["records"][0]["failed"] = true;
+  worse["records"][0]["outcome"] = "step_limit";
+  const std::string old_path = write_file("separator-old.json", written);
+  const std::string new_path = write_file("separator-new.json", worse.dump());
+  const CliRun diffed = run({"diff", old_path, new_path, "--verbose"});
+  EXPECT_EQ(diffed.code, 1);
+  // The label's " | " is written " / " in its field; the verbose line keeps the key as it is.
+  EXPECT_EQ(diffed.out, "REGRESSION now_fails | fake / v2 | outcome | 1 record | exited -> "
+                        "step_limit at p=1 e=0.3 v0=1 m=1 k=1\n"
+                        "  fake | v2 | p=1 e=0.3 v0=1 m=1 k=1: exited -> step_limit\n"
+                        "1 regression, 0 changes\n");
+  // The second record, gone: the label whole, its own cell.
+  nlohmann::json gone = old_report;
+  gone["records"].erase(1);
+  EXPECT_EQ(regressions(old_report, gone),
+            std::vector<std::string>{"REGRESSION record_gone | fake / v2 | record | 1 record | "
+                                     "present -> missing at p=1 e=0.3 v0=2 m=1 k=1"});
 }
 
 TEST(Diff, ThroughTheCommandLine) {

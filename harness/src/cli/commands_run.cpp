@@ -2,8 +2,10 @@
 #include "cli/commands.hpp"
 #include "common/files.hpp"
 #include "judge/claims.hpp"
+#include "judge/diff.hpp"
 #include "judge/step_study.hpp"
 #include "report/report.hpp"
+#include "report/schema.hpp"
 
 #include <fmt/format.h>
 
@@ -169,7 +171,7 @@ double planned_runs(const Scene& scene) {
   return grid_cells(scene) * per_cell * scene.repeats + claim_solves + search_runs;
 }
 
-// The report at `path`, read whole and checked (judge/diff.hpp).
+// The report at `path`, read whole and checked (report/schema.hpp).
 nlohmann::json read_report_file(const std::string& path) {
   std::ifstream in(path, std::ios::binary);
   if (!in || std::filesystem::is_directory(path)) {
@@ -177,7 +179,7 @@ nlohmann::json read_report_file(const std::string& path) {
   }
   std::ostringstream text;
   text << in.rdbuf();
-  return read_report(text.str(), path);
+  return schema::read_report(text.str(), path);
 }
 
 } // namespace

@@ -34,8 +34,6 @@
 
 #include "scene/scene.hpp"
 
-#include "pldamp/core/real_types.hpp"
-
 #include <nlohmann/json.hpp>
 
 #include <optional>
@@ -44,25 +42,6 @@
 #include <vector>
 
 namespace pldamp::harness {
-
-// The version of report.json (report/ writes it, diff reads it). 2: scene fingerprints and diff
-// thresholds, records' reference and signed error, cost per regime, searches.
-inline constexpr int report_schema = 2;
-
-// The keys of a point of report.json's budgets.work_precision (report/ writes them, diff reads
-// them). Schema 2 had config, solver, p, seconds, rhs_evals, analytic_seconds, x_analytic and
-// max_rel (the worst of all observables); extended compatibly by cells, skipped_cells,
-// cells_without (of any observable) and by_observable: per observable key, its max_rel and
-// cells_without. diff reads a point without them as before (nothing of them to check).
-namespace work_precision_key {
-inline constexpr const char* config = "config";
-inline constexpr const char* p = "p";
-inline constexpr const char* max_rel = "max_rel";
-inline constexpr const char* cells = "cells";
-inline constexpr const char* skipped_cells = "skipped_cells";
-inline constexpr const char* cells_without = "cells_without";
-inline constexpr const char* by_observable = "by_observable";
-} // namespace work_precision_key
 
 // The thresholds (scene/scene.hpp, DiffThresholds) come from the new report's scene (its [diff]
 // table, written into report.json), each overridden by its flag.
@@ -78,14 +57,9 @@ struct DiffResult {
   DiffThresholds thresholds; // as applied
 };
 
-// A report.json's text, parsed and checked for what diff needs to trust (schema, claims' names,
-// verdicts and expectations, records' keys, outcomes, failed flags, errors and precisions);
-// everything else is read defensively. Throws InputError naming `path` and the first thing
-// amiss, so a damaged or foreign file is one line, exit 2.
-nlohmann::json read_report(std::string_view text, const std::string& path);
-
-// Compares two reports. Throws InputError when they come from different scenes (their
-// fingerprints differ) and `allow_scene_change` is off.
+// Compares two reports, each as schema::read_report (report/schema.hpp) checked it. Throws
+// InputError when they come from different scenes (their fingerprints differ) and
+// `allow_scene_change` is off.
 DiffResult diff_reports(const nlohmann::json& old_report, const nlohmann::json& new_report,
                         const DiffOptions& options = {});
 

@@ -3,7 +3,7 @@
 #pragma once
 
 #include "common/process.hpp"
-#include "report/report.hpp"
+#include "report/sections.hpp"
 
 #include <string>
 #include <string_view>

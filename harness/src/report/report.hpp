@@ -9,44 +9,15 @@
 #pragma once
 
 #include "judge/budget.hpp"
-#include "judge/diff.hpp"
 #include "judge/figures.hpp"
 #include "judge/trajectory.hpp"
 
 #include <nlohmann/json.hpp>
 
-#include <functional>
-
 #include <string>
-#include <string_view>
 #include <vector>
 
 namespace pldamp::harness {
-
-// The paragraph that opens report.md and report.html.
-inline constexpr std::string_view how_to_read =
-    "A cell is one point of the scene's grid: p, a damping (a target e, or alpha_eff), v0, m and "
-    "k. Each solver configuration (a solver at one tolerance, precision or step count) solves "
-    "every cell once, and its values are compared with the closed forms, computed in float128 "
-    "from the damping coefficient exactly as the solver received it (for a damping exponent "
-    "other than the seed's, with the reference solve: taylor in float128, whose own error "
-    "estimate against 50 digits is in report.json). Errors are relative unless "
-    "a column says otherwise; a dash is an observable not asked for or not produced, inf an "
-    "answer that should have been finite. A claim is judged over a grid (the scene's, or its "
-    "own) into a verdict, the cell where it comes closest to failing, and a margin; what its "
-    "measured value and margin are depends on its kind and is said in its line below the "
-    "claim table (for a bound on a solver's error: its largest absolute error, the bound "
-    "divided by that). A failing claim is a finding: pinned with expect = \"fails\", it is "
-    "expected; `run --strict` fails on any verdict other than the expected one. '× analytic' "
-    "is a configuration's time per cell as a multiple of the closed forms' time for the same "
-    "observables in double. Every record (one cell, one configuration) is in report.json and "
-    "report.csv; `pldamp diff OLD.json NEW.json` lists what regressed between two runs.";
-
-// A number for report.json: null when absent or not finite (JSON has no inf or NaN).
-nlohmann::ordered_json number_or_null(const std::optional<double>& x);
-
-// A number for a table: `digits` + 1 significant digits, "inf", or "–" when absent.
-std::string short_number(const std::optional<double>& x, int digits = 2);
 
 struct RunReport {
   const Plan& plan;
@@ -57,6 +28,8 @@ struct RunReport {
   const std::vector<TrajectoryCheck>* trajectories = nullptr; // the scene's [[trajectory]], checked
 };
 
+// Each format on its own (json.cpp, csv.cpp, markdown.cpp, html.cpp); report/schema.hpp gives
+// report.json's layout and keys, report/sections.hpp the tables report.md and report.html share.
 nlohmann::ordered_json report_json(const RunReport& report);
 std::string report_csv(const RunReport& report);
 std::string report_markdown(const RunReport& report);
@@ -71,72 +44,5 @@ struct WrittenReports {
 // Writes the scene's formats into `folder` (created if needed), each atomically
 // (common/files.hpp): a format that fails leaves its previous file and the others are written.
 WrittenReports write_reports(const RunReport& report, const std::string& folder);
-
-// A table of text: a header and its rows.
-struct MapTable {
-  std::vector<std::string> header;
-  std::vector<std::vector<std::string>> rows;
-};
-// A table over p (rows) × damping (columns), underdamped by α_eff, then the overdamped (sinh
-// branch) columns after an empty separator column; `cell` gives each point's text.
-MapTable map_table(const Plan& plan, const std::function<std::string(std::size_t point)>& cell);
-
-// "230", "≤ 10" (reached at the coarsest step, or read off an external program's sweep), "> 5000"
-// (not reached at the finest): the steps per contact a sweep needs for a target.
-std::string step_steps_text(const Plan& plan, const StepSweep& sweep, const StepsNeeded& needed);
-// The per-point answers of a sweep, p × damping, "41 / 380 / > 5000".
-MapTable step_points_table(const Plan& plan, const StepSweep& sweep);
-// How the time-step study's numbers are found and named (report.md and report.html).
-std::string step_study_description(const StepStudy& study);
-
-// The spread of e over onset phases at a sweep's coarsest and finest step, "3.1e-02 → 2e-05".
-std::string phase_spread_text(const StepSweep& sweep, std::size_t e, std::size_t p_index);
-
-// The closed forms' mean cost per cell in double over the grid.
-double mean_analytic_seconds(const Plan& plan);
-
-// One line per observable out of double's range at a point, with its logarithm's error.
-std::string unrepresentable_note(const Plan& plan);
-
-// A claim as the reports show it, in the table's order: an unexpected verdict first, then the
-// failing claims, then those that hold.
-struct ClaimRow {
-  std::string name, kind, subject, where, quote, figure, verdict, worst, measured, bound, margin,
-      denser, grid, note, meaning;
-  std::string without_value; // "Without a value: CELL (why); ..." (empty: none)
-  bool holds = false, unexpected = false;
-};
-std::vector<ClaimRow> claim_rows(const RunReport& report);
-
-// The budget tables, one row per configuration: its worst relative error per observable and
-// the cell of its largest; its cost per cell (rhs evaluations by regime, the time of the fastest
-// repeat, the slowest's excess over it, the multiple of the closed forms' time).
-MapTable error_table(const RunReport& report);
-MapTable cost_table(const RunReport& report);
-// The searches' answers, one row per group, and what they searched.
-MapTable search_table(const RunReport& report);
-std::string search_table_note(const RunReport& report);
-// The scene's trajectories checked, one row per file and observable (a failed file: one row).
-MapTable trajectory_table(const RunReport& report);
-// External solvers, one row per solver line: its program, what it said of itself, and its records
-// run, skipped (and why), failed, and measured without a truth (and why). Empty: none in the run.
-MapTable external_table(const RunReport& report);
-// What the two tables' columns mean, a paragraph under them.
-std::string budget_table_note(const Plan& plan);
-
-// Work precision (work_precision.cpp): report.json's budgets.work_precision, one point per
-// configuration and p with every observable's error and the worst of all; the table of
-// report.md (and report.html), one row per p and configuration, its cost and the error of each
-// series work_panels chooses, with the cells without a value counted; what its columns mean.
-nlohmann::ordered_json work_precision_json(const RunReport& report);
-MapTable work_precision_table(const RunReport& report);
-std::string work_precision_note(const Plan& plan);
-// "3.1e-07", "3.1e-07 (3 of 15 cells without)", "–".
-std::string work_error_text(const WorkError& error, long cells);
-// "e", or "worst of all observables".
-std::string work_panel_title(const WorkPanel& panel);
-
-// A record's identity across runs: "configuration | p=.. damping v0=.. m=.. k=.." (diff's key).
-std::string record_key(const Plan& plan, const Record& record);
 
 } // namespace pldamp::harness

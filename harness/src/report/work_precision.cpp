@@ -15,7 +15,8 @@ namespace pldamp::harness {
 using nlohmann::ordered_json;
 
 ordered_json work_precision_json(const RunReport& report) {
-  namespace key = work_precision_key;
+  namespace key = schema::key;
+  using schema::number_or_null;
   const Plan& plan = report.plan;
   ordered_json points = ordered_json::array();
   for (std::size_t c = 0; c < plan.configs.size(); ++c) {
@@ -27,12 +28,12 @@ ordered_json work_precision_json(const RunReport& report) {
                                                    {key::cells_without, error.cells_without}};
       }
       points.push_back({{key::config, plan.configs[c].label()},
-                        {"solver", plan.configs[c].name},
+                        {key::solver, plan.configs[c].name},
                         {key::p, point.p},
-                        {"seconds", point.seconds},
-                        {"rhs_evals", point.rhs_evals},
-                        {"analytic_seconds", point.analytic_seconds},
-                        {"x_analytic", number_or_null(point.seconds / point.analytic_seconds)},
+                        {key::seconds, point.seconds},
+                        {key::rhs_evals, point.rhs_evals},
+                        {key::analytic_seconds, point.analytic_seconds},
+                        {key::x_analytic, number_or_null(point.seconds / point.analytic_seconds)},
                         {key::max_rel, number_or_null(point.worst_of_all.error)},
                         {key::cells, point.cells},
                         {key::skipped_cells, point.skipped_cells},
@@ -43,6 +44,9 @@ ordered_json work_precision_json(const RunReport& report) {
   return points;
 }
 
+namespace {
+
+// "3.1e-07", "3.1e-07 (3 of 15 cells without)", "–".
 std::string work_error_text(const WorkError& error, long cells) {
   return short_number(error.error) +
          (error.cells_without > 0
@@ -50,9 +54,12 @@ std::string work_error_text(const WorkError& error, long cells) {
               : "");
 }
 
+// "e", or "worst of all observables".
 std::string work_panel_title(const WorkPanel& panel) {
   return panel.observable ? panel.key : "worst of all observables";
 }
+
+} // namespace
 
 MapTable work_precision_table(const RunReport& report) {
   const Plan& plan = report.plan;

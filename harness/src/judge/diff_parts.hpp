@@ -1,0 +1,114 @@
+// The pieces of `pldamp diff` (judge/diff.hpp): the output grammar (findings gathered into
+// groups, one line each; diff_findings.cpp), what two scenes do not share (diff.cpp), and the
+// comparators of records (diff_records.cpp), budgets (diff_budgets.cpp), and claims and searches
+// (diff_claims.cpp). Reports are read through report/schema.hpp: its keys, and its defensive
+// readers for everything read_report did not check.
+#pragma once
+
+#include "judge/diff.hpp"
+#include "report/schema.hpp"
+
+#include <nlohmann/json.hpp>
+
+#include <map>
+#include <set>
+#include <string>
+#include <string_view>
+#include <tuple>
+#include <vector>
+
+namespace pldamp::harness::diff {
+
+using nlohmann::json;
+// A report read through its schema: its keys and words, and its defensive readers.
+namespace key = schema::key;
+namespace word = schema::word;
+using schema::array_in;
+using schema::member_or_null;
+using schema::number_in;
+using schema::string_in;
+
+enum class Severity { regression, change };
+
+// One thing that changed. Findings of one kind (`what`), owner (a configuration, claim or
+// search) and subject (an observable, a field) make a group, one line of output.
+struct Finding {
+  Severity severity = Severity::regression;
+  std::string what{}, owner{}, subject{}, unit{};
+  double rank = 0; // larger: worse (the group shows its largest)
+  // worst: "old -> new", cell: where, detail: a verbose line
+  std::string worst{}, cell{}, detail{};
+};
+
+// Findings gathered into groups; each group remembers its worst member.
+class Findings {
+public:
+  void add(Finding finding);
+  // Each group's line, regressions first, and with `verbose` every finding under its group.
+  void write(DiffResult& result, bool verbose) const;
+
+private:
+  struct Group {
+    Finding worst;
+    long count;
+    std::vector<std::string> details;
+  };
+  std::vector<Group> groups_;
+  std::map<std::tuple<Severity, std::string, std::string, std::string>, std::size_t> index_;
+};
+
+// A field of an output line as text a script can split: one line (common/input.hpp: a name with
+// a line break cannot forge a line of its own) and, unless kept (a verbose line's record key),
+// the field separator " | " written " / ".
+std::string field_text(std::string_view text, bool keep_separators = false);
+// "3e-06" and " (x100)": a number as the lines show it, and the factor from one to another.
+std::string number_text(double x);
+std::string factor_text(double before, double after);
+
+// 16 ε of a record's precision: below it a tenfold change is rounding, not a regression.
+double precision_noise(const std::string& precision);
+
+// Noise per configuration label: 16 ε of its precision (double where unknown).
+class Noise {
+public:
+  explicit Noise(const json& report);
+  double of(const std::string& label) const;
+
+private:
+  std::map<std::string, double> by_label_;
+};
+
+// An error (or a claim's error-like measurement) from `before` to `after`: grown more than the
+// factor above the noise, or vanished to 0 from above it, is a regression; fallen by more than
+// the factor, a change. Else nothing.
+void compare_error(Findings& findings, const Finding& base, double before, double after,
+                   double noise, double factor);
+
+// Numbers that were there and are not (regressions), and nulls that became numbers (changes).
+// `was` and `now` map a subject (an observable, a count) to its fields' values; one finding per
+// subject, however many of its fields went, but none for a subject the new scene removed.
+void compare_numbers(Findings& findings, const Finding& base, const json& was, const json& now,
+                     const std::set<std::string>& removed = {});
+
+// One field of an object as compare_numbers reads it: {subject: {field: value}}.
+json field_of(const json& object, const std::string& subject, const std::string& field);
+
+// What one scene has that the other lacks: configurations, grid values, claims.
+struct SceneChange {
+  std::vector<std::string> lines;
+  std::set<std::string> removed_configs, removed_claims, removed_observables;
+  std::map<std::string, std::set<std::string>> removed_values; // axis -> values as text
+};
+SceneChange scene_change(const json& old_report, const json& new_report);
+
+// The comparators: records (errors, numbers, outcomes, work, time), budgets (budgets.worst,
+// work-precision points and the analytic layer, each also against the new report's own records),
+// claims and searches.
+void compare_records(Findings& findings, const json& old_report, const json& new_report,
+                     const SceneChange& change, const DiffThresholds& t);
+void compare_budgets(Findings& findings, const json& old_report, const json& new_report,
+                     const SceneChange& change, const DiffThresholds& t);
+void compare_claims(Findings& findings, const json& old_report, const json& new_report,
+                    const SceneChange& change, const DiffThresholds& t);
+
+} // namespace pldamp::harness::diff

@@ -1,0 +1,63 @@
+// report.csv: one row per record, its columns named as report.json's fields (report/schema.hpp).
+#include "report/sections.hpp"
+
+#include <fmt/format.h>
+
+#include <array>
+
+namespace pldamp::harness {
+
+namespace key = schema::key;
+
+std::string report_csv(const RunReport& report) {
+  const Plan& plan = report.plan;
+  constexpr std::array columns{key::solver,
+                               key::precision,
+                               key::rtol,
+                               key::atol,
+                               key::steps_per_contact,
+                               key::p,
+                               key::damping,
+                               key::alpha_eff,
+                               key::alpha,
+                               key::v0,
+                               key::m,
+                               key::k,
+                               key::outcome,
+                               key::steps,
+                               key::rhs_evals,
+                               key::wall_seconds,
+                               key::wall_seconds_slowest};
+  std::string out = fmt::format("{}", fmt::join(columns, ","));
+  for (const Observable* observable : plan.observables) {
+    const std::string_view name = observable->key;
+    out += fmt::format(",{0},{0}_{1},{0}_{2},{0}_{3},{0}_{4}", name, key::reference, key::error,
+                       key::abs_error, key::rel_error);
+  }
+  out += "\n";
+  // Numbers in the shortest form that reads back to the same double (0.05, not
+  // 0.050000000000000003); an empty field is a value absent.
+  const auto number = [](const std::optional<double>& x) {
+    return x ? fmt::format("{}", *x) : std::string();
+  };
+  for (const Record& record : report.records) {
+    const SolverConfig& config = plan.configs[record.config];
+    const Cell& c = plan.cells[record.cell];
+    const Point& point = plan.points[c.point];
+    out += fmt::format("{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{}", config.name,
+                       config.precision, number(config.rtol), number(config.atol),
+                       config.steps_per_contact ? std::to_string(*config.steps_per_contact) : "",
+                       point.p, point.damping.label(), point.alpha_eff, record.alpha, c.v0, c.m,
+                       c.k, record.outcome_name(), record.steps, record.rhs_evals,
+                       record.wall_seconds, record.wall_seconds_slowest);
+    for (std::size_t o = 0; o < plan.observables.size(); ++o) {
+      out += fmt::format(",{},{},{},{},{}", number(record.value[o]), number(record.reference[o]),
+                         number(record.error[o]), number(record.abs_error[o]),
+                         number(record.rel_error[o]));
+    }
+    out += "\n";
+  }
+  return out;
+}
+
+} // namespace pldamp::harness
