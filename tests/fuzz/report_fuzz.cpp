@@ -1,5 +1,5 @@
-// libFuzzer target: pldamp::harness::schema::read_report (report/schema.hpp), the reader of a
-// report.json, on arbitrary bytes; when it accepts them, `regressions` between that report and
+// libFuzzer target: pldamp::harness::schema::read_report (common/report_schema.hpp), the reader of
+// a report.json, on arbitrary bytes; when it accepts them, `regressions` between that report and
 // itself and between it and a small valid report, both ways (what `pldamp diff OLD NEW` computes).
 // An InputError (an std::invalid_argument) is the answer to bad input; any other exception escapes
 // and aborts, and libFuzzer reports it with a crash, a hang (-timeout), a leak or an ASan/UBSan
@@ -13,8 +13,8 @@
 //   F=/tmp/build-fuzz/tests/fuzz/report_fuzz; mkdir -p /tmp/report-corpus
 //   $F -dict=tests/fuzz/report.dict /tmp/report-corpus tests/fuzz/corpus/report   # until Ctrl-C
 //   $F tests/fuzz/corpus/report/crash-...                  # replays one input
+#include "common/report_schema.hpp"
 #include "judge/diff.hpp"
-#include "report/schema.hpp"
 
 #include <nlohmann/json.hpp>
 

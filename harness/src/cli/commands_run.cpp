@@ -1,11 +1,11 @@
 // `pldamp run SCENE.toml [--out DIR] [--jobs N]` and `pldamp diff OLD.json NEW.json [--verbose]`.
 #include "cli/commands.hpp"
 #include "common/files.hpp"
+#include "common/report_schema.hpp"
 #include "judge/claims.hpp"
 #include "judge/diff.hpp"
 #include "judge/step_study.hpp"
 #include "report/report.hpp"
-#include "report/schema.hpp"
 
 #include <fmt/format.h>
 
@@ -171,7 +171,7 @@ double planned_runs(const Scene& scene) {
   return grid_cells(scene) * per_cell * scene.repeats + claim_solves + search_runs;
 }
 
-// The report at `path`, read whole and checked (report/schema.hpp).
+// The report at `path`, read whole and checked (common/report_schema.hpp).
 nlohmann::json read_report_file(const std::string& path) {
   std::ifstream in(path, std::ios::binary);
   if (!in || std::filesystem::is_directory(path)) {

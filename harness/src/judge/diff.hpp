@@ -57,7 +57,7 @@ struct DiffResult {
   DiffThresholds thresholds; // as applied
 };
 
-// Compares two reports, each as schema::read_report (report/schema.hpp) checked it. Throws
+// Compares two reports, each as schema::read_report (common/report_schema.hpp) checked it. Throws
 // InputError when they come from different scenes (their fingerprints differ) and
 // `allow_scene_change` is off.
 DiffResult diff_reports(const nlohmann::json& old_report, const nlohmann::json& new_report,

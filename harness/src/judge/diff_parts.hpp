@@ -1,12 +1,12 @@
 // The pieces of `pldamp diff` (judge/diff.hpp): the output grammar (findings gathered into
 // groups, one line each; diff_findings.cpp), what two scenes do not share (diff.cpp), and the
 // comparators of records (diff_records.cpp), budgets (diff_budgets.cpp), and claims and searches
-// (diff_claims.cpp). Reports are read through report/schema.hpp: its keys, and its defensive
+// (diff_claims.cpp). Reports are read through common/report_schema.hpp: its keys, and its defensive
 // readers for everything read_report did not check.
 #pragma once
 
+#include "common/report_schema.hpp"
 #include "judge/diff.hpp"
-#include "report/schema.hpp"
 
 #include <nlohmann/json.hpp>
 

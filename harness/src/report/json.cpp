@@ -1,4 +1,4 @@
-// report.json, one function per section (report/schema.hpp gives its layout and every key).
+// report.json, one function per section (common/report_schema.hpp gives its layout and every key).
 #include "report/sections.hpp"
 
 #include <fmt/format.h>

@@ -1,4 +1,4 @@
-// report.json's budgets and records (report/schema.hpp gives their layout and every key).
+// report.json's budgets and records (common/report_schema.hpp gives their layout and every key).
 #include "report/sections.hpp"
 
 #include <array>

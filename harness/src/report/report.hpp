@@ -1,4 +1,4 @@
-// A run's reports (DESIGN.md "Reports"), written into one folder:
+// A run's reports (docs/design.md §5), written into one folder:
 //   report.json  complete (schema, scene, totals, claims, budgets, records); the input of diff
 //   report.csv   one row per cell and solver configuration
 //   report.md    worst errors per observable and configuration, claim verdicts, the
@@ -28,8 +28,9 @@ struct RunReport {
   const std::vector<TrajectoryCheck>* trajectories = nullptr; // the scene's [[trajectory]], checked
 };
 
-// Each format on its own (json.cpp, csv.cpp, markdown.cpp, html.cpp); report/schema.hpp gives
-// report.json's layout and keys, report/sections.hpp the tables report.md and report.html share.
+// Each format on its own (json.cpp, csv.cpp, markdown.cpp, html.cpp); common/report_schema.hpp
+// gives report.json's layout and keys, report/sections.hpp the tables report.md and report.html
+// share.
 nlohmann::ordered_json report_json(const RunReport& report);
 std::string report_csv(const RunReport& report);
 std::string report_markdown(const RunReport& report);

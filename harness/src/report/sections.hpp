@@ -3,8 +3,8 @@
 // and written by report.md (markdown.cpp) and report.html (html.cpp) alike.
 #pragma once
 
+#include "common/report_schema.hpp"
 #include "report/report.hpp"
-#include "report/schema.hpp"
 
 #include <nlohmann/json.hpp>
 

@@ -1,4 +1,4 @@
-#include "report/schema.hpp"
+#include "common/report_schema.hpp"
 
 #include "common/input.hpp"
 
