@@ -4,9 +4,9 @@
 #include "fake_solver.hpp"
 #include "fixtures.hpp"
 
+#include "common/report_schema.hpp"
 #include "judge/diff.hpp"
 #include "report/report.hpp"
-#include "report/schema.hpp"
 
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
@@ -406,6 +406,52 @@ TEST(Diff, ASolverLabelHoldingTheFieldSeparatorKeepsItsRecordsApart) {
   EXPECT_EQ(regressions(old_report, gone),
             std::vector<std::string>{"REGRESSION record_gone | fake / v2 | record | 1 record | "
                                      "present -> missing at p=1 e=0.3 v0=2 m=1 k=1"});
+}
+
+TEST(Report, ACsvFieldHoldingACommaOrAQuoteIsQuoted) {
+  // A label with a comma would shift every later column of its rows; RFC 4180 quotes it.
+  std::string scene = testing::scene_with("good", "", "", "p = [1]\ne = [0.3]\nv0 = [1]\n");
+  const std::size_t label = scene.find("label = \"fake\"");
+  ASSERT_NE(label, std::string::npos);
+  scene.replace(label, 14, "label = \"fake, \\\"v2\\\"\"");
+  const testing::Ran ran = testing::run_scene_text(scene);
+  Plan plan = ran.plan;
+  plan.scene.formats = {ReportFormat::csv};
+  const Budgets b = make_budgets(plan, ran.records);
+  const RunTotals totals{0, 0, 0, {"fake good"}};
+  const std::vector<Figure> figures;
+  const fs::path out = scratch() / "comma-label";
+  fs::remove_all(out);
+  ASSERT_TRUE(
+      write_reports({plan, ran.records, b, totals, figures}, out.string()).failures.empty());
+  std::istringstream csv(read(out / "report.csv"));
+  std::string header, row;
+  ASSERT_TRUE(std::getline(csv, header));
+  ASSERT_TRUE(std::getline(csv, row));
+  // Split as a CSV reader does: commas outside quotes, "" inside a quoted field is one quote.
+  const auto fields = [](const std::string& line) {
+    std::vector<std::string> split{""};
+    bool quoted = false;
+    for (std::size_t i = 0; i < line.size(); ++i) {
+      if (line[i] == '"' && quoted && i + 1 < line.size() && line[i + 1] == '"') {
+        split.back() += '"';
+        ++i;
+      } else if (line[i] == '"') {
+        quoted = !quoted;
+      } else if (line[i] == ',' && !quoted) {
+        split.emplace_back();
+      } else {
+        split.back() += line[i];
+      }
+    }
+    return split;
+  };
+  const std::vector<std::string> names = fields(header), values = fields(row);
+  ASSERT_EQ(values.size(), names.size());
+  EXPECT_EQ(names[0], "solver");
+  EXPECT_EQ(values[0], "fake, \"v2\"");
+  EXPECT_EQ(names[1], "precision");
+  EXPECT_EQ(values[1], "double");
 }
 
 TEST(Diff, ThroughTheCommandLine) {

@@ -1,4 +1,5 @@
-// report.csv: one row per record, its columns named as report.json's fields (report/schema.hpp).
+// report.csv: one row per record, its columns named as report.json's fields
+// (common/report_schema.hpp).
 #include "report/sections.hpp"
 
 #include <fmt/format.h>
@@ -8,6 +9,23 @@
 namespace pldamp::harness {
 
 namespace key = schema::key;
+
+namespace {
+
+// A text field as RFC 4180 writes it: quoted, its quotes doubled, when it holds a comma, a quote or
+// a line break (a solver's label may: the scene accepts any), as it is otherwise.
+std::string csv_field(std::string_view text) {
+  if (text.find_first_of(",\"\r\n") == std::string_view::npos) {
+    return std::string(text);
+  }
+  std::string quoted = "\"";
+  for (const char c : text) {
+    quoted += c == '"' ? "\"\"" : std::string(1, c);
+  }
+  return quoted + "\"";
+}
+
+} // namespace
 
 std::string report_csv(const RunReport& report) {
   const Plan& plan = report.plan;
@@ -44,11 +62,11 @@ std::string report_csv(const RunReport& report) {
     const SolverConfig& config = plan.configs[record.config];
     const Cell& c = plan.cells[record.cell];
     const Point& point = plan.points[c.point];
-    out += fmt::format("{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{}", config.name,
+    out += fmt::format("{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{}", csv_field(config.name),
                        config.precision, number(config.rtol), number(config.atol),
                        config.steps_per_contact ? std::to_string(*config.steps_per_contact) : "",
-                       point.p, point.damping.label(), point.alpha_eff, record.alpha, c.v0, c.m,
-                       c.k, record.outcome_name(), record.steps, record.rhs_evals,
+                       point.p, csv_field(point.damping.label()), point.alpha_eff, record.alpha,
+                       c.v0, c.m, c.k, record.outcome_name(), record.steps, record.rhs_evals,
                        record.wall_seconds, record.wall_seconds_slowest);
     for (std::size_t o = 0; o < plan.observables.size(); ++o) {
       out += fmt::format(",{},{},{},{},{}", number(record.value[o]), number(record.reference[o]),
