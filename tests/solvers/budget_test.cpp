@@ -36,7 +36,27 @@ TEST(Invariants, AnImplicitStepThatCannotConvergeIsUnstableNotAnException) {
   options.fixed_step = 10;
   const Result<double> r = solve("arkode-dirk", problem_of(hertz), options);
   EXPECT_EQ(r.outcome, Outcome::unstable);
-  EXPECT_NE(r.invariant.find("ARKStepEvolve failed"), std::string::npos) << r.invariant;
+  // The flag named (ARKStepGetReturnFlagName), then ARKODE's own message.
+  EXPECT_EQ(r.invariant.rfind("ARKStepEvolve failed with ARK_CONV_FAILURE: ARKODE: At t = ", 0), 0u)
+      << r.invariant;
+}
+
+// A failing SUNDIALS integrator names its flag, not a number: an absolute tolerance at the bottom
+// of its range (ε² of the energy scale ½mv0²) under heavy damping fails the error test on the
+// first step, in CVODE (both methods) and ERKStep alike.
+TEST(Invariants, AFailingSundialsIntegratorNamesItsFlag) {
+  Options<double> options;
+  options.rtol = 1e-3;
+  options.atol = 1e-31;
+  const Problem<double> heavily_damped{.p = 1.5, .m = 1, .k = 1, .v0 = 1, .alpha = 1e4};
+  for (const auto& [solver, failure] : std::vector<std::pair<std::string, std::string>>{
+           {"cvode-bdf", "CVode failed with CV_ERR_FAILURE: CVode: At t = 0 and h = "},
+           {"cvode-adams", "CVode failed with CV_ERR_FAILURE: CVode: At t = 0 and h = "},
+           {"arkode-dp5", "ERKStepEvolve failed with ARK_ERR_FAILURE: ARKODE: At t = "}}) {
+    const Result<double> r = solve(solver, heavily_damped, options);
+    EXPECT_EQ(r.outcome, Outcome::unstable) << solver;
+    EXPECT_EQ(r.invariant.rfind(failure, 0), 0u) << solver << ": " << r.invariant;
+  }
 }
 
 TEST(Invariants, StableStepsKeepTheirAnswer) {
