@@ -166,8 +166,9 @@ void compare(const std::optional<Real>& got, const bin50& want, EpsilonErrors<Re
 
 // The errors against analytic.csv expected of each type, in its ε: {precision, region,
 // observable, max, RMS}. Measured by this test (it prints them: `observables_test
-// --gtest_filter='*MatchReferenceTable*'`), GCC 12 on x86-64, and set to twice the measured max
-// and RMS rounded up (the measured values in the comments). A "*" row is twice the worst of the
+// --gtest_filter='*MatchReferenceTable*'`), GCC 12 on x86-64 (the same to the last digit with the
+// libraries at -O3 and at -O1), and set to twice the measured max and RMS rounded up (the
+// measured values in the comments). A "*" row is twice the worst of the
 // observables it covers. Near critical damping from below, e, τ and τ/τ0 have rows of their own:
 // they are exponentials of arguments up to ~π/√(1 − z²) (ln e = −2221 at z = 1 − 1e−6), and the
 // rounded μ = (1 − z)(1 + z) carries a condition number of that size (|d ln v/d ln μ| ≈
