@@ -1,6 +1,7 @@
 // Every solve bounded and checked before it leaves solvers/ (problem.hpp, Outcome): the budgets
 // (steps, wall time, a stop request), the invariants that turn an impossible answer into
 // `unstable`, and the inputs that once crashed, hung or answered wrongly.
+#include "collision.hpp"
 #include "every_solver.hpp"
 
 #include <atomic>
@@ -57,6 +58,16 @@ TEST(Invariants, AFailingSundialsIntegratorNamesItsFlag) {
     EXPECT_EQ(r.outcome, Outcome::unstable) << solver;
     EXPECT_EQ(r.invariant.rfind(failure, 0), 0u) << solver << ": " << r.invariant;
   }
+}
+
+// An event is recorded only while pending (collision.cpp asserts it; every method looks first):
+// an exit before the peak is the method's bug. Where assertions are compiled in (CI's sanitizer
+// build) it stops the program; elsewhere it is not checked.
+TEST(InvariantsDeathTest, AnEventOutOfOrderFailsTheAssertion) {
+  GTEST_FLAG_SET(death_test_style, "threadsafe");
+  detail::Collision collision(problem_of(hertz), Options<double>{});
+  EXPECT_FALSE(collision.pending(EventKind::exit));
+  EXPECT_DEBUG_DEATH(collision.record(EventKind::exit, 1.0, {0.0, -0.5, 0.0}), "pending\\(kind\\)");
 }
 
 TEST(Invariants, StableStepsKeepTheirAnswer) {
