@@ -78,12 +78,14 @@ test)
   cmp build/analytic.csv data/reference/analytic.csv
   echo "== clang-format"
   git ls-files '*.cpp' '*.hpp' | xargs clang-format --dry-run -Werror
-  echo "== tests under AddressSanitizer + UndefinedBehaviorSanitizer"
+  echo "== tests under AddressSanitizer + UndefinedBehaviorSanitizer, with assertions"
   # -O1 -g1: half the compile time of -O2 -g on the multiprecision units, line numbers kept.
+  # Without -DNDEBUG: this is the build whose tests run the code's assert()s (the internal
+  # invariants of core, analytic, solvers and the harness; the Release build above drops them).
   # The analytic layer's typed numeric tests ran above; their code runs here through the others.
   build build-sanitize -DPLDAMP_WERROR=ON -DPLDAMP_SANITIZE=ON -DPLDAMP_BUILD_BENCHMARKS=OFF \
     -DPLDAMP_ANALYTIC_TESTS=OFF \
-    -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O1 -g1 -DNDEBUG"
+    -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O1 -g1"
   # The adapters' tests drive LAMMPS and LIGGGHTS from Python (pldamp only for `solve`): they ran
   # above, and the protocol's C++ side runs here through tests/harness/external_test.cpp.
   ctest --test-dir build-sanitize -j "$(nproc)" --output-on-failure -LE adapters

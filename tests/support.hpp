@@ -10,6 +10,7 @@
 #include <limits>
 #include <optional>
 #include <sstream>
+#include <stdexcept>
 #include <string>
 #include <type_traits>
 
@@ -84,6 +85,18 @@ struct Worst {
     check(got.t_normal_force_max, want.t_normal_force_max, "t_normal_force_max", label);
   }
 };
+
+// The message of the Exception a call throws, or "no exception" (any other exception propagates
+// and fails the test).
+template <class Exception = std::invalid_argument, class Call>
+std::string message_of(Call&& call) {
+  try {
+    call();
+  } catch (const Exception& error) {
+    return error.what();
+  }
+  return "no exception";
+}
 
 // For test reports (std::to_string would print 1e-15 as 0.000000).
 inline std::string scientific(double x) {

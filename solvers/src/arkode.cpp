@@ -58,9 +58,11 @@ ButcherTable with_fsal_stage(ARKodeButcherTable table) {
 
 ButcherTable explicit_table(ArkodeMethod method) {
   if (method == ArkodeMethod::dormand_prince_5) {
-    return ButcherTable(ARKodeButcherTable_LoadERK(ARKODE_DORMAND_PRINCE_7_4_5));
+    return ButcherTable(check_created(ARKodeButcherTable_LoadERK(ARKODE_DORMAND_PRINCE_7_4_5),
+                                      "ARKodeButcherTable_LoadERK"));
   }
-  const ButcherTable fehlberg(ARKodeButcherTable_LoadERK(ARKODE_FEHLBERG_13_7_8));
+  const ButcherTable fehlberg(check_created(ARKodeButcherTable_LoadERK(ARKODE_FEHLBERG_13_7_8),
+                                            "ARKodeButcherTable_LoadERK"));
   return with_fsal_stage(fehlberg.get());
 }
 
@@ -116,8 +118,9 @@ public:
         memory_(check_created(ERKStepCreate(sundials::rhs, 0, y_.get(), context_.get()),
                               "ERKStepCreate")),
         stages_(weighted_stages(table_.get())), fehlberg_(method == ArkodeMethod::fehlberg_8) {
-    check(ERKStepSetErrHandlerFn(memory_.get(), LastMessage::keep, &last_), "SetErrHandlerFn");
-    check(ERKStepSetTable(memory_.get(), table_.get()), "ERKStepSetTable");
+    last_.check(ERKStepSetErrHandlerFn(memory_.get(), LastMessage::keep, &last_),
+                "ERKStepSetErrHandlerFn");
+    last_.check(ERKStepSetTable(memory_.get(), table_.get()), "ERKStepSetTable");
   }
 
   void start(Collision& collision) {
@@ -164,7 +167,7 @@ public:
 
   long steps() const override {
     long n = 0;
-    ERKStepGetNumSteps(memory_.get(), &n);
+    last_.check(ERKStepGetNumSteps(memory_.get(), &n), "ERKStepGetNumSteps");
     return n;
   }
 
@@ -179,7 +182,7 @@ private:
   Vector atol_ = make_vector(context_.get());
   ButcherTable table_;
   Memory<ERKStepFree> memory_;
-  LastMessage last_;
+  LastMessage last_{ERKStepGetReturnFlagName};
   Collision* collision_ = nullptr;
   std::vector<State> stages_;
   bool fehlberg_;
@@ -193,11 +196,13 @@ public:
       : memory_(check_created(ARKStepCreate(nullptr, sundials::rhs, 0, y_.get(), context_.get()),
                               "ARKStepCreate")) {
     void* ark = memory_.get();
-    check(ARKStepSetErrHandlerFn(ark, LastMessage::keep, &last_), "SetErrHandlerFn");
-    check(ARKStepSetTableNum(ark, ARKODE_KVAERNO_7_4_5, ARKODE_ERK_NONE), "ARKStepSetTableNum");
+    last_.check(ARKStepSetErrHandlerFn(ark, LastMessage::keep, &last_), "ARKStepSetErrHandlerFn");
+    last_.check(ARKStepSetTableNum(ark, ARKODE_KVAERNO_7_4_5, ARKODE_ERK_NONE),
+                "ARKStepSetTableNum");
+    // The linear solver interface's flags (ARKLS_*) have their own names.
     check(ARKStepSetLinearSolver(ark, newton_.solver.get(), newton_.matrix.get()),
-          "ARKStepSetLinearSolver");
-    check(ARKStepSetJacFn(ark, sundials::jacobian), "ARKStepSetJacFn");
+          "ARKStepSetLinearSolver", ARKStepGetLinReturnFlagName);
+    check(ARKStepSetJacFn(ark, sundials::jacobian), "ARKStepSetJacFn", ARKStepGetLinReturnFlagName);
   }
 
   void start(Collision& collision) {
@@ -231,7 +236,7 @@ public:
 
   long steps() const override {
     long n = 0;
-    ARKStepGetNumSteps(memory_.get(), &n);
+    last_.check(ARKStepGetNumSteps(memory_.get(), &n), "ARKStepGetNumSteps");
     return n;
   }
 
@@ -242,7 +247,7 @@ private:
   Vector dense_ = make_vector(context_.get());
   DenseNewton newton_{y_.get(), context_.get()};
   Memory<ARKStepFree> memory_;
-  LastMessage last_;
+  LastMessage last_{ARKStepGetReturnFlagName};
 };
 
 template <class Stepper>

@@ -3,6 +3,7 @@
 #include <boost/math/tools/toms748_solve.hpp>
 
 #include <algorithm>
+#include <cassert>
 #include <cmath>
 #include <limits>
 
@@ -96,6 +97,7 @@ void BasicCollision<Real>::offer_onset_force() {
 
 template <SupportedReal Real>
 bool BasicCollision<Real>::record(EventKind kind, const Real& t, const State& y) {
+  assert(pending(kind)); // every caller looks first: an event is found once, in its order
   if (kind == EventKind::force_peak) {
     offer_normal_force(t, ode_.total_force(y[0], y[1]));
     return false;

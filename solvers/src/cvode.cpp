@@ -37,20 +37,22 @@ struct CvodeWorkspace {
   Vector atol = make_vector(context.get());
   DenseNewton newton{y.get(), context.get()};
   Memory<CVodeFree> memory;
-  LastMessage last_message;
+  LastMessage last_message{CVodeGetReturnFlagName};
 
   explicit CvodeWorkspace(int lmm)
       : memory(check_created(CVodeCreate(lmm, context.get()), "CVodeCreate")) {
     void* cvode = memory.get();
-    check(CVodeInit(cvode, sundials::rhs, 0, y.get()), "CVodeInit");
-    check(CVodeSetErrHandlerFn(cvode, LastMessage::keep, &last_message), "CVodeSetErrHandlerFn");
+    last_message.check(CVodeInit(cvode, sundials::rhs, 0, y.get()), "CVodeInit");
+    last_message.check(CVodeSetErrHandlerFn(cvode, LastMessage::keep, &last_message),
+                       "CVodeSetErrHandlerFn");
+    // The linear solver interface's flags (CVLS_*) have their own names.
     check(CVodeSetLinearSolver(cvode, newton.solver.get(), newton.matrix.get()),
-          "CVodeSetLinearSolver");
-    check(CVodeSetJacFn(cvode, sundials::jacobian), "CVodeSetJacFn");
-    check(CVodeRootInit(cvode, 3, event_functions), "CVodeRootInit");
+          "CVodeSetLinearSolver", CVodeGetLinReturnFlagName);
+    check(CVodeSetJacFn(cvode, sundials::jacobian), "CVodeSetJacFn", CVodeGetLinReturnFlagName);
+    last_message.check(CVodeRootInit(cvode, 3, event_functions), "CVodeRootInit");
     std::array<int, 3> falling{-1, -1, -1};
-    check(CVodeSetRootDirection(cvode, falling.data()), "CVodeSetRootDirection");
-    check(CVodeSetNoInactiveRootWarn(cvode), "CVodeSetNoInactiveRootWarn");
+    last_message.check(CVodeSetRootDirection(cvode, falling.data()), "CVodeSetRootDirection");
+    last_message.check(CVodeSetNoInactiveRootWarn(cvode), "CVodeSetNoInactiveRootWarn");
   }
 };
 
@@ -80,7 +82,7 @@ Result<double> solve_cvode(CvodeMethod method, const Problem<double>& problem,
 
   auto steps = [&] {
     long n = 0;
-    CVodeGetNumSteps(cvode, &n);
+    w.last_message.check(CVodeGetNumSteps(cvode, &n), "CVodeGetNumSteps");
     return n;
   };
   // Dense output inside the last step: CVODE's Nordsieck interpolant, of the method's order.

@@ -11,20 +11,36 @@
 #include <sunlinsol/sunlinsol_dense.h>
 #include <sunmatrix/sunmatrix_dense.h>
 
+#include <cassert>
+#include <cstdlib>
 #include <memory>
 #include <stdexcept>
 #include <string>
+#include <string_view>
 #include <type_traits>
 
 #include "collision.hpp"
 
 namespace pldamp::solvers::detail::sundials {
 
-// Throws unless a SUNDIALS call succeeded (negative codes are failures).
-inline void check(int flag, const char* call) {
+// A module's XGetReturnFlagName (CVodeGetReturnFlagName, ARKStepGetLinReturnFlagName, ...): the
+// name of a return flag, in a string the caller frees; "NONE" for a flag the module does not know.
+using FlagNamer = char* (*)(long int);
+
+// "CV_TOO_MUCH_WORK": the flag's name by `namer`, or "code -4" where it has none (namer null: a
+// call of no module, SUNContext_Create).
+inline std::string flag_name(int flag, FlagNamer namer) {
+  const std::unique_ptr<char, decltype(&std::free)> name(namer ? namer(flag) : nullptr, &std::free);
+  if (name == nullptr || std::string_view(name.get()) == "NONE") {
+    return "code " + std::to_string(flag);
+  }
+  return name.get();
+}
+
+// Throws unless a SUNDIALS call succeeded (negative flags are failures), naming the flag.
+inline void check(int flag, const char* call, FlagNamer namer) {
   if (flag < 0) {
-    throw std::runtime_error(std::string(call) + " failed with SUNDIALS code " +
-                             std::to_string(flag));
+    throw std::runtime_error(std::string(call) + " failed with " + flag_name(flag, namer));
   }
 }
 
@@ -64,7 +80,7 @@ using Memory = std::unique_ptr<void, MemoryFree<free_memory>>;
 
 inline Context make_context() {
   SUNContext context = nullptr;
-  check(SUNContext_Create(nullptr, &context), "SUNContext_Create");
+  check(SUNContext_Create(nullptr, &context), "SUNContext_Create", nullptr);
   return Context(context);
 }
 
@@ -75,12 +91,15 @@ inline Vector make_vector(SUNContext context) {
   return vector;
 }
 
+// Every vector here is make_vector's: serial, of the three states.
 inline State to_state(N_Vector y) {
+  assert(N_VGetLength(y) == 3);
   const double* data = N_VGetArrayPointer(y);
   return {data[0], data[1], data[2]};
 }
 
 inline void assign(N_Vector y, const State& state) {
+  assert(N_VGetLength(y) == 3);
   double* data = N_VGetArrayPointer(y);
   for (int i = 0; i < 3; ++i) {
     data[i] = state[static_cast<std::size_t>(i)];
@@ -106,23 +125,31 @@ inline int jacobian(double /*t*/, N_Vector y, N_Vector /*fy*/, SUNMatrix J, void
 }
 
 // SUNDIALS reports through a handler; keep the last message for the exception instead of letting
-// the library print to stderr.
+// the library print to stderr. A failure names its flag by the integrator's namer:
+// "CVode failed with CV_CONV_FAILURE: CVode: At t = ..., the corrector convergence failed ...".
 struct LastMessage {
+  FlagNamer namer;
   std::string text;
+
+  explicit LastMessage(FlagNamer integrator_namer) : namer(integrator_namer) {}
 
   static void keep(int /*code*/, const char* /*module*/, const char* function, char* message,
                    void* self) {
     static_cast<LastMessage*>(self)->text = std::string(function) + ": " + message;
   }
+  std::string failure(int flag, const char* call) const {
+    return std::string(call) + " failed with " + flag_name(flag, namer) +
+           (text.empty() ? "" : ": " + text);
+  }
   void check(int flag, const char* call) const {
     if (flag < 0) {
-      throw std::runtime_error(std::string(call) + " failed: " + text);
+      throw std::runtime_error(failure(flag, call));
     }
   }
   // A failure of the integration itself (not of its set-up): StepFailed (collision.hpp).
   void check_step(int flag, const char* call) const {
     if (flag < 0) {
-      throw StepFailed(std::string(call) + " failed: " + text);
+      throw StepFailed(failure(flag, call));
     }
   }
 };

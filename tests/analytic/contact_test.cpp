@@ -7,21 +7,12 @@ namespace pldamp::analytic {
 namespace {
 
 using pldamp::testing::eps;
+using pldamp::testing::message_of;
 using pldamp::testing::relative_error;
 
 template <class Real>
 class ContactTest : public ::testing::Test {};
 TYPED_TEST_SUITE(ContactTest, pldamp::testing::AllReals);
-
-template <class Call>
-std::string message_of(Call call) {
-  try {
-    call();
-  } catch (const std::invalid_argument& error) {
-    return error.what();
-  }
-  return "no exception";
-}
 
 TYPED_TEST(ContactTest, BadInputNamesTheParameterAndValue) {
   using Real = TypeParam;

@@ -1,6 +1,7 @@
 // Every solve bounded and checked before it leaves solvers/ (problem.hpp, Outcome): the budgets
 // (steps, wall time, a stop request), the invariants that turn an impossible answer into
 // `unstable`, and the inputs that once crashed, hung or answered wrongly.
+#include "collision.hpp"
 #include "every_solver.hpp"
 
 #include <atomic>
@@ -36,7 +37,37 @@ TEST(Invariants, AnImplicitStepThatCannotConvergeIsUnstableNotAnException) {
   options.fixed_step = 10;
   const Result<double> r = solve("arkode-dirk", problem_of(hertz), options);
   EXPECT_EQ(r.outcome, Outcome::unstable);
-  EXPECT_NE(r.invariant.find("ARKStepEvolve failed"), std::string::npos) << r.invariant;
+  // The flag named (ARKStepGetReturnFlagName), then ARKODE's own message.
+  EXPECT_EQ(r.invariant.rfind("ARKStepEvolve failed with ARK_CONV_FAILURE: ARKODE: At t = ", 0), 0u)
+      << r.invariant;
+}
+
+// A failing SUNDIALS integrator names its flag, not a number: an absolute tolerance at the bottom
+// of its range (ε² of the energy scale ½mv0²) under heavy damping fails the error test on the
+// first step, in CVODE (both methods) and ERKStep alike.
+TEST(Invariants, AFailingSundialsIntegratorNamesItsFlag) {
+  Options<double> options;
+  options.rtol = 1e-3;
+  options.atol = 1e-31;
+  const Problem<double> heavily_damped{.p = 1.5, .m = 1, .k = 1, .v0 = 1, .alpha = 1e4};
+  for (const auto& [solver, failure] : std::vector<std::pair<std::string, std::string>>{
+           {"cvode-bdf", "CVode failed with CV_ERR_FAILURE: CVode: At t = 0 and h = "},
+           {"cvode-adams", "CVode failed with CV_ERR_FAILURE: CVode: At t = 0 and h = "},
+           {"arkode-dp5", "ERKStepEvolve failed with ARK_ERR_FAILURE: ARKODE: At t = "}}) {
+    const Result<double> r = solve(solver, heavily_damped, options);
+    EXPECT_EQ(r.outcome, Outcome::unstable) << solver;
+    EXPECT_EQ(r.invariant.rfind(failure, 0), 0u) << solver << ": " << r.invariant;
+  }
+}
+
+// An event is recorded only while pending (collision.cpp asserts it; every method looks first):
+// an exit before the peak is the method's bug. Where assertions are compiled in (CI's sanitizer
+// build) it stops the program; elsewhere it is not checked.
+TEST(InvariantsDeathTest, AnEventOutOfOrderFailsTheAssertion) {
+  GTEST_FLAG_SET(death_test_style, "threadsafe");
+  detail::Collision collision(problem_of(hertz), Options<double>{});
+  EXPECT_FALSE(collision.pending(EventKind::exit));
+  EXPECT_DEBUG_DEATH(collision.record(EventKind::exit, 1.0, {0.0, -0.5, 0.0}), "pending\\(kind\\)");
 }
 
 TEST(Invariants, StableStepsKeepTheirAnswer) {

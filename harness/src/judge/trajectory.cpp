@@ -1,160 +1,26 @@
+// One contact measured from its sampled time series (judge/trajectory.hpp; MATH.md §10): where it
+// starts and ends, its peaks, e, and what the file says of its parameters. The interpolation of a
+// sampled curve is judge/sampled_curve.hpp's; reading the file is trajectory_csv.cpp's, judging
+// what is measured trajectory_judge.cpp's.
 #include "judge/trajectory.hpp"
 
 #include "common/input.hpp"
+#include "judge/sampled_curve.hpp"
 
 #include <algorithm>
-#include <array>
+#include <cassert>
 #include <cmath>
-#include <limits>
 #include <tuple>
 
 namespace pldamp::harness {
 namespace {
 
-// ---- Interpolants ------------------------------------------------------------------------------
-
-constexpr double eps = std::numeric_limits<double>::epsilon();
-
-// Rounding: no estimate is below a few ulps of the quantity it is on.
-double floored(double sampling, double scale) {
-  return std::max(sampling, 4 * eps * std::abs(scale));
-}
-
-// The parabola through three samples, in Newton form around its first two nodes.
-struct Quadratic {
-  double t0, t1, y0, d01, d012;
-  Quadratic(double ta, double ya, double tb, double yb, double tc, double yc)
-      : t0(ta), t1(tb), y0(ya), d01((yb - ya) / (tb - ta)),
-        d012(((yc - yb) / (tc - tb) - (yb - ya) / (tb - ta)) / (tc - ta)) {}
-  double operator()(double t) const { return y0 + (t - t0) * (d01 + d012 * (t - t1)); }
-  double slope(double t) const { return d01 + d012 * (2 * t - t0 - t1); }
-  // Where the slope vanishes (d012 ≠ 0).
-  double vertex() const { return (t0 + t1) / 2 - d01 / (2 * d012); }
-};
-
-// The cubic Hermite interpolant on [ta, ta + h] of values and slopes at both ends, as a cubic in
-// s = (t − ta)/h.
-struct Hermite {
-  double ta, h;
-  std::array<double, 4> c; // c0 + c1 s + c2 s² + c3 s³
-  Hermite(double t_a, double t_b, double ya, double yb, double ma, double mb)
-      : ta(t_a), h(t_b - t_a), c{ya, h * ma, 3 * (yb - ya) - h * (2 * ma + mb),
-                                 2 * (ya - yb) + h * (ma + mb)} {}
-  double at_s(double s) const { return c[0] + s * (c[1] + s * (c[2] + s * c[3])); }
-  double operator()(double t) const { return at_s((t - ta) / h); }
-  double slope(double t) const {
-    const double s = (t - ta) / h;
-    return (c[1] + s * (2 * c[2] + s * 3 * c[3])) / h;
-  }
-};
-
-// Where `inside` (f > 0) changes on [lo, hi], the two ends being on different sides: the first
-// change of 64 even subintervals, then bisection to adjacent doubles.
-template <class F>
-double boundary(const F& f, double lo, double hi) {
-  const bool inside_at_lo = f(lo) > 0;
-  double a = lo;
-  double b = hi;
-  for (int i = 1; i <= 64; ++i) {
-    const double s = i == 64 ? hi : lo + (hi - lo) * i / 64;
-    if ((f(s) > 0) != inside_at_lo) {
-      b = s;
-      break;
-    }
-    a = s;
-  }
-  for (int i = 0; i < 200; ++i) {
-    const double mid = a + (b - a) / 2;
-    if (mid <= a || mid >= b) {
-      break;
-    }
-    ((f(mid) > 0) == inside_at_lo ? a : b) = mid;
-  }
-  return (f(a) == 0) ? a : (f(b) == 0 ? b : a + (b - a) / 2);
-}
-
-// A local interpolant of a sampled curve: the cubic Hermite on [near, near + 1] when the slopes
-// are tabulated, else a parabola through three samples; and its lower-order partner for the
-// slope, the straight line through the tabulated slopes at near and near + 1, or the secant
-// through those two samples.
-struct Interpolant {
-  std::optional<Hermite> cubic;
-  std::optional<Quadratic> parabola;
-  std::size_t near = 0;
-
-  double operator()(double x) const { return cubic ? (*cubic)(x) : (*parabola)(x); }
-};
-
-// A sampled curve y(t) with, optionally, its tabulated slope.
-struct Curve {
-  const std::vector<double>& t;
-  const std::vector<double>& y;
-  const std::vector<double>* slope;
-
-  std::size_t size() const { return t.size(); }
-  Hermite hermite(std::size_t a) const {
-    return {t[a], t[a + 1], y[a], y[a + 1], (*slope)[a], (*slope)[a + 1]};
-  }
-  Quadratic quadratic(std::size_t first) const {
-    return {t[first], y[first], t[first + 1], y[first + 1], t[first + 2], y[first + 2]};
-  }
-  // The Hermite on [near, near + 1], else the parabola through `first` and the two samples after
-  // it (near being one of its two intervals).
-  Interpolant interpolant(std::size_t near, std::size_t first) const {
-    if (slope != nullptr) {
-      return {hermite(near), std::nullopt, near};
-    }
-    return {std::nullopt, quadratic(first), near};
-  }
-  // The interpolant across [a, a + 1]; the parabola takes the sample beyond the interval on
-  // `inside_side` (−1 before, +1 after), or on the other side where there is none.
-  Interpolant across(std::size_t a, int inside_side) const {
-    std::size_t first = a >= 1 ? a - 1 : a;
-    if (inside_side > 0 || a == 0) {
-      first = a + 2 < size() ? a : a - 1;
-    }
-    return interpolant(a, first);
-  }
-  // y = 0 between samples a and a + 1 (opposite sides of 0), on the interpolant across the
-  // interval or, `one_sided`, on `local`, the contact side's, where it changes sign in the
-  // interval. The sampling estimate is the largest distance to the crossing of the straight line
-  // and of the other interpolant (MATH.md §10); a zero beyond the interval that may be clamped
-  // (`clamped`) widens it to the whole interval, unless `local` placed the crossing.
-  Extracted crossing(std::size_t a, const std::optional<Interpolant>& local, bool one_sided,
-                     int inside_side, bool clamped) const {
-    const std::size_t b = a + 1;
-    const double h = t[b] - t[a];
-    const auto line = [&](double x) { return y[a] + (y[b] - y[a]) * ((x - t[a]) / h); };
-    std::vector<double> others{boundary(line, t[a], t[b])};
-    double value = boundary(across(a, inside_side), t[a], t[b]);
-    if (local && ((*local)(t[a]) > 0) != ((*local)(t[b]) > 0)) {
-      const double on_local = boundary(*local, t[a], t[b]);
-      others.push_back(one_sided ? value : on_local);
-      if (one_sided) {
-        value = on_local;
-        clamped = false;
-      }
-    }
-    double sampling = 0;
-    for (const double other : others) {
-      sampling = std::max(sampling, std::abs(value - other));
-    }
-    if (clamped) {
-      sampling = std::max(sampling, h);
-    }
-    return {value, floored(sampling, std::max(std::abs(t[a]), std::abs(t[b]))), {}};
-  }
-  // dy/dt at x by an interpolant, and by its lower-order partner.
-  std::pair<double, double> slopes(double x, const Interpolant& by) const {
-    const std::size_t a = by.near;
-    const std::size_t b = a + 1;
-    const double h = t[b] - t[a];
-    if (by.cubic) {
-      return {by.cubic->slope(x), (*slope)[a] + ((*slope)[b] - (*slope)[a]) * ((x - t[a]) / h)};
-    }
-    return {by.parabola->slope(x), (y[b] - y[a]) / h};
-  }
-};
+using sampled::cubic_peak;
+using sampled::Curve;
+using sampled::floored;
+using sampled::hermite_peak;
+using sampled::Interpolant;
+using sampled::vertex_of;
 
 Extracted missing(std::string why) {
   return {std::nullopt, 0, std::move(why)};
@@ -182,70 +48,6 @@ void require_series(const TrajectoryColumns& c) {
   }
 }
 
-// The vertex of the parabola through samples first .. first + 2, when it is concave; clamped to
-// their span.
-std::optional<std::pair<double, double>> vertex_of(const Curve& delta, std::size_t first) {
-  const Quadratic parabola = delta.quadratic(first);
-  if (!(parabola.d012 < 0)) {
-    return std::nullopt;
-  }
-  const double t = std::clamp(parabola.vertex(), delta.t[first], delta.t[first + 2]);
-  return std::pair{t, parabola(t)};
-}
-
-// The largest value of the cubic Hermite pieces on both sides of sample i, and where.
-std::pair<double, double> hermite_peak(const Curve& delta, std::size_t i) {
-  double t_best = delta.t[i];
-  double y_best = delta.y[i];
-  for (const std::size_t a : {i - 1, i}) {
-    const Hermite piece = delta.hermite(a);
-    // Roots of the derivative c1 + 2 c2 s + 3 c3 s² in (0, 1).
-    const double qa = 3 * piece.c[3], qb = 2 * piece.c[2], qc = piece.c[1];
-    std::vector<double> roots;
-    if (qa == 0) {
-      if (qb != 0) {
-        roots.push_back(-qc / qb);
-      }
-    } else if (const double disc = qb * qb - 4 * qa * qc; disc >= 0) {
-      const double q = -(qb + std::copysign(std::sqrt(disc), qb)) / 2;
-      roots.push_back(q / qa);
-      if (q != 0) {
-        roots.push_back(qc / q);
-      }
-    }
-    for (const double s : roots) {
-      if (s > 0 && s < 1 && piece.at_s(s) > y_best) {
-        y_best = piece.at_s(s);
-        t_best = piece.ta + s * piece.h;
-      }
-    }
-  }
-  return {t_best, y_best};
-}
-
-// The largest value of the cubic through samples from .. from + 3, and where: golden-section
-// search over their span (the cubic is unimodal there about a sampled maximum).
-std::pair<double, double> cubic_peak(const Curve& curve, std::size_t from) {
-  const double* x = &curve.t[from];
-  const double* y = &curve.y[from];
-  // Newton's divided differences.
-  const double d01 = (y[1] - y[0]) / (x[1] - x[0]), d12 = (y[2] - y[1]) / (x[2] - x[1]),
-               d23 = (y[3] - y[2]) / (x[3] - x[2]);
-  const double d012 = (d12 - d01) / (x[2] - x[0]), d123 = (d23 - d12) / (x[3] - x[1]);
-  const double d0123 = (d123 - d012) / (x[3] - x[0]);
-  auto at = [&](double t) {
-    return y[0] + (t - x[0]) * (d01 + (t - x[1]) * (d012 + (t - x[2]) * d0123));
-  };
-  const double ratio = (std::sqrt(5.0) - 1) / 2;
-  double a = x[0], b = x[3];
-  for (int i = 0; i < 80; ++i) {
-    const double c = b - ratio * (b - a), d = a + ratio * (b - a);
-    (at(c) > at(d) ? b : a) = at(c) > at(d) ? d : c;
-  }
-  const double t = (a + b) / 2;
-  return {t, at(t)};
-}
-
 // The largest total normal force and its time (absolute) over the contact's rows first .. last:
 // the vertex of the parabola through the largest sample and its neighbours, against the peaks of
 // the cubics through four samples about it (one order higher: its sampling estimate; the sample
@@ -254,6 +56,7 @@ std::pair<double, double> cubic_peak(const Curve& curve, std::size_t from) {
 // change to the next.
 std::pair<Extracted, Extracted> force_peak_of(const Curve& force, std::size_t first,
                                               std::size_t last) {
+  assert(first <= last && last < force.size()); // the contact's rows
   const auto i = static_cast<std::size_t>(
       std::max_element(force.y.begin() + static_cast<std::ptrdiff_t>(first),
                        force.y.begin() + static_cast<std::ptrdiff_t>(last + 1)) -

@@ -17,6 +17,7 @@
 #include <boost/math/constants/constants.hpp>
 #include <boost/multiprecision/cpp_bin_float.hpp>
 
+#include <cassert>
 #include <cmath>
 #include <limits>
 #include <map>
@@ -116,6 +117,8 @@ JacobiRule<Real> build_jacobi_rule(int n, const Real& beta) {
 // The n-point rule for weight (1 + t)^β, built on first use in this thread and kept.
 template <SupportedReal Real>
 const JacobiRule<Real>& jacobi_rule(const Real& beta, int n = quadrature_order<Real>()) {
+  // The callers' weights: ν = q − 1 ∈ (−1, 0] with q = 2/(p+1), p ∈ [1, 1000], and 0.
+  assert(n >= 1 && beta > -1 && beta <= 0);
   thread_local std::map<std::pair<int, Real>, JacobiRule<Real>> cache;
   const auto key = std::make_pair(n, beta);
   auto found = cache.find(key);

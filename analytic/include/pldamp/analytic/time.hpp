@@ -24,6 +24,7 @@
 #include "pldamp/analytic/special.hpp"
 
 #include <algorithm>
+#include <cassert>
 #include <cmath>
 #include <cstddef>
 #include <limits>
@@ -65,6 +66,7 @@ template <SupportedReal Real>
 class ScaledTime {
 public:
   ScaledTime(const Damping<Real>& d, const Real& q) : d_(d), q_(q), nu_(q - 1) {
+    assert(q > 0 && q <= 1); // q = 2/(p + 1) of a Contact, whose p ∈ [1, 1000]
     using std::abs;
     using std::min;
     using std::sqrt;

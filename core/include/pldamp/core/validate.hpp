@@ -6,6 +6,7 @@
 
 #include "pldamp/core/real_types.hpp"
 
+#include <cassert>
 #include <charconv>
 #include <cmath>
 #include <iomanip>
@@ -24,8 +25,10 @@ std::string to_string_full(const Real& value) {
   }
   if constexpr (std::is_floating_point_v<Real>) { // shortest round trip: 0.9, not
                                                   // 0.90000000000000002
-    char buffer[64];
-    return std::string(buffer, std::to_chars(buffer, buffer + sizeof buffer, value).ptr);
+    char buffer[64]; // a long double's shortest round trip takes at most 29
+    const std::to_chars_result written = std::to_chars(buffer, buffer + sizeof buffer, value);
+    assert(written.ec == std::errc{});
+    return std::string(buffer, written.ptr);
   } else {
     std::ostringstream out;
     out << std::setprecision(round_trip_digits<Real>()) << value;
