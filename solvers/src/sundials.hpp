@@ -1,7 +1,7 @@
 // SUNDIALS objects in move-only RAII owners, and one helper that turns return codes into
-// exceptions (DESIGN.md convention 7). A solver keeps one workspace per thread and re-initialises
-// it per collision: creating a context, vectors and a linear solver costs more than a whole
-// collision at moderate tolerance.
+// exceptions (docs/design.md §8, convention 7). A solver keeps one workspace per thread and
+// re-initialises it per collision: creating a context, vectors and a linear solver costs more than
+// a whole collision at moderate tolerance.
 #pragma once
 
 #include <nvector/nvector_serial.h>

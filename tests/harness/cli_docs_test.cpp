@@ -1,16 +1,19 @@
 // What the README says of the command line against what the command line says of itself: the
 // synopsis under "The command line" lists exactly the options of each command's --help, and every
 // --code the README names is taken by calibrate and listed in its --help. So they cannot drift.
+// And every document the sources and the docs cite (a name ending in .md) is in the repository.
 #include "cli_run.hpp"
 
 #include <gtest/gtest.h>
 
+#include <cctype>
 #include <filesystem>
 #include <fstream>
 #include <map>
 #include <set>
 #include <sstream>
 #include <string>
+#include <vector>
 
 namespace pldamp::harness {
 namespace {
@@ -122,6 +125,76 @@ TEST(CliDocs, EveryCodeTheReadmeNamesIsTakenByCalibrateAndListedInItsHelp) {
   const CliRun unknown = run({"calibrate", "--code", "ode45", "--p", "1.5", "--e", "0.5"});
   EXPECT_EQ(unknown.err, "error: unknown --code, expected " + line.substr(line.rfind(": ") + 2) +
                              " (got ode45)\n");
+}
+
+// The documents a file cites: each word ending in ".md" (letters, digits and "_./-" before it),
+// other than the report.md a run writes.
+std::vector<std::string> cited_documents(const std::string& text) {
+  const auto in_name = [](char c) {
+    return std::isalnum(static_cast<unsigned char>(c)) || c == '_' || c == '.' || c == '/' ||
+           c == '-';
+  };
+  std::vector<std::string> out;
+  for (std::size_t at = text.find(".md"); at != std::string::npos; at = text.find(".md", at + 3)) {
+    if (at + 3 < text.size() &&
+        (std::isalnum(static_cast<unsigned char>(text[at + 3])) || text[at + 3] == '_')) {
+      continue; // ".mdx", ".md_"...: not a document's name
+    }
+    std::size_t from = at;
+    while (from > 0 && in_name(text[from - 1])) {
+      --from;
+    }
+    std::string name = text.substr(from, at + 3 - from);
+    while (!name.empty() && (name.front() == '.' || name.front() == '/') &&
+           name.rfind("../", 0) != 0) {
+      name.erase(0, 1); // a leading "./", or the dots of an ellipsis
+    }
+    if (name.size() > 3 && name != "report.md" && !name.ends_with("/report.md")) {
+      out.push_back(name);
+    }
+  }
+  return out;
+}
+
+TEST(CliDocs, EveryDocumentTheSourcesAndDocsCiteIsInTheRepository) {
+  namespace fs = std::filesystem;
+  const fs::path root = fs::path(PLDAMP_DATA_DIR).parent_path();
+  // A bare name is looked for where a reader would: beside the citing file, at the top, in docs/.
+  const auto found = [&](const fs::path& citing, const std::string& name) {
+    for (const fs::path& base : {citing.parent_path(), root, root / "docs"}) {
+      if (fs::is_regular_file(base / name)) {
+        return true;
+      }
+    }
+    return false;
+  };
+  const std::set<std::string> kinds{".cpp",  ".hpp", ".txt",   ".sh",  ".py",
+                                    ".toml", ".md",  ".cmake", ".yml", ""};
+  std::vector<fs::path> files{root / "CMakeLists.txt", root / "README.md"};
+  for (const char* folder : {"core", "analytic", "solvers", "harness", "tests", "bench", "data",
+                             "adapters", "scripts", "docs", ".ci"}) {
+    if (!fs::is_directory(root / folder)) {
+      continue;
+    }
+    for (const auto& entry : fs::recursive_directory_iterator(root / folder)) {
+      if (entry.is_regular_file() && kinds.count(entry.path().extension().string()) != 0 &&
+          entry.path().string().find("/fuzz/corpus") == std::string::npos) {
+        files.push_back(entry.path());
+      }
+    }
+  }
+  std::size_t citations = 0;
+  for (const fs::path& file : files) {
+    std::ifstream in(file);
+    std::ostringstream text;
+    text << in.rdbuf();
+    for (const std::string& name : cited_documents(text.str())) {
+      ++citations;
+      EXPECT_TRUE(found(file, name))
+          << fs::relative(file, root).string() << " cites " << name << ", not in the repository";
+    }
+  }
+  EXPECT_GT(citations, 100u); // MATH.md alone is cited in well over a hundred places
 }
 
 } // namespace
