@@ -361,6 +361,14 @@ TEST(Scene, AKeyWithoutEffectIsRefusedWithWhy) {
        "p = 1.5\ne = 0.5\nv0 = 1.0\n[limits]\nmax_seconds = 5\n",
        "11: max_seconds has no effect: the scene solves nothing (its claims and trajectories are "
        "judged by the closed forms)"},
+      // pldamp diff compares records (their errors, work and time), claims and searches.
+      {"[grid]\np = 1.5\ne = 0.5\nv0 = 1.0\n[[trajectory]]\nfile = \"no-effect.csv\"\n"
+       "p = 1.5\ne = 0.5\nv0 = 1.0\n[diff]\nerror_factor = 5\n",
+       "11: error_factor has no effect: the scene has no records, claims or searches for pldamp "
+       "diff to compare (it compares no trajectory)"},
+      {"[grid]\np = 1.5\ne = 0.5\nv0 = 1.0\n" + relation + truth + "[diff]\ntime_factor = 3\n",
+       "14: time_factor has no effect: the scene has no records for pldamp diff to compare (no "
+       "[[solver]], no bound claim on its grid)"},
   };
   write_file("no-effect.csv", "t,delta\n0,0\n");
   expect_refused_before_any_work(cases, "no-effect");
@@ -368,7 +376,7 @@ TEST(Scene, AKeyWithoutEffectIsRefusedWithWhy) {
 
 // What the refusals above leave is taken: a claim on an external solver without a sweep names a
 // configuration of its own by rtol or steps_per_contact, repeats time a claim's configuration of
-// pldamp's, denser refines a grid with a list to refine.
+// pldamp's, denser refines a grid with a list to refine, error_factor judges a claim's value.
 TEST(Scene, TheKeysBesideTheRefusedOnesTakeEffect) {
   const std::string external = "[grid]\np = 1.5\ne = 0.5\nv0 = 1.0\n[[solver]]\ncommand = "
                                "[\"./code\"]\nlabel = \"code\"\n[[claim]]\nname = \"c\"\n"
@@ -390,6 +398,13 @@ TEST(Scene, TheKeysBesideTheRefusedOnesTakeEffect) {
                                    "\"cvode-bdf\"\nrtol = 1e-6\nbound = 1e-2\nv0 = [1.0, 2.0]\n"
                                    "denser = true\n"));
   EXPECT_TRUE(denser.claims.at(0).denser);
+  // A claim's measured value is compared by pldamp diff: error_factor takes effect.
+  const Scene compared = load_scene(write_file(
+      "diff.toml", "[grid]\np = 1.5\ne = 0.5\nv0 = 1.0\n[[claim]]\nname = \"c\"\nkind = "
+                   "\"relation\"\nof = \"truth\"\nquantity = \"e\"\nformula = "
+                   "\"seed_restitution\"\nrelation = \"equal_within\"\ntolerance = 1e-20\n"
+                   "[diff]\nerror_factor = 5\n"));
+  EXPECT_EQ(compared.diff.error_factor, 5);
 }
 
 // A value's own refusal names its line once (a [[trajectory]]'s was caught by the domain checks

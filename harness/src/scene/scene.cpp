@@ -137,6 +137,39 @@ void read_limits(const Reader& reader, const toml::node& node, Scene& scene) {
   }
 }
 
+// [diff]: what `pldamp diff` compares of the scene's reports: errors (of records, claims and
+// searches), and the work and time of records (judge/diff.cpp); not trajectories nor figures.
+void read_diff(const Reader& reader, const toml::node& node, Scene& scene) {
+  const toml::table& table = reader.table(node, "[diff]");
+  reader.only(table, {scene_keys::diff}, "[diff]");
+  for (auto [key, into] : {std::pair{"error_factor", &scene.diff.error_factor},
+                           std::pair{"work_factor", &scene.diff.work_factor},
+                           std::pair{"time_factor", &scene.diff.time_factor}}) {
+    if (const toml::node* factor = table.get(key)) {
+      *into = reader.number_in(*factor, key, Range::open_closed(1, 1e6));
+    }
+  }
+  if (const toml::node* floor = table.get("time_floor")) {
+    scene.diff.time_floor =
+        reader.number_in(*floor, "time_floor", Range::closed(0, 86400).with_unit(" seconds"));
+  }
+  const bool records = !scene.configs.empty() ||
+                       std::any_of(scene.claims.begin(), scene.claims.end(),
+                                   [](const Claim& claim) { return claim.on_plan() != nullptr; });
+  for (const char* key : {"work_factor", "time_factor", "time_floor"}) {
+    if (const toml::node* threshold = table.get(key); threshold != nullptr && !records) {
+      reader.fail(*threshold, std::string(key) +
+                                  " has no effect: the scene has no records for pldamp diff to "
+                                  "compare (no [[solver]], no bound claim on its grid)");
+    }
+  }
+  if (const toml::node* factor = table.get("error_factor");
+      factor != nullptr && !records && scene.claims.empty() && scene.searches.empty()) {
+    reader.fail(*factor, "error_factor has no effect: the scene has no records, claims or "
+                         "searches for pldamp diff to compare (it compares no trajectory)");
+  }
+}
+
 // [timing] repeats: the records of pldamp's own configurations on the scene's grid, of its
 // [[solver]]s and of the bound claims judged from them, are repeated (run/run.cpp); not an
 // external program's, nor the solves of claims on grids of their own and of searches.
@@ -239,19 +272,7 @@ Scene parse_scene(std::string_view text, const std::string& path) {
     read_limits(reader, *limits, scene);
   }
   if (const toml::node* diff = root.get("diff")) {
-    const toml::table& table = reader.table(*diff, "[diff]");
-    reader.only(table, {scene_keys::diff}, "[diff]");
-    for (auto [key, into] : {std::pair{"error_factor", &scene.diff.error_factor},
-                             std::pair{"work_factor", &scene.diff.work_factor},
-                             std::pair{"time_factor", &scene.diff.time_factor}}) {
-      if (const toml::node* node = table.get(key)) {
-        *into = reader.number_in(*node, key, Range::open_closed(1, 1e6));
-      }
-    }
-    if (const toml::node* node = table.get("time_floor")) {
-      scene.diff.time_floor =
-          reader.number_in(*node, "time_floor", Range::closed(0, 86400).with_unit(" seconds"));
-    }
+    read_diff(reader, *diff, scene);
   }
   if (const toml::node* timing = root.get("timing")) {
     read_timing(reader, *timing, scene);
