@@ -361,6 +361,11 @@ TEST(Scene, AKeyWithoutEffectIsRefusedWithWhy) {
        "p = 1.5\ne = 0.5\nv0 = 1.0\n[limits]\nmax_seconds = 5\n",
        "11: max_seconds has no effect: the scene solves nothing (its claims and trajectories are "
        "judged by the closed forms)"},
+      // The work-precision diagrams are drawn from records.
+      {"[grid]\np = 1.5\ne = 0.5\nv0 = 1.0\n" + relation + truth +
+           "[report]\nwork_precision = \"e\"\n",
+       "14: work_precision has no effect: the scene has no records to draw (no [[solver]], no "
+       "bound claim on its grid)"},
       // pldamp diff compares records (their errors, work and time), claims and searches.
       {"[grid]\np = 1.5\ne = 0.5\nv0 = 1.0\n[[trajectory]]\nfile = \"no-effect.csv\"\n"
        "p = 1.5\ne = 0.5\nv0 = 1.0\n[diff]\nerror_factor = 5\n",

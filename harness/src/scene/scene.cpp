@@ -57,6 +57,14 @@ std::vector<std::string> read_work_precision(const Reader& reader, const toml::n
   return keys;
 }
 
+// Whether the run makes records: the configurations of its [[solver]]s and of the bound claims
+// judged on its grid, solved on every cell (truth/plan.hpp).
+bool has_records(const Scene& scene) {
+  return !scene.configs.empty() ||
+         std::any_of(scene.claims.begin(), scene.claims.end(),
+                     [](const Claim& claim) { return claim.on_plan() != nullptr; });
+}
+
 // [report]: the formats written, and the series of the work-precision diagrams.
 void read_report(const Reader& reader, const toml::node& node, Scene& scene) {
   const toml::table& table = reader.table(node, "[report]");
@@ -75,6 +83,10 @@ void read_report(const Reader& reader, const toml::node& node, Scene& scene) {
   }
   if (const toml::node* series = table.get("work_precision")) {
     scene.work_precision = read_work_precision(reader, *series, scene.want);
+    if (!has_records(scene)) {
+      reader.fail(*series, "work_precision has no effect: the scene has no records to draw (no "
+                           "[[solver]], no bound claim on its grid)");
+    }
   }
 }
 
@@ -153,9 +165,7 @@ void read_diff(const Reader& reader, const toml::node& node, Scene& scene) {
     scene.diff.time_floor =
         reader.number_in(*floor, "time_floor", Range::closed(0, 86400).with_unit(" seconds"));
   }
-  const bool records = !scene.configs.empty() ||
-                       std::any_of(scene.claims.begin(), scene.claims.end(),
-                                   [](const Claim& claim) { return claim.on_plan() != nullptr; });
+  const bool records = has_records(scene);
   for (const char* key : {"work_factor", "time_factor", "time_floor"}) {
     if (const toml::node* threshold = table.get(key); threshold != nullptr && !records) {
       reader.fail(*threshold, std::string(key) +
