@@ -343,6 +343,8 @@ TEST(Scene, AKeyWithoutEffectIsRefusedWithWhy) {
        "12: cvode-bdf rtol=1e-06 is a configuration the scene has already"},
       {valid_scene + "[[solver]]\nname = \"dem-verlet\"\nend = [\"force\", \"force\"]\n",
        "10: dem-verlet n=50 end=force is a configuration the scene has already"},
+      {valid_scene + "[[solver]]\nname = \"cvode-bdf\"\nrtol = 1e-6\nend = \"overlap\"\n",
+       "12: cvode-bdf rtol=1e-06 end=overlap is a configuration the scene has already"},
       {valid_scene + "[[solver]]\ncommand = [\"./code\"]\nlabel = \"code\"\n"
                      "steps_per_contact = [50, 100, 50]\n",
        "13: code n=50 is a configuration the scene has already"},

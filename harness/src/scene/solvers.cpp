@@ -178,10 +178,15 @@ void check_config(const Reader& reader, const toml::node& node, const Scene& sce
 namespace {
 
 // A configuration into the scene, unless it has it already (from this entry's lists or an earlier
-// entry): the same runs twice would add nothing.
+// entry, its end the scene's by default or by name): the same runs twice would add nothing.
 void add_config(const Reader& reader, const toml::node& node, Scene& scene,
                 const SolverConfig& config) {
-  if (std::find(scene.configs.begin(), scene.configs.end(), config) != scene.configs.end()) {
+  const auto same_runs = [&](const SolverConfig& other) {
+    SolverConfig unended = other;
+    unended.end = config.end;
+    return unended == config && end_of(scene, other) == end_of(scene, config);
+  };
+  if (std::any_of(scene.configs.begin(), scene.configs.end(), same_runs)) {
     reader.fail(node, config.label() + " is a configuration the scene has already");
   }
   scene.configs.push_back(config);
