@@ -89,6 +89,19 @@ std::string section(const std::string& markdown, const std::string& heading) {
   return markdown.substr(start, markdown.find("\n## ", start + 1) - start);
 }
 
+// A figure's solves keep the scene's [limits] (and so `run --max-steps`), as every other solve
+// of a run does: a step limit that cuts the solve fails the figure, with why.
+TEST(Figures, EachSolveKeepsTheScenesLimits) {
+  Scene scene;
+  FigureSpec figure{FigureKind::delta_max_vs_e, {}, {1.5}, {0.5}, {}};
+  figure.config.name = "taylor";
+  scene.figures = {figure};
+  EXPECT_TRUE(make_figures(scene).at(0).failure.empty());
+  scene.limits.max_steps = 1;
+  const std::string failure = make_figures(scene).at(0).failure;
+  EXPECT_EQ(failure.rfind("taylor ended as step_limit at p = 1.5, alpha = ", 0), 0u) << failure;
+}
+
 TEST(WorkPrecision, TheReportsShowEachChosenObservablesOwnError) {
   HandMade h = energy_worse_than_e(); // e within 4e-9, energy_unload off by 5e-2
   const RunTotals totals{600, 3, 1.0, {}};

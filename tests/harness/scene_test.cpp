@@ -14,6 +14,27 @@ struct BadScene {
   std::string message; // after "path:"
 };
 
+// Each scene is refused with its one line, by load_scene and through `pldamp run` (exit 2, the
+// line on stderr, no report written). `prefix` names the scratch files.
+void expect_refused_before_any_work(const std::vector<BadScene>& cases, const std::string& prefix) {
+  for (std::size_t i = 0; i < cases.size(); ++i) {
+    const std::string path = write_file(prefix + std::to_string(i) + ".toml", cases[i].text);
+    try {
+      load_scene(path);
+      ADD_FAILURE() << "no error for case " << i;
+    } catch (const SceneError& e) {
+      EXPECT_EQ(std::string(e.what()), path + ":" + cases[i].message) << "case " << i;
+    }
+    // Through the command line: the one line on stderr, exit 2, no report written.
+    const fs::path out = scratch() / (prefix + "-out" + std::to_string(i));
+    fs::remove_all(out);
+    const CliRun r = run({"run", path, "--out", out.string()});
+    EXPECT_EQ(r.code, 2) << "case " << i;
+    EXPECT_EQ(r.err, path + ":" + cases[i].message + "\n") << "case " << i;
+    EXPECT_FALSE(fs::exists(out)) << "case " << i;
+  }
+}
+
 TEST(Scene, EveryErrorNamesFileAndLineBeforeAnyWork) {
   const std::vector<BadScene> cases{
       {"colour = 1\n" + valid_scene, "1: unknown key in the scene, expected "
@@ -178,26 +199,219 @@ v0 = [1.0]
                      "p = [1.5]\nalpha_eff = [0.5, 1.0]\n",
        "15: alpha_eff must be in [0, 1) (a return) (got 1)"},
   };
-  for (std::size_t i = 0; i < cases.size(); ++i) {
-    const std::string path = write_file("bad" + std::to_string(i) + ".toml", cases[i].text);
-    try {
-      load_scene(path);
-      ADD_FAILURE() << "no error for case " << i;
-    } catch (const SceneError& e) {
-      EXPECT_EQ(std::string(e.what()), path + ":" + cases[i].message) << "case " << i;
-    }
-    // Through the command line: the one line on stderr, exit 2, no report written.
-    const fs::path out = scratch() / ("out" + std::to_string(i));
-    fs::remove_all(out);
-    const CliRun r = run({"run", path, "--out", out.string()});
-    EXPECT_EQ(r.code, 2) << "case " << i;
-    EXPECT_EQ(r.err, path + ":" + cases[i].message + "\n") << "case " << i;
-    EXPECT_FALSE(fs::exists(out)) << "case " << i;
-  }
+  expect_refused_before_any_work(cases, "bad");
   const CliRun missing = run({"run", (scratch() / "no-such.toml").string()});
   EXPECT_EQ(missing.code, 2);
   EXPECT_NE(missing.err.find("no-such.toml:0: cannot read the scene"), std::string::npos)
       << missing.err;
+}
+
+// Every key a scene accepts takes effect: a key that would not change the run is refused with
+// why, from the solver's traits (solvers/registry.hpp), the claim's kind or the figure's.
+TEST(Scene, AKeyWithoutEffectIsRefusedWithWhy) {
+  const std::string claim = "[[claim]]\nname = \"c\"\nobservable = \"e\"\n"; // lines 10-12
+  const std::string relation = "[[claim]]\nname = \"c\"\nkind = \"relation\"\n";
+  const std::string truth = "of = \"truth\"\nquantity = \"e\"\nformula = \"seed_restitution\"\n"
+                            "relation = \"equal_within\"\ntolerance = 1e-20\n"; // lines 13-17
+  const std::string asymptotic = "[[claim]]\nname = \"c\"\nkind = \"asymptotic\"\nof = "
+                                 "\"truth\"\nquantity = \"tau_ratio\"\nformula = "
+                                 "\"seed_tau_ratio_curve\"\norder = 1\n"; // lines 10-16
+  const std::string figure = "[[figure]]\nkind = ";
+  // An external solver swept by steps per contact (lines 10-13), then a claim on it (14-19).
+  const std::string external = "[[solver]]\ncommand = [\"./code\"]\nlabel = \"code\"\n"
+                               "steps_per_contact = [50, 100]\n[[claim]]\nname = \"c\"\n"
+                               "observable = \"e\"\nsolver = \"code\"\n";
+  const std::vector<BadScene> cases{
+      // The sweep key a solver's traits say it ignores, in a claim of every kind that takes one.
+      {valid_scene + claim +
+           "solver = \"dem-verlet\"\nsteps_per_contact = 50\nrtol = 1e-3\n"
+           "bound = 1e-2\n",
+       "15: rtol has no effect on fixed-step solver dem-verlet; set steps_per_contact"},
+      {valid_scene + claim +
+           "solver = \"cvode-bdf\"\nrtol = 1e-6\nsteps_per_contact = 50\n"
+           "bound = 1e-2\n",
+       "15: steps_per_contact has no effect on error-controlled solver cvode-bdf; set rtol"},
+      {valid_scene + relation +
+           "solver = \"dem-verlet\"\nrtol = 1e-3\nquantity = \"e\"\n"
+           "formula = \"seed_restitution\"\nrelation = \"equal_within\"\n"
+           "tolerance = 1e-2\n",
+       "14: rtol has no effect on fixed-step solver dem-verlet; set steps_per_contact"},
+      {valid_scene + "[[claim]]\nname = \"c\"\nkind = \"recovered_parameter\"\nsolver = "
+                     "\"taylor\"\nsteps_per_contact = 50\nbound = 1e-3\n",
+       "14: steps_per_contact has no effect on error-controlled solver taylor; set rtol"},
+      // The truth (the closed forms) takes no solver's settings.
+      {valid_scene + relation + truth + "atol = 1e-9\n",
+       "18: atol has no effect on the truth (of = \"truth\", the closed forms): it is a solver's "
+       "setting"},
+      {valid_scene + asymptotic + "steps_per_contact = 50\n",
+       "17: steps_per_contact has no effect on the truth (of = \"truth\", the closed forms): it "
+       "is a solver's setting"},
+      // A figure: rtol beside a fixed step, the list its kind is not drawn over, a second value
+      // where it is drawn at one, a tolerance the solver cannot meet.
+      {valid_scene + figure +
+           "\"alpha_vs_e\"\nsolver = \"dem-verlet\"\nrtol = 1e-3\np = 1.5\n"
+           "e = 0.5\n",
+       "13: rtol has no effect on fixed-step solver dem-verlet; a figure runs it at 50 steps per "
+       "contact"},
+      {valid_scene + figure +
+           "\"tau_ratio\"\nsolver = \"arkode-dp5\"\np = 1.5\n"
+           "alpha_eff = 0.5\ne = 0.5\n",
+       "15: e has no effect on figure tau_ratio: it is drawn against alpha_eff"},
+      {valid_scene + figure +
+           "\"delta_max_vs_e\"\nsolver = \"arkode-dp5\"\np = 1.5\ne = 0.5\n"
+           "alpha_eff = 0.5\n",
+       "15: alpha_eff has no effect on figure delta_max_vs_e: it is drawn at target e"},
+      {valid_scene + figure +
+           "\"force_history\"\nsolver = \"arkode-dp5\"\np = 1.5\n"
+           "e = [0.5, 0.7]\n",
+       "14: figure force_history is drawn at one e (got 2 values)"},
+      {valid_scene + figure +
+           "\"f_of_p\"\nsolver = \"arkode-dp5\"\np = [1.0, 2.0]\n"
+           "e = [0.5, 0.7]\n",
+       "14: figure f_of_p is drawn at one e (got 2 values)"},
+      {valid_scene + figure +
+           "\"phase_portrait\"\nsolver = \"arkode-dp5\"\np = [1.5, 2.0]\n"
+           "e = [0.5, 0.7]\n",
+       "13: figure phase_portrait is drawn at one p (got 2 values)"},
+      {valid_scene + figure +
+           "\"alpha_vs_e\"\nsolver = \"taylor\"\nrtol = 1e-20\np = 1.5\n"
+           "e = 0.5\n",
+       "10: taylor rtol=1e-20: rtol must be >= 2.220446049250313e-16, the epsilon of double (got "
+       "1e-20)"},
+      // A claim on an external solver takes its [[solver]]'s configuration at a value of its
+      // sweep: what it cannot change is refused.
+      {valid_scene + external + "steps_per_contact = 50\natol = 1e-9\nbound = 1e-2\n",
+       "19: atol has no effect on external solver code: a claim takes its configuration from its "
+       "[[solver]] (set atol there)"},
+      {valid_scene + external + "steps_per_contact = 50\nonset_phases = 4\nbound = 1e-2\n",
+       "19: onset_phases has no effect on external solver code: a claim takes its configuration "
+       "from its [[solver]] (set onset_phases there)"},
+      {valid_scene + external + "steps_per_contact = 50\nprecision = \"double\"\nbound = 1e-2\n",
+       "19: precision has no effect on external solver code: it answers in double"},
+      {valid_scene + external + "steps_per_contact = 50\nrtol = 1e-6\nbound = 1e-2\n",
+       "19: rtol has no effect on external solver code, which sweeps steps_per_contact: name its "
+       "configuration by steps_per_contact"},
+      {valid_scene + "[[solver]]\ncommand = [\"./code\"]\nlabel = \"code\"\nrtol = [1e-6]\n" +
+           claim + "solver = \"code\"\nrtol = 1e-6\nsteps_per_contact = 50\nbound = 1e-2\n",
+       "19: steps_per_contact has no effect on external solver code, which sweeps rtol: name its "
+       "configuration by rtol"},
+      {valid_scene + "[[solver]]\ncommand = [\"./code\"]\nlabel = \"code\"\n" + claim +
+           "solver = \"code\"\nrtol = 1e-6\nsteps_per_contact = 50\nbound = 1e-2\n",
+       "18: a claim on external solver code gives at most one of rtol and steps_per_contact, as "
+       "a [[solver]] sweeps one"},
+      {valid_scene + "[[solver]]\ncommand = [\"./code\"]\nlabel = \"code\"\ndt = [0.1, 0.01]\n" +
+           claim + "solver = \"code\"\nbound = 1e-2\n",
+       "17: a claim cannot name a configuration of external solver code, which sweeps dt: it "
+       "names one by rtol or steps_per_contact"},
+      // A convention whose code has no force cap to switch, or always caps.
+      {valid_scene + claim + "convention = \"mercurydpm\"\nlimit_damping = true\nbound = 1e-3\n",
+       "14: limit_damping has no effect on convention mercurydpm, which never caps the force"},
+      {valid_scene + claim + "convention = \"chrono\"\nlimit_damping = false\nbound = 1e-3\n",
+       "14: limit_damping has no effect on convention chrono, which always caps the force"},
+      // An asymptotic claim is judged at one v0, m and k, and refined in p only.
+      {valid_scene + asymptotic + "v0 = [1.0, 2.0]\n",
+       "17: an asymptotic claim is judged at one v0 (got 2 values)"},
+      {valid_scene + asymptotic + "denser = true\n",
+       "17: denser has no effect on an asymptotic claim with one p: its grid is refined in p"},
+      {valid_scene + claim + "solver = \"cvode-bdf\"\nrtol = 1e-6\nbound = 1e-2\ndenser = true\n",
+       "16: denser has no effect: the claim's grid has one value in every list, nothing to "
+       "refine"},
+      // A search's dt range says its upper end, and its ends must keep the scan finite.
+      {valid_scene + "[[search]]\nname = \"s\"\nsolver = \"dem-verlet\"\nparameter = \"dt\"\n"
+                     "range = [1e-3, 1e300]\nobservable = \"e\"\nbound = 1e-3\n",
+       "14: range must be [from, to], two different values of dt in (0, 1e300)"},
+      {valid_scene + "[[search]]\nname = \"s\"\nsolver = \"dem-verlet\"\nparameter = \"dt\"\n"
+                     "range = [1e-10, 1e299]\nobservable = \"e\"\nbound = 1e-3\n",
+       "14: range must have its ends within a factor 1e300 of each other (got inf)"},
+      // A word said twice adds nothing.
+      {valid_scene + "[report]\nformats = [\"json\", \"md\", \"json\"]\n",
+       "11: formats names json twice"},
+      {"want = [\"e\", \"tau\", \"e\"]\n" + valid_scene.substr(valid_scene.find("[grid]")),
+       "1: want names e twice"},
+      // A value said twice: a cell, a figure's point or a configuration twice.
+      {"[grid]\np = [1.5, 2.0, 1.5]\ne = 0.5\nv0 = 1.0\n[[solver]]\nname = \"taylor\"\n",
+       "2: p names 1.5 twice"},
+      {valid_scene + claim +
+           "solver = \"cvode-bdf\"\nrtol = 1e-6\nbound = 1e-2\n"
+           "v0 = [1.0, 0.1, 1.0]\n",
+       "16: v0 names 1 twice"},
+      {valid_scene + figure +
+           "\"alpha_vs_e\"\nsolver = \"arkode-dp5\"\np = 1.5\n"
+           "e = [0.5, 0.5]\n",
+       "14: e names 0.5 twice"},
+      {valid_scene + "[[solver]]\nname = \"cvode-bdf\"\nrtol = [1e-8, 1e-6]\n",
+       "12: cvode-bdf rtol=1e-06 is a configuration the scene has already"},
+      {valid_scene + "[[solver]]\nname = \"dem-verlet\"\nend = [\"force\", \"force\"]\n",
+       "10: dem-verlet n=50 end=force is a configuration the scene has already"},
+      {valid_scene + "[[solver]]\nname = \"cvode-bdf\"\nrtol = 1e-6\nend = \"overlap\"\n",
+       "12: cvode-bdf rtol=1e-06 end=overlap is a configuration the scene has already"},
+      {valid_scene + "[[solver]]\ncommand = [\"./code\"]\nlabel = \"code\"\n"
+                     "steps_per_contact = [50, 100, 50]\n",
+       "13: code n=50 is a configuration the scene has already"},
+      // Repeats time pldamp's own configurations; an external program runs once.
+      {"[grid]\np = 1.5\ne = 0.5\nv0 = 1.0\n[[solver]]\ncommand = [\"./code\"]\nlabel = "
+       "\"code\"\n[timing]\nrepeats = 2\n",
+       "9: repeats has no effect: the scene runs none of pldamp's solvers on its grid (an "
+       "external program runs once; claims on grids of their own and searches solve once)"},
+      // A limit where nothing it limits runs: an external program is given no step limit, and
+      // a trajectory is judged by the closed forms.
+      {"[grid]\np = 1.5\ne = 0.5\nv0 = 1.0\n[[solver]]\ncommand = [\"./code\"]\nlabel = "
+       "\"code\"\n[limits]\nmax_steps = 100\n",
+       "9: max_steps has no effect: the scene runs none of pldamp's solvers (an external program "
+       "is given no step limit)"},
+      {"[grid]\np = 1.5\ne = 0.5\nv0 = 1.0\n[[trajectory]]\nfile = \"no-effect.csv\"\n"
+       "p = 1.5\ne = 0.5\nv0 = 1.0\n[limits]\nmax_seconds = 5\n",
+       "11: max_seconds has no effect: the scene solves nothing (its claims and trajectories are "
+       "judged by the closed forms)"},
+      // The work-precision diagrams are drawn from records.
+      {"[grid]\np = 1.5\ne = 0.5\nv0 = 1.0\n" + relation + truth +
+           "[report]\nwork_precision = \"e\"\n",
+       "14: work_precision has no effect: the scene has no records to draw (no [[solver]], no "
+       "bound claim on its grid)"},
+      // pldamp diff compares records (their errors, work and time), claims and searches.
+      {"[grid]\np = 1.5\ne = 0.5\nv0 = 1.0\n[[trajectory]]\nfile = \"no-effect.csv\"\n"
+       "p = 1.5\ne = 0.5\nv0 = 1.0\n[diff]\nerror_factor = 5\n",
+       "11: error_factor has no effect: the scene has no records, claims or searches for pldamp "
+       "diff to compare (it compares no trajectory)"},
+      {"[grid]\np = 1.5\ne = 0.5\nv0 = 1.0\n" + relation + truth + "[diff]\ntime_factor = 3\n",
+       "14: time_factor has no effect: the scene has no records for pldamp diff to compare (no "
+       "[[solver]], no bound claim on its grid)"},
+  };
+  write_file("no-effect.csv", "t,delta\n0,0\n");
+  expect_refused_before_any_work(cases, "no-effect");
+}
+
+// What the refusals above leave is taken: a claim on an external solver without a sweep names a
+// configuration of its own by rtol or steps_per_contact, repeats time a claim's configuration of
+// pldamp's, denser refines a grid with a list to refine, error_factor judges a claim's value.
+TEST(Scene, TheKeysBesideTheRefusedOnesTakeEffect) {
+  const std::string external = "[grid]\np = 1.5\ne = 0.5\nv0 = 1.0\n[[solver]]\ncommand = "
+                               "[\"./code\"]\nlabel = \"code\"\n[[claim]]\nname = \"c\"\n"
+                               "observable = \"e\"\nsolver = \"code\"\nbound = 1e-2\n";
+  const auto claimed = [](const std::string& name, const std::string& text) {
+    return std::get<BoundClaim>(load_scene(write_file(name, text)).claims.at(0).kind).config;
+  };
+  EXPECT_EQ(claimed("steps.toml", external + "steps_per_contact = 50\n").steps_per_contact, 50);
+  EXPECT_EQ(claimed("rtol.toml", external + "rtol = 1e-6\n").rtol, 1e-6);
+  const SolverConfig own = claimed("own.toml", external);
+  EXPECT_FALSE(own.rtol || own.steps_per_contact || own.dt);
+  const Scene repeated = load_scene(write_file(
+      "repeats.toml", "[grid]\np = 1.5\ne = 0.5\nv0 = 1.0\n[[claim]]\nname = \"c\"\n"
+                      "observable = \"e\"\nsolver = \"cvode-bdf\"\nrtol = 1e-6\nbound = 1e-2\n"
+                      "[timing]\nrepeats = 2\n"));
+  EXPECT_EQ(repeated.repeats, 2);
+  const Scene denser = load_scene(write_file(
+      "denser.toml", valid_scene + "[[claim]]\nname = \"c\"\nobservable = \"e\"\nsolver = "
+                                   "\"cvode-bdf\"\nrtol = 1e-6\nbound = 1e-2\nv0 = [1.0, 2.0]\n"
+                                   "denser = true\n"));
+  EXPECT_TRUE(denser.claims.at(0).denser);
+  // A claim's measured value is compared by pldamp diff: error_factor takes effect.
+  const Scene compared = load_scene(write_file(
+      "diff.toml", "[grid]\np = 1.5\ne = 0.5\nv0 = 1.0\n[[claim]]\nname = \"c\"\nkind = "
+                   "\"relation\"\nof = \"truth\"\nquantity = \"e\"\nformula = "
+                   "\"seed_restitution\"\nrelation = \"equal_within\"\ntolerance = 1e-20\n"
+                   "[diff]\nerror_factor = 5\n"));
+  EXPECT_EQ(compared.diff.error_factor, 5);
 }
 
 // A value's own refusal names its line once (a [[trajectory]]'s was caught by the domain checks

@@ -21,21 +21,20 @@ namespace {
 
 using analytic::Contact;
 
-// Figures are drawn at v0 = m = k = 1, within the default limits of a solve.
-const Limits figure_limits{};
-
-solvers::Result<double> solve(const SolverConfig& config, double p, double alpha, unsigned want,
-                              std::vector<double> sample_times = {}) {
-  return solve_once(config, {p, alpha}, want, figure_limits, std::move(sample_times));
+// Figures are drawn at v0 = m = k = 1, each solve within the scene's [limits].
+solvers::Result<double> solve(const SolverConfig& config, const Limits& limits, double p,
+                              double alpha, unsigned want, std::vector<double> sample_times = {}) {
+  return solve_once(config, {p, alpha}, want, limits, std::move(sample_times));
 }
 
-double measured(const SolverConfig& config, double p, double alpha, unsigned want,
-                std::optional<double> solvers::Result<double>::*value, const char* name) {
-  return solved_value(config, {p, alpha}, want, value, name, figure_limits);
+double measured(const SolverConfig& config, const Limits& limits, double p, double alpha,
+                unsigned want, std::optional<double> solvers::Result<double>::*value,
+                const char* name) {
+  return solved_value(config, {p, alpha}, want, value, name, limits);
 }
 
-double alpha_by_bisection(const SolverConfig& config, double p, double e) {
-  return harness::alpha_by_bisection(config, {p, 0}, e, figure_limits);
+double alpha_by_bisection(const SolverConfig& config, const Limits& limits, double p, double e) {
+  return harness::alpha_by_bisection(config, {p, 0}, e, limits);
 }
 
 std::string p_title(double p) {
@@ -98,13 +97,15 @@ void curve_and_points(Figure& f, const FigureSpec& spec, const std::vector<doubl
 struct Sampled {
   solvers::Sample<double> solver, exact;
 };
-std::vector<Sampled> sample_contact(const FigureSpec& spec, const Contact<double>& c, int n) {
+std::vector<Sampled> sample_contact(const FigureSpec& spec, const Limits& limits,
+                                    const Contact<double>& c, int n) {
   const double tau = analytic::contact_duration(c);
   std::vector<double> times;
   for (const double x : fine(0, 1, n)) {
     times.push_back(x * tau);
   }
-  const solvers::Result<double> r = solve(spec.config, c.p(), c.alpha(), solvers::want_tau, times);
+  const solvers::Result<double> r =
+      solve(spec.config, limits, c.p(), c.alpha(), solvers::want_tau, times);
   const analytic::Trajectory<double> trajectory(c);
   std::vector<Sampled> out;
   for (const solvers::Sample<double>& s : r.samples) {
@@ -114,16 +115,16 @@ std::vector<Sampled> sample_contact(const FigureSpec& spec, const Contact<double
   return out;
 }
 
-Figure alpha_vs_e(const FigureSpec& spec) {
+Figure alpha_vs_e(const FigureSpec& spec, const Limits& limits) {
   Figure f = figure(FigureKind::alpha_vs_e, "Fig. 1: α against e", "e", "α", "α (relative)");
   curve_and_points(
       f, spec, fine(0.05, 0.995, 60), spec.e,
       [](double p, double e) { return Contact<double>::from_e(p, e, 1.0).alpha(); },
-      [&](double p, double e) { return alpha_by_bisection(spec.config, p, e); });
+      [&](double p, double e) { return alpha_by_bisection(spec.config, limits, p, e); });
   return f;
 }
 
-Figure force_history(const FigureSpec& spec) {
+Figure force_history(const FigureSpec& spec, const Limits& limits) {
   const double e = spec.e.front();
   Figure f =
       figure(FigureKind::force_history, "Fig. 2: force against time, e = " + to_string_full(e),
@@ -132,7 +133,7 @@ Figure force_history(const FigureSpec& spec) {
     const auto c = Contact<double>::from_e(p, e, 1.0);
     const double tau = analytic::contact_duration(c), peak = analytic::spring_force_max(c);
     Series line{p_title(p) + " closed form", {}, true}, points{p_title(p), {}, false};
-    for (const auto& [s, want] : sample_contact(spec, c, 80)) {
+    for (const auto& [s, want] : sample_contact(spec, limits, c, 80)) {
       const double numeric = force(p, c.alpha(), s.delta, s.v) / peak;
       const double closed = force(p, c.alpha(), want.delta, want.v) / peak;
       line.points.emplace_back(s.t / tau, closed);
@@ -145,7 +146,7 @@ Figure force_history(const FigureSpec& spec) {
   return f;
 }
 
-Figure delta_max_vs_e(const FigureSpec& spec) {
+Figure delta_max_vs_e(const FigureSpec& spec, const Limits& limits) {
   Figure f = figure(FigureKind::delta_max_vs_e, "Fig. 3: δ_max against e (v0 = 1)", "e", "δ_max",
                     "δ_max (relative)");
   curve_and_points(
@@ -153,13 +154,13 @@ Figure delta_max_vs_e(const FigureSpec& spec) {
       [](double p, double e) { return analytic::delta_max(Contact<double>::from_e(p, e, 1.0)); },
       [&](double p, double e) {
         const double alpha = Contact<double>::from_e(p, e, 1.0).alpha();
-        return measured(spec.config, p, alpha, solvers::want_delta_max,
+        return measured(spec.config, limits, p, alpha, solvers::want_delta_max,
                         &solvers::Result<double>::delta_max, "delta_max");
       });
   return f;
 }
 
-Figure tau_ratio(const FigureSpec& spec) {
+Figure tau_ratio(const FigureSpec& spec, const Limits& limits) {
   Figure f = figure(FigureKind::tau_ratio, "Fig. 4: τ(α)/τ(0) against α_eff", "α_eff",
                     "τ(α) / τ(0)", "τ ratio (relative)");
   f.log_y = true;
@@ -179,8 +180,8 @@ Figure tau_ratio(const FigureSpec& spec) {
   curve_and_points(f, spec, fine(0, z_max, 40), spec.alpha_eff, closed, [&](double p, double z) {
     const double alpha = Contact<double>::from_alpha_eff(p, z, 1.0).alpha();
     const auto tau = &solvers::Result<double>::tau;
-    return measured(spec.config, p, alpha, solvers::want_tau, tau, "tau") /
-           measured(spec.config, p, 0.0, solvers::want_tau, tau, "tau");
+    return measured(spec.config, limits, p, alpha, solvers::want_tau, tau, "tau") /
+           measured(spec.config, limits, p, 0.0, solvers::want_tau, tau, "tau");
   });
   // Each p's first order, measured on the closed form as (τ/τ0 − 1)/α_eff at α_eff = 1e-6 (the
   // z² term moves it by 1e-6 of itself), drawn after its pair so that it takes its colour.
@@ -209,7 +210,7 @@ Figure tau_ratio(const FigureSpec& spec) {
   return f;
 }
 
-Figure phase_portrait(const FigureSpec& spec) {
+Figure phase_portrait(const FigureSpec& spec, const Limits& limits) {
   const double p = spec.p.front();
   Figure f = figure(FigureKind::phase_portrait, "Fig. 5: phase portrait, " + p_title(p),
                     "δ / δ_max(e = 1)", "v / v0", "v / v0");
@@ -218,7 +219,7 @@ Figure phase_portrait(const FigureSpec& spec) {
     const auto c = Contact<double>::from_e(p, e, 1.0);
     const std::string title = "e = " + to_string_full(e);
     Series line{title + " closed form", {}, true}, points{title, {}, false};
-    for (const auto& [s, want] : sample_contact(spec, c, 120)) {
+    for (const auto& [s, want] : sample_contact(spec, limits, c, 120)) {
       line.points.emplace_back(want.delta / undamped, want.v);
       points.points.emplace_back(s.delta / undamped, s.v);
       f.deviation = std::max(f.deviation, std::abs(s.v - want.v));
@@ -229,7 +230,7 @@ Figure phase_portrait(const FigureSpec& spec) {
   return f;
 }
 
-Figure f_of_p(const FigureSpec& spec) {
+Figure f_of_p(const FigureSpec& spec, const Limits& limits) {
   const double e = spec.e.front();
   const double xi = -std::log(e) / std::sqrt(M_PI * M_PI + std::log(e) * std::log(e));
   Figure f = figure(FigureKind::f_of_p, "Fig. 6: f(p) = α/ξ_L at e = " + to_string_full(e), "p",
@@ -240,7 +241,7 @@ Figure f_of_p(const FigureSpec& spec) {
     line.points.emplace_back(p, std::sqrt(2 * (p + 1)));
   }
   for (const double p : spec.p) {
-    const double found = alpha_by_bisection(spec.config, p, e) / xi;
+    const double found = alpha_by_bisection(spec.config, limits, p, e) / xi;
     points.points.emplace_back(p, found);
     f.deviation = std::max(f.deviation, std::abs(found / std::sqrt(2 * (p + 1)) - 1));
   }
@@ -350,24 +351,24 @@ Figure restitution_approximations(const FigureSpec& spec) {
   return f;
 }
 
-Figure make_figure(const FigureSpec& spec) {
+Figure make_figure(const FigureSpec& spec, const Limits& limits) {
   switch (spec.kind) {
   case FigureKind::alpha_vs_e:
-    return alpha_vs_e(spec);
+    return alpha_vs_e(spec, limits);
   case FigureKind::force_history:
-    return force_history(spec);
+    return force_history(spec, limits);
   case FigureKind::delta_max_vs_e:
-    return delta_max_vs_e(spec);
+    return delta_max_vs_e(spec, limits);
   case FigureKind::tau_ratio:
-    return tau_ratio(spec);
+    return tau_ratio(spec, limits);
   case FigureKind::phase_portrait:
-    return phase_portrait(spec);
+    return phase_portrait(spec, limits);
   case FigureKind::restitution_approximations:
     return restitution_approximations(spec);
   case FigureKind::f_of_p:
     break;
   }
-  return f_of_p(spec);
+  return f_of_p(spec, limits);
 }
 
 } // namespace
@@ -377,7 +378,7 @@ std::vector<Figure> make_figures(const Scene& scene) {
   for (const FigureSpec& spec : scene.figures) {
     Figure figure;
     try {
-      figure = make_figure(spec);
+      figure = make_figure(spec, scene.limits);
     } catch (const std::exception& e) {
       const std::string kind(name_of(figure_kinds, spec.kind));
       figure = Figure{kind, kind, "", "", {}, 0, "", e.what(), false, false, {}, {}};

@@ -2,12 +2,12 @@
 // over the closed form's curve, with the largest deviation between them.
 //
 //   alpha_vs_e      Fig. 1: α found by bisection on the solver for target e, per p
-//   force_history   Fig. 2: F/F_max against t/τ at e (first of the list), per p
+//   force_history   Fig. 2: F/F_max against t/τ at one e, per p
 //   delta_max_vs_e  Fig. 3: δ_max against e at v0 = 1, per p
 //   tau_ratio       Fig. 4: τ(α)/τ(0) against α_eff, per p, with 1/√(1 − α_eff²) and each p's
 //                   first order 1 + s·α_eff, s measured on the closed form (MATH.md §3)
-//   phase_portrait  Fig. 5: v/v0 against δ/δ_max(e) at p (first of the list), per e
-//   f_of_p          Fig. 6: α/ξ_L by bisection at e (first of the list) against √(2(p+1))
+//   phase_portrait  Fig. 5: v/v0 against δ/δ_max(e) at one p, per e
+//   f_of_p          Fig. 6: α/ξ_L by bisection at one e against √(2(p+1))
 //   restitution_approximations
 //                   not the seed's: 1 − e of viscoelastic Hertz (p = 3/2, β = ½) against α_eff,
 //                   the reference solve (MATH.md §12.2) and the published approximations
@@ -44,9 +44,10 @@ struct Figure {
   std::vector<std::vector<std::string>> table_rows;
 };
 
-// Computes every figure of the scene (double precision, the figure's solver configuration). A
-// figure whose solver fails (a step limit, no exit where one was due, a bisection without a
-// bracket) carries the reason in `failure` and no series; the others are unaffected.
+// Computes every figure of the scene (double precision, the figure's solver configuration, each
+// solve within the scene's [limits]). A figure whose solver fails (a step limit, no exit where
+// one was due, a bisection without a bracket) carries the reason in `failure` and no series; the
+// others are unaffected.
 std::vector<Figure> make_figures(const Scene& scene);
 
 } // namespace pldamp::harness

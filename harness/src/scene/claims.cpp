@@ -7,6 +7,8 @@
 #include "pldamp/analytic/conventions.hpp"
 #include "pldamp/solvers/registry.hpp"
 
+#include <fmt/format.h>
+
 #include <algorithm>
 
 namespace pldamp::harness::scene_reading {
@@ -28,6 +30,87 @@ const SolverConfig* external_named(const Reader& reader, const toml::table& entr
   return nullptr;
 }
 
+// denser = true: the claim judged again on its grid with each list of more than one value refined
+// (judge/claim_grid.hpp, denser_grid); an asymptotic claim draws only on p. A grid with nothing
+// to refine would judge the same cells twice.
+void read_denser(const Reader& reader, const toml::table& entry, Claim& claim) {
+  const toml::node* denser = entry.get("denser");
+  if (denser == nullptr || !(claim.denser = reader.boolean(*denser, "denser"))) {
+    return;
+  }
+  const ClaimGrid& grid = claim.grid;
+  if (std::holds_alternative<AsymptoticClaim>(claim.kind)) {
+    if (grid.p.size() < 2) {
+      reader.fail(*denser, "denser has no effect on an asymptotic claim with one p: its grid is "
+                           "refined in p");
+    }
+    return;
+  }
+  const auto of_kind = [&](Damping::Kind kind) {
+    return std::count_if(grid.damping.begin(), grid.damping.end(),
+                         [&](const Damping& d) { return d.kind == kind; });
+  };
+  const bool refinable = grid.p.size() > 1 || grid.v0.size() > 1 || grid.m.size() > 1 ||
+                         grid.k.size() > 1 || of_kind(Damping::Kind::e) > 1 ||
+                         of_kind(Damping::Kind::alpha) > 1 || of_kind(Damping::Kind::alpha_eff) > 1;
+  if (!refinable) {
+    reader.fail(*denser, "denser has no effect: the claim's grid has one value in every list, "
+                         "nothing to refine");
+  }
+}
+
+// The configuration a bound claim names of an external solver: the [[solver]]'s own (its atol,
+// onset phases, end list, in double), at the value of its sweep the claim gives (rtol or
+// steps_per_contact; a [[solver]] without a sweep: either, or neither for its one
+// configuration). What the claim cannot change is refused rather than ignored.
+void read_external_configuration(const Reader& reader, const toml::table& entry,
+                                 const toml::node& item, const SolverConfig& external,
+                                 SolverConfig& config) {
+  const std::string& label = external.name;
+  if (const toml::node* precision = entry.get("precision")) {
+    reader.fail(*precision,
+                "precision has no effect on external solver " + label + ": it answers in double");
+  }
+  for (const char* key : {"atol", "onset_phases"}) {
+    if (const toml::node* node = entry.get(key)) {
+      reader.fail(*node, std::string(key) + " has no effect on external solver " + label +
+                             ": a claim takes its configuration from its [[solver]] (set " + key +
+                             " there)");
+    }
+  }
+  if (external.dt) {
+    reader.fail(*entry.get("solver"),
+                "a claim cannot name a configuration of external solver " + label +
+                    ", which sweeps dt: it names one by rtol or steps_per_contact");
+  }
+  const toml::node* rtol = entry.get("rtol");
+  const toml::node* steps = entry.get("steps_per_contact");
+  const char* swept = external.steps_per_contact ? "steps_per_contact"
+                      : external.rtol            ? "rtol"
+                                                 : nullptr;
+  if (swept != nullptr) {
+    const bool by_steps = external.steps_per_contact.has_value();
+    if (const toml::node* other = by_steps ? rtol : steps) {
+      reader.fail(*other, std::string(by_steps ? "rtol" : "steps_per_contact") +
+                              " has no effect on external solver " + label + ", which sweeps " +
+                              swept + ": name its configuration by " + swept);
+    }
+    if ((by_steps ? steps : rtol) == nullptr) {
+      reader.fail(item, std::string("[[claim]] needs the ") + swept + " of its solver");
+    }
+  } else if (rtol != nullptr && steps != nullptr) {
+    reader.fail(*steps,
+                "a claim on external solver " + label +
+                    " gives at most one of rtol and steps_per_contact, as a [[solver]] sweeps one");
+  }
+  if (steps != nullptr) {
+    config.steps_per_contact = read_steps(reader, *steps);
+  }
+  if (rtol != nullptr) {
+    config.rtol = reader.number_in(*rtol, "rtol", rtol_range);
+  }
+}
+
 // A claim on a DEM code's calibration: the e it gives for the grid's target e (needs them, and a
 // p the code has a model for).
 ConventionClaim read_convention_claim(const Reader& reader, const toml::table& entry,
@@ -47,6 +130,13 @@ ConventionClaim read_convention_claim(const Reader& reader, const toml::table& e
   }
   if (const toml::node* limit = entry.get("limit_damping")) {
     stated.limit_damping = reader.boolean(*limit, "limit_damping");
+    // The cap is an option of some codes only (analytic::capped): elsewhere the switch is idle.
+    if (convention->cap != analytic::Cap::optional) {
+      reader.fail(*limit, "limit_damping has no effect on convention " + stated.convention +
+                              ", which " +
+                              (convention->cap == analytic::Cap::never ? "never" : "always") +
+                              " caps the force");
+    }
   }
   const bool targets = std::any_of(claim.grid.damping.begin(), claim.grid.damping.end(),
                                    [](const Damping& d) { return d.kind == Damping::Kind::e; });
@@ -74,9 +164,7 @@ void read_bound_claim(const Reader& reader, const toml::table& entry, const toml
   const bool own_grid =
       std::any_of(scene_keys::bound_claim_grid.begin(), scene_keys::bound_claim_grid.end(),
                   [&](std::string_view key) { return entry.get(key) != nullptr; });
-  if (const toml::node* denser = entry.get("denser")) {
-    claim.denser = reader.boolean(*denser, "denser");
-  }
+  read_denser(reader, entry, claim);
   const toml::node* allow_missing = entry.get("allow_missing");
   const bool missing_allowed =
       allow_missing != nullptr && reader.boolean(*allow_missing, "allow_missing");
@@ -107,22 +195,12 @@ void read_bound_claim(const Reader& reader, const toml::table& entry, const toml
   config.end = read_end(reader, entry, "a claim's");
   require_wanted(reader, *entry.get("observable"), observable, scene.want, "claim");
   if (external != nullptr) {
-    // The claim names one configuration of the external solver's sweep.
-    const bool swept = external->steps_per_contact || external->rtol;
-    const char* key = external->steps_per_contact ? "steps_per_contact" : "rtol";
-    const toml::node* value = entry.get(key);
-    if (swept && value == nullptr) {
-      reader.fail(item, std::string("[[claim]] needs the ") + key + " of its solver");
-    }
-    if (value != nullptr && external->steps_per_contact) {
-      config.steps_per_contact = read_steps(reader, *value);
-    } else if (value != nullptr) {
-      config.rtol = reader.number_in(*value, key, rtol_range);
-    }
+    read_external_configuration(reader, entry, item, *external, config);
     claim.kind = stated;
     return;
   }
   const solvers::SolverInfo& info = solvers::solver_named(config.name);
+  refuse_untaken_step_keys(reader, entry, info);
   const bool fixed_step = info.fixed_step;
   if (const toml::node* value = entry.get(fixed_step ? "steps_per_contact" : "rtol")) {
     if (fixed_step) {
@@ -151,6 +229,7 @@ SolverConfig claim_solver(const Reader& reader, const toml::table& entry, const 
     }
     return config;
   }
+  refuse_untaken_step_keys(reader, entry, info);
   if (info.fixed_step) {
     const toml::node* steps = entry.get("steps_per_contact");
     config.steps_per_contact = steps ? read_steps(reader, *steps) : 50;
@@ -278,6 +357,25 @@ void read_grid_claim(const Reader& reader, const toml::table& entry, const toml:
   reader.only(entry, {scene_keys::claim, keys_of(kind)}, "[[claim]] of kind " + kind_name);
   claim.grid = scene_grid(scene);
   read_grid_lists(reader, entry, claim.grid);
+  if (kind == ClaimKind::asymptotic) { // judged at one contact scale (judge/claims.cpp)
+    for (const auto& [key, values] :
+         {std::pair{"v0", &claim.grid.v0}, std::pair{"m", &claim.grid.m},
+          std::pair{"k", &claim.grid.k}}) {
+      if (const toml::node* node = entry.get(key); node != nullptr && values->size() > 1) {
+        reader.fail(*node, fmt::format("an asymptotic claim is judged at one {} (got {} values)",
+                                       key, values->size()));
+      }
+    }
+  }
+  if (!solver) { // of = "truth": the closed forms, which take no solver's settings
+    for (const char* key : {"rtol", "atol", "steps_per_contact"}) {
+      if (const toml::node* node = entry.get(key)) {
+        reader.fail(*node, std::string(key) +
+                               " has no effect on the truth (of = \"truth\", the closed forms): "
+                               "it is a solver's setting");
+      }
+    }
+  }
   if (solver) { // recovered_parameter and stability need one
     // The solver's tolerances are checked against the claim's own cells.
     const SolverConfig config =
@@ -300,9 +398,7 @@ void read_grid_claim(const Reader& reader, const toml::table& entry, const toml:
                           " recovers alpha for target e: its grid needs "
                           "e in (0, 1), not alpha or alpha_eff");
   }
-  if (const toml::node* denser = entry.get("denser")) {
-    claim.denser = reader.boolean(*denser, "denser");
-  }
+  read_denser(reader, entry, claim);
 }
 
 } // namespace

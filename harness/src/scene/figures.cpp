@@ -4,6 +4,10 @@
 #include "pldamp/core/domain.hpp"
 #include "pldamp/solvers/registry.hpp"
 
+#include <fmt/format.h>
+
+#include <tuple>
+
 namespace pldamp::harness::scene_reading {
 namespace {
 
@@ -49,17 +53,25 @@ void read_figures(const Reader& reader, const toml::node& node, Scene& scene) {
       continue;
     }
     figure.config = base_config(reader, entry, "solver", "[[figure]]", item);
-    if (solvers::solver_named(figure.config.name).fixed_step) {
+    const solvers::SolverInfo& info = solvers::solver_named(figure.config.name);
+    refuse_untaken_step_keys(reader, entry, info, "a figure runs it at 50 steps per contact");
+    if (info.fixed_step) {
       figure.config.steps_per_contact = 50;
     }
     if (const toml::node* rtol = entry.get("rtol")) {
       figure.config.rtol = reader.number_in(*rtol, "rtol", rtol_range);
     }
+    // tau_ratio is drawn against alpha_eff, the others at target e (judge/figures.cpp).
     const bool by_alpha_eff = figure.kind == FigureKind::tau_ratio;
     for (const char* key : {"p", by_alpha_eff ? "alpha_eff" : "e"}) {
       if (entry.get(key) == nullptr) {
         reader.fail(item, "[[figure]] " + kind + " needs " + key);
       }
+    }
+    if (const toml::node* unused = entry.get(by_alpha_eff ? "e" : "alpha_eff")) {
+      reader.fail(*unused, std::string(by_alpha_eff ? "e" : "alpha_eff") +
+                               " has no effect on figure " + kind + ": it is drawn " +
+                               (by_alpha_eff ? "against alpha_eff" : "at target e"));
     }
     const toml::node& ps = *entry.get("p");
     figure.p = reader.numbers(ps, "p");
@@ -78,6 +90,26 @@ void read_figures(const Reader& reader, const toml::node& node, Scene& scene) {
         reader.check_in(*zs, "alpha_eff", z, Range::closed_open(0, 1).with_unit(" (a return)"));
       }
     }
+    for (const char* key : {"p", "e", "alpha_eff"}) { // a point twice
+      if (const toml::node* list = entry.get(key)) {
+        refuse_repeated(reader, *list, key, reader.numbers(*list, key));
+      }
+    }
+    // Figures drawn at one e (force_history, f_of_p) or one p (phase_portrait).
+    const bool one_e =
+        figure.kind == FigureKind::force_history || figure.kind == FigureKind::f_of_p;
+    const bool one_p = figure.kind == FigureKind::phase_portrait;
+    for (const auto& [key, values, one] :
+         {std::tuple{"e", &figure.e, one_e}, std::tuple{"p", &figure.p, one_p}}) {
+      if (one && values->size() > 1) {
+        reader.fail(*entry.get(key), fmt::format("figure {} is drawn at one {} (got {} values)",
+                                                 kind, key, values->size()));
+      }
+    }
+    // Its tolerances against the precision and the cells it is drawn at (v0 = m = k = 1).
+    Scene cells = with_cells(scene, ClaimGrid{figure.p, {1.0}, {1.0}, {1.0}, {}});
+    cells.want = solvers::want_e | solvers::want_delta_max | solvers::want_tau;
+    check_config(reader, item, cells, figure.config);
     scene.figures.push_back(figure);
   }
 }

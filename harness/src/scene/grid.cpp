@@ -28,6 +28,7 @@ void read_grid_lists(const Reader& reader, const toml::table& table, ClaimGrid& 
       for (const double value : into) {
         reader.within_domain(*at, [&] { check(value); });
       }
+      refuse_repeated(reader, *at, key, into); // a cell twice
     }
   };
   list("p", grid.p, [](double p) { domain::require_p(p); });

@@ -4,18 +4,23 @@
 // a|b (got c)"), and the readers of each table.
 #pragma once
 
+#include "common/input.hpp"
 #include "common/names.hpp"
 #include "scene/keys.hpp"
 #include "scene/scene.hpp"
 
+#include "pldamp/solvers/registry.hpp"
+
 #include <toml++/toml.h>
 
+#include <algorithm>
 #include <initializer_list>
 #include <limits>
 #include <optional>
 #include <stdexcept>
 #include <string>
 #include <string_view>
+#include <type_traits>
 #include <vector>
 
 namespace pldamp::harness::scene_reading {
@@ -114,6 +119,22 @@ private:
   std::string path_;
 };
 
+// A list in which a value said twice would add nothing (a cell, a point, a report file twice):
+// "<key> names <value> twice".
+template <class T>
+void refuse_repeated(const Reader& reader, const toml::node& node, const std::string& key,
+                     const std::vector<T>& values) {
+  for (auto value = values.begin(); value != values.end(); ++value) {
+    if (std::find(values.begin(), value, *value) != value) {
+      if constexpr (std::is_arithmetic_v<T>) {
+        reader.fail(node, key + " names " + to_string_full(*value) + " twice");
+      } else {
+        reader.fail(node, key + " names " + *value + " twice");
+      }
+    }
+  }
+}
+
 // Refuses, before toml++ sees the text, what it handles badly (max_scene_nesting, bytes beyond
 // ASCII).
 void check_text(const Reader& reader, std::string_view text);
@@ -146,6 +167,12 @@ SolverConfig base_config(const Reader& reader, const toml::table& entry, const c
 inline constexpr Range rtol_range = Range::open(0, 1);
 int read_steps(const Reader& reader, const toml::node& node);
 int check_steps(const Reader& reader, const toml::node& node, double n);
+// Refuses the sweep key a registered solver's traits (solvers/registry.hpp) say it ignores: rtol
+// beside a fixed-step scheme ("...; " + `fixed_step_instead`), steps_per_contact beside an
+// error-controlled one.
+void refuse_untaken_step_keys(const Reader& reader, const toml::table& entry,
+                              const solvers::SolverInfo& info,
+                              std::string_view fixed_step_instead = "set steps_per_contact");
 // A configuration's tolerances against the precision it runs in and the scales of every cell.
 void check_config(const Reader& reader, const toml::node& node, const Scene& scene,
                   const SolverConfig& config);

@@ -47,28 +47,25 @@ void read_searches(const Reader& reader, const toml::node& node, Scene& scene) {
     }
     const toml::node& range = *entry.get("range");
     const std::vector<double> ends = reader.numbers(range, "range");
+    // Each parameter's range, as its refusal words it.
+    const bool steps = search.parameter == SearchParameter::steps_per_contact;
+    const Range allowed = search.parameter == SearchParameter::rtol ? rtol_range
+                          : steps                                   ? Range::closed(1, 1e9)
+                                                                    : Range::open(0, 1e300);
     const auto valid = [&](double x) {
-      switch (search.parameter) {
-      case SearchParameter::rtol:
-        return rtol_range.contains(x);
-      case SearchParameter::steps_per_contact:
-        return x >= 1 && x <= 1e9 && x == std::floor(x);
-      case SearchParameter::dt:
-        break;
-      }
-      return x > 0 && x < 1e300;
+      return allowed.contains(x) && (!steps || x == std::floor(x));
     };
     if (ends.size() != 2 || !valid(ends[0]) || !valid(ends[1]) || ends[0] == ends[1]) {
-      reader.fail(range,
-                  "range must be [from, to], two different values of " +
-                      std::string(name_of(search_parameters, search.parameter)) +
-                      (search.parameter == SearchParameter::rtol ? " in (0, 1)"
-                       : search.parameter == SearchParameter::dt ? " > 0"
-                                                                 : ", integers in [1, 1e9]"));
+      reader.fail(range, "range must be [from, to], two different values of " +
+                             std::string(name_of(search_parameters, search.parameter)) +
+                             (steps ? ", integers " : " ") + allowed.text());
     }
+    // The scan steps by powers of their ratio (judge/search.cpp, search_scan).
+    const double spread = std::max(ends[0], ends[1]) / std::min(ends[0], ends[1]);
+    reader.require(spread <= 1e300, range,
+                   "range must have its ends within a factor 1e300 of each other", spread);
     // Tightest first: the smaller rtol or Δt, the more steps per contact.
-    const bool more_is_tighter = search.parameter == SearchParameter::steps_per_contact;
-    const double tight = more_is_tighter ? std::max(ends[0], ends[1]) : std::min(ends[0], ends[1]);
+    const double tight = steps ? std::max(ends[0], ends[1]) : std::min(ends[0], ends[1]);
     search.range = {tight, ends[0] == tight ? ends[1] : ends[0]};
     search.observable = reader.string(*entry.get("observable"), "observable");
     require_wanted(reader, *entry.get("observable"), search.observable, scene.want, "search");

@@ -127,6 +127,21 @@ SolverConfig base_config(const Reader& reader, const toml::table& entry, const c
   return config;
 }
 
+void refuse_untaken_step_keys(const Reader& reader, const toml::table& entry,
+                              const solvers::SolverInfo& info,
+                              std::string_view fixed_step_instead) {
+  if (const toml::node* rtol = entry.get("rtol"); rtol != nullptr && !info.takes_rtol()) {
+    reader.fail(*rtol, fmt::format("rtol has no effect on fixed-step solver {}; {}", info.name,
+                                   fixed_step_instead));
+  }
+  if (const toml::node* steps = entry.get("steps_per_contact");
+      steps != nullptr && !info.fixed_step) {
+    reader.fail(*steps, fmt::format("steps_per_contact has no effect on error-controlled solver "
+                                    "{}; set rtol",
+                                    info.name));
+  }
+}
+
 // A configuration's tolerances against the precision it runs in (rtol >= its epsilon) and, for a
 // literal atol, against the natural scales of every grid cell: the solvers' own checks
 // (solvers::validate_against), before any work.
@@ -161,6 +176,21 @@ void check_config(const Reader& reader, const toml::node& node, const Scene& sce
 }
 
 namespace {
+
+// A configuration into the scene, unless it has it already (from this entry's lists or an earlier
+// entry, its end the scene's by default or by name): the same runs twice would add nothing.
+void add_config(const Reader& reader, const toml::node& node, Scene& scene,
+                const SolverConfig& config) {
+  const auto same_runs = [&](const SolverConfig& other) {
+    SolverConfig unended = other;
+    unended.end = config.end;
+    return unended == config && end_of(scene, other) == end_of(scene, config);
+  };
+  if (std::any_of(scene.configs.begin(), scene.configs.end(), same_runs)) {
+    reader.fail(node, config.label() + " is a configuration the scene has already");
+  }
+  scene.configs.push_back(config);
+}
 
 // An external solver's sweep (steps_per_contact, dt or rtol, at most one) from `entry` into
 // configurations based on `base`; none: one configuration, the program's own default.
@@ -277,8 +307,11 @@ void read_external_solver(const Reader& reader, const toml::table& entry, const 
   }
   for (const std::optional<solvers::End>& end : read_ends(reader, entry)) {
     base.end = end;
+    const toml::node* swept = entry.get("steps_per_contact") ? entry.get("steps_per_contact")
+                              : entry.get("dt")              ? entry.get("dt")
+                                                             : entry.get("rtol");
     for (const SolverConfig& config : external_sweep(reader, entry, item, base)) {
-      scene.configs.push_back(config);
+      add_config(reader, swept ? *swept : item, scene, config);
     }
   }
 }
@@ -313,7 +346,7 @@ void read_solvers(const Reader& reader, const toml::node& node, Scene& scene) {
           SolverConfig config = base;
           config.steps_per_contact = check_steps(reader, *steps, n);
           check_config(reader, item, scene, config);
-          scene.configs.push_back(config);
+          add_config(reader, *steps, scene, config);
         }
         continue;
       }
@@ -323,7 +356,7 @@ void read_solvers(const Reader& reader, const toml::node& node, Scene& scene) {
           SolverConfig config = base;
           config.rtol = value;
           check_config(reader, *rtol, scene, config);
-          scene.configs.push_back(config);
+          add_config(reader, *rtol, scene, config);
         }
         continue;
       }
@@ -335,7 +368,7 @@ void read_solvers(const Reader& reader, const toml::node& node, Scene& scene) {
         config.steps_per_contact = 50;
       }
       check_config(reader, item, scene, config);
-      scene.configs.push_back(config);
+      add_config(reader, item, scene, config);
     }
   }
 }
