@@ -137,6 +137,37 @@ p = [1.0, 2.0]
   EXPECT_NEAR(*limit.margin, -2.0, 5e-3);
 }
 
+TEST(Claims, AsymptoticOfASolverCountsOnlyDifferencesBeyondItsOwnError) {
+  // The duration ratio of a fixed-step scheme against the seed's curve: the scheme's error in τ
+  // (about 1e-5 at 20000 steps per contact) hides the curve's first-order gap at the small α_eff,
+  // so those points are equal to the solver's accuracy and the order comes from the others. Held
+  // to a tolerance the scheme does not have (10 rtol, rtol defaulting to 1e-8), the solver's own
+  // error was read as the gap and the measured order fell to about 0.
+  const std::string claim = R"(name = "limit of a scheme"
+kind = "asymptotic"
+solver = "dem-verlet"
+steps_per_contact = 20000
+quantity = "tau_ratio"
+formula = "seed_tau_ratio_curve"
+p = [2.0]
+order = 1
+range = [1e-4, 1e-1]
+points = 7
+)";
+  const Verdict v = judged(claim);
+  ASSERT_EQ(v.orders.size(), 1u);
+  ASSERT_TRUE(v.orders[0].order) << v.note;
+  EXPECT_NEAR(*v.orders[0].order, 1.0, 0.1) << v.note;
+  EXPECT_TRUE(v.holds) << v.note;
+  // At 50 steps per contact the scheme's error hides the gap everywhere: no order can be
+  // measured, and the claim is not judged as holding.
+  const std::string coarse = std::string(claim).replace(claim.find("20000"), 5, "50");
+  const Verdict hidden = judged(coarse);
+  EXPECT_TRUE(hidden.orders.empty()) << hidden.note;
+  EXPECT_FALSE(hidden.holds);
+  EXPECT_EQ(hidden.missing_cells, 1) << hidden.note;
+}
+
 TEST(Claims, RecoveredParameterHoldsAtTheSolversAccuracyNotBeyond) {
   const std::string claim = R"(name = "fig 1"
 kind = "recovered_parameter"
