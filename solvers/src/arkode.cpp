@@ -129,6 +129,7 @@ public:
     y_now_ = collision.initial_state();
     assign(y_.get(), y_now_);
     assign(atol_.get(), collision.absolute_tolerances());
+    last_.forget();
     last_.check(ERKStepReInit(memory_.get(), sundials::rhs, 0, y_.get()), "ERKStepReInit");
     configure<ErkApi>(memory_.get(), last_, collision, atol_.get());
     last_.check(ERKStepSetMaxStep(memory_.get(), 0), "ERKStepSetMaxStep"); // no limit
@@ -208,6 +209,7 @@ public:
   void start(Collision& collision) {
     assign(y_.get(), collision.initial_state());
     assign(atol_.get(), collision.absolute_tolerances());
+    last_.forget();
     last_.check(ARKStepReInit(memory_.get(), nullptr, sundials::rhs, 0, y_.get()), "ARKStepReInit");
     configure<ArkApi>(memory_.get(), last_, collision, atol_.get());
     // A fixed step cannot be cut when Newton stalls: give it more iterations (default 3) and a

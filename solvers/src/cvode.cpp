@@ -71,6 +71,7 @@ Result<double> solve_cvode(CvodeMethod method, const Problem<double>& problem,
   void* cvode = w.memory.get();
   assign(w.y.get(), collision.initial_state());
   assign(w.atol.get(), collision.absolute_tolerances());
+  w.last_message.forget();
   w.last_message.check(CVodeReInit(cvode, 0, w.y.get()), "CVodeReInit");
   w.last_message.check(CVodeSVtolerances(cvode, options.rtol, w.atol.get()), "CVodeSVtolerances");
   w.last_message.check(CVodeSetUserData(cvode, &collision), "CVodeSetUserData");

@@ -133,6 +133,10 @@ struct LastMessage {
 
   explicit LastMessage(FlagNamer integrator_namer) : namer(integrator_namer) {}
 
+  // A workspace serves collision after collision: each forgets the one before's message, which
+  // would otherwise be attached to a later, unrelated failure.
+  void forget() { text.clear(); }
+
   static void keep(int /*code*/, const char* /*module*/, const char* function, char* message,
                    void* self) {
     static_cast<LastMessage*>(self)->text = std::string(function) + ": " + message;
