@@ -169,6 +169,28 @@ TEST(External, AWrongProtocolOrNoProgramStopsTheRunBeforeAnyWork) {
   EXPECT_FALSE(std::filesystem::exists(scratch() / "wrong_version" / "report.json"));
 }
 
+TEST(External, RunsLimitsAndThePlansSizeCountWhatAProgramIsGiven) {
+  // An external program is given no step limit, so --max-steps on a scene of programs only is
+  // refused, as [limits] max_steps is; --max-seconds limits its replies and is taken.
+  const std::string programs = write_file("programs.toml", scene_with("good"));
+  const std::string out = (scratch() / "programs").string();
+  const auto steps = run({"run", programs, "--out", out, "--max-steps", "100"});
+  EXPECT_EQ(steps.code, 2);
+  EXPECT_EQ(steps.err, "error: --max-steps has no effect: the scene runs none of pldamp's solvers "
+                       "(an external program is given no step limit) (got 100)\n");
+  EXPECT_EQ(run({"run", programs, "--out", out, "--max-seconds", "5", "--max-runs", "1"}).err,
+            "error: the plan has 8 solver runs, above the limit of 1: shrink the grid, or raise "
+            "the limit with --max-runs or [limits] max_runs (got " +
+                programs + ")\n");
+  // Timing repeats apply to pldamp's own solvers: 8 cells x (3 repeats + the program once).
+  const std::string mixed = write_file(
+      "mixed.toml",
+      scene_with("good", "[[solver]]\nname = \"cvode-bdf\"\nrtol = 1e-8\n[timing]\nrepeats = 3\n"));
+  EXPECT_NE(run({"run", mixed, "--out", out, "--max-runs", "1"})
+                .err.find("the plan has 32 solver runs, above the limit of 1"),
+            std::string::npos);
+}
+
 TEST(External, AnUnavailableCodeIsSkippedWithItsReason) {
   const Ran ran = run_scene_text(scene_with("unavailable"));
   for (const Record& record : ran.records) {

@@ -151,16 +151,19 @@ double claim_runs(const Claim& claim) {
 // The solver runs a scene asks for: cells × (each configuration's onset phases) × repeats, claim
 // configurations included; and the claims judged on grids of their own (claim_runs).
 double planned_runs(const Scene& scene) {
+  // Per cell: each configuration at each onset phase, pldamp's own solvers once per timing repeat
+  // (an external program answers once: run.cpp).
   double per_cell = 0;
   for (const SolverConfig& config : scene.configs) {
-    per_cell += config.onset_phases;
+    per_cell += config.onset_phases * (config.external() ? 1 : scene.repeats);
   }
   double claim_solves = 0;
   for (const Claim& claim : scene.claims) { // a configuration of its own, as make_plan adds it
     const BoundClaim* bound = claim.on_plan();
     const bool own = bound != nullptr && std::find(scene.configs.begin(), scene.configs.end(),
                                                    bound->config) == scene.configs.end();
-    per_cell += own ? bound->config.onset_phases : 0;
+    per_cell +=
+        own ? bound->config.onset_phases * (bound->config.external() ? 1 : scene.repeats) : 0;
     claim_solves += claim_runs(claim);
   }
   double search_runs = 0;
@@ -168,7 +171,7 @@ double planned_runs(const Scene& scene) {
     search_runs += search_runs_estimate(search);
   }
   search_runs += step_study_runs_estimate(scene); // the time-step study's searches
-  return grid_cells(scene) * per_cell * scene.repeats + claim_solves + search_runs;
+  return grid_cells(scene) * per_cell + claim_solves + search_runs;
 }
 
 // The report at `path`, read whole and checked (common/report_schema.hpp).
@@ -200,6 +203,18 @@ int run_scene(const RunArgs& args, std::ostream& out, std::ostream& err) {
       }
     }
   };
+  // As [limits] in the scene (scene.cpp, read_limits): a limit on nothing that runs is refused.
+  const bool own_solves = solves_with_pldamp(scene);
+  if (args.max_steps && !own_solves) {
+    throw InputError("--max-steps has no effect: the scene runs none of pldamp's solvers (an "
+                     "external program is given no step limit) (got " +
+                     *args.max_steps + ")");
+  }
+  if (args.max_seconds && !own_solves && scene.configs.empty()) {
+    throw InputError("--max-seconds has no effect: the scene solves nothing (its claims and "
+                     "trajectories are judged by the closed forms) (got " +
+                     *args.max_seconds + ")");
+  }
   limit("--max-steps", args.max_steps, scene.limits.max_steps);
   limit("--max-runs", args.max_runs, scene.limits.max_runs);
   if (args.max_seconds) {

@@ -94,33 +94,6 @@ bool own_solver(const SolverConfig& config) {
   return !config.external();
 }
 
-// Whether the run solves with pldamp's own solvers: a [[solver]], a claim's solver, a search, a
-// figure's solver (restitution_approximations is the reference solve's, within limits of its own).
-bool solves_with_pldamp(const Scene& scene) {
-  const bool claims = std::any_of(scene.claims.begin(), scene.claims.end(), [](const Claim& c) {
-    return std::visit(
-        [](const auto& stated) {
-          using Stated = std::decay_t<decltype(stated)>;
-          if constexpr (std::is_same_v<Stated, BoundClaim>) {
-            return own_solver(stated.config);
-          } else if constexpr (std::is_same_v<Stated, ConventionClaim>) {
-            return false; // the closed forms
-          } else if constexpr (requires { stated.of; }) {
-            return stated.of.solver.has_value();
-          } else {
-            return true; // recovered_parameter, stability
-          }
-        },
-        c.kind);
-  });
-  const bool figures =
-      std::any_of(scene.figures.begin(), scene.figures.end(), [](const FigureSpec& figure) {
-        return figure.kind != FigureKind::restitution_approximations;
-      });
-  return claims || figures || !scene.searches.empty() ||
-         std::any_of(scene.configs.begin(), scene.configs.end(), own_solver);
-}
-
 // [limits]: each limit refused where nothing it limits runs (max_steps: pldamp's solvers, for an
 // external program is given no step limit; max_seconds: any solve, an external program's reply
 // included).
@@ -202,6 +175,31 @@ void read_timing(const Reader& reader, const toml::node& node, Scene& scene) {
 }
 
 } // namespace
+
+bool solves_with_pldamp(const Scene& scene) {
+  const bool claims = std::any_of(scene.claims.begin(), scene.claims.end(), [](const Claim& c) {
+    return std::visit(
+        [](const auto& stated) {
+          using Stated = std::decay_t<decltype(stated)>;
+          if constexpr (std::is_same_v<Stated, BoundClaim>) {
+            return own_solver(stated.config);
+          } else if constexpr (std::is_same_v<Stated, ConventionClaim>) {
+            return false; // the closed forms
+          } else if constexpr (requires { stated.of; }) {
+            return stated.of.solver.has_value();
+          } else {
+            return true; // recovered_parameter, stability
+          }
+        },
+        c.kind);
+  });
+  const bool figures =
+      std::any_of(scene.figures.begin(), scene.figures.end(), [](const FigureSpec& figure) {
+        return figure.kind != FigureKind::restitution_approximations;
+      });
+  return claims || figures || !scene.searches.empty() ||
+         std::any_of(scene.configs.begin(), scene.configs.end(), own_solver);
+}
 
 Scene load_scene(const std::string& path) {
   std::error_code error;

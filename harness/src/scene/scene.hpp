@@ -327,6 +327,11 @@ inline solvers::End end_of(const Scene& scene, const SolverConfig& config) {
   return config.end.value_or(scene.end);
 }
 
+// Whether the run solves with pldamp's own solvers: a [[solver]], a claim's solver, a search, a
+// figure's solver (restitution_approximations is the reference solve's, within limits of its own).
+// A step limit has no effect otherwise (an external program is given none).
+bool solves_with_pldamp(const Scene& scene);
+
 // Reads and validates a scene file; throws SceneError.
 Scene load_scene(const std::string& path);
 // The same from the file's text (`path` names it in messages).
