@@ -376,24 +376,31 @@ TEST(Diff, ANameCannotForgeALineOrShiftTheFields) {
                                       "SCENE changed end | overlap -> force"}));
 }
 
+// The reports in `format` of a run of the fake program labelled `label` (TOML string contents) at
+// p = 1, e = 0.3 and the `v0` line, written into the scratch folder `name`.
+fs::path reports_of_a_labelled_program(const std::string& label, const std::string& v0,
+                                       ReportFormat format, const std::string& name) {
+  std::string scene = testing::scene_with("good", "", "", "p = [1]\ne = [0.3]\n" + v0 + "\n");
+  scene.replace(scene.find("label = \"fake\""), 14, "label = \"" + label + "\"");
+  const testing::Ran ran = testing::run_scene_text(scene);
+  Plan plan = ran.plan;
+  plan.scene.formats = {format};
+  const Budgets b = make_budgets(plan, ran.records);
+  const RunTotals totals{0, 0, 0, {"fake good"}};
+  const std::vector<Figure> figures;
+  const fs::path out = scratch() / name;
+  fs::remove_all(out);
+  const auto written = write_reports({plan, ran.records, b, totals, figures}, out.string());
+  EXPECT_TRUE(written.failures.empty());
+  return out;
+}
+
 TEST(Diff, ASolverLabelHoldingTheFieldSeparatorKeepsItsRecordsApart) {
   // An external solver's label may hold " | " (the scene accepts any label), the separator of a
   // record's key: written, read back from the file and diffed, its records keep the label whole
   // and their cells apart, never the key split at its first " | ".
-  std::string scene = testing::scene_with("good", "", "", "p = [1]\ne = [0.3]\nv0 = [1, 2]\n");
-  const std::size_t label = scene.find("label = \"fake\"");
-  ASSERT_NE(label, std::string::npos);
-  scene.replace(label, 14, "label = \"fake | v2\"");
-  const testing::Ran ran = testing::run_scene_text(scene);
-  Plan plan = ran.plan;
-  plan.scene.formats = {ReportFormat::json};
-  const Budgets b = make_budgets(plan, ran.records);
-  const RunTotals totals{0, 0, 0, {"fake good"}};
-  const std::vector<Figure> figures;
-  const fs::path out = scratch() / "separator-label";
-  fs::remove_all(out);
-  ASSERT_TRUE(
-      write_reports({plan, ran.records, b, totals, figures}, out.string()).failures.empty());
+  const fs::path out = reports_of_a_labelled_program("fake | v2", "v0 = [1, 2]", ReportFormat::json,
+                                                     "separator-label");
   const std::string written = read(out / "report.json");
   const nlohmann::json old_report = schema::read_report(written, "report.json");
   ASSERT_EQ(old_report["records"].size(), 2u);
@@ -423,20 +430,8 @@ TEST(Diff, ASolverLabelHoldingTheFieldSeparatorKeepsItsRecordsApart) {
 
 TEST(Report, ACsvFieldHoldingACommaOrAQuoteIsQuoted) {
   // A label with a comma would shift every later column of its rows; RFC 4180 quotes it.
-  std::string scene = testing::scene_with("good", "", "", "p = [1]\ne = [0.3]\nv0 = [1]\n");
-  const std::size_t label = scene.find("label = \"fake\"");
-  ASSERT_NE(label, std::string::npos);
-  scene.replace(label, 14, "label = \"fake, \\\"v2\\\"\"");
-  const testing::Ran ran = testing::run_scene_text(scene);
-  Plan plan = ran.plan;
-  plan.scene.formats = {ReportFormat::csv};
-  const Budgets b = make_budgets(plan, ran.records);
-  const RunTotals totals{0, 0, 0, {"fake good"}};
-  const std::vector<Figure> figures;
-  const fs::path out = scratch() / "comma-label";
-  fs::remove_all(out);
-  ASSERT_TRUE(
-      write_reports({plan, ran.records, b, totals, figures}, out.string()).failures.empty());
+  const fs::path out = reports_of_a_labelled_program("fake, \\\"v2\\\"", "v0 = [1]",
+                                                     ReportFormat::csv, "comma-label");
   std::istringstream csv(read(out / "report.csv"));
   std::string header, row;
   ASSERT_TRUE(std::getline(csv, header));
