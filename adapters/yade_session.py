@@ -155,11 +155,12 @@ def collide(law, problem):
     for _ in range(steps):
         # YADE's step (Scene::moveToNextTimeStep): the force from x_n and v_{n-1/2}, then
         # NewtonIntegrator's v_{n+1/2} and x_{n+1}. A row is that evaluation: (t_n, delta_n, the
-        # velocity it leaves, the force it applied).
+        # velocity v_{n-1/2} it sees, the force it applied), dem-leapfrog's after_step() state
+        # (the position with the velocity that brought the bodies there)
         delta = radsum - (b.pos[0] - a.pos[0])
+        rate = a.vel[0] - b.vel[0]
         O.step()
         force = -O.forces.f(left)[0]
-        rate = a.vel[0] - b.vel[0]
         if not all(map(math.isfinite, (delta, rate, force))) or b.pos[0] <= a.pos[0]:
             return {"outcome": "unstable", "invariant": "a state no longer finite or the bodies "
                     "passed through each other", "wall_seconds": time.perf_counter() - started}

@@ -15,6 +15,7 @@ the protocol (one YADE process for all of a law's problems: YADE's start-up cost
      calibration's e_given (the closed form of YADE's own formula under its force cut; for
      viscel 0.5503, not the target 0.5).
   3. pldamp's alpha and the en that YADE turns into it run the same contact.
+  4. Where YADE and its replica differ: YADE applies the force at zero overlap (onset phase 0).
 """
 
 import json
@@ -158,6 +159,27 @@ class YadeAdapterTest(unittest.TestCase):
             for key in ("e", "delta_max", "tau"):
                 self.assertLessEqual(abs(by_alpha[key] - by_entry[key]),
                                      ROUND_OFF * abs(by_entry[key]), (law, key, by_alpha, by_entry))
+
+
+    def test_4_yade_applies_its_dashpot_at_zero_overlap(self):
+        """YADE's contact test is not strict (Ig2_Sphere_Sphere_ScGeom builds the geometry at
+        penetrationDepth 0, the laws erase it only below 0): at onset phase 0, where a step lands
+        on the moment of contact (delta = 0), ViscElPhys applies cn*v0 there and the contact
+        differs from dem-leapfrog, which evaluates no force at zero overlap, by O(dt); at 0.5 they
+        agree to round-off. Hertz-Mindlin's dashpot, c delta^(1/4), is 0 there: no difference."""
+        for law, p in LAWS:
+            code = pldamp("calibrate", "--code", "yade-" + law, "--p", p, "--e", 0.5)
+            for phase in (0.0, 0.5):
+                ref = pldamp("solve", "--solver", "dem-leapfrog", "--p", p, "--alpha",
+                             repr(code["alpha"]), "--m", 1, "--k", 1, "--v0", 1,
+                             "--steps-per-contact", 20, "--onset-phase", phase, "--end", "force")
+                got = self.adapters[law].solve(problem(p, ref["dt"], phase,
+                                                       alpha=code["alpha"]))
+                difference = abs(got["e"] - ref["e_cap"])
+                if law == "viscel" and phase == 0.0:
+                    self.assertGreater(difference, 0.01, (law, got, ref))  # measured 0.038
+                else:
+                    self.assertLessEqual(difference, ROUND_OFF * ref["e_cap"], (law, phase))
 
 
 def main():
