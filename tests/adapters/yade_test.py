@@ -36,9 +36,9 @@ ROUND_OFF = 5e-14
 
 
 class Adapter:
-    def __init__(self, law):
+    def __init__(self, law, *extra):
         self.stderr = tempfile.TemporaryFile()
-        self.process = subprocess.Popen([ADAPTER, "--law", law], stdin=subprocess.PIPE,
+        self.process = subprocess.Popen([ADAPTER, "--law", law, *extra], stdin=subprocess.PIPE,
                                         stdout=subprocess.PIPE, stderr=self.stderr, text=True)
         self.hello = self.exchange(HANDSHAKE)
         self.next_id = 0
@@ -114,6 +114,12 @@ class YadeAdapterTest(unittest.TestCase):
                 got = adapter.solve(asked)
                 self.assertEqual(got["outcome"], "unsupported", (law, asked, got))
                 self.assertIn(why, got["reason"], (law, got))
+        # without YADE: the handshake says why, and every problem is unsupported with it
+        missing = Adapter("viscel", "--yade", "/nonexistent/yade")
+        why = "YADE is not installed (/nonexistent/yade not found); Debian: apt-get install yade"
+        self.assertEqual(missing.hello["unavailable"], why)
+        self.assertEqual(missing.solve(problem(1.0, 0.01))["reason"], why)
+        self.assertEqual(missing.close(), 0)
 
     def test_2_en_entered_agrees_with_dem_leapfrog_and_converges_to_the_closed_form(self):
         for law, p in LAWS:
