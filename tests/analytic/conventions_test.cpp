@@ -104,6 +104,11 @@ TEST(Conventions, YadeHertzMindlinIsThorntonsFitAsYadeEvaluatesIt) {
     EXPECT_NEAR(thornton_damping_ratio(en), betan, 8e-16 * betan) << en;
     EXPECT_NEAR(alpha_set(mindlin, 1.5, en), std::sqrt(6.0) * betan, 2e-15 * betan) << en;
   }
+  // What en = 0.5 really gives under YADE's force cut, computed independently: classical RK4 in
+  // Python on δ'' + α δ^¼ δ' + δ^(3/2) = 0 to the force zero at h = 4e-5, 2e-5, 1e-5
+  // (0.50001149945, 0.50001146117, 0.50001144508: order 1.25), Richardson-extrapolated,
+  // 0.5000114334.
+  EXPECT_NEAR(e_given(1.5, alpha_set(mindlin, 1.5, 0.5), true), 0.5000114334, 3e-9);
   // The fit is not 0 at e = 1: YADE damps a contact entered as perfectly elastic.
   EXPECT_NEAR(thornton_damping_ratio(1.0), 0.004526679664509103, 1e-12);
   EXPECT_TRUE(capped(mindlin, false));
