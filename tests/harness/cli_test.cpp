@@ -347,8 +347,9 @@ TEST(Cli, BadInputIsOneLineAndExitTwo) {
        "cvode-bdf has no fixed-step mode and takes no dt (got 0.1)"},
       {{"calibrate", "--code", "lammps", "--p", "1.5", "--e", "0.5"},
        "unknown --code, expected lammps-tsuji|lammps-tsuji-2026|lammps-coeff-restitution|liggghts|"
-       "mercurydpm|chrono|yade|lammps-viscoelastic|lammps-hertz-history|lammps-mass-velocity (got "
-       "lammps)"},
+       "mercurydpm|chrono|yade|yade-viscel|yade-hertz-mindlin|lammps-viscoelastic|lammps-hertz-"
+       "history|"
+       "lammps-mass-velocity (got lammps)"},
       {{"calibrate", "--code", "lammps-tsuji", "--p", "2", "--e", "0.5"},
        "lammps-tsuji has a Hertz model only: p must be 1.5 (got 2)"},
       {{"calibrate", "--code", "chrono", "--p", "1.5", "--e", "0.5", "--limit-damping"},

@@ -146,7 +146,7 @@ v0 = [1.0]
       {valid_scene + "[[claim]]\nname = \"c\"\nobservable = \"e\"\nconvention = \"lammps\"\n"
                      "bound = 1e-3\n",
        "13: unknown convention, expected lammps-tsuji|lammps-tsuji-2026|lammps-coeff-restitution|"
-       "liggghts|mercurydpm|chrono|yade (got lammps)"},
+       "liggghts|mercurydpm|chrono|yade|yade-viscel|yade-hertz-mindlin (got lammps)"},
       {valid_scene + "[[claim]]\nname = \"c\"\nobservable = \"force_max\"\nsolver = \"cvode-bdf\"\n"
                      "rtol = 1e-6\nbound = 1e-5\n",
        "12: claim observable must be one the scene wants: "

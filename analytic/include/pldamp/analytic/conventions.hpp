@@ -14,6 +14,11 @@
 //   mercurydpm                the same, never capped
 //   chrono                    √5 ξ_L (Hertz), always capped (ChSystemSMC)
 //   yade                      2 ξ_L (ViscElPhys, linear), √5 ξ_L (Mindlin, Hertz); always capped
+//                             (YADE's Mindlin before it took Thornton et al. 2013's fit)
+//   yade-viscel               2 ξ_L (ViscElMat tc, en; YADE 2023.02a); always capped
+//   yade-hertz-mindlin        √6 β_T(e), β_T(e) = √(1/(1 − (1+e)² exp A(e)) − 1) with A Thornton
+//                             et al. (2013)'s (B6) fit, a degree-10 polynomial (YADE 2023.02a's
+//                             Ip2_FrictMat_FrictMat_MindlinPhys en); always capped
 //
 // with ξ_L = −ln e / √(π² + ln² e). LAMMPS's `limit_damping` is the cap for the lammps-*
 // conventions, LIGGGHTS's `limitForce` for liggghts.
@@ -38,6 +43,8 @@ enum class Code {
   mercurydpm,
   chrono,
   yade,
+  yade_viscel,
+  yade_hertz_mindlin,
 };
 
 // Whether a code ends a contact at the force cut.
@@ -51,7 +58,7 @@ struct Convention {
   std::string_view source; // where the formula is read
 };
 
-inline constexpr std::array<Convention, 7> conventions{{
+inline constexpr std::array<Convention, 9> conventions{{
     {Code::lammps_tsuji, "lammps-tsuji", false, true, Cap::optional,
      "LAMMPS src/GRANULAR/gran_sub_mod_damping.cpp (GranSubModDampingTsuji::init, released "
      "versions): damp = T(e); the pair force adds -damp*sqrt(meff*Fnormal/delta)*vnnr "
@@ -74,6 +81,15 @@ inline constexpr std::array<Convention, 7> conventions{{
     {Code::yade, "yade", true, true, Cap::always,
      "YADE pkg/dem/HertzMindlin.cpp (alpha from en, normal force set to 0 when attractive), "
      "pkg/dem/ViscoelasticPM.cpp (cn = -2 massR ln(en)/tc; normal force 0 when Fn+Fv < 0)"},
+    {Code::yade_viscel, "yade-viscel", true, false, Cap::always,
+     "YADE 2023.02a (Debian 12) pkg/dem/ViscoelasticPM.cpp: ViscElMat(tc, en) gives kn = massR "
+     "(pi^2+ln^2 en)/tc^2, cn = -2 massR ln(en)/tc; Law2_ScGeom_ViscElPhys_Basic sets the normal "
+     "force to 0 when kn*delta + cn*vn < 0 (adapters/yade measures both)"},
+    {Code::yade_hertz_mindlin, "yade-hertz-mindlin", false, true, Cap::always,
+     "YADE 2023.02a (Debian 12) pkg/dem/HertzMindlin.cpp: Ip2_FrictMat_FrictMat_MindlinPhys(en) "
+     "sets betan = sqrt(1/(1-(1+en)^2 exp(A(en)))-1), A Thornton et al. 2013's (B6) fit; "
+     "Law2_ScGeom_MindlinPhys_Mindlin cn = 2 betan sqrt(mbar kn), kn = 3/2 kno sqrt(uN), the "
+     "normal force 0 when attractive (adapters/yade measures both)"},
 }};
 
 // The convention of that name, or nullptr.
@@ -115,15 +131,41 @@ Real tsuji_polynomial(const Real& e) {
   return sum;
 }
 
+// β_T(e), the damping ratio YADE's Ip2_FrictMat_FrictMat_MindlinPhys sets for a restitution en:
+// Thornton, Cummins and Cleary (2013), eq. (B6), a fit of the Hertz contact with a δ^¼ dashpot
+// ended at the force cut, β = √(1/(1 − (1+e)² exp A(e)) − 1), A(e) = e (h1 + e (h2 + … e h10)).
+// It is positive on (0, 1] (1 − (1+e)² exp A > 0 there; at e = 1 it is 0.0045, not 0).
+template <SupportedReal Real>
+Real thornton_damping_ratio(const Real& e) {
+  using std::exp;
+  using std::sqrt;
+  const Real h[] = {Real(-6918798) / 1000000, Real(-1641105) / 100000, Real(1468049) / 10000,
+                    Real(-7964559) / 10000,   Real(2928711) / 1000,    Real(-7206864) / 1000,
+                    Real(1149429) / 100,      Real(-1134218) / 100,    Real(6276757) / 1000,
+                    Real(-1489915) / 1000};
+  Real sum(0);
+  for (int i = 9; i >= 0; --i) {
+    sum = sum * e + h[i];
+  }
+  const Real a = e * sum;
+  return sqrt(Real(1) / (Real(1) - (Real(1) + e) * (Real(1) + e) * exp(a)) - Real(1));
+}
+
 // Throws std::invalid_argument unless the code has a model with exponent p (Hooke, Hertz).
 template <SupportedReal Real>
 void require_model(const Convention& c, const Real& p) {
   const bool linear = p == 1, hertz = p == Real(3) / 2;
   if (!((c.linear && linear) || (c.hertz && hertz))) {
+    const bool both = c.linear && c.hertz;
     require(false,
             std::string(c.name) + " has " +
-                (c.linear ? "a linear (p = 1) and a Hertz (p = 1.5) model" : "a Hertz model only") +
-                ": p must be " + (c.linear ? "1 or 1.5" : "1.5"),
+                (both       ? "a linear (p = 1) and a Hertz (p = 1.5) model"
+                 : c.linear ? "a linear model only"
+                            : "a Hertz model only") +
+                ": p must be " +
+                (both       ? "1 or 1.5"
+                 : c.linear ? "1"
+                            : "1.5"),
             p);
   }
 }
@@ -140,6 +182,8 @@ Real alpha_set(const Convention& c, const Real& p, const Real& e_entered) {
     return tsuji_polynomial(e_entered);
   case Code::lammps_tsuji_2026:
     return sqrt(Real(2)) * tsuji_polynomial(e_entered);
+  case Code::yade_hertz_mindlin: // cn = 2 β √(m · 3/2 k δ^½): α = 2 √(3/2) β = √6 β
+    return sqrt(Real(6)) * thornton_damping_ratio(e_entered);
   default: // the exact overlap-end calibration, α = √(2(p+1)) ξ_L: 2 ξ_L, √5 ξ_L
     return alpha_per_alpha_eff(p) * damping_from_e(e_entered).z;
   }
