@@ -29,6 +29,8 @@ import tempfile
 import time
 import unittest
 
+from adapter_process import AdapterProcess, run_pldamp
+
 HERE = os.path.dirname(os.path.abspath(__file__))
 ADAPTER = os.path.join(HERE, "..", "..", "adapters", "lammps")
 PLDAMP = None  # set from the command line
@@ -61,57 +63,13 @@ PHASES = [0.1, 0.5, 0.85]
 OBSERVABLES = ["e", "delta_max", "t_peak", "tau", "energy_load", "energy_unload"]
 
 
-class Adapter:
-    """The adapter as pldamp runs it: a process, one JSON line per problem each way."""
-
+class Adapter(AdapterProcess):
     def __init__(self, arguments, handshake=HANDSHAKE):
-        self.stderr = tempfile.TemporaryFile()
-        self.process = subprocess.Popen([ADAPTER] + arguments, stdin=subprocess.PIPE,
-                                        stdout=subprocess.PIPE, stderr=self.stderr, text=True)
-        self.hello = self.exchange(handshake) if handshake is not None else None
-        self.next_id = 0
-
-    def exchange(self, obj):
-        self.process.stdin.write(json.dumps(obj) + "\n")
-        self.process.stdin.flush()
-        line = self.process.stdout.readline()
-        if not line:
-            raise AssertionError("the adapter closed its output; its stderr ends: "
-                                 + self.error_tail())
-        return json.loads(line)
-
-    def solve(self, problem):
-        problem = dict(problem, id=self.next_id)
-        self.next_id += 1
-        reply = self.exchange(problem)
-        if reply.get("id") != problem["id"]:
-            raise AssertionError("reply for id %r to problem %d" % (reply.get("id"), problem["id"]))
-        return reply
-
-    def error_tail(self):
-        self.stderr.seek(0)
-        return self.stderr.read().decode(errors="replace").strip()[-400:]
-
-    def kill(self):
-        if self.process.poll() is None:
-            self.process.kill()
-            self.process.wait()
-
-    def close(self):
-        """Closes standard input as pldamp does; returns the exit status."""
-        self.process.stdin.close()
-        status = self.process.wait(timeout=60)
-        self.process.stdout.close()
-        self.stderr.close()
-        return status
+        super().__init__([ADAPTER] + arguments, handshake)
 
 
 def pldamp(*arguments):
-    run = subprocess.run([PLDAMP] + [str(a) for a in arguments] + ["--json"],
-                         capture_output=True, text=True, check=False)
-    if run.returncode != 0:
-        raise AssertionError("pldamp %s: %s" % (" ".join(map(str, arguments)), run.stderr))
-    return json.loads(run.stdout)
+    return run_pldamp(PLDAMP, *arguments)
 
 
 def dem_verlet(p, alpha, m, k, v0, spc, phase, end):

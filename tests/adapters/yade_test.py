@@ -18,12 +18,11 @@ the protocol (one YADE process for all of a law's problems: YADE's start-up cost
   4. Where YADE and its replica differ: YADE applies the force at zero overlap (onset phase 0).
 """
 
-import json
 import os
-import subprocess
 import sys
-import tempfile
 import unittest
+
+from adapter_process import AdapterProcess, run_pldamp
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 ADAPTER = os.path.join(HERE, "..", "..", "adapters", "yade")
@@ -35,44 +34,13 @@ LAWS = [("viscel", 1.0), ("hertz-mindlin", 1.5)]
 ROUND_OFF = 5e-14
 
 
-class Adapter:
+class Adapter(AdapterProcess):
     def __init__(self, law, *extra):
-        self.stderr = tempfile.TemporaryFile()
-        self.process = subprocess.Popen([ADAPTER, "--law", law, *extra], stdin=subprocess.PIPE,
-                                        stdout=subprocess.PIPE, stderr=self.stderr, text=True)
-        self.hello = self.exchange(HANDSHAKE)
-        self.next_id = 0
-
-    def exchange(self, obj):
-        self.process.stdin.write(json.dumps(obj) + "\n")
-        self.process.stdin.flush()
-        line = self.process.stdout.readline()
-        if not line:
-            self.stderr.seek(0)
-            raise AssertionError("the adapter closed its output; its stderr ends: "
-                                 + self.stderr.read().decode(errors="replace")[-2000:])
-        return json.loads(line)
-
-    def solve(self, problem):
-        self.next_id += 1
-        answer = self.exchange(dict(problem, id=self.next_id))
-        assert answer["id"] == self.next_id
-        return answer
-
-    def close(self):
-        self.process.stdin.close()
-        status = self.process.wait(timeout=60)
-        self.process.stdout.close()
-        self.stderr.close()
-        return status
+        super().__init__([ADAPTER, "--law", law, *extra], HANDSHAKE)
 
 
 def pldamp(*arguments):
-    run = subprocess.run([PLDAMP] + [str(a) for a in arguments] + ["--json"],
-                         capture_output=True, text=True, check=False)
-    if run.returncode != 0:
-        raise AssertionError("pldamp %s: %s" % (" ".join(map(str, arguments)), run.stderr))
-    return json.loads(run.stdout)
+    return run_pldamp(PLDAMP, *arguments)
 
 
 def problem(p, dt, phase=0.0, end="force", **extra):

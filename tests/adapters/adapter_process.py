@@ -1,0 +1,63 @@
+"""What the adapter tests share: an adapter run as pldamp runs it, and pldamp's own answers.
+
+An adapter is a process spoken to one JSON line at a time each way (README "The protocol,
+version 1"); `pldamp(...)` runs the CLI with --json for the value an adapter is compared with.
+"""
+
+import json
+import subprocess
+import tempfile
+
+
+class AdapterProcess:
+    """The adapter `command` (an argument vector) as pldamp runs it, after its handshake."""
+
+    def __init__(self, command, handshake):
+        self.stderr = tempfile.TemporaryFile()
+        self.process = subprocess.Popen(command, stdin=subprocess.PIPE, stdout=subprocess.PIPE,
+                                        stderr=self.stderr, text=True)
+        self.hello = self.exchange(handshake) if handshake is not None else None
+        self.next_id = 0
+
+    def exchange(self, obj):
+        self.process.stdin.write(json.dumps(obj) + "\n")
+        self.process.stdin.flush()
+        line = self.process.stdout.readline()
+        if not line:
+            raise AssertionError("the adapter closed its output; its stderr ends: "
+                                 + self.error_tail())
+        return json.loads(line)
+
+    def solve(self, problem):
+        problem = dict(problem, id=self.next_id)
+        self.next_id += 1
+        reply = self.exchange(problem)
+        if reply.get("id") != problem["id"]:
+            raise AssertionError("reply for id %r to problem %d" % (reply.get("id"), problem["id"]))
+        return reply
+
+    def error_tail(self):
+        self.stderr.seek(0)
+        return self.stderr.read().decode(errors="replace").strip()[-2000:]
+
+    def kill(self):
+        if self.process.poll() is None:
+            self.process.kill()
+            self.process.wait()
+
+    def close(self):
+        """Closes standard input as pldamp does; returns the exit status."""
+        self.process.stdin.close()
+        status = self.process.wait(timeout=60)
+        self.process.stdout.close()
+        self.stderr.close()
+        return status
+
+
+def run_pldamp(binary, *arguments):
+    """`binary ARGUMENTS --json`, its answer parsed; a refusal fails the test with its line."""
+    run = subprocess.run([binary] + [str(a) for a in arguments] + ["--json"],
+                         capture_output=True, text=True, check=False)
+    if run.returncode != 0:
+        raise AssertionError("pldamp %s: %s" % (" ".join(map(str, arguments)), run.stderr))
+    return json.loads(run.stdout)
