@@ -346,12 +346,12 @@ TEST(CheckCli, ToleranceFailsWhatTheFileCannotShow) {
   const std::string open =
       write_file("open.csv", "t,delta\n-0.1,-0.1\n0.1,0.0995\n0.2,0.19\n0.3,0.27\n0.4,0.33\n");
   const CliRun missing =
-      run({"check", open, "--p", "1.5", "--e", "0.5", "--v0", "1", "--tolerance", "tau=1"});
+      run({"check", open, "--p", "1.5", "--e", "0.5", "--v0", "1", "--tolerance", "tau=0.5"});
   EXPECT_EQ(missing.code, 1);
   EXPECT_EQ(missing.out.substr(missing.out.rfind("\ntau ")),
             fmt::format("\n{:<18} {:>9}  FAIL: the contact does not end within the series\nFAILED: "
                         "tau\n",
-                        "tau", 1))
+                        "tau", 0.5))
       << missing.out;
 
   const auto contact = analytic::Contact<double>::from_e(1.5, 0.5, 1.0);
@@ -377,16 +377,18 @@ TEST(CheckCli, ABadToleranceIsRefusedBeforeTheFileIsRead) {
   const std::string expected =
       "e|delta_max|t_peak|tau|normal_force_max|t_normal_force_max=T,... with T > 0";
   for (const auto& [tolerance, message] : std::vector<std::pair<std::string, std::string>>{
-           {"0", "a tolerance must be a finite number > 0 (got 0)"},
-           {"-1e-3", "a tolerance must be a finite number > 0 (got -1e-3)"},
-           {"inf", "a tolerance must be a finite number > 0 (got inf)"},
-           {"nan", "a tolerance must be a finite number > 0 (got nan)"},
+           {"0", "a tolerance must be a relative one in (0, 1) (got 0)"},
+           {"-1e-3", "a tolerance must be a relative one in (0, 1) (got -1e-3)"},
+           {"inf", "a tolerance must be a relative one in (0, 1) (got inf)"},
+           {"nan", "a tolerance must be a relative one in (0, 1) (got nan)"},
+           {"1", "a tolerance must be a relative one in (0, 1) (got 1)"},
+           {"tau=2", "a tolerance must be a relative one in (0, 1) (got tau=2)"},
            {"abc", "--tolerance takes a relative tolerance T or " + expected + " (got abc)"},
            {"", "--tolerance takes a relative tolerance T or " + expected + " (got )"},
            {"e=", "--tolerance takes a relative tolerance T or " + expected + " (got e=)"},
            {"e=1e-3,",
             "--tolerance takes a relative tolerance T or " + expected + " (got e=1e-3,)"},
-           {"e=0", "a tolerance must be a finite number > 0 (got e=0)"},
+           {"e=0", "a tolerance must be a relative one in (0, 1) (got e=0)"},
            {"speed=1e-3", "unknown observable in --tolerance, expected "
                           "e|delta_max|t_peak|tau|normal_force_max|t_normal_force_max (got speed)"},
            {"e_cap=1e-3", "unknown observable in --tolerance, expected "

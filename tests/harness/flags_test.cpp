@@ -90,6 +90,32 @@ Args with(Args args, const Args& more) {
   return args;
 }
 
+// A contact from materials (cli/materials.hpp): two aluminium spheres, each material turned.
+std::vector<Row> material_rows(const Args& head, const Args& tail) {
+  const Args aluminium{"--geometry", "sphere-sphere", "--radius", "0.01",      "--young",
+                       "7e10",       "--poisson",     "0.3",      "--density", "2700"};
+  auto turned = [&](const std::string& flag, const std::string& value) {
+    Args args = aluminium;
+    for (std::size_t i = 0; i + 1 < args.size(); ++i) {
+      if (args[i] == flag) {
+        args[i + 1] = value;
+      }
+    }
+    return with(with(head, args), tail);
+  };
+  const Args base = with(with(head, aluminium), tail);
+  return {{"--geometry", base, turned("--geometry", "sphere-wall"), ""},
+          {"--radius", base, turned("--radius", "0.01,0.02"), ""},
+          {"--young", base, turned("--young", "7e10,2e11"), ""},
+          {"--poisson", base, turned("--poisson", "0.2"), ""},
+          {"--density", base, turned("--density", "2700,7800"), ""}};
+}
+
+std::vector<Row> joined(std::vector<Row> rows, const std::vector<Row>& more) {
+  rows.insert(rows.end(), more.begin(), more.end());
+  return rows;
+}
+
 TEST(Flags, EveryCalibrateFlagChangesItsAnswer) {
   const Args seed{"calibrate", "--p", "1.5", "--e", "0.5"};
   const Args tsuji = with(seed, {"--code", "lammps-tsuji"});
@@ -121,20 +147,22 @@ TEST(Flags, EveryObservablesFlagChangesItsAnswer) {
   const Args by_group{"observables", "--p", "1.5", "--alpha-eff", "0.2", "--v0", "1"};
   check_rows(
       "observables",
-      {{"--p", base, {"observables", "--p", "2", "--e", "0.5", "--v0", "1"}, ""},
-       {"--e", base, {"observables", "--p", "1.5", "--e", "0.6", "--v0", "1"}, ""},
-       {"--alpha", by_alpha, {"observables", "--p", "1.5", "--alpha", "0.4", "--v0", "1"}, ""},
-       {"--alpha-eff",
-        by_group,
-        {"observables", "--p", "1.5", "--alpha-eff", "0.3", "--v0", "1"},
-        ""},
-       {"--damping-exponent", by_alpha, with(by_alpha, {"--damping-exponent", "0.5"}), ""},
-       {"--end", base, with(base, {"--end", "force"}), ""},
-       {"--precision", base, with(base, {"--precision", "quad"}), ""},
-       {"--json", base, with(base, {"--json"}), ""},
-       {"--v0", base, {"observables", "--p", "1.5", "--e", "0.5", "--v0", "2"}, ""},
-       {"--m", base, with(base, {"--m", "2"}), ""},
-       {"--k", base, with(base, {"--k", "3"}), ""}},
+      joined(
+          material_rows({"observables"}, {"--e", "0.5", "--v0", "1", "--json"}),
+          {{"--p", base, {"observables", "--p", "2", "--e", "0.5", "--v0", "1"}, ""},
+           {"--e", base, {"observables", "--p", "1.5", "--e", "0.6", "--v0", "1"}, ""},
+           {"--alpha", by_alpha, {"observables", "--p", "1.5", "--alpha", "0.4", "--v0", "1"}, ""},
+           {"--alpha-eff",
+            by_group,
+            {"observables", "--p", "1.5", "--alpha-eff", "0.3", "--v0", "1"},
+            ""},
+           {"--damping-exponent", by_alpha, with(by_alpha, {"--damping-exponent", "0.5"}), ""},
+           {"--end", base, with(base, {"--end", "force"}), ""},
+           {"--precision", base, with(base, {"--precision", "quad"}), ""},
+           {"--json", base, with(base, {"--json"}), ""},
+           {"--v0", base, {"observables", "--p", "1.5", "--e", "0.5", "--v0", "2"}, ""},
+           {"--m", base, with(base, {"--m", "2"}), ""},
+           {"--k", base, with(base, {"--k", "3"}), ""}}),
       [](const Args& args) { return shown(run(args)); });
 }
 
@@ -157,30 +185,33 @@ TEST(Flags, EverySolveFlagChangesItsAnswer) {
     }
     return args;
   };
-  check_rows("solve",
-             {{"--solver", cvode, set(cvode, "--solver", "arkode-dp5"), ""},
-              {"--p", cvode, set(cvode, "--p", "2"), ""},
-              {"--e", cvode, set(cvode, "--e", "0.6"), ""},
-              {"--alpha", by_alpha, set(by_alpha, "--alpha", "0.4"), ""},
-              {"--alpha-eff", by_group, set(by_group, "--alpha-eff", "0.3"), ""},
-              {"--damping-exponent", by_alpha, with(by_alpha, {"--damping-exponent", "0.5"}), ""},
-              {"--end", cvode, with(cvode, {"--end", "force"}), ""},
-              {"--precision", taylor, with(taylor, {"--precision", "quad"}), ""},
-              {"--json", Args(cvode.begin(), cvode.end() - 1), cvode, ""},
-              {"--v0", cvode, set(cvode, "--v0", "2"), ""},
-              {"--m", cvode, with(cvode, {"--m", "2"}), ""},
-              {"--k", cvode, with(cvode, {"--k", "3"}), ""},
-              {"--rtol", cvode, with(cvode, {"--rtol", "1e-4"}), ""},
-              {"--atol", cvode, with(cvode, {"--atol", "1e-4"}), ""},
-              {"--want", cvode, with(cvode, {"--want", "e"}), ""},
-              {"--dt", dem, with(dem, {"--dt", "0.05"}), ""},
-              {"--steps-per-contact", dem, with(dem, {"--steps-per-contact", "20"}), ""},
-              {"--onset-phase", dem, with(dem, {"--onset-phase", "0.5"}), ""},
-              {"--horizon", cvode, with(cvode, {"--horizon", "2"}), ""},
-              {"--sample-times", cvode, with(cvode, {"--sample-times", "1"}), ""},
-              {"--max-steps", cvode, with(cvode, {"--max-steps", "3"}), ""},
-              {"--max-seconds", taylor, with(taylor, {"--max-seconds", "1e-9"}), ""}},
-             [](const Args& args) { return shown(run(args)); });
+  check_rows(
+      "solve",
+      joined(
+          material_rows({"solve", "--solver", "cvode-bdf"}, {"--e", "0.5", "--v0", "1", "--json"}),
+          {{"--solver", cvode, set(cvode, "--solver", "arkode-dp5"), ""},
+           {"--p", cvode, set(cvode, "--p", "2"), ""},
+           {"--e", cvode, set(cvode, "--e", "0.6"), ""},
+           {"--alpha", by_alpha, set(by_alpha, "--alpha", "0.4"), ""},
+           {"--alpha-eff", by_group, set(by_group, "--alpha-eff", "0.3"), ""},
+           {"--damping-exponent", by_alpha, with(by_alpha, {"--damping-exponent", "0.5"}), ""},
+           {"--end", cvode, with(cvode, {"--end", "force"}), ""},
+           {"--precision", taylor, with(taylor, {"--precision", "quad"}), ""},
+           {"--json", Args(cvode.begin(), cvode.end() - 1), cvode, ""},
+           {"--v0", cvode, set(cvode, "--v0", "2"), ""},
+           {"--m", cvode, with(cvode, {"--m", "2"}), ""},
+           {"--k", cvode, with(cvode, {"--k", "3"}), ""},
+           {"--rtol", cvode, with(cvode, {"--rtol", "1e-4"}), ""},
+           {"--atol", cvode, with(cvode, {"--atol", "1e-4"}), ""},
+           {"--want", cvode, with(cvode, {"--want", "e"}), ""},
+           {"--dt", dem, with(dem, {"--dt", "0.05"}), ""},
+           {"--steps-per-contact", dem, with(dem, {"--steps-per-contact", "20"}), ""},
+           {"--onset-phase", dem, with(dem, {"--onset-phase", "0.5"}), ""},
+           {"--horizon", cvode, with(cvode, {"--horizon", "2"}), ""},
+           {"--sample-times", cvode, with(cvode, {"--sample-times", "1"}), ""},
+           {"--max-steps", cvode, with(cvode, {"--max-steps", "3"}), ""},
+           {"--max-seconds", taylor, with(taylor, {"--max-seconds", "1e-9"}), ""}}),
+      [](const Args& args) { return shown(run(args)); });
 }
 
 TEST(Flags, EveryCheckFlagChangesItsAnswer) {
@@ -193,19 +224,21 @@ TEST(Flags, EveryCheckFlagChangesItsAnswer) {
                       "--v0",  "1"};
   check_rows(
       "check",
-      {{"--p", base, {"check", file, "--p", "1.6", "--e", "0.5", "--v0", "1"}, ""},
-       {"--e", base, {"check", file, "--p", "1.5", "--e", "0.6", "--v0", "1"}, ""},
-       {"--alpha", by_alpha, {"check", file, "--p", "1.5", "--alpha", "0.5", "--v0", "1"}, ""},
-       {"--alpha-eff",
-        by_group,
-        {"check", file, "--p", "1.5", "--alpha-eff", "0.22", "--v0", "1"},
-        ""},
-       {"--end", base, with(base, {"--end", "force"}), ""},
-       {"--json", base, with(base, {"--json"}), ""},
-       {"--v0", base, {"check", file, "--p", "1.5", "--e", "0.5", "--v0", "1.5"}, ""},
-       {"--m", base, with(base, {"--m", "2"}), ""},
-       {"--k", base, with(base, {"--k", "3"}), ""},
-       {"--tolerance", base, with(base, {"--tolerance", "1e-12"}), ""}},
+      joined(
+          material_rows({"check", file}, {"--e", "0.5", "--v0", "1"}),
+          {{"--p", base, {"check", file, "--p", "1.6", "--e", "0.5", "--v0", "1"}, ""},
+           {"--e", base, {"check", file, "--p", "1.5", "--e", "0.6", "--v0", "1"}, ""},
+           {"--alpha", by_alpha, {"check", file, "--p", "1.5", "--alpha", "0.5", "--v0", "1"}, ""},
+           {"--alpha-eff",
+            by_group,
+            {"check", file, "--p", "1.5", "--alpha-eff", "0.22", "--v0", "1"},
+            ""},
+           {"--end", base, with(base, {"--end", "force"}), ""},
+           {"--json", base, with(base, {"--json"}), ""},
+           {"--v0", base, {"check", file, "--p", "1.5", "--e", "0.5", "--v0", "1.5"}, ""},
+           {"--m", base, with(base, {"--m", "2"}), ""},
+           {"--k", base, with(base, {"--k", "3"}), ""},
+           {"--tolerance", base, with(base, {"--tolerance", "1e-12"}), ""}}),
       [](const Args& args) { return shown(run(args)); });
 }
 

@@ -1195,6 +1195,56 @@ std::vector<Case> observables_cases() {
   add(t, "v0_1e30_quad", obs({"--v0", "1e30"}, {"--precision", "quad", "--json"}), ok());
   // The brief's named cases.
   add(t, "named_p_1e18", {"observables", "--p", "1e18", "--e", "0.5", "--v0", "1"}, refused());
+  // A contact from materials (cli/materials.hpp): each number at its edges, far beyond them,
+  // not finite; lists of the wrong length; mixed with --m/--k or another p.
+  const auto materials = [&](const std::string& flag, const std::string& value,
+                             std::vector<std::string> more = {"--json"}) {
+    std::vector<std::string> given{"--geometry", "sphere-sphere", "--radius",  "0.01",
+                                   "--young",    "7e10",          "--poisson", "0.3",
+                                   "--density",  "2700"};
+    for (std::size_t i = 0; i + 1 < given.size(); ++i) {
+      if (given[i] == flag) {
+        given[i + 1] = value;
+      }
+    }
+    return obs({"--p", "<absent>"}, cat(std::move(given), std::move(more)));
+  };
+  add(t, "materials", materials("", ""), ok());
+  add(t, "materials_text", materials("", "", {}), ok());
+  add(t, "materials_quad", materials("", "", {"--precision", "quad", "--json"}), ok());
+  add(t, "materials_50", materials("", "", {"--precision", "50", "--json"}), ok());
+  add(t, "materials_wall_rigid", materials("--geometry", "sphere-wall"), ok());
+  add(t, "materials_wall_elastic",
+      obs({"--p", "<absent>"},
+          {"--geometry", "sphere-wall", "--radius", "0.01", "--young", "7e10,2e11", "--poisson",
+           "0.3,0.29", "--density", "2700", "--json"}),
+      ok());
+  for (const char* flag : {"--radius", "--young", "--density"}) {
+    for (const char* x : {"0", "-1", "-0", "inf", "nan", "1e-300,1", "1,2,3", ""}) {
+      add(t, std::string("materials_") + (flag + 2) + "_" + x, materials(flag, x), refused());
+    }
+  }
+  for (const char* x : {"0.5", "-1", "0.5000000000000001", "nan", "1,0.2", "0.2,0.2,0.2"}) {
+    add(t, std::string("materials_poisson_") + x, materials("--poisson", x), refused());
+  }
+  for (const char* x : {"0.4999999", "-0.9999999", "0"}) {
+    add(t, std::string("materials_poisson_") + x, materials("--poisson", x), ok());
+  }
+  // A radius of 1e300 overflows m (R³), a density of 1e-300 makes m too small: the contact's own
+  // checks of m and k refuse them; the smallest sane contact answers.
+  add(t, "materials_radius_1e300", materials("--radius", "1e300"), refused());
+  add(t, "materials_density_1e_300", materials("--density", "1e-300"), refused());
+  add(t, "materials_young_1e300", materials("--young", "1e300"), refused());
+  add(t, "materials_geometry_bad", materials("--geometry", "cube"), refused());
+  add(t, "materials_with_m", materials("", "", {"--m", "1", "--json"}), refused());
+  add(t, "materials_with_k", materials("", "", {"--k", "1", "--json"}), refused());
+  add(t, "materials_with_p_2", materials("", "", {"--p", "2", "--json"}), refused());
+  add(t, "materials_with_p_1_5", materials("", "", {"--p", "1.5", "--json"}), ok());
+  add(t, "materials_without_geometry",
+      obs({}, {"--radius", "0.01", "--young", "7e10", "--poisson", "0.3", "--density", "2700"}),
+      refused());
+  add(t, "materials_wall_two_radii",
+      materials("--geometry", "sphere-wall", {"--radius", "0.01", "--json"}), refused());
   // Strings: control characters, empty, unicode, 10 000 characters, in each number.
   for (const char* flag : {"--p", "--e", "--v0", "--m"}) {
     for (const Hostile& h : hostile_strings()) {
@@ -1842,7 +1892,8 @@ std::vector<Case> check_cases() {
   add(t, "k_m_scaled_together", check({"--m", "7", "--k", "7"}), ok()); // only k/m: consistent
   // --tolerance: within it (the file reads every observable within 2e-3), beyond it, per
   // observable, and what is refused.
-  for (const char* tolerance : {"1e-2", "1e308", "e=1e-2,tau=1e-2", "tau=1", "delta_max=0.5"}) {
+  for (const char* tolerance :
+       {"1e-2", "0.9999999", "e=1e-2,tau=1e-2", "tau=0.5", "delta_max=0.5"}) {
     add(t, std::string("tolerance_") + tolerance, check({"--tolerance", tolerance}), ok());
     add(t, std::string("tolerance_json_") + tolerance, check({"--tolerance", tolerance, "--json"}),
         ok());
@@ -1858,6 +1909,11 @@ std::vector<Case> check_cases() {
       {"check", file, "--p", "1.5", "--alpha", "0.4817692577645866", "--v0", "1", "--end", "force",
        "--tolerance", "e_cap=1e-2,t_cut=1e-2"},
       ok());
+  // A relative tolerance of 1 or more judges nothing (issue 29): refused.
+  for (const char* tolerance : {"1", "1e308", "tau=1", "e=1e-3,tau=2"}) {
+    add(t, std::string("tolerance_not_relative_") + tolerance, check({"--tolerance", tolerance}),
+        refused(), err_mentions({"in (0, 1)"}));
+  }
   for (const char* tolerance : {"0",
                                 "-1e-3",
                                 "nan",

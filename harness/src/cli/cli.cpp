@@ -1,6 +1,7 @@
 #include "pldamp/harness/cli.hpp"
 
 #include "cli/commands.hpp"
+#include "cli/materials.hpp"
 #include "common/input.hpp"
 #include "common/observables.hpp"
 #include "judge/trajectory.hpp"
@@ -28,15 +29,32 @@ std::string precision_choices() {
   return choices;
 }
 
+// A contact from materials (MATH.md §13, cli/materials.hpp): in place of --m, --k and --p.
+void add_material_options(CLI::App& command, ContactArgs& a) {
+  command.add_option("--geometry", a.geometry,
+                     "a Hertz contact from materials: sphere-sphere | sphere-wall (SI units)");
+  command.add_option("--radius", a.radius, "with --geometry: R1[,R2] > 0 [m]")->delimiter(',');
+  command
+      .add_option("--young", a.young, "with --geometry: E1[,E2] > 0 [Pa] (wall: rigid without E2)")
+      ->delimiter(',');
+  command.add_option("--poisson", a.poisson, "with --geometry: nu1[,nu2] in (-1, 0.5)")
+      ->delimiter(',');
+  command.add_option("--density", a.density, "with --geometry: rho1[,rho2] > 0 [kg/m^3]")
+      ->delimiter(',');
+}
+
 void add_contact_options(CLI::App& command, ContactArgs& a, bool calibrate_only) {
-  command.add_option("--p", a.p, "force-law exponent, p >= 1")->required();
+  CLI::Option* p = command.add_option("--p", a.p, "force-law exponent, p >= 1");
   command.add_option("--e", a.e, "coefficient of restitution in (0, 1] under --end");
   command.add_option("--end", a.end, "contact end: overlap (delta = 0) or force (F = 0)");
   command.add_option("--precision", a.precision, precision_choices());
   command.add_flag("--json", a.json, "one JSON object instead of key/value lines");
   if (calibrate_only) {
+    p->required();
     return;
   }
+  p->description("force-law exponent, p >= 1 (1.5 under --geometry)");
+  add_material_options(command, a);
   command.add_option("--alpha", a.alpha, "damping coefficient alpha >= 0");
   command.add_option("--alpha-eff", a.alpha_eff, "effective damping ratio alpha_eff >= 0");
   command.add_option("--damping-exponent", a.damping_exponent,
@@ -44,6 +62,18 @@ void add_contact_options(CLI::App& command, ContactArgs& a, bool calibrate_only)
   command.add_option("--v0", a.v0, "impact velocity > 0")->required();
   command.add_option("--m", a.m, "reduced mass > 0 (default 1)");
   command.add_option("--k", a.k, "stiffness > 0 (default 1)");
+}
+
+// After parsing: the materials checked against --m, --k and --p (cli/materials.hpp).
+void settle_material_options(const CLI::App& command, ContactArgs& a) {
+  std::vector<std::string> mass_options_given;
+  for (const char* option : {"--m", "--k"}) {
+    if (const CLI::Option* given = command.get_option(option); given->count() > 0) {
+      mass_options_given.push_back(std::string(option) + " " +
+                                   CLI::detail::join(given->results(), ","));
+    }
+  }
+  settle_materials(a, mass_options_given);
 }
 
 // CLI11's own errors, rewritten to the contract's one line "<what> (got <value>)".
@@ -232,8 +262,10 @@ int run_cli(int argc, const char* const* argv, std::ostream& out, std::ostream& 
       }
       run_calibrate(calibrate_args, out);
     } else if (observables->parsed()) {
+      settle_material_options(*observables, observables_args);
       run_observables(observables_args, out);
     } else if (solve->parsed()) {
+      settle_material_options(*solve, solve_args.contact);
       run_solve(solve_args, out);
     } else if (showcase->parsed()) {
       run_showcase(showcase_precision, out);
@@ -242,6 +274,7 @@ int run_cli(int argc, const char* const* argv, std::ostream& out, std::ostream& 
     } else if (diff->parsed()) {
       return run_diff(diff_args, out);
     } else if (check->parsed()) {
+      settle_material_options(*check, check_args.contact);
       return run_check(check_args, out);
     }
   } catch (const SceneError& e) { // already "file:line: message"

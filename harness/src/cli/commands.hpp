@@ -16,6 +16,10 @@ struct ContactArgs {
   std::string p;
   std::optional<std::string> e, alpha, alpha_eff;
   std::string v0 = "1", m = "1", k = "1";
+  // A contact from materials (MATH.md §13, cli/materials.hpp): sphere-sphere|sphere-wall and one
+  // value per body (or one for both spheres), in place of --m, --k and --p.
+  std::optional<std::string> geometry;
+  std::vector<std::string> radius, young, poisson, density;
   std::string precision = "double";
   std::string end = "overlap";
   bool json = false;

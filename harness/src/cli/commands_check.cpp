@@ -92,8 +92,8 @@ std::map<std::string, double> tolerances_of(const std::string& text,
     } catch (const InputError&) {
       throw malformed(shown);
     }
-    if (!(value > 0) || !std::isfinite(value)) {
-      throw InputError("a tolerance must be a finite number > 0 (got " + shown + ")");
+    if (!(value > 0 && value < 1)) { // a relative error of 1 or more says nothing
+      throw InputError("a tolerance must be a relative one in (0, 1) (got " + shown + ")");
     }
     return value;
   };

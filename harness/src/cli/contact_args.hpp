@@ -4,6 +4,7 @@
 #pragma once
 
 #include "cli/commands.hpp"
+#include "cli/materials.hpp"
 #include "common/answer.hpp"
 #include "truth/reference_solve.hpp"
 
@@ -36,8 +37,7 @@ analytic::Contact<Real> make_contact(const ContactArgs& a) {
   }
   const Real p = parse_real<Real>("--p", a.p);
   const Real v0 = parse_real<Real>("--v0", a.v0);
-  const Real m = parse_real<Real>("--m", a.m);
-  const Real k = parse_real<Real>("--k", a.k);
+  const auto [m, k] = mass_and_stiffness<Real>(a);
   if (a.e) {
     return analytic::Contact<Real>::from_e(p, parse_real<Real>("--e", *a.e), v0, m, k,
                                            parse_end(a.end));
@@ -49,7 +49,11 @@ analytic::Contact<Real> make_contact(const ContactArgs& a) {
                                                  v0, m, k);
 }
 
-inline void emit(const Answer& answer, bool json, std::ostream& out) {
+// A contact from materials (it has E_eff) is answered with the units of its numbers.
+inline void emit(Answer answer, bool json, std::ostream& out) {
+  if (answer.contains("E_eff")) {
+    add_units(answer);
+  }
   out << (json ? answer_json(answer) + "\n" : answer_text(answer));
 }
 
@@ -65,6 +69,7 @@ Answer describe(const analytic::Contact<Real>& c, const ContactArgs& a) {
   o["v0"] = exact_number(c.v0());
   o["alpha"] = exact_number(c.alpha());
   o["alpha_eff"] = exact_number(c.alpha_eff());
+  describe_materials<Real>(a, o);
   return o;
 }
 
@@ -89,12 +94,8 @@ ExponentContact<Real> contact_with_exponent(const ContactArgs& a, const Real& be
                      ")");
   }
   const Real p = parse_real<Real>("--p", a.p);
-  solvers::Problem<Real> problem{p,
-                                 parse_real<Real>("--m", a.m),
-                                 parse_real<Real>("--k", a.k),
-                                 parse_real<Real>("--v0", a.v0),
-                                 Real(0),
-                                 beta};
+  const auto [m, k] = mass_and_stiffness<Real>(a);
+  solvers::Problem<Real> problem{p, m, k, parse_real<Real>("--v0", a.v0), Real(0), beta};
   domain::require_p(p);
   domain::require_damping_exponent(beta, p);
   problem.validate(); // the scales, before δ_u is formed from them
@@ -137,6 +138,7 @@ ExponentContact<Real> contact_with_exponent(const ContactArgs& a, const Real& be
   o["v0"] = exact_number(problem.v0);
   o["alpha"] = exact_number(problem.alpha);
   o["alpha_eff"] = exact_number(static_cast<Real>(group));
+  describe_materials<Real>(a, o);
   return {problem, group};
 }
 

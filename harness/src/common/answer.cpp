@@ -51,7 +51,15 @@ std::string answer_json(const Answer& answer) {
 
 std::string answer_text(const Answer& answer) {
   std::string out;
+  // A "units" object (a contact from materials) is shown beside the numbers it names.
+  const Answer* units = nullptr;
+  if (const auto found = answer.find("units"); found != answer.end() && found->is_object()) {
+    units = &*found;
+  }
   for (const auto& [key, value] : answer.items()) {
+    if (units != nullptr && key == "units") {
+      continue;
+    }
     std::string shown;
     if (is_exact_number(value)) {
       shown = digits_of(value);
@@ -59,6 +67,10 @@ std::string answer_text(const Answer& answer) {
       shown = value.get<std::string>();
     } else {
       write_json(value, shown);
+    }
+    if (units != nullptr && units->contains(key)) {
+      shown += ' ';
+      shown += (*units)[key].get_ref<const std::string&>();
     }
     out += key + std::string(key.size() < 16 ? 16 - key.size() : 1, ' ') + shown + "\n";
   }
