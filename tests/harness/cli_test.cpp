@@ -298,7 +298,8 @@ TEST(Cli, BadInputIsOneLineAndExitTwo) {
       {{"calibrate", "--p", "2", "--e", "0.5", "--end", "sideways"},
        "unknown contact end, expected overlap|force (got sideways)"},
       {{"launch"},
-       "unknown command, expected calibrate|observables|solve|run|diff|check|showcase (got "
+       "unknown command, expected calibrate|observables|solve|timestep|run|diff|check|showcase "
+       "(got "
        "launch)"},
       {{"solve", "--solver", "ode45", "--p", "1.5", "--e", "0.5", "--v0", "1"},
        "unknown solver, expected cvode-bdf|cvode-adams|arkode-dp5|arkode-erk8|arkode-dirk|"

@@ -214,6 +214,33 @@ TEST(Flags, EverySolveFlagChangesItsAnswer) {
       [](const Args& args) { return shown(run(args)); });
 }
 
+TEST(Flags, EveryTimestepFlagChangesItsAnswer) {
+  const Args by_alpha{"timestep", "--scheme", "dem-verlet", "--p", "1.5", "--alpha", "0.3"};
+  const Args by_group{"timestep", "--scheme", "dem-verlet", "--p", "1.5", "--alpha-eff", "0.2"};
+  const Args one{"timestep", "--scheme", "dem-verlet", "--p", "1.5", "--e", "0.5"};
+  check_rows("timestep",
+             {{"--scheme", one, {"timestep", "--scheme", "verlet", "--p", "1.5", "--e", "0.5"}, ""},
+              {"--p", one, {"timestep", "--scheme", "dem-verlet", "--p", "2", "--e", "0.5"}, ""},
+              {"--e", one, {"timestep", "--scheme", "dem-verlet", "--p", "1.5", "--e", "0.9"}, ""},
+              {"--alpha",
+               by_alpha,
+               {"timestep", "--scheme", "dem-verlet", "--p", "1.5", "--alpha", "0.4"},
+               ""},
+              {"--alpha-eff",
+               by_group,
+               {"timestep", "--scheme", "dem-verlet", "--p", "1.5", "--alpha-eff", "0.3"},
+               ""},
+              {"--end", one, with(one, {"--end", "force", "--observables", "e"}), ""},
+              {"--json", one, with(one, {"--json"}), ""},
+              {"--v0", one, with(one, {"--v0", "2"}), ""},
+              {"--m", one, with(one, {"--m", "2"}), ""},
+              {"--k", one, with(one, {"--k", "3"}), ""},
+              {"--tolerance", one, with(one, {"--tolerance", "0.001"}), ""},
+              {"--observables", one, with(one, {"--observables", "e"}), ""},
+              {"--code", one, with(one, {"--code", "liggghts"}), ""}},
+             [](const Args& args) { return shown(run(args)); });
+}
+
 TEST(Flags, EveryCheckFlagChangesItsAnswer) {
   // The closed-form trajectory of Hertz e = 0.5 sampled 40 times per contact, with v.
   const std::string file =

@@ -138,6 +138,27 @@ TEST(Materials, SolveTakesMaterials) {
   EXPECT_EQ(nlohmann::json::parse(beta.out)["units"]["m"], "kg");
 }
 
+TEST(Materials, TimestepTakesMaterials) {
+  // The step for the aluminium pair is the step for its derived m and k at p = 3/2: the materials
+  // are not accepted and then ignored.
+  const std::vector<std::string> tail{"--scheme", "dem-verlet", "--e",   "0.5",
+                                      "--v0",     "1",          "--json"};
+  const CliRun r = run(with({"timestep"}, aluminium, tail));
+  ASSERT_EQ(r.code, 0) << r.err;
+  const CliRun by_mk = run(
+      with({"timestep", "--p", "1.5", "--m", raw_number(r.out, "m"), "--k", raw_number(r.out, "k")},
+           {}, tail));
+  ASSERT_EQ(by_mk.code, 0) << by_mk.err;
+  for (const char* key : {"alpha", "dt", "tau_over_dt", "worst_error", "dt_stability"}) {
+    EXPECT_EQ(raw_number(r.out, key), raw_number(by_mk.out, key)) << key;
+  }
+  EXPECT_EQ(nlohmann::json::parse(r.out)["units"]["dt"], "s");
+  const CliRun mixed = run(with({"timestep", "--m", "2"}, aluminium, tail));
+  EXPECT_EQ(mixed.code, 2);
+  EXPECT_EQ(mixed.err, "error: --m and --k are derived from the materials under --geometry, give "
+                       "one or the other (got --m 2)\n");
+}
+
 TEST(Materials, BadInputIsOneLineAndExitTwo) {
   auto observables = [](std::vector<std::string> materials) {
     return with({"observables"}, materials, {"--e", "0.5", "--v0", "1"});

@@ -7,6 +7,7 @@
 #include "judge/trajectory.hpp"
 #include "scene/scene.hpp"
 
+#include "pldamp/analytic/conventions.hpp"
 #include "pldamp/solvers/registry.hpp"
 
 #include <CLI/CLI.hpp>
@@ -97,6 +98,12 @@ std::string describe(const CLI::ParseError& e, const CLI::App& app,
   return what + " (got " + CLI::detail::join(arguments, " ") + ")";
 }
 
+std::string analytic_convention_names() {
+  std::string names = analytic::convention_names();
+  std::replace(names.begin(), names.end(), '|', ',');
+  return names;
+}
+
 } // namespace
 
 int run_cli(int argc, const char* const* argv, std::ostream& out, std::ostream& err) {
@@ -169,6 +176,25 @@ int run_cli(int argc, const char* const* argv, std::ostream& out, std::ostream& 
   solve->add_option("--max-seconds", solve_args.max_seconds,
                     "wall-clock limit of the solve (default 60): outcome time_limit beyond it");
 
+  TimestepArgs timestep_args;
+  CLI::App* timestep = app.add_subcommand(
+      "timestep", "the largest fixed step keeping observables within a tolerance of the closed "
+                  "forms from every onset phase (a [[search]] of dt)");
+  add_contact_options(*timestep, timestep_args.contact, false);
+  // DEM codes step in double with the seed's dashpot: the closed forms are the truth.
+  timestep->remove_option(timestep->get_option("--precision"));
+  timestep->remove_option(timestep->get_option("--damping-exponent"));
+  timestep->get_option("--v0")->required(false)->description("impact velocity > 0 (default 1)");
+  timestep->add_option("--scheme", timestep_args.scheme, "fixed-step scheme: " + fixed_step_solvers)
+      ->required();
+  timestep->add_option("--tolerance", timestep_args.tolerance,
+                       "relative error every observable keeps, in (0, 1) (default 0.01)");
+  timestep->add_option("--observables", timestep_args.observables,
+                       "comma list of the observables judged (default e,delta_max,tau)");
+  timestep->add_option("--code", timestep_args.contact.code,
+                       "a DEM code's convention sets alpha from --e (as calibrate --code): " +
+                           analytic_convention_names());
+
   RunArgs run_args;
   CLI::App* run = app.add_subcommand("run", "run a scene: solvers against the closed forms, "
                                             "budgets, claims, reports");
@@ -236,10 +262,11 @@ int run_cli(int argc, const char* const* argv, std::ostream& out, std::ostream& 
     if (!arguments.empty() && arguments.front().rfind('-', 0) != 0 &&
         arguments.front() != "calibrate" && arguments.front() != "observables" &&
         arguments.front() != "solve" && arguments.front() != "showcase" &&
-        arguments.front() != "run" && arguments.front() != "diff" && arguments.front() != "check") {
-      throw InputError(
-          "unknown command, expected calibrate|observables|solve|run|diff|check|showcase (got " +
-          arguments.front() + ")");
+        arguments.front() != "run" && arguments.front() != "diff" && arguments.front() != "check" &&
+        arguments.front() != "timestep") {
+      throw InputError("unknown command, expected "
+                       "calibrate|observables|solve|timestep|run|diff|check|showcase (got " +
+                       arguments.front() + ")");
     }
     try {
       app.parse(argc, argv);
@@ -267,6 +294,13 @@ int run_cli(int argc, const char* const* argv, std::ostream& out, std::ostream& 
     } else if (solve->parsed()) {
       settle_material_options(*solve, solve_args.contact);
       run_solve(solve_args, out);
+    } else if (timestep->parsed()) {
+      settle_material_options(*timestep, timestep_args.contact);
+      if (timestep_args.contact.code && timestep->get_option("--end")->count() > 0) {
+        throw InputError("--code sets the contact end (a capped code's is force) (got --end " +
+                         timestep_args.contact.end + ")");
+      }
+      run_timestep(timestep_args, out);
     } else if (showcase->parsed()) {
       run_showcase(showcase_precision, out);
     } else if (run->parsed()) {

@@ -4,6 +4,7 @@
 #include "judge/trajectory.hpp"
 #include "scene/scene.hpp"
 
+#include <array>
 #include <optional>
 #include <ostream>
 #include <string>
@@ -48,6 +49,30 @@ struct SolveArgs {
   std::string max_steps = "1000000";
   std::string max_seconds = "60";
 };
+
+// `pldamp timestep`: the contact options plus the question's.
+struct TimestepArgs {
+  ContactArgs contact; // --code: a DEM code's convention sets α from --e
+  std::string scheme;
+  std::string tolerance = "0.01";
+  std::string observables = "e,delta_max,tau";
+};
+
+// The question `timestep` asks, as numbers: its [[search]] scene (timestep_scene_text).
+struct TimestepQuestion {
+  std::string scheme;
+  double tolerance = 0;
+  std::vector<std::string> observables; // the first is the search's observable, then the rest
+  double p = 1, damping = 0, v0 = 1, m = 1, k = 1;
+  std::string damping_key = "alpha";
+  std::string end = "overlap";
+  std::array<double, 2> range{}; // Δt: tightest, loosest
+};
+
+// The scene whose [[search]] asks `timestep`'s question (for its first observable; the command
+// adds the rest as Search::more_observables).
+std::string timestep_scene_text(const TimestepQuestion& question);
+void run_timestep(const TimestepArgs& args, std::ostream& out);
 
 // `pldamp run`: a scene, its plan, its reports.
 struct RunArgs {

@@ -391,8 +391,9 @@ Judgement judge(const Scene& scene, const StabilityClaim& claim, const ClaimGrid
     const double bound = claim.fraction * static_cast<double>(seed::evaluate(claim.formula, c));
     const double e = static_cast<double>(analytic::restitution(c));
     const Inputs in{cell.p, static_cast<double>(c.alpha()), cell.v0, cell.m, cell.k};
-    std::string limit;
-    // Stable: the contact ends, with no energy gained. A budget spent is no verdict at all.
+    const StableStep stable = largest_stable_dt(claim.config, in, scene.limits, tau);
+    std::string limit = stable.limit;
+    const double lo = stable.dt;
     auto run = [&](double dt) {
       const solvers::Result<double> r =
           solve_unchecked(claim.config, in, solvers::want_e, scene.limits, {}, dt);
@@ -401,25 +402,6 @@ Judgement judge(const Scene& scene, const StabilityClaim& claim, const ClaimGrid
       }
       return r;
     };
-    auto stable = [&](double dt) {
-      const solvers::Result<double> r = run(dt);
-      return r.outcome == solvers::Outcome::exited && r.e && *r.e <= 1;
-    };
-    double lo = tau / 1000, hi = lo;
-    if (!stable(lo)) {
-      lo = 0;
-    } else {
-      while (hi < 50 * tau && stable(hi)) {
-        lo = hi;
-        hi *= 1.5;
-      }
-      if (hi < 50 * tau) {
-        for (int i = 0; i < 12; ++i) {
-          const double mid = std::sqrt(lo * hi);
-          (stable(mid) ? lo : hi) = mid;
-        }
-      }
-    }
     const solvers::Result<double> at_bound = run(bound);
     if (!limit.empty()) {
       add_without_value(j, where, limit, true);

@@ -132,33 +132,51 @@ const GroupTrials::Trial& GroupTrials::trial(double value, int phases) {
   RunTotals totals;
   const std::vector<Record> records = run_plan(plan_, jobs_, totals);
   solver_runs_ += totals.solver_runs;
-  const auto observable = static_cast<std::size_t>(
-      std::find_if(plan_.observables.begin(), plan_.observables.end(),
-                   [&](const Observable* o) { return o->key == search_.observable; }) -
-      plan_.observables.begin());
+  // The observables judged: the search's, then any more (`pldamp timestep`); a cell's error is
+  // the largest over them, and its onset phase that observable's worst.
+  std::vector<std::string> keys{search_.observable};
+  keys.insert(keys.end(), search_.more_observables.begin(), search_.more_observables.end());
+  std::vector<std::size_t> columns;
+  for (const std::string& wanted : keys) {
+    columns.push_back(static_cast<std::size_t>(
+        std::find_if(plan_.observables.begin(), plan_.observables.end(),
+                     [&](const Observable* o) { return o->key == wanted; }) -
+        plan_.observables.begin()));
+  }
   Trial trial;
   std::vector<double> errors;
   std::vector<std::string> where;
+  std::vector<std::optional<double>> phase_of;
   for (const Record& record : records) {
     const std::string cell = cell_text(plan_, plan_.cells[record.cell]);
     if (record.failed()) {
       trial.failure = fmt::format("{} at {}", record.outcome_name(), cell);
       break;
     }
-    const std::optional<double>& error =
-        (search_.relative ? record.rel_error : record.abs_error)[observable];
-    if (!error) { // a cell it cannot judge fails it, as a claim (claims.hpp)
-      trial.failure = fmt::format("no value of {} at {}{}", search_.observable, cell,
-                                  record.note.empty() ? "" : " (" + record.note + ")");
+    std::optional<double> largest, phase;
+    for (std::size_t i = 0; i < columns.size() && trial.failure.empty(); ++i) {
+      const std::optional<double>& error =
+          (search_.relative ? record.rel_error : record.abs_error)[columns[i]];
+      if (!error) { // a cell it cannot judge fails it, as a claim (claims.hpp)
+        trial.failure = fmt::format("no value of {} at {}{}", keys[i], cell,
+                                    record.note.empty() ? "" : " (" + record.note + ")");
+      } else if (!largest || *error > *largest) {
+        largest = *error;
+        phase = record.worst_phase[columns[i]];
+      }
+    }
+    if (!trial.failure.empty()) {
       break;
     }
-    errors.push_back(*error);
+    errors.push_back(*largest);
     where.push_back(cell);
+    phase_of.push_back(phase);
   }
   if (trial.failure.empty()) {
     const std::size_t at = nearest_rank(errors, search_.quantile);
     trial.measured = errors[at];
     trial.worst = where[at];
+    trial.worst_phase = phase_of[at];
   }
   return trials_.emplace(key, trial).first->second;
 }
@@ -271,6 +289,7 @@ SearchGroup GroupTrials::answer(std::optional<double> bound_given) {
     const Trial& best = trial(*group.loosest, phases);
     group.measured = best.measured;
     group.worst = best.worst;
+    group.worst_onset_phase = best.worst_phase;
   }
   if (group.failing) {
     const Trial& beyond = trial(*group.failing, phases);

@@ -38,10 +38,11 @@ struct SearchGroup {
   std::optional<double> failing;  // the tightest value seen to break it (none: none did)
   std::optional<double> measured; // the error (or its quantile) at `loosest`
   std::string worst;              // the cell it comes from
-  int trials = 0;                 // values solved (each over the group's cells and phases)
-  int scanned = 0;                // of them, the scan's
-  int onset_phases = 1;           // the phases each fixed-step trial took its worst over
-  int phases_checked = 0;         // the phases the answer was checked at (0: not a fixed step)
+  std::optional<double> worst_onset_phase; // a fixed step: the onset phase k/n it comes from
+  int trials = 0;                          // values solved (each over the group's cells and phases)
+  int scanned = 0;                         // of them, the scan's
+  int onset_phases = 1;                    // the phases each fixed-step trial took its worst over
+  int phases_checked = 0; // the phases the answer was checked at (0: not a fixed step)
   long solver_runs = 0;
   std::string note; // a failed record, the bound held over the whole range, ...
 };
@@ -66,6 +67,7 @@ private:
   struct Trial {
     std::optional<double> measured;
     std::string worst, failure;
+    std::optional<double> worst_phase;
   };
   const Trial& trial(double value, int phases);
   bool holds(const Trial& trial, double bound) const;

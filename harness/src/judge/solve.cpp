@@ -7,6 +7,9 @@
 #include "pldamp/solvers/registry.hpp"
 
 #include <boost/math/tools/toms748_solve.hpp>
+#include <fmt/format.h>
+
+#include <cmath>
 
 #include <limits>
 #include <stdexcept>
@@ -76,6 +79,38 @@ double alpha_by_bisection(const SolverConfig& config, Inputs in, double e, const
       boost::math::tools::toms748_solve(gap, 0.0, critical * (1 - 1e-9), 1 - e, -e,
                                         boost::math::tools::eps_tolerance<double>(40), iterations);
   return lo + (hi - lo) / 2;
+}
+
+StableStep largest_stable_dt(const SolverConfig& config, const Inputs& in, const Limits& limits,
+                             double tau) {
+  StableStep found;
+  // Stable: the contact ends, with no energy gained. A budget spent is no verdict at all.
+  auto stable = [&](double dt) {
+    const solvers::Result<double> r = solve_unchecked(config, in, solvers::want_e, limits, {}, dt);
+    if (r.outcome == solvers::Outcome::step_limit || r.outcome == solvers::Outcome::time_limit) {
+      found.limit = fmt::format("{} at dt = {:.4g}", solvers::outcome_name(r.outcome), dt);
+    }
+    return r.outcome == solvers::Outcome::exited && r.e && *r.e <= 1;
+  };
+  double lo = tau / 1000, hi = lo;
+  if (!stable(lo)) {
+    lo = 0;
+  } else {
+    while (hi < 50 * tau && stable(hi)) {
+      lo = hi;
+      hi *= 1.5;
+    }
+    if (hi < 50 * tau) {
+      for (int i = 0; i < 12; ++i) {
+        const double mid = std::sqrt(lo * hi);
+        (stable(mid) ? lo : hi) = mid;
+      }
+    } else {
+      found.below = true;
+    }
+  }
+  found.dt = lo;
+  return found;
 }
 
 } // namespace pldamp::harness

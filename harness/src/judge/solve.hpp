@@ -8,6 +8,7 @@
 #include "pldamp/solvers/problem.hpp"
 
 #include <optional>
+#include <string>
 #include <vector>
 
 namespace pldamp::harness {
@@ -32,6 +33,17 @@ solvers::Result<double> solve_once(const SolverConfig& config, const Inputs& in,
 double solved_value(const SolverConfig& config, const Inputs& in, unsigned want,
                     std::optional<double> solvers::Result<double>::*value, const char* name,
                     const Limits& limits);
+
+// The largest Δt at which a fixed-step scheme's contact ends with no energy gained (e <= 1), at
+// onset phase 0: scanned up from τ/1000 by factors 1.5 to 50 τ, then bisected twelve times (to
+// 1.5^(1/4096)). Used by the stability claim and `pldamp timestep`.
+struct StableStep {
+  double dt = 0;      // 0: unstable even at τ/1000
+  bool below = false; // still stable at 50 τ: dt is a lower bound
+  std::string limit;  // a budget spent on the way ("step_limit at dt = ..."): no verdict
+};
+StableStep largest_stable_dt(const SolverConfig& config, const Inputs& in, const Limits& limits,
+                             double tau);
 
 // α for which the solver returns with restitution e: TOMS 748 on α ↦ e_solver(α) − e over
 // [0, α at α_eff = 1), where e falls from 1 to 0 (the seed's "bisection on the ODE solver").

@@ -194,7 +194,7 @@ void solve_record(const Plan& plan, Record& record, ExternalSolver* external) {
   record.phases = config.onset_phases;
   record.value.assign(observables, std::nullopt);
   record.reference = record.error = record.abs_error = record.rel_error = record.spread =
-      record.value;
+      record.worst_phase = record.value;
   std::vector<double> lowest(observables, std::numeric_limits<double>::infinity()),
       highest(observables, -std::numeric_limits<double>::infinity());
   double steps = 0, rhs_evals = 0, fastest_seconds = 0, slowest_seconds = 0;
@@ -249,6 +249,7 @@ void solve_record(const Plan& plan, Record& record, ExternalSolver* external) {
         record.error[o] = m.error;
         record.abs_error[o] = m.abs_error;
         record.rel_error[o] = m.rel_error;
+        record.worst_phase[o] = double(phase) / double(config.onset_phases);
       }
     }
   }

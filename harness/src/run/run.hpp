@@ -42,6 +42,8 @@ struct Record {
   // Over several onset phases: the phase with the largest relative error, and the spread of the
   // values over the phases relative to the reference.
   std::vector<std::optional<double>> value, reference, error, abs_error, rel_error, spread;
+  // Per observable, the onset phase (a fraction of a step, k/n) whose error is the one kept.
+  std::vector<std::optional<double>> worst_phase;
   // An external solver's record it does not run (README "Your code in the loop"): why. Such a
   // record is neither failed nor counted in budgets and costs.
   std::string skip_reason;

@@ -223,6 +223,9 @@ struct Search {
   SearchParameter parameter = SearchParameter::rtol;
   std::array<double, 2> range{}; // the values searched: tightest, loosest
   std::string observable;
+  // `pldamp timestep`: more observables the bound holds for; a trial's error is then the largest
+  // over `observable` and these (a [[search]] has none).
+  std::vector<std::string> more_observables{};
   double bound = 0;
   bool relative = false; // bound_rel: on the relative error
   double quantile = 1;   // over the group's cells (1: the worst)

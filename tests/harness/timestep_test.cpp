@@ -1,0 +1,224 @@
+// `pldamp timestep`: the [[search]]'s answer (one engine, judge/search.hpp), checked by solving at
+// it from more onset phases than the search took, against the closed forms of `observables`.
+#include "cli_run.hpp"
+#include "fixtures.hpp"
+
+#include "judge/search.hpp"
+#include "scene/scene.hpp"
+
+#include <fmt/format.h>
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <string>
+#include <vector>
+
+namespace pldamp::harness {
+namespace {
+
+using testing::run;
+using Args = std::vector<std::string>;
+
+nlohmann::json answer_of(const Args& args) {
+  const testing::CliRun r = run(args);
+  EXPECT_EQ(r.code, 0) << r.err;
+  return nlohmann::json::parse(r.out);
+}
+
+// The closed forms of a contact, by `observables` (the analytic layer, no solver).
+nlohmann::json closed_forms(const Args& contact) {
+  Args args{"observables", "--json"};
+  args.insert(args.end(), contact.begin(), contact.end());
+  return answer_of(args);
+}
+
+// The largest relative error of e, δ_max and τ of `solve` at a fixed step over n onset phases k/n.
+double worst_error(const std::string& scheme, const Args& contact, double dt, int phases,
+                   const std::vector<std::string>& keys = {"e", "delta_max", "tau"}) {
+  const nlohmann::json truth = closed_forms(contact);
+  double worst = 0;
+  for (int k = 0; k < phases; ++k) {
+    Args args{"solve",         "--json",
+              "--solver",      scheme,
+              "--dt",          fmt::format("{:.17g}", dt),
+              "--onset-phase", fmt::format("{:.17g}", double(k) / phases)};
+    args.insert(args.end(), contact.begin(), contact.end());
+    const nlohmann::json solved = answer_of(args);
+    EXPECT_EQ(solved["outcome"], "exited") << scheme << " at dt " << dt << " phase " << k;
+    for (const std::string& key : keys) {
+      const double value = solved[key].get<double>(), reference = truth[key].get<double>();
+      worst = std::max(worst, std::abs(value / reference - 1));
+    }
+  }
+  return worst;
+}
+
+// One question, one answer: `timestep` for one observable is the [[search]] of dt over the range
+// it reports, on the same point and at the 32 onset phases it takes, written by hand.
+TEST(Timestep, AnswersAsTheSearchDoes) {
+  const nlohmann::json answer =
+      answer_of({"timestep", "--scheme", "dem-verlet", "--p", "1.5", "--e", "0.5", "--observables",
+                 "e", "--tolerance", "0.005", "--json"});
+  const double tau = closed_forms({"--p", "1.5", "--e", "0.5", "--v0", "1"})["tau"].get<double>();
+  EXPECT_DOUBLE_EQ(answer["range"][0].get<double>(), tau / 1e5);
+  EXPECT_DOUBLE_EQ(answer["range"][1].get<double>(), tau / 2);
+  Scene scene =
+      parse_scene(fmt::format(R"(want = ["e"]
+[grid]
+p = [1.5]
+e = [0.5]
+v0 = [1.0]
+[[search]]
+name = "dt"
+solver = "dem-verlet"
+parameter = "dt"
+range = [{:.17g}, {:.17g}]
+observable = "e"
+bound_rel = 5e-3
+onset_phases = 32
+)",
+                              answer["range"][0].get<double>(), answer["range"][1].get<double>()),
+                  "timestep-search.toml");
+  const SearchResult result = run_search(scene, scene.searches.front(), 1);
+  ASSERT_EQ(result.groups.size(), 1u);
+  const SearchGroup& group = result.groups.front();
+  ASSERT_TRUE(group.loosest) << group.note;
+  EXPECT_EQ(answer["dt"].get<double>(), *group.loosest);
+  EXPECT_EQ(answer["worst_error"].get<double>(), *group.measured);
+  EXPECT_EQ(answer["dt_failing"].get<double>(), *group.failing);
+  EXPECT_EQ(answer["onset_phases"].get<int>(), group.onset_phases);
+  EXPECT_DOUBLE_EQ(answer["tau_over_dt"].get<double>(), tau / *group.loosest);
+  // The worst error, recomputed by `solve` at the worst onset phase it names.
+  const double phase = answer["worst_onset_phase"].get<double>();
+  const int phases = group.onset_phases;
+  EXPECT_DOUBLE_EQ(phase * phases, std::round(phase * phases));
+  const nlohmann::json solved = answer_of(
+      {"solve", "--json", "--solver", "dem-verlet", "--p", "1.5", "--e", "0.5", "--v0", "1", "--dt",
+       fmt::format("{:.17g}", *group.loosest), "--onset-phase", fmt::format("{:.17g}", phase)});
+  EXPECT_NEAR(std::abs(solved["e"].get<double>() / 0.5 - 1), *group.measured, 1e-12);
+}
+
+// Done-when of issue 29: at its answer, every DEM scheme keeps e, δ_max and τ within the tolerance
+// from 64 onset phases k/64 (the search took 32 and checked 64, through its own plan; here each is
+// a `pldamp solve --onset-phase` against `observables`). The worst onset phase is a supremum the
+// samples approach from below: 97 phases (prime to 64) find up to 0.64 % of the tolerance more
+// (1.0064 % for 1 %, verlet-predicted, p = 1, e = 0.9), held here within 1 %. The first failing
+// Δt fails at the phases the answer was bisected at.
+TEST(Timestep, EveryDemSchemeKeepsTheToleranceFromSixtyFourOnsetPhases) {
+  for (const char* scheme :
+       {"dem-verlet", "dem-symplectic-euler", "dem-leapfrog", "verlet-predicted"}) {
+    for (const Args& contact :
+         {Args{"--p", "1.5", "--e", "0.5", "--v0", "1"},
+          Args{"--p", "1", "--e", "0.9", "--v0", "1"},
+          Args{"--p", "2", "--alpha", "0.3", "--v0", "2", "--m", "3", "--k", "5"}}) {
+      Args args{"timestep", "--scheme", scheme, "--tolerance", "0.01", "--json"};
+      args.insert(args.end(), contact.begin(), contact.end());
+      const nlohmann::json answer = answer_of(args);
+      ASSERT_TRUE(answer["dt"].is_number()) << scheme << ": " << answer.dump();
+      const double dt = answer["dt"].get<double>();
+      EXPECT_GE(answer["phases_checked"].get<int>(), 64);
+      EXPECT_LE(worst_error(scheme, contact, dt, 64), 1e-2) << scheme << " " << contact[1];
+      EXPECT_LE(worst_error(scheme, contact, dt, 97), 1.01e-2) << scheme << " " << contact[1];
+      EXPECT_LE(answer["worst_error"].get<double>(), 1e-2);
+      EXPECT_GT(worst_error(scheme, contact, answer["dt_failing"].get<double>(),
+                            answer["onset_phases"].get<int>()),
+                1e-2)
+          << scheme << " " << contact[1]; // the next value is beyond it
+      EXPECT_EQ(answer["dt_crit_seed"].get<double>(),
+                closed_forms(contact)["dt_crit"].get<double>());
+      // Stable at the largest stable step, and that is beyond the accurate one.
+      const double stable = answer["dt_stability"].get<double>();
+      EXPECT_GT(stable, dt) << scheme;
+      Args solve{"solve", "--json", "--solver", scheme, "--dt", fmt::format("{:.17g}", stable)};
+      solve.insert(solve.end(), contact.begin(), contact.end());
+      const nlohmann::json at_stable = answer_of(solve);
+      EXPECT_EQ(at_stable["outcome"], "exited") << scheme;
+      EXPECT_LE(at_stable["e"].get<double>(), 1) << scheme;
+    }
+  }
+}
+
+// The error is not monotone in Δt: Hertz e = 0.5, dem-verlet, e within 0.6 % over 64 onset
+// phases fails at τ/Δt = 63.6 yet holds again at 60.2 and 48.3 (0.56 %, 0.60 %), so a bisection
+// between the range's ends could answer there. The search scans up from the tightest step and
+// bisects only the first failure: no step below the answer fails. Checked at 41 steps from a
+// third of the answer up to it, each over the phases the answer was checked at (64).
+TEST(Timestep, NoStepBelowTheAnswerFails) {
+  const Args contact{"--p", "1.5", "--e", "0.5", "--v0", "1"};
+  const nlohmann::json answer =
+      answer_of({"timestep", "--scheme", "dem-verlet", "--p", "1.5", "--e", "0.5", "--observables",
+                 "e", "--tolerance", "0.006", "--json"});
+  const double dt = answer["dt"].get<double>();
+  const int phases = answer["phases_checked"].get<int>();
+  ASSERT_EQ(phases, 64);
+  for (int i = 0; i <= 40; ++i) {
+    const double below = dt * std::pow(3.0, -double(i) / 40);
+    EXPECT_LE(worst_error("dem-verlet", contact, below, phases, {"e"}), 6e-3) << below;
+  }
+  // Beyond the answer: a failure, then coarser steps that hold again.
+  EXPECT_GT(worst_error("dem-verlet", contact, dt * std::pow(3.0, 3.0 / 40), phases, {"e"}), 6e-3);
+  EXPECT_LE(worst_error("dem-verlet", contact, dt * std::pow(3.0, 5.0 / 40), phases, {"e"}), 6e-3);
+  EXPECT_LE(worst_error("dem-verlet", contact, dt * std::pow(3.0, 13.0 / 40), phases, {"e"}), 6e-3);
+}
+
+// --code: the α the code's formula sets for the target e (as `calibrate --code` says), and a
+// capped code's contact end.
+TEST(Timestep, ACodeSetsAlphaAsCalibrateSays) {
+  const nlohmann::json calibrated =
+      answer_of({"calibrate", "--json", "--p", "1.5", "--e", "0.5", "--code", "liggghts"});
+  const nlohmann::json answer = answer_of({"timestep", "--scheme", "dem-verlet", "--p", "1.5",
+                                           "--e", "0.5", "--code", "liggghts", "--json"});
+  EXPECT_EQ(answer["alpha"].get<double>(), calibrated["alpha"].get<double>());
+  EXPECT_EQ(answer["end"], calibrated["end"]);
+  const nlohmann::json by_alpha =
+      answer_of({"timestep", "--scheme", "dem-verlet", "--p", "1.5", "--alpha",
+                 fmt::format("{:.17g}", calibrated["alpha"].get<double>()), "--end",
+                 calibrated["end"].get<std::string>(), "--json"});
+  EXPECT_EQ(answer["dt"], by_alpha["dt"]);
+}
+
+TEST(Timestep, BadInputIsOneLineAndExitTwo) {
+  const Args base{"timestep", "--scheme", "dem-verlet", "--p", "1.5", "--e", "0.5"};
+  auto with = [&](const Args& more) {
+    Args args = base;
+    args.insert(args.end(), more.begin(), more.end());
+    return args;
+  };
+  for (const Args& args :
+       {with({"--tolerance", "0"}),
+        with({"--tolerance", "1"}),
+        with({"--tolerance", "-0.1"}),
+        with({"--tolerance", "nan"}),
+        with({"--tolerance", "inf"}),
+        with({"--tolerance", "x"}),
+        with({"--observables", "e,foo"}),
+        with({"--observables", ""}),
+        with({"--observables", "energy"}),
+        with({"--alpha", "0.3"}),
+        with({"--code", "nope"}),
+        with({"--code", "liggghts", "--end", "force"}),
+        with({"--v0", "0"}),
+        with({"--m", "-1"}),
+        Args{"timestep", "--scheme", "cvode-bdf", "--p", "1.5", "--e", "0.5"},
+        Args{"timestep", "--scheme", "nope", "--p", "1.5", "--e", "0.5"},
+        Args{"timestep", "--scheme", "dem-verlet", "--p", "0.5", "--e", "0.5"},
+        Args{"timestep", "--scheme", "dem-verlet", "--p", "1.5", "--alpha-eff", "1.5"},
+        Args{"timestep", "--scheme", "dem-verlet", "--p", "1.5"},
+        Args{"timestep", "--p", "1.5", "--e", "0.5"}}) {
+    const testing::CliRun r = run(args);
+    std::string typed;
+    for (const std::string& a : args) {
+      typed += a + " ";
+    }
+    EXPECT_EQ(r.code, 2) << typed << r.out;
+    EXPECT_EQ(r.err.rfind("error: ", 0), 0u) << typed << r.err;
+    EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << typed << r.err;
+    EXPECT_NE(r.err.find("(got "), std::string::npos) << typed << r.err;
+    EXPECT_TRUE(r.out.empty()) << typed;
+  }
+}
+
+} // namespace
+} // namespace pldamp::harness
