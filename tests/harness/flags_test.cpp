@@ -218,7 +218,9 @@ TEST(Flags, EveryTimestepFlagChangesItsAnswer) {
   const Args by_alpha{"timestep", "--scheme", "dem-verlet", "--p", "1.5", "--alpha", "0.3"};
   const Args by_group{"timestep", "--scheme", "dem-verlet", "--p", "1.5", "--alpha-eff", "0.2"};
   const Args one{"timestep", "--scheme", "dem-verlet", "--p", "1.5", "--e", "0.5"};
-  check_rows("timestep",
+  check_rows(
+      "timestep",
+      joined(material_rows({"timestep", "--scheme", "dem-verlet"}, {"--e", "0.5"}),
              {{"--scheme", one, {"timestep", "--scheme", "verlet", "--p", "1.5", "--e", "0.5"}, ""},
               {"--p", one, {"timestep", "--scheme", "dem-verlet", "--p", "2", "--e", "0.5"}, ""},
               {"--e", one, {"timestep", "--scheme", "dem-verlet", "--p", "1.5", "--e", "0.9"}, ""},
@@ -237,8 +239,8 @@ TEST(Flags, EveryTimestepFlagChangesItsAnswer) {
               {"--k", one, with(one, {"--k", "3"}), ""},
               {"--tolerance", one, with(one, {"--tolerance", "0.001"}), ""},
               {"--observables", one, with(one, {"--observables", "e"}), ""},
-              {"--code", one, with(one, {"--code", "liggghts"}), ""}},
-             [](const Args& args) { return shown(run(args)); });
+              {"--code", one, with(one, {"--code", "liggghts"}), ""}}),
+      [](const Args& args) { return shown(run(args)); });
 }
 
 TEST(Flags, EveryCheckFlagChangesItsAnswer) {
