@@ -152,7 +152,9 @@ TEST(Materials, TimestepTakesMaterials) {
   for (const char* key : {"alpha", "dt", "tau_over_dt", "worst_error", "dt_stability"}) {
     EXPECT_EQ(raw_number(r.out, key), raw_number(by_mk.out, key)) << key;
   }
-  EXPECT_EQ(nlohmann::json::parse(r.out)["units"]["dt"], "s");
+  for (const char* key : {"dt", "dt_failing", "dt_crit_seed", "dt_stability", "tau"}) {
+    EXPECT_EQ(nlohmann::json::parse(r.out)["units"][key], "s") << key;
+  }
   const CliRun mixed = run(with({"timestep", "--m", "2"}, aluminium, tail));
   EXPECT_EQ(mixed.code, 2);
   EXPECT_EQ(mixed.err, "error: --m and --k are derived from the materials under --geometry, give "

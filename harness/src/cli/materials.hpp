@@ -185,6 +185,10 @@ inline void add_units(Answer& o) {
                                                                       {"dt_tangent", "s"},
                                                                       {"t_cut", "s"},
                                                                       {"dt", "s"},
+                                                                      {"dt_failing", "s"},
+                                                                      {"dt_crit_seed", "s"},
+                                                                      {"dt_stability", "s"},
+                                                                      {"range", "[s, s]"},
                                                                       {"wall_seconds", "s"},
                                                                       {"samples", "[s, m, m/s]"}};
   Answer table = Answer::object();
