@@ -86,8 +86,8 @@ test)
   build build-sanitize -DPLDAMP_WERROR=ON -DPLDAMP_SANITIZE=ON -DPLDAMP_BUILD_BENCHMARKS=OFF \
     -DPLDAMP_ANALYTIC_TESTS=OFF \
     -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O1 -g1"
-  # The adapters' tests drive LAMMPS and LIGGGHTS from Python (pldamp only for `solve`): they ran
-  # above, and the protocol's C++ side runs here through tests/harness/external_test.cpp.
+  # The adapters' tests drive LAMMPS, LIGGGHTS and YADE from Python (pldamp only for `solve`):
+  # they ran above, and the protocol's C++ side runs here through tests/harness/external_test.cpp.
   ctest --test-dir build-sanitize -j "$(nproc)" --output-on-failure -LE adapters
   echo "== fuzzing the scene and report parsers (libFuzzer); the CLI without float128"
   # Clang, everything under ASan+UBSan with libFuzzer's coverage, -O1 -g1 as above but with the
