@@ -13,7 +13,9 @@
 // simulation does not control): every trial of a steps_per_contact or dt search takes each cell's
 // worst over `onset_phases` phases k/n (default 8). The answer is then checked at twice as many
 // phases; if it fails there, the search starts again with the phases doubled (up to 256), so the
-// phases reported are ones that more phases do not change.
+// phases reported are ones that more phases do not change. The settled answer is checked last at
+// a prime count q beyond twice those (phases j/q share only 0 with them) and sought again there if
+// it fails: the worst phase is a supremum the samples approach from below.
 //
 // Each trial solves every cell of the group once, through a plan of its own (truth/plan.hpp: the
 // same references and errors as the run's records); the solver runs are counted. A record that
@@ -93,7 +95,7 @@ SearchResult run_search(const Scene& scene, const Search& search, int jobs);
 std::string search_measure(const Search& search);
 
 // The solver runs a search costs at most: its cells times the phases times the values a scan
-// and a bisection of its range can take (once more for the check at twice the phases).
+// and a bisection of its range can take (and the checks at twice the phases and at a prime).
 double search_runs_estimate(const Search& search);
 
 // The values a search's scan tries, tightest first.

@@ -10,9 +10,10 @@
 //
 // The steps needed are the answers of [[search]]'s engine (judge/search.hpp) over the sweep's
 // range, one search per point, worst over 8 onset phases (or the sweep's own, if more) and checked
-// at twice as many: the same question asked as a [[search]] gets the same answer. An external
-// program is not searched (each run can cost milliseconds): its answer is read off its sweep, the
-// coarsest sweep value from which every finer one holds (an upper bound, `from_sweep`).
+// at twice as many, then at a prime count beyond: the same question asked as a [[search]] gets the
+// same answer. An external program is not searched (each run can cost milliseconds): its answer is
+// read off its sweep, the coarsest sweep value from which every finer one holds (an upper bound,
+// `from_sweep`).
 #pragma once
 
 #include "run/run.hpp"

@@ -232,7 +232,7 @@ struct Search {
   SearchGroups group_by = SearchGroups::p;
   ClaimGrid grid;
   // steps_per_contact and dt: the onset phases k/n each trial takes its worst over
-  // (judge/search.hpp checks the answer at twice as many).
+  // (judge/search.hpp checks the answer at twice as many, then at a prime count beyond).
   int onset_phases = 8;
 };
 
