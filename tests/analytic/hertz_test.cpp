@@ -1,5 +1,6 @@
 // The Hertz contact from materials (MATH.md §13) in every precision: against mpmath at 60 digits
-// (data/reference/hertz.py beside its hertz.csv, computed straight from Johnson 1985 §4.2) and
+// (data/reference/hertz.py beside its hertz.csv, computed straight from Johnson 1985 §4.2, and the
+// Rayleigh time of Li, Xu & Thornton 2005) and
 // against hand-derived closed values for two equal spheres.
 #include "analytic/reference.hpp"
 #include "support.hpp"
@@ -51,6 +52,9 @@ TYPED_TEST(HertzTest, MatchesMpmathFromJohnson) {
     EXPECT_LE(relative_error(h.radius, bin50(table.cell(row, "R_eff"))), 4 * eps<Real>()) << where;
     EXPECT_LE(relative_error(h.modulus, bin50(table.cell(row, "E_eff"))), 8 * eps<Real>()) << where;
     EXPECT_LE(relative_error(h.k, bin50(table.cell(row, "k"))), 12 * eps<Real>()) << where;
+    EXPECT_LE(relative_error(rayleigh_time(first), bin50(table.cell(row, "t_rayleigh1"))),
+              12 * eps<Real>())
+        << where;
   }
   EXPECT_EQ(table.rows().size(), 4u);
 }

@@ -152,9 +152,21 @@ TEST(Materials, TimestepTakesMaterials) {
   for (const char* key : {"alpha", "dt", "tau_over_dt", "worst_error", "dt_stability"}) {
     EXPECT_EQ(raw_number(r.out, key), raw_number(by_mk.out, key)) << key;
   }
-  for (const char* key : {"dt", "dt_failing", "dt_crit_seed", "dt_stability", "tau"}) {
-    EXPECT_EQ(nlohmann::json::parse(r.out)["units"][key], "s") << key;
+  const auto json = nlohmann::json::parse(r.out);
+  for (const char* key :
+       {"dt", "dt_failing", "dt_crit_seed", "dt_stability", "tau", "t_hertz", "t_rayleigh"}) {
+    EXPECT_EQ(json["units"][key], "s") << key;
   }
+  // The step as a fraction of the elastic Hertz contact time and of the Rayleigh time, against
+  // mpmath (hertz.csv, line 3: t_H from energy and a Beta function, not the closed form used here).
+  const double hertz_time = 0.00006092333496870261957091895764236901108;
+  const double rayleigh_time = 0.00001074926843199936423344437853407245417;
+  EXPECT_LE(relative(json["t_hertz"].get<double>(), hertz_time), 1e-14);
+  EXPECT_LE(relative(json["t_rayleigh"].get<double>(), rayleigh_time), 4e-16);
+  const double dt = json["dt"].get<double>();
+  EXPECT_LE(relative(json["dt_over_t_hertz"].get<double>(), dt / hertz_time), 1e-14);
+  EXPECT_LE(relative(json["dt_over_t_rayleigh"].get<double>(), dt / rayleigh_time), 1e-15);
+  EXPECT_FALSE(nlohmann::json::parse(by_mk.out).contains("t_hertz")); // no materials, no Hertz
   const CliRun mixed = run(with({"timestep", "--m", "2"}, aluminium, tail));
   EXPECT_EQ(mixed.code, 2);
   EXPECT_EQ(mixed.err, "error: --m and --k are derived from the materials under --geometry, give "

@@ -4,6 +4,7 @@
 // question is written as the scene a user would write, read by the scene reader, and answered by
 // the same GroupTrials, so `timestep` and a [[search]] with the range it reports agree exactly.
 #include "cli/contact_args.hpp"
+#include "cli/materials.hpp"
 #include "common/observables.hpp"
 #include "judge/search.hpp"
 #include "judge/solve.hpp"
@@ -211,8 +212,23 @@ void run_timestep(const TimestepArgs& args, std::ostream& out) {
     note += (note.empty() ? "" : "; ") + std::string("stable up to 50 tau: dt_stability is a "
                                                      "lower bound");
   }
-  // Materials (geometry, radius, Young's modulus, ...) add here the answer as fractions of the
-  // Hertz contact time and of the Rayleigh time.
+  // From materials, the step as DEM users size it (MATH.md §13): a fraction of the elastic Hertz
+  // contact time (the closed form at α = 0) and of the Rayleigh time (the smaller sphere's).
+  if (const std::vector<analytic::Sphere<double>> spheres = spheres_of<double>(contact_args);
+      !spheres.empty()) {
+    const double hertz_time =
+        analytic::contact_duration(analytic::Contact<double>::from_alpha(q.p, 0.0, q.v0, q.m, q.k));
+    double rayleigh = analytic::rayleigh_time(spheres.front());
+    for (const analytic::Sphere<double>& sphere : spheres) {
+      rayleigh = std::min(rayleigh, analytic::rayleigh_time(sphere));
+    }
+    o["t_hertz"] = exact_number(hertz_time);
+    o["t_rayleigh"] = exact_number(rayleigh);
+    put_number(o, "dt_over_t_hertz",
+               group.loosest ? std::optional<double>(*group.loosest / hertz_time) : std::nullopt);
+    put_number(o, "dt_over_t_rayleigh",
+               group.loosest ? std::optional<double>(*group.loosest / rayleigh) : std::nullopt);
+  }
   if (!note.empty()) {
     o["note"] = note;
   }

@@ -107,12 +107,10 @@ Real material_number(const std::string& option, const std::string& text) {
   return value;
 }
 
-// The Hertz contact of --geometry, in Real; none without it. Call settle_materials first.
+// The spheres of --geometry (two for sphere-sphere, one against a wall), in Real. Call
+// settle_materials first.
 template <SupportedReal Real>
-std::optional<analytic::HertzContact<Real>> hertz_of(const ContactArgs& a) {
-  if (!a.geometry) {
-    return std::nullopt;
-  }
+std::vector<analytic::Sphere<Real>> spheres_of(const ContactArgs& a) {
   auto body = [&](std::size_t i) {
     auto value = [&](const char* option, const std::vector<std::string>& list) {
       return material_number<Real>(option, list[std::min(i, list.size() - 1)]);
@@ -122,16 +120,32 @@ std::optional<analytic::HertzContact<Real>> hertz_of(const ContactArgs& a) {
                                   .poisson = value("--poisson", a.poisson),
                                   .density = value("--density", a.density)};
   };
-  analytic::HertzContact<Real> hertz;
+  if (!a.geometry) {
+    return {};
+  }
   if (*a.geometry == "sphere-sphere") {
-    hertz = analytic::hertz_contact(body(0), body(1));
+    return {body(0), body(1)};
+  }
+  return {body(0)};
+}
+
+// The Hertz contact of --geometry, in Real; none without it. Call settle_materials first.
+template <SupportedReal Real>
+std::optional<analytic::HertzContact<Real>> hertz_of(const ContactArgs& a) {
+  if (!a.geometry) {
+    return std::nullopt;
+  }
+  const std::vector<analytic::Sphere<Real>> spheres = spheres_of<Real>(a);
+  analytic::HertzContact<Real> hertz;
+  if (spheres.size() == 2) {
+    hertz = analytic::hertz_contact(spheres[0], spheres[1]);
   } else {
     analytic::Wall<Real> wall;
     if (a.young.size() == 2) {
       wall = {.young = material_number<Real>("--young", a.young[1]),
               .poisson = material_number<Real>("--poisson", a.poisson[1])};
     }
-    hertz = analytic::hertz_contact(body(0), wall);
+    hertz = analytic::hertz_contact(spheres[0], wall);
   }
   // R³ or E beyond the type: inf, or inf/inf = NaN in m*; said so here, not as a NaN later.
   using std::isfinite;
@@ -188,6 +202,8 @@ inline void add_units(Answer& o) {
                                                                       {"dt_failing", "s"},
                                                                       {"dt_crit_seed", "s"},
                                                                       {"dt_stability", "s"},
+                                                                      {"t_hertz", "s"},
+                                                                      {"t_rayleigh", "s"},
                                                                       {"range", "[s, s]"},
                                                                       {"wall_seconds", "s"},
                                                                       {"samples", "[s, m, m/s]"}};

@@ -78,4 +78,16 @@ HertzContact<Real> hertz_contact(const Sphere<Real>& a, const Wall<Real>& wall) 
                           Real(1) / (compliance(a.young, a.poisson) + wall_compliance));
 }
 
+// The Rayleigh time of a sphere, π R √(ρ/G) / (0.1631 ν + 0.8766) with G = E/(2(1 + ν)): the
+// time a Rayleigh surface wave takes to cross half of it, the step DEM codes size from the
+// materials (a fraction of it; MATH.md §13; Li, Xu & Thornton, Powder Technology 160, 2005, 219,
+// and YADE's RayleighWaveTimeStep). The fit's coefficients are built in Real.
+template <class Real>
+Real rayleigh_time(const Sphere<Real>& s) {
+  using std::sqrt;
+  const Real shear = s.young / (2 * (Real(1) + s.poisson));
+  return boost::math::constants::pi<Real>() * s.radius * sqrt(s.density / shear) /
+         (Real(1631) / 10000 * s.poisson + Real(8766) / 10000);
+}
+
 } // namespace pldamp::analytic
