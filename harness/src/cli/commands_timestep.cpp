@@ -214,14 +214,11 @@ void run_timestep(const TimestepArgs& args, std::ostream& out) {
   }
   // From materials, the step as DEM users size it (MATH.md §13): a fraction of the elastic Hertz
   // contact time (the closed form at α = 0) and of the Rayleigh time (the smaller sphere's).
-  if (const std::vector<analytic::Sphere<double>> spheres = spheres_of<double>(contact_args);
-      !spheres.empty()) {
+  if (contact_args.geometry) {
     const double hertz_time =
         analytic::contact_duration(analytic::Contact<double>::from_alpha(q.p, 0.0, q.v0, q.m, q.k));
-    double rayleigh = analytic::rayleigh_time(spheres.front());
-    for (const analytic::Sphere<double>& sphere : spheres) {
-      rayleigh = std::min(rayleigh, analytic::rayleigh_time(sphere));
-    }
+    const double rayleigh =
+        rayleigh_time_of<double>(material_input(contact_args), MaterialNames::options());
     o["t_hertz"] = exact_number(hertz_time);
     o["t_rayleigh"] = exact_number(rayleigh);
     put_number(o, "dt_over_t_hertz",
