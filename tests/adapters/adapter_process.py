@@ -5,7 +5,9 @@ version 1"); `pldamp(...)` runs the CLI with --json for the value an adapter is 
 """
 
 import json
+import os
 import subprocess
+import sys
 import tempfile
 
 
@@ -61,3 +63,26 @@ def run_pldamp(binary, *arguments):
     if run.returncode != 0:
         raise AssertionError("pldamp %s: %s" % (" ".join(map(str, arguments)), run.stderr))
     return json.loads(run.stdout)
+
+
+def run_scene_strictly(binary, scene, timeout):
+    """`binary run SCENE --strict` into a scratch folder: (its exit problems, report.json's records,
+    the report). Exits 77 (skipped) when a code answers `unavailable` (not installed), and fails
+    when no report was written."""
+    with tempfile.TemporaryDirectory() as out:
+        run = subprocess.run([binary, "run", scene, "--strict", "--out", out, "--jobs", "2"],
+                             capture_output=True, text=True, timeout=timeout, check=False)
+        report_path = os.path.join(out, "report.json")
+        if not os.path.exists(report_path):
+            sys.exit("no report (exit %d): %s" % (run.returncode, run.stderr.strip()))
+        with open(report_path, encoding="utf-8") as f:
+            report = json.load(f)
+    records = report["records"]
+    unavailable = [r for r in records if r.get("skipped", "").startswith("unavailable")]
+    if unavailable:
+        print("skipped: " + unavailable[0]["skipped"])
+        sys.exit(77)
+    problems = []
+    if run.returncode != 0:
+        problems.append("exit %d: %s" % (run.returncode, run.stderr.strip()))
+    return problems, records, report

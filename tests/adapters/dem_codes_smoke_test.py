@@ -9,11 +9,10 @@ for a p its model does not have, and a dashpot that is not the seed's is judged 
 Exit 77 (skipped) when a code answers `unavailable` (not installed).
 """
 
-import json
 import os
-import subprocess
 import sys
-import tempfile
+
+from adapter_process import run_scene_strictly
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 SCENE = os.path.join(HERE, "..", "..", "data", "scenes", "dem-codes-smoke.toml")
@@ -22,22 +21,7 @@ ROUNDING = 1e-12  # measured: 1.2e-14 (README "LAMMPS adapter")
 
 def main():
     pldamp = sys.argv[1]
-    with tempfile.TemporaryDirectory() as out:
-        run = subprocess.run([pldamp, "run", SCENE, "--strict", "--out", out, "--jobs", "2"],
-                             capture_output=True, text=True, timeout=300, check=False)
-        report_path = os.path.join(out, "report.json")
-        if not os.path.exists(report_path):
-            sys.exit("no report (exit %d): %s" % (run.returncode, run.stderr.strip()))
-        with open(report_path, encoding="utf-8") as f:
-            report = json.load(f)
-    records = report["records"]
-    unavailable = [r for r in records if r.get("skipped", "").startswith("unavailable")]
-    if unavailable:
-        print("skipped: " + unavailable[0]["skipped"])
-        sys.exit(77)
-    problems = []
-    if run.returncode != 0:
-        problems.append("exit %d: %s" % (run.returncode, run.stderr.strip()))
+    problems, records, _ = run_scene_strictly(pldamp, SCENE, timeout=300)
     compared = 0
     for record in records:
         where = record["key"]

@@ -63,6 +63,10 @@ TYPED_TEST(ContactTest, CalibrationIsTheUniversalFormula) {
     }
   }
   EXPECT_EQ(Contact<Real>::from_e(Real(2), Real(1), Real(1)).alpha(), Real(0));
+  // +0, not −0: e = 1 printed as alpha "-0" and was refused by an adapter as negative.
+  using std::signbit;
+  EXPECT_FALSE(signbit(Contact<Real>::from_e(Real(3) / 2, Real(1), Real(1)).alpha()));
+  EXPECT_FALSE(signbit(damping_from_e(Real(1)).z));
 }
 
 // e → α → e. The condition number of e(z) is |ln e|·(1/μ): bounds scale with it.

@@ -38,8 +38,8 @@ void expect_refused_before_any_work(const std::vector<BadScene>& cases, const st
 TEST(Scene, EveryErrorNamesFileAndLineBeforeAnyWork) {
   const std::vector<BadScene> cases{
       {"colour = 1\n" + valid_scene, "1: unknown key in the scene, expected "
-                                     "name|end|want|grid|solver|claim|search|figure|trajectory|"
-                                     "report|timing|limits|diff (got colour)"},
+                                     "name|end|want|contact|grid|solver|claim|search|figure|"
+                                     "trajectory|report|timing|limits|diff (got colour)"},
       {R"(name = "t"
 [grid]
 p = ["one"]

@@ -102,13 +102,17 @@ private:
 
 // The grid's cells, counted before any is built (as a double: a hostile grid overflows long).
 double grid_cells(const Scene& scene) {
-  return double(scene.p.size()) * double(scene.damping.size()) * double(scene.v0.size()) *
-         double(scene.m.size()) * double(scene.k.size());
+  const double scales = scene.contacts.empty() ? double(scene.v0.size()) * double(scene.m.size()) *
+                                                     double(scene.k.size())
+                                               : double(scene_scales(scene).size());
+  return double(scene.p.size()) * double(scene.damping.size()) * scales;
 }
 
 double claim_grid_cells(const ClaimGrid& grid) {
-  return double(grid.p.size()) * double(grid.damping.size()) * double(grid.v0.size()) *
-         double(grid.m.size()) * double(grid.k.size());
+  const double scales = grid.scales.empty()
+                            ? double(grid.v0.size()) * double(grid.m.size()) * double(grid.k.size())
+                            : double(grid.scales.size());
+  return double(grid.p.size()) * double(grid.damping.size()) * scales;
 }
 
 // The solver runs of a claim judged on cells of its own, at what each costs per cell

@@ -6,11 +6,12 @@
 //
 // report.json, schema 2 (README "Reports"; `?`: only when there is something to say):
 //   schema        2
-//   scene         end, observables, grid {p, v0, m, k, damping_exponent?, damping [{label,
-//                 alpha_eff, overdamped}]}, configs [{label, solver, precision, rtol, atol,
-//                 steps_per_contact, dt?, options?}], claims [name], searches [name], fingerprint
-//                 (of all the above), name, path, repeats, work_precision [observable or
-//                 "worst"], diff {error_factor, work_factor, time_factor, time_floor}
+//   scene         end, observables, grid {p, v0, m, k, damping_exponent?, contacts? [{name,
+//                 geometry, R_eff, E_eff, m, k, v0 [], rayleigh_time}], units? {KEY: SI unit},
+//                 damping [{label, alpha_eff, overdamped}]}, configs [{label, solver, precision,
+//                 rtol, atol, steps_per_contact, dt?, options?}], claims [name], searches [name],
+//                 fingerprint (of all the above), name, path, repeats, work_precision [observable
+//                 or "worst"], diff {error_factor, work_factor, time_factor, time_floor}
 //   totals        rhs_evals, solver_runs, wall_seconds, failed_records
 //   external_solvers?  {solver line: {command, handshake}}
 //   trajectories? [{label, file, inputs, failure?, OBSERVABLE: {value, truth, rel_error,
@@ -34,7 +35,8 @@
 //                 dt_tangent_over_tau0, sweeps [{line, onset_phases, solver_runs, per_p [{p,
 //                 order_e, needed [{target, steps_per_contact, tau_over_dt, within_sweep, returns,
 //                 from_sweep}], dt_over_tau_and_worst_rel}], per_point [{p, damping, needed}]}]}
-//   records       [{key, config, precision, p, damping, alpha_eff, alpha, v0, m, k, outcome,
+//   records       [{key, config, precision, p, damping, alpha_eff, alpha, v0, m, k, contact?,
+//   outcome,
 //                 failed, steps, rhs_evals, wall_seconds, wall_seconds_slowest, alpha_digits?, dt?,
 //                 value, reference, error, abs_error, rel_error, phase_spread? {OBSERVABLE},
 //                 phases?, failure?, skipped?, note?, replica_difference?}]
@@ -80,6 +82,13 @@ inline constexpr const char* v0 = "v0";
 inline constexpr const char* m = "m";
 inline constexpr const char* k = "k";
 inline constexpr const char* damping_exponent = "damping_exponent";
+inline constexpr const char* contacts = "contacts";
+inline constexpr const char* contact = "contact";
+inline constexpr const char* geometry = "geometry";
+inline constexpr const char* R_eff = "R_eff";
+inline constexpr const char* E_eff = "E_eff";
+inline constexpr const char* rayleigh_time = "rayleigh_time";
+inline constexpr const char* units = "units";
 inline constexpr const char* damping = "damping";
 inline constexpr const char* label = "label";
 inline constexpr const char* alpha_eff = "alpha_eff";

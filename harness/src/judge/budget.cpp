@@ -93,8 +93,7 @@ std::string why_no_value(const Plan& plan, const Record& record, std::size_t obs
 Judgement judge_records(const Plan& plan, const std::vector<Record>& records,
                         const BoundClaim& claim) {
   Judgement j;
-  j.grid = grid_text(
-      ClaimGrid{plan.scene.p, plan.scene.v0, plan.scene.m, plan.scene.k, plan.scene.damping});
+  j.grid = grid_text(scene_grid(plan.scene));
   const auto config = static_cast<std::size_t>(
       std::find(plan.configs.begin(), plan.configs.end(), claim.config) - plan.configs.begin());
   const auto observable = static_cast<std::size_t>(
@@ -132,12 +131,8 @@ Judgement judge_records(const Plan& plan, const std::vector<Record>& records,
 // plan of its own, as a search's), then judged on those records.
 Judgement judge_own_grid(const Scene& scene, const BoundClaim& claim, const ClaimGrid& grid,
                          int jobs) {
-  Scene cells = scene;
-  cells.p = grid.p;
+  Scene cells = with_cells(scene, grid);
   cells.damping = grid.damping;
-  cells.v0 = grid.v0;
-  cells.m = grid.m;
-  cells.k = grid.k;
   cells.configs = {claim.config};
   cells.claims.clear();
   cells.searches.clear();
@@ -155,12 +150,11 @@ Judgement judge_own_grid(const Scene& scene, const BoundClaim& claim, const Clai
 Verdict judge_bound(const Plan& plan, const std::vector<Record>& records, const Claim& claim,
                     int jobs) {
   Verdict verdict = verdict_of(claim);
-  const ClaimGrid scene_grid{plan.scene.p, plan.scene.v0, plan.scene.m, plan.scene.k,
-                             plan.scene.damping};
+  const ClaimGrid of_scene = scene_grid(plan.scene);
   const ConventionClaim* convention = std::get_if<ConventionClaim>(&claim.kind);
   const BoundClaim* bound = std::get_if<BoundClaim>(&claim.kind);
   const bool own_grid = convention ? convention->own_grid : bound->own_grid;
-  const ClaimGrid& grid = own_grid ? claim.grid : scene_grid;
+  const ClaimGrid& grid = own_grid ? claim.grid : of_scene;
   const auto judge_over = [&](const ClaimGrid& cells, bool the_plans) {
     return convention  ? judge_convention(*convention, cells)
            : the_plans ? judge_records(plan, records, *bound)
@@ -233,6 +227,10 @@ std::size_t nearest_rank(const std::vector<double>& values, double quantile) {
 
 std::string cell_text(const Plan& plan, const Cell& cell) {
   const Point& point = plan.points[cell.point];
+  if (const MaterialContact* contact = contact_of(plan.scene, cell.m, cell.k)) {
+    return fmt::format("{}, {}, v0 = {:g} m/s", contact->name, damping_text(point.damping),
+                       cell.v0);
+  }
   return fmt::format("p = {:g}, {}, v0 = {:g}, m = {:g}, k = {:g}", point.p,
                      damping_text(point.damping), cell.v0, cell.m, cell.k);
 }

@@ -14,14 +14,11 @@ std::string verdict_number(double x) {
 
 std::vector<ClaimCell> cells_of(const ClaimGrid& grid) {
   std::vector<ClaimCell> cells;
+  const std::vector<CellScale> scales = grid_scales(grid);
   for (const double p : grid.p) {
     for (const Damping& damping : grid.damping) {
-      for (const double v0 : grid.v0) {
-        for (const double m : grid.m) {
-          for (const double k : grid.k) {
-            cells.push_back({p, damping, v0, m, k});
-          }
-        }
+      for (const auto& [v0, m, k] : scales) {
+        cells.push_back({p, damping, v0, m, k});
       }
     }
   }
@@ -93,21 +90,29 @@ std::string grid_text(const ClaimGrid& grid) {
            list_text(values);
     first = false;
   }
-  const std::pair<const std::vector<double>*, const char*> scales[] = {
-      {&grid.v0, "v0"}, {&grid.m, "m"}, {&grid.k, "k"}};
-  for (const auto& [values, name] : scales) {
-    if (values->size() > 1) {
-      out += fmt::format(" x {} in {}", name, list_text(*values));
+  if (!grid.scales.empty()) {
+    out += fmt::format(" x the contacts' {} (v0, m, k)", grid.scales.size());
+  } else {
+    const std::pair<const std::vector<double>*, const char*> scales[] = {
+        {&grid.v0, "v0"}, {&grid.m, "m"}, {&grid.k, "k"}};
+    for (const auto& [values, name] : scales) {
+      if (values->size() > 1) {
+        out += fmt::format(" x {} in {}", name, list_text(*values));
+      }
     }
   }
-  const std::size_t cells =
-      grid.p.size() * grid.damping.size() * grid.v0.size() * grid.m.size() * grid.k.size();
+  const std::size_t cells = grid.p.size() * grid.damping.size() * grid_scales(grid).size();
   return out + fmt::format(": {} cells", cells);
 }
 
 ClaimGrid denser_grid(const ClaimGrid& grid) {
   const std::map<Damping::Kind, std::vector<double>> dampings = dampings_by_kind(grid);
-  std::vector<const std::vector<double>*> lists{&grid.p, &grid.v0, &grid.m, &grid.k};
+  // A scene's contacts stay as they are: only p and the damping are refined.
+  const bool contacts = !grid.scales.empty();
+  std::vector<const std::vector<double>*> lists{&grid.p};
+  if (!contacts) {
+    lists.insert(lists.end(), {&grid.v0, &grid.m, &grid.k});
+  }
   for (const auto& [kind, values] : dampings) {
     lists.push_back(&values);
   }
@@ -118,10 +123,11 @@ ClaimGrid denser_grid(const ClaimGrid& grid) {
   const int between =
       varied == 0 ? 0 : static_cast<int>(std::ceil(std::pow(10.0, 1.0 / double(varied)))) - 1;
   ClaimGrid out{refined(grid.p, between),
-                refined(grid.v0, between),
-                refined(grid.m, between),
-                refined(grid.k, between),
-                {}};
+                contacts ? grid.v0 : refined(grid.v0, between),
+                contacts ? grid.m : refined(grid.m, between),
+                contacts ? grid.k : refined(grid.k, between),
+                {},
+                grid.scales};
   for (const auto& [kind, values] : dampings) {
     for (const double value : refined(values, between)) {
       out.damping.push_back({kind, value});

@@ -238,8 +238,7 @@ Judgement judge(const Scene& scene, const RelationClaim& claim, const ClaimGrid&
     }
     j.worst = !j.holds || !smallest_apart ? smallest.where() : smallest_apart.where();
     if (ties.count() > 0) {
-      const std::size_t per_p =
-          grid.damping.size() * grid.v0.size() * grid.m.size() * grid.k.size();
+      const std::size_t per_p = grid.damping.size() * grid_scales(grid).size();
       j.note = fmt::format("equal within {:g} at {} of {} cells: {}", tolerance, ties.count(),
                            cells.size(), ties.text(per_p));
     }
@@ -277,8 +276,8 @@ Judgement judge(const Scene& scene, const AsymptoticClaim& claim, const ClaimGri
   for (const double p : grid.p) {
     std::vector<double> log_z, log_difference;
     double smallest_z = 0, its_difference = 0;
-    const ClaimCell at_p{
-        p, {Damping::Kind::alpha_eff, from}, grid.v0.front(), grid.m.front(), grid.k.front()};
+    const CellScale scale = grid_scales(grid).front();
+    const ClaimCell at_p{p, {Damping::Kind::alpha_eff, from}, scale.v0, scale.m, scale.k};
     try {
       for (int i = 0; i < claim.points; ++i) {
         ClaimCell cell = at_p;

@@ -54,12 +54,8 @@ int prime_beyond(int n) {
 
 std::vector<std::pair<std::string, Scene>> search_groups_of(const Scene& scene,
                                                             const Search& search) {
-  Scene base = scene;
-  base.p = search.grid.p;
+  Scene base = with_cells(scene, search.grid);
   base.damping = search.grid.damping;
-  base.v0 = search.grid.v0;
-  base.m = search.grid.m;
-  base.k = search.grid.k;
   base.claims.clear();
   base.searches.clear();
   base.figures.clear();
@@ -349,8 +345,7 @@ std::string search_measure(const Search& search) {
 
 double search_runs_estimate(const Search& search) {
   const double cells = double(search.grid.p.size()) * double(search.grid.damping.size()) *
-                       double(search.grid.v0.size()) * double(search.grid.m.size()) *
-                       double(search.grid.k.size());
+                       double(grid_scales(search.grid).size());
   // The scan, a bisection of one of its intervals (to 1 %), and for a fixed step the answer and
   // its neighbour at twice the phases, then the answer at a prime count beyond four times.
   const double bisection =

@@ -385,6 +385,11 @@ std::string report_html(const RunReport& report, const std::string& gnuplot_prog
   if (!gnuplot.available()) {
     out << "<p><strong>gnuplot was not found: the plots were skipped.</strong></p>\n";
   }
+  if (!plan.scene.contacts.empty()) {
+    out << "<h2>Contacts from materials</h2>\n"
+        << html_table(contacts_table(report)) << html_table(contact_truth_table(report), "wrap")
+        << "<p>" << escape(contacts_note(report)) << "</p>\n";
+  }
   if (!budgets.claims.empty()) {
     out << "<h2 id='claims'>Claims</h2>\n<table class='claims'><tr><th>claim</th><th>where</th>"
            "<th>verdict</th>"

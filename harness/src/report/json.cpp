@@ -52,6 +52,28 @@ ordered_json scene_json(const Plan& plan) {
   if (!plan.scene.damping_exponent.empty()) {
     scene[key::grid][key::damping_exponent] = plan.scene.damping_exponent.front();
   }
+  for (const MaterialContact& contact : plan.scene.contacts) {
+    scene[key::grid][key::contacts].push_back({{key::name, contact.name},
+                                               {key::geometry, contact.geometry},
+                                               {key::R_eff, contact.radius_eff},
+                                               {key::E_eff, contact.modulus_eff},
+                                               {key::m, contact.m},
+                                               {key::k, contact.k},
+                                               {key::v0, contact.v0},
+                                               {key::rayleigh_time, contact.rayleigh_time}});
+  }
+  if (!plan.scene.contacts.empty()) { // SI throughout: the contacts' numbers and the records'
+    ordered_json units{{key::R_eff, "m"},   {key::E_eff, "Pa"}, {key::m, "kg"},
+                       {key::k, "N/m^1.5"}, {key::v0, "m/s"},   {key::rayleigh_time, "s"}};
+    for (const Observable* observable : plan.observables) {
+      static constexpr std::array<const char*, 5> by_dimension{"", "m", "s", "J", "N"};
+      if (const char* unit = by_dimension[static_cast<std::size_t>(observable->dimension)];
+          *unit != '\0') {
+        units[observable->key] = unit;
+      }
+    }
+    scene[key::grid][key::units] = units;
+  }
   for (const Point& point : plan.points) {
     if (point.p == plan.scene.p.front()) {
       scene[key::grid][key::damping].push_back({{key::label, point.damping.label()},

@@ -189,6 +189,9 @@ ordered_json records_json(const RunReport& report) {
     if (!record.alpha_digits.empty()) {
       r[key::alpha_digits] = record.alpha_digits; // α in the configuration's wider precision
     }
+    if (const MaterialContact* contact = contact_of(plan.scene, id.m, id.k)) {
+      r[key::contact] = contact->name;
+    }
     if (record.dt) {
       r[key::dt] = *record.dt;
     }

@@ -90,6 +90,12 @@ std::string report_markdown(const RunReport& report) {
       << " rhs evaluations, " << short_number(report.totals.wall_seconds, 3) << " s. "
       << budgets.failed_records << " failed records.\n\n**How to read this report.** "
       << how_to_read << "\n\n";
+  if (!plan.scene.contacts.empty()) {
+    out << "## Contacts from materials\n\n"
+        << markdown_table(contacts_table(report)) << "\n"
+        << markdown_table(contact_truth_table(report)) << "\n"
+        << contacts_note(report) << "\n\n";
+  }
   if (!budgets.claims.empty()) {
     out << "## Claims\n\n| claim | where | verdict | worst case | measured | bound | margin | ten "
            "times denser |\n|---|---|---|---|---|---|---|---|\n";

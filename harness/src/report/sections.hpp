@@ -101,6 +101,13 @@ MapTable external_table(const RunReport& report);
 // What the two tables' columns mean, a paragraph under them.
 std::string budget_table_note(const Plan& plan);
 
+// A scene's contacts from materials (contacts.cpp): one row per contact (its R*, E*, m*, k, speeds
+// and Rayleigh time), and one per cell of a contact with its closed forms in SI units and each
+// configuration's largest relative error there; empty without contacts.
+MapTable contacts_table(const RunReport& report);
+MapTable contact_truth_table(const RunReport& report);
+std::string contacts_note(const RunReport& report);
+
 // Work precision (work_precision.cpp): the table of report.md (and report.html), one row per p
 // and configuration, its cost and the error of each series work_panels chooses, with the cells
 // without a value counted; what its columns mean.

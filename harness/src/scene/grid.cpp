@@ -19,9 +19,38 @@ std::string_view Damping::key() const {
   return kind == Kind::e ? "e" : kind == Kind::alpha ? "alpha" : "alpha_eff";
 }
 
+ClaimGrid scene_grid(const Scene& scene) {
+  ClaimGrid grid{scene.p, scene.v0, scene.m, scene.k, scene.damping};
+  if (!scene.contacts.empty()) {
+    grid.scales = scene_scales(scene);
+  }
+  return grid;
+}
+
+Scene with_cells(const Scene& scene, const ClaimGrid& grid) {
+  Scene cells = scene;
+  if (grid.scales.empty()) {
+    cells.contacts.clear(); // the grid's own lists: their product
+  }
+  cells.p = grid.p;
+  cells.v0 = grid.v0;
+  cells.m = grid.m;
+  cells.k = grid.k;
+  return cells;
+}
+
 namespace scene_reading {
 
 void read_grid_lists(const Reader& reader, const toml::table& table, ClaimGrid& grid) {
+  if (!grid.scales.empty()) { // a scene's contacts: only the damping is the entry's to choose
+    for (const char* key : {"p", "v0", "m", "k"}) {
+      if (const toml::node* at = table.get(key)) {
+        reader.fail(*at, std::string(key) +
+                             ": a scene with [[contact]] takes p = 1.5, v0, m and k from its "
+                             "contacts (a claim or search may choose e, alpha or alpha_eff)");
+      }
+    }
+  }
   auto list = [&](const char* key, std::vector<double>& into, auto&& check) {
     if (const toml::node* at = table.get(key)) {
       into = reader.numbers(*at, key);
@@ -51,19 +80,6 @@ void read_grid_lists(const Reader& reader, const toml::table& table, ClaimGrid& 
   }
 }
 
-ClaimGrid scene_grid(const Scene& scene) {
-  return ClaimGrid{scene.p, scene.v0, scene.m, scene.k, scene.damping};
-}
-
-Scene with_cells(const Scene& scene, const ClaimGrid& grid) {
-  Scene cells = scene;
-  cells.p = grid.p;
-  cells.v0 = grid.v0;
-  cells.m = grid.m;
-  cells.k = grid.k;
-  return cells;
-}
-
 std::vector<std::optional<solvers::End>> read_ends(const Reader& reader, const toml::table& entry) {
   const toml::node* node = entry.get("end");
   if (node == nullptr) {
@@ -91,8 +107,15 @@ std::optional<solvers::End> read_end(const Reader& reader, const toml::table& en
 void read_grid(const Reader& reader, const toml::node& node, Scene& scene) {
   const toml::table& grid = reader.table(node, "[grid]");
   reader.only(grid, {scene_keys::grid}, "[grid]");
-  for (const char* key : {"p", "v0"}) {
-    if (grid.get(key) == nullptr) {
+  const bool contacts = !scene.contacts.empty();
+  for (const char* key : {"p", "v0", "m", "k"}) {
+    if (contacts && grid.get(key) != nullptr) {
+      reader.fail(*grid.get(key), std::string("[grid] ") + key +
+                                      ": a scene with [[contact]] takes p = 1.5, v0, m and k "
+                                      "from its contacts");
+    }
+    if (!contacts && grid.get(key) == nullptr &&
+        (key == std::string_view("p") || key == std::string_view("v0"))) {
       reader.fail(node, std::string("[grid] needs ") + key);
     }
   }
@@ -100,7 +123,10 @@ void read_grid(const Reader& reader, const toml::node& node, Scene& scene) {
       grid.get("alpha_eff") == nullptr) {
     reader.fail(node, "[grid] needs e, alpha or alpha_eff");
   }
-  ClaimGrid lists{{}, {1.0}, {1.0}, {1.0}, {}};
+  ClaimGrid lists{scene.p, {1.0}, {1.0}, {1.0}, {}};
+  if (contacts) {
+    lists = scene_grid(scene);
+  }
   read_grid_lists(reader, grid, lists);
   scene.p = lists.p;
   scene.v0 = lists.v0;
@@ -125,7 +151,7 @@ void read_grid(const Reader& reader, const toml::node& node, Scene& scene) {
         // With another dashpot α_eff depends on δ_u (MATH.md §12.1): α is converted at the one
         // cell there is, as the command line's --alpha is at its contact.
         const bool by_alpha = grid.get("alpha") != nullptr;
-        const bool one_cell = scene.v0.size() == 1 && scene.m.size() == 1 && scene.k.size() == 1;
+        const bool one_cell = scene_scales(scene).size() == 1;
         if (beta != (p - 1) / 2 && by_alpha && !one_cell) {
           reader.fail(*grid.get("alpha"),
                       "alpha with damping_exponent " + to_string_full(beta) +

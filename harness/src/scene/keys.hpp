@@ -11,9 +11,12 @@ namespace pldamp::harness::scene_keys {
 
 using Keys = std::span<const std::string_view>;
 
-inline constexpr auto top_level =
-    std::to_array<std::string_view>({"name", "end", "want", "grid", "solver", "claim", "search",
-                                     "figure", "trajectory", "report", "timing", "limits", "diff"});
+inline constexpr auto top_level = std::to_array<std::string_view>(
+    {"name", "end", "want", "contact", "grid", "solver", "claim", "search", "figure", "trajectory",
+     "report", "timing", "limits", "diff"});
+
+inline constexpr auto contact = std::to_array<std::string_view>(
+    {"name", "geometry", "radius", "young", "poisson", "density", "v0"});
 
 inline constexpr auto grid = std::to_array<std::string_view>(
     {"p", "e", "alpha", "alpha_eff", "v0", "m", "k", "damping_exponent"});
@@ -105,6 +108,7 @@ struct KeyTable {
 
 inline constexpr std::array tables{
     KeyTable{"the scene", top_level},
+    KeyTable{"[[contact]]", contact},
     KeyTable{"[grid]", grid},
     KeyTable{"[[solver]]", solver},
     KeyTable{"[[solver]] with a command", external_solver},

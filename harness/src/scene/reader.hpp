@@ -145,16 +145,15 @@ void check_text(const Reader& reader, std::string_view text);
 // has, each value checked against the domain (core/domain.hpp); the others stay as they are in
 // `grid`. e, alpha and alpha_eff replace its damping together.
 void read_grid_lists(const Reader& reader, const toml::table& table, ClaimGrid& grid);
-// The scene's grid lists, to start a claim's or a search's from.
-ClaimGrid scene_grid(const Scene& scene);
-// The scene with a grid's cells (p, v0, m, k), against which a solver's tolerances are checked.
-Scene with_cells(const Scene& scene, const ClaimGrid& grid);
 // The contact ends of an entry's `end` key (a word or a list), none when absent.
 std::vector<std::optional<solvers::End>> read_ends(const Reader& reader, const toml::table& entry);
 // The one contact end of an entry (`what`: "a claim's"), none when absent.
 std::optional<solvers::End> read_end(const Reader& reader, const toml::table& entry,
                                      const std::string& what);
 void read_grid(const Reader& reader, const toml::node& node, Scene& scene);
+// [[contact]] (contacts.cpp): before [grid], which then takes no p, v0, m or k.
+void read_contacts(const Reader& reader, const toml::node& node, Scene& scene);
+
 void read_trajectories(const Reader& reader, const toml::node& node, Scene& scene);
 
 // --- solvers (solvers.cpp) ---

@@ -241,6 +241,9 @@ Scene parse_scene(std::string_view text, const std::string& path) {
   if (const toml::node* want = root.get("want")) {
     scene.want = read_want(reader, *want);
   }
+  if (const toml::node* contacts = root.get("contact")) {
+    read_contacts(reader, *contacts, scene);
+  }
   if (root.get("grid") == nullptr) {
     reader.fail_at(1, "the scene needs a [grid]");
   }

@@ -99,10 +99,28 @@ inline constexpr NameTable<Relation, 3> relations{{{Relation::lower_bound, "lowe
                                                    {Relation::equal_within, "equal_within"}}};
 
 // The cells a claim of the new kinds is judged over: its own lists, else the scene's grid.
+// The scales of a grid's cells: v0, m, k.
+struct CellScale {
+  double v0, m, k;
+};
+
 struct ClaimGrid {
   std::vector<double> p, v0, m, k;
   std::vector<Damping> damping;
+  // A scene's [[contact]]s: their cells' (v0, m, k), in place of the product v0 × m × k (which
+  // would pair one contact's m with another's k); empty otherwise.
+  std::vector<CellScale> scales{};
 };
+
+// The (v0, m, k) of a grid's cells: its contacts', or v0 × m × k.
+std::vector<CellScale> grid_scales(const ClaimGrid& grid);
+
+struct Scene;
+// The scene's grid (with its contacts' scales), to start a claim's or a search's from.
+ClaimGrid scene_grid(const Scene& scene);
+// The scene with a grid's cells (p, v0, m, k, or the contacts'): what a claim or a search solves
+// on its own, and against which a solver's tolerances are checked.
+Scene with_cells(const Scene& scene, const ClaimGrid& grid);
 
 // A bound on an error over cells: on the absolute error (`bound`) or the relative one
 // (`bound_rel`), over the cells' `quantile` (nearest rank; 1: the worst cell).
@@ -302,11 +320,26 @@ struct DiffThresholds {
   double time_floor = 5e-3; // ... when it took at least this many seconds
 };
 
+// [[contact]]: two bodies from materials (MATH.md §13), a Hertz contact (p = 3/2) whose m* and k
+// are derived in float128 (or 50 digits) and rounded to double once, met at each of `v0` (the
+// relative normal speed). A scene with contacts takes its cells from them: p = 1.5 and per contact
+// its m, k and each of its v0, in place of [grid]'s v0 × m × k. Units are SI.
+struct MaterialContact {
+  std::string name, geometry;
+  double radius_eff = 0, modulus_eff = 0; // R* [m], E* [Pa]
+  double m = 0, k = 0;                    // m* [kg], 4/3 E* √R* [N/m^1.5]
+  double rayleigh_time = 0;               // the smaller sphere's [s]
+  std::vector<double> v0;                 // [m/s]
+};
+
 struct Scene {
   std::string path, name;
   solvers::End end = solvers::End::overlap;
   unsigned want = solvers::want_all;
+  // With contacts: p = {1.5}, and v0, m, k each contact's values in order (what scene_scales
+  // pairs up; a product of them is not the scene's cells).
   std::vector<double> p, v0, m, k;
+  std::vector<MaterialContact> contacts;
   std::vector<Damping> damping;
   // β of the dashpot δ^β δ' (MATH.md §12), at most one; empty: the seed's (p − 1)/2.
   std::vector<double> damping_exponent;
@@ -324,6 +357,13 @@ struct Scene {
   Limits limits;
   DiffThresholds diff;
 };
+
+// The (v0, m, k) of the scene's cells, per p and damping: [grid]'s v0 × m × k, or each contact's
+// m and k at each of its v0.
+std::vector<CellScale> scene_scales(const Scene& scene);
+
+// The [[contact]] whose m and k a cell has, or nullptr (a scene without contacts).
+const MaterialContact* contact_of(const Scene& scene, double m, double k);
 
 // The contact-end rule a configuration runs under: its own, or the scene's.
 inline solvers::End end_of(const Scene& scene, const SolverConfig& config) {

@@ -160,13 +160,10 @@ void check_config(const Reader& reader, const toml::node& node, const Scene& sce
       }
       options.atol = Real(*config.atol);
       for (const double p : scene.p) {
-        for (const double v0 : scene.v0) {
-          for (const double m : scene.m) {
-            for (const double k : scene.k) {
-              solvers::validate_against(
-                  solvers::Problem<Real>{Real(p), Real(m), Real(k), Real(v0), Real(0)}, options);
-            }
-          }
+        for (const CellScale& cell : scene_scales(scene)) {
+          solvers::validate_against(
+              solvers::Problem<Real>{Real(p), Real(cell.m), Real(cell.k), Real(cell.v0), Real(0)},
+              options);
         }
       }
     });

@@ -251,20 +251,15 @@ Plan make_plan(const Scene& scene) {
   }
   for (std::size_t i = 0; i < plan.points.size(); ++i) {
     const Point& point = plan.points[i];
-    for (const double v0 : scene.v0) {
-      for (const double m : scene.m) {
-        for (const double k : scene.k) {
-          const std::array<Exact, 5> scales =
-              cell_scales(Exact(point.p), Exact(v0), Exact(m), Exact(k));
-          // MATH.md §12.1: the same α_eff at this cell's δ_u = unit δ_u × length.
-          const Exact alpha =
-              point.solved
-                  ? alpha_of(point.p, *point.beta, point.group,
-                             unit_overlap(point.p) * scales[std::size_t(Dimension::length)])
-                  : point.alpha;
-          plan.cells.push_back({i, v0, m, k, alpha, scales});
-        }
-      }
+    for (const auto [v0, m, k] : scene_scales(scene)) {
+      const std::array<Exact, 5> scales =
+          cell_scales(Exact(point.p), Exact(v0), Exact(m), Exact(k));
+      // MATH.md §12.1: the same α_eff at this cell's δ_u = unit δ_u × length.
+      const Exact alpha =
+          point.solved ? alpha_of(point.p, *point.beta, point.group,
+                                  unit_overlap(point.p) * scales[std::size_t(Dimension::length)])
+                       : point.alpha;
+      plan.cells.push_back({i, v0, m, k, alpha, scales});
     }
   }
   return plan;

@@ -37,7 +37,9 @@ Damping<Real> damping_from_log_e(const Real& log_e) {
   using std::sqrt;
   const Real pi = boost::math::constants::pi<Real>();
   const Real d2 = pi * pi + log_e * log_e;
-  return {-log_e / sqrt(d2), pi * pi / d2};
+  // 0 − ln e, not −ln e: e = 1 gives α_eff = +0, not −0 (which reports printed as "-0" and a
+  // code's adapter refused as a negative α).
+  return {(Real(0) - log_e) / sqrt(d2), pi * pi / d2};
 }
 
 template <SupportedReal Real>

@@ -1,0 +1,208 @@
+// A scene's [[contact]]s from materials (MATH.md §13, scene/contacts.cpp): each contact's m* and k
+// as the command line derives them, its cells its own speeds (never one contact's m with
+// another's k), the truth in SI units against Hertz's formulas written out by hand, claims over
+// the contacts' cells, and every bad contact refused at its line before any work.
+#include "fixtures.hpp"
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include <cmath>
+#include <fstream>
+#include <iterator>
+
+namespace pldamp::harness {
+namespace {
+
+using namespace testing;
+
+// Two equal aluminium spheres (hertz.csv, line 3) at 1 and 2 m/s, and a rubber-like sphere on a
+// rigid wall (line 6) at 2 m/s.
+const std::string two_contacts = R"(name = "contacts"
+want = ["e", "delta_max", "tau", "normal_force"]
+
+[[contact]]
+name = "aluminium pair"
+geometry = "sphere-sphere"
+radius = 0.01
+young = 7e10
+poisson = 0.3
+density = 2700
+v0 = [1.0, 2.0]
+
+[[contact]]
+name = "soft on rigid"
+geometry = "sphere-wall"
+radius = 0.02
+young = 1e7
+poisson = -0.5
+density = 1000
+v0 = 2.0
+
+[grid]
+e = [1.0, 0.5]
+
+[[solver]]
+name = "cvode-bdf"
+rtol = 1e-11
+
+[[claim]]
+name = "cvode-bdf: delta_max within 1e-8 at e = 0.5"
+observable = "delta_max"
+solver = "cvode-bdf"
+rtol = 1e-11
+bound_rel = 1e-8
+e = [0.5]
+)";
+
+double relative(double got, double want) {
+  return std::abs(got - want) / std::abs(want);
+}
+
+TEST(SceneContacts, EachContactIsItsMassAndStiffnessAtItsOwnSpeeds) {
+  const Scene scene = load_scene(write_file("contacts.toml", two_contacts));
+  ASSERT_EQ(scene.contacts.size(), 2u);
+  EXPECT_EQ(scene.p, std::vector<double>{1.5});
+  // Derived in float128 and rounded once: mpmath's values (hertz.csv) to double's rounding.
+  EXPECT_LE(relative(scene.contacts[0].m, 0.005654866776461627829232758089903105191555), 1.2e-16);
+  EXPECT_LE(relative(scene.contacts[0].k, 3626188621.469474484106894164640251483512), 1.2e-16);
+  EXPECT_LE(relative(scene.contacts[1].m, 0.0335103216382911278769348627549813640981), 1.2e-16);
+  EXPECT_LE(relative(scene.contacts[1].k, 2514157.444218835642314113287483907695235), 1.2e-16);
+  EXPECT_LE(relative(scene.contacts[0].rayleigh_time, 0.00001074926843199936423344437853407245417),
+            1.2e-16);
+  EXPECT_EQ(scene.contacts[1].radius_eff, 0.02);
+  // Three cells per damping, each contact's m and k at its speeds: not the 2 × 2 × 2 of a product.
+  const std::vector<CellScale> scales = scene_scales(scene);
+  ASSERT_EQ(scales.size(), 3u);
+  EXPECT_EQ(scales[0].v0, 1.0);
+  EXPECT_EQ(scales[1].v0, 2.0);
+  EXPECT_EQ(scales[2].v0, 2.0);
+  EXPECT_EQ(scales[1].m, scene.contacts[0].m);
+  EXPECT_EQ(scales[2].k, scene.contacts[1].k);
+  const Plan plan = make_plan(scene);
+  EXPECT_EQ(plan.cells.size(), 6u);
+  for (const Cell& cell : plan.cells) {
+    EXPECT_NE(contact_of(scene, cell.m, cell.k), nullptr);
+  }
+}
+
+// report.json and report.md name each contact and its units; the truth at e = 1 is Hertz's, from
+// energy and a Beta function (MATH.md §13), not the closed forms: δ_max = (5 m v0²/(4 k))^(2/5),
+// F_max = k δ_max^(3/2), τ = 2 (δ_max/v0) (2/5) B(2/5, 1/2). The claim's own e is judged over
+// the contacts' cells.
+TEST(SceneContacts, RunReportsEachContactInSIUnits) {
+  const std::string path = write_file("contacts-run.toml", two_contacts);
+  const fs::path out = scratch() / "contacts-run";
+  fs::remove_all(out);
+  const CliRun r = run({"run", path, "--strict", "--out", out.string()});
+  ASSERT_EQ(r.code, 0) << r.err;
+  std::ifstream json_file(out / "report.json");
+  const auto report = nlohmann::json::parse(json_file);
+  const auto& grid = report["scene"]["grid"];
+  ASSERT_EQ(grid["contacts"].size(), 2u);
+  EXPECT_EQ(grid["contacts"][1]["name"], "soft on rigid");
+  EXPECT_EQ(grid["contacts"][0]["v0"], nlohmann::json::array({1.0, 2.0}));
+  EXPECT_EQ(grid["units"]["delta_max"], "m");
+  EXPECT_EQ(grid["units"]["tau"], "s");
+  EXPECT_EQ(grid["units"]["normal_force_max"], "N");
+  EXPECT_EQ(grid["units"]["k"], "N/m^1.5");
+  const double beta = 3.6790939804058;                 // B(2/5, 1/2), mpmath
+  const double two_fifths_beta_twice = 2 * 0.4 * beta; // τ v0/δ_max
+  int checked = 0;
+  for (const auto& record : report["records"]) {
+    ASSERT_TRUE(record.contains("contact")) << record["key"];
+    if (record["damping"] != "e=1") {
+      continue;
+    }
+    const double m = record["m"], k = record["k"], v0 = record["v0"];
+    const double delta_max = std::pow(5 * m * v0 * v0 / (4 * k), 0.4);
+    EXPECT_LE(relative(record["reference"]["delta_max"], delta_max), 1e-14) << record["key"];
+    EXPECT_LE(relative(record["reference"]["normal_force_max"], k * std::pow(delta_max, 1.5)),
+              1e-14)
+        << record["key"];
+    EXPECT_LE(relative(record["reference"]["tau"], two_fifths_beta_twice * delta_max / v0), 1e-13)
+        << record["key"];
+    ++checked;
+  }
+  EXPECT_EQ(checked, 3);
+  const auto& claim = report["claims"][0];
+  EXPECT_EQ(claim["verdict"], "holds");
+  EXPECT_EQ(claim["cells"], 3);
+  std::ifstream md_file(out / "report.md");
+  const std::string md((std::istreambuf_iterator<char>(md_file)), std::istreambuf_iterator<char>());
+  EXPECT_NE(md.find("## Contacts from materials"), std::string::npos);
+  EXPECT_NE(md.find("| aluminium pair | sphere-sphere | 0.005 |"), std::string::npos);
+  EXPECT_NE(md.find("| soft on rigid | 2 | e=1 |"), std::string::npos);
+}
+
+TEST(SceneContacts, ABadContactIsRefusedAtItsLine) {
+  const std::string contact = R"([[contact]]
+name = "c"
+geometry = "sphere-wall"
+radius = 0.01
+young = 7e10
+poisson = 0.3
+density = 2700
+v0 = 1.0
+)";
+  const std::string rest = R"(
+[grid]
+e = [0.5]
+[[solver]]
+name = "cvode-bdf"
+rtol = 1e-8
+)";
+  auto with = [&](const std::string& from, const std::string& to) {
+    std::string text = contact;
+    text.replace(text.find(from), from.size(), to);
+    return text + rest;
+  };
+  const std::vector<std::pair<std::string, std::string>> cases{
+      {with("poisson = 0.3", "poisson = 0.5"),
+       "1: [[contact]] c: poisson must be in (-1, 0.5) (got 0.5)"},
+      {with("radius = 0.01", "radius = -0.01"),
+       "1: [[contact]] c: radius must be a finite number > 0 (got -0.01)"},
+      {with("radius = 0.01", "radius = [0.01, 0.02]"),
+       "1: [[contact]] c: radius takes one value (the sphere's; the wall has none) (got radius "
+       "0.01,0.02)"},
+      {with("young = 7e10", "young = [7e10, 2e11]"),
+       "1: [[contact]] c: an elastic wall takes a second young and a second poisson (got young "
+       "7e+10,2e+11 poisson 0.3)"},
+      {with("sphere-wall", "sphere-plane"),
+       "1: [[contact]] c: unknown geometry, expected sphere-sphere|sphere-wall (got sphere-plane)"},
+      {with("density = 2700\n", ""), "1: [[contact]] needs density"},
+      {with("v0 = 1.0", "v0 = 0.0"), "8: v0 must be in [1e-30, 1e30] (got 0)"},
+      {contact + with("", ""), "9: [[contact]] names c twice"},
+      {with("v0 = 1.0\n", "v0 = 1.0\nmass = 2\n"),
+       "9: unknown key in [[contact]], expected "
+       "name|geometry|radius|young|poisson|density|v0 (got mass)"},
+  };
+  for (std::size_t i = 0; i < cases.size(); ++i) {
+    const std::string path =
+        write_file("bad-contact" + std::to_string(i) + ".toml", cases[i].first);
+    const CliRun r = run({"run", path, "--out", (scratch() / "bad-contact-out").string()});
+    EXPECT_EQ(r.code, 2) << i;
+    EXPECT_EQ(r.err, path + ":" + cases[i].second + "\n") << i;
+  }
+  // The grid's and a claim's scales are the contacts'.
+  const std::string grid_v0 = contact + "\n[grid]\ne = [0.5]\nv0 = [1.0]\n[[solver]]\nname = "
+                                        "\"cvode-bdf\"\n";
+  const std::string path = write_file("bad-contact-grid.toml", grid_v0);
+  const CliRun r = run({"run", path, "--out", (scratch() / "bad-contact-out").string()});
+  EXPECT_EQ(r.code, 2);
+  EXPECT_EQ(r.err, path +
+                       ":12: [grid] v0: a scene with [[contact]] takes p = 1.5, v0, m and k from "
+                       "its contacts\n");
+  const std::string claim_k = contact + rest +
+                              "[[claim]]\nname = \"x\"\nobservable = \"e\"\nsolver = "
+                              "\"cvode-bdf\"\nbound_rel = 1e-6\nk = [2.0]\n";
+  const std::string claim_path = write_file("bad-contact-claim.toml", claim_k);
+  const CliRun c = run({"run", claim_path, "--out", (scratch() / "bad-contact-out").string()});
+  EXPECT_EQ(c.code, 2);
+  EXPECT_EQ(c.err, claim_path +
+                       ":20: k: a scene with [[contact]] takes p = 1.5, v0, m and k from its "
+                       "contacts (a claim or search may choose e, alpha or alpha_eff)\n");
+}
+
+} // namespace
+} // namespace pldamp::harness
