@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <map>
+#include <sstream>
 
 namespace pldamp::harness {
 namespace {
@@ -14,6 +15,19 @@ namespace {
 // The observables the truth table shows, in its order, with their units.
 constexpr std::array<std::pair<std::string_view, std::string_view>, 4> shown_observables{
     {{"delta_max", "δ_max [m]"}, {"normal_force_max", "F_max [N]"}, {"tau", "τ [s]"}, {"e", "e"}}};
+
+// What a configuration's label adds to its line: "n=50", "rtol=1e-08" (empty: a lone one).
+std::string sweep_value(const SolverConfig& config) {
+  const std::string line = config.line();
+  std::string added;
+  std::istringstream words(config.label());
+  for (std::string word; words >> word;) {
+    if (line.find(word) == std::string::npos) {
+      added += (added.empty() ? "" : " ") + word;
+    }
+  }
+  return added;
+}
 
 } // namespace
 
@@ -50,8 +64,26 @@ MapTable contact_truth_table(const RunReport& report) {
       table.header.emplace_back(header);
     }
   }
-  for (const SolverConfig& config : plan.configs) {
-    table.header.push_back(config.label());
+  // One column per solver line (a configuration without its sweep value), its configurations'
+  // errors "/"-separated in sweep order: the table stays as wide as the solvers, not their sweeps.
+  std::vector<std::string> lines;
+  std::vector<std::vector<std::size_t>> configs_of_line;
+  for (std::size_t k = 0; k < plan.configs.size(); ++k) {
+    const std::string line = plan.configs[k].line();
+    const auto at = std::find(lines.begin(), lines.end(), line);
+    if (at == lines.end()) {
+      lines.push_back(line);
+      configs_of_line.push_back({k});
+    } else {
+      configs_of_line[static_cast<std::size_t>(at - lines.begin())].push_back(k);
+    }
+  }
+  for (std::size_t l = 0; l < lines.size(); ++l) {
+    std::string sweep;
+    for (const std::size_t k : configs_of_line[l]) {
+      sweep += (sweep.empty() ? "" : " / ") + sweep_value(plan.configs[k]);
+    }
+    table.header.push_back(lines[l] + (sweep.empty() ? "" : " (" + sweep + ")"));
   }
   std::map<std::pair<std::size_t, std::size_t>, const Record*> by_cell; // (cell, config)
   for (const Record& record : report.records) {
@@ -70,26 +102,31 @@ MapTable contact_truth_table(const RunReport& report) {
       const std::optional<Exact> truth = reference_at(plan, cell, o, scene_end);
       row.push_back(truth ? short_number(static_cast<double>(*truth), 4) : "–");
     }
-    for (std::size_t k = 0; k < plan.configs.size(); ++k) {
-      const auto found = by_cell.find({c, k});
-      if (found == by_cell.end()) {
-        row.emplace_back("–");
-        continue;
-      }
-      const Record& record = *found->second;
-      if (record.skipped()) {
-        row.emplace_back("skipped");
-      } else if (record.failed()) {
-        row.emplace_back(std::string(record.outcome_name()));
-      } else {
-        std::optional<double> worst;
-        for (const std::size_t o : columns) {
-          if (record.rel_error[o] && (!worst || *record.rel_error[o] > *worst)) {
-            worst = record.rel_error[o];
-          }
+    for (const std::vector<std::size_t>& configs : configs_of_line) {
+      std::string text;
+      for (const std::size_t k : configs) {
+        text += text.empty() ? "" : " / ";
+        const auto found = by_cell.find({c, k});
+        if (found == by_cell.end()) {
+          text += "–";
+          continue;
         }
-        row.push_back(short_number(worst));
+        const Record& record = *found->second;
+        if (record.skipped()) {
+          text += "skipped";
+        } else if (record.failed()) {
+          text += record.outcome_name();
+        } else {
+          std::optional<double> worst;
+          for (const std::size_t o : columns) {
+            if (record.rel_error[o] && (!worst || *record.rel_error[o] > *worst)) {
+              worst = record.rel_error[o];
+            }
+          }
+          text += short_number(worst);
+        }
       }
+      row.push_back(text);
     }
     table.rows.push_back(std::move(row));
   }
@@ -103,9 +140,9 @@ std::string contacts_note(const RunReport& report) {
       "to double once; a wall's mass and radius are infinite, a wall without a modulus rigid. "
       "The Rayleigh time is π R √(ρ/G)/(0.1631 ν + 0.8766), the smaller sphere's. The second table "
       "gives, at each contact, speed and damping, the closed forms under the scene's end ({}) in "
-      "SI units, then each configuration's largest relative error over those observables there "
-      "(under its own end: a configuration with end=force is compared with the force-end "
-      "truth).",
+      "SI units, then per solver its configurations' largest relative error over those "
+      "observables there, in the order its header lists them (each under its own end: one with "
+      "end=force is compared with the force-end truth).",
       precision_name<Exact>(), name_of(contact_ends, report.plan.scene.end));
 }
 

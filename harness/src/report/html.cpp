@@ -371,6 +371,8 @@ std::string report_html(const RunReport& report, const std::string& gnuplot_prog
          // The claim table's words wrap, left-aligned; its numbers stay on one line.
          "table.claims td{text-align:left;white-space:normal;vertical-align:top}"
          "table.wrap td{text-align:left;white-space:normal;vertical-align:top}"
+         // A wide table of numbers: its headers wrap, its rows stay on one line.
+         "table.headwrap th{white-space:normal;vertical-align:bottom}"
          "table.claims td.number{text-align:right;white-space:nowrap}"
          "ul.claims{max-width:75em;line-height:1.35}ul.claims li{margin:0.4em 0}"
          "@media print{body{margin:0;max-width:none}figure{break-inside:avoid}"
@@ -387,7 +389,7 @@ std::string report_html(const RunReport& report, const std::string& gnuplot_prog
   }
   if (!plan.scene.contacts.empty()) {
     out << "<h2>Contacts from materials</h2>\n"
-        << html_table(contacts_table(report)) << html_table(contact_truth_table(report), "wrap")
+        << html_table(contacts_table(report)) << html_table(contact_truth_table(report), "headwrap")
         << "<p>" << escape(contacts_note(report)) << "</p>\n";
   }
   if (!budgets.claims.empty()) {
