@@ -122,23 +122,29 @@ TEST(Flags, EveryCalibrateFlagChangesItsAnswer) {
   const Args viscoelastic{"calibrate", "--code", "lammps-hertz-history", "--p", "1.5",
                           "--e",       "0.9"};
   check_rows("calibrate",
-             {{"--p", seed, {"calibrate", "--p", "2", "--e", "0.5"}, ""},
-              {"--e", seed, {"calibrate", "--p", "1.5", "--e", "0.6"}, ""},
-              {"--end", seed, with(seed, {"--end", "force"}), ""},
-              {"--precision", seed, with(seed, {"--precision", "quad"}), ""},
-              {"--json", seed, with(seed, {"--json"}), ""},
-              {"--code", seed, tsuji, ""},
-              {"--limit-damping", tsuji, with(tsuji, {"--limit-damping"}), ""},
-              {"--v0", viscoelastic, with(viscoelastic, {"--v0", "2"}), ""},
-              {"--m", viscoelastic, with(viscoelastic, {"--m", "2"}), ""},
-              {"--k", viscoelastic, with(viscoelastic, {"--k", "3"}), ""},
-              {"--speeds", viscoelastic, with(viscoelastic, {"--speeds", "1,3"}), ""},
-              {"--reff", viscoelastic, with(viscoelastic, {"--reff", "4"}), ""}},
+             joined(material_rows({"calibrate", "--code", "lammps-hertz-history", "--e", "0.9"},
+                                  {"--json"}),
+                    {{"--p", seed, {"calibrate", "--p", "2", "--e", "0.5"}, ""},
+                     {"--e", seed, {"calibrate", "--p", "1.5", "--e", "0.6"}, ""},
+                     {"--end", seed, with(seed, {"--end", "force"}), ""},
+                     {"--precision", seed, with(seed, {"--precision", "quad"}), ""},
+                     {"--json", seed, with(seed, {"--json"}), ""},
+                     {"--code", seed, tsuji, ""},
+                     {"--limit-damping", tsuji, with(tsuji, {"--limit-damping"}), ""},
+                     {"--v0", viscoelastic, with(viscoelastic, {"--v0", "2"}), ""},
+                     {"--m", viscoelastic, with(viscoelastic, {"--m", "2"}), ""},
+                     {"--k", viscoelastic, with(viscoelastic, {"--k", "3"}), ""},
+                     {"--speeds", viscoelastic, with(viscoelastic, {"--speeds", "1,3"}), ""},
+                     {"--reff", viscoelastic, with(viscoelastic, {"--reff", "4"}), ""}}),
              [](const Args& args) { return shown(run(args)); });
   // Without a velocity-dependent code they would change nothing: refused.
   for (const char* flag : {"--v0", "--m", "--k", "--reff"}) {
     EXPECT_EQ(run(with(seed, {flag, "2"})).code, 2) << flag;
   }
+  EXPECT_EQ(run(with({"calibrate", "--e", "0.5", "--geometry", "sphere-wall"},
+                     {"--radius", "1", "--young", "1", "--poisson", "0", "--density", "1"}))
+                .code,
+            2);
 }
 
 TEST(Flags, EveryObservablesFlagChangesItsAnswer) {

@@ -173,6 +173,37 @@ TEST(Materials, TimestepTakesMaterials) {
                        "one or the other (got --m 2)\n");
 }
 
+// A velocity-dependent code's calibration depends on m, k and LAMMPS's Reff: from materials they
+// are m*, k and R*, the same entry as typed by hand; the seed's codes do not depend on the
+// contact, so materials are refused there as --m is.
+TEST(Materials, CalibrateTakesMaterialsForAVelocityDependentCode) {
+  const std::vector<std::string> tail{"--code", "lammps-hertz-history", "--e", "0.9", "--v0", "2",
+                                      "--json"};
+  const CliRun r = run(with({"calibrate"}, aluminium, tail));
+  ASSERT_EQ(r.code, 0) << r.err;
+  const CliRun by_hand = run(with({"calibrate", "--p", "1.5", "--m", raw_number(r.out, "m"), "--k",
+                                   raw_number(r.out, "k"), "--reff", "0.005"},
+                                  {}, tail));
+  ASSERT_EQ(by_hand.code, 0) << by_hand.err;
+  for (const char* key : {"alpha", "alpha_eff", "entry"}) {
+    EXPECT_EQ(raw_number(r.out, key), raw_number(by_hand.out, key)) << key;
+  }
+  const auto json = nlohmann::json::parse(r.out);
+  EXPECT_EQ(json["R_eff"].get<double>(), 0.005);
+  EXPECT_EQ(json["units"]["v0"], "m/s");
+  const CliRun seed =
+      run(with({"calibrate", "--code", "lammps-tsuji", "--e", "0.9"}, aluminium, {}));
+  EXPECT_EQ(seed.code, 2);
+  EXPECT_EQ(seed.err,
+            "error: --geometry goes with a velocity-dependent --code "
+            "(lammps-viscoelastic|lammps-hertz-history|lammps-mass-velocity): the seed's "
+            "alpha for an e does not depend on v0, m or k (got --geometry sphere-sphere)\n");
+  const CliRun reff = run(with({"calibrate", "--reff", "0.005"}, aluminium, tail));
+  EXPECT_EQ(reff.code, 2);
+  EXPECT_EQ(reff.err, "error: --reff is R* under --geometry, derived from the radii (got --reff "
+                      "0.005)\n");
+}
+
 TEST(Materials, BadInputIsOneLineAndExitTwo) {
   auto observables = [](std::vector<std::string> materials) {
     return with({"observables"}, materials, {"--e", "0.5", "--v0", "1"});

@@ -50,12 +50,11 @@ void add_contact_options(CLI::App& command, ContactArgs& a, bool calibrate_only)
   command.add_option("--end", a.end, "contact end: overlap (delta = 0) or force (F = 0)");
   command.add_option("--precision", a.precision, precision_choices());
   command.add_flag("--json", a.json, "one JSON object instead of key/value lines");
-  if (calibrate_only) {
-    p->required();
-    return;
-  }
   p->description("force-law exponent, p >= 1 (1.5 under --geometry)");
   add_material_options(command, a);
+  if (calibrate_only) {
+    return;
+  }
   command.add_option("--alpha", a.alpha, "damping coefficient alpha >= 0");
   command.add_option("--alpha-eff", a.alpha_eff, "effective damping ratio alpha_eff >= 0");
   command.add_option("--damping-exponent", a.damping_exponent,
@@ -281,7 +280,8 @@ int run_cli(int argc, const char* const* argv, std::ostream& out, std::ostream& 
       throw InputError(describe(e, app, arguments));
     }
     if (calibrate->parsed()) {
-      for (const char* option : {"--v0", "--m", "--k", "--speeds", "--reff"}) {
+      settle_material_options(*calibrate, calibrate_args);
+      for (const char* option : {"--geometry", "--v0", "--m", "--k", "--speeds", "--reff"}) {
         if (const CLI::Option* given = calibrate->get_option(option); given->count() > 0) {
           calibrate_args.speed_options_given.push_back(std::string(option) + " " +
                                                        CLI::detail::join(given->results(), ","));

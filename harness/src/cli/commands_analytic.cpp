@@ -128,9 +128,17 @@ void calibrate_velocity_dependent(const ContactArgs& args, const VelocityDepende
   const double e = parse_real<double>("--e", *args.e);
   require_finite("e", e);
   require(e > 0 && e <= 1, "e must be in (0, 1]", e);
-  const double v0 = parse_real<double>("--v0", args.v0), m = parse_real<double>("--m", args.m),
-               k = parse_real<double>("--k", args.k),
-               reff = parse_real<double>("--reff", args.reff);
+  // From materials: m*, k and R* (MATH.md §13), the Reff LAMMPS divides its entry by.
+  const std::optional<analytic::HertzContact<double>> hertz = hertz_of<double>(args);
+  if (hertz &&
+      std::any_of(args.speed_options_given.begin(), args.speed_options_given.end(),
+                  [](const std::string& given) { return given.rfind("--reff", 0) == 0; })) {
+    throw InputError("--reff is R* under --geometry, derived from the radii (got --reff " +
+                     args.reff + ")");
+  }
+  const auto [m, k] = mass_and_stiffness<double>(args);
+  const double v0 = parse_real<double>("--v0", args.v0),
+               reff = hertz ? hertz->radius : parse_real<double>("--reff", args.reff);
   domain::require_scale("v0", v0);
   domain::require_scale("m", m);
   domain::require_scale("k", k);
@@ -167,6 +175,11 @@ void calibrate_velocity_dependent(const ContactArgs& args, const VelocityDepende
   o["alpha_eff"] = exact_number(static_cast<double>(*group));
   o["entry"] = exact_number(entry);
   o["entry_is"] = code.parameter;
+  if (hertz) {
+    o["m"] = exact_number(m);
+    o["k"] = exact_number(k);
+    describe_materials<double>(args, o);
+  }
   Answer curve = Answer::array();
   for (const double speed : speeds) {
     const Exact at = group_of(p, code.beta, alpha, overlap_scale(speed));
@@ -181,6 +194,9 @@ void calibrate_velocity_dependent(const ContactArgs& args, const VelocityDepende
   }
   o["e_of_v0"] = curve;
   o["source"] = code.source;
+  if (hertz) {
+    add_units(o);
+  }
   emit(o, args.json, out);
 }
 

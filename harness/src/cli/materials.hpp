@@ -114,7 +114,8 @@ inline void add_units(Answer& o) {
                                                                       {"t_rayleigh", "s"},
                                                                       {"range", "[s, s]"},
                                                                       {"wall_seconds", "s"},
-                                                                      {"samples", "[s, m, m/s]"}};
+                                                                      {"samples", "[s, m, m/s]"},
+                                                                      {"e_of_v0", "v0 [m/s]"}};
   Answer table = Answer::object();
   for (const auto& [key, unit] : units) {
     if (o.contains(key)) {
