@@ -2,7 +2,9 @@
 // as the command line derives them, its cells its own speeds (never one contact's m with
 // another's k), the truth in SI units against Hertz's formulas written out by hand, claims over
 // the contacts' cells, and every bad contact refused at its line before any work.
+#include "cli/commands.hpp"
 #include "fixtures.hpp"
+#include "sampled_trajectories.hpp"
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
@@ -10,6 +12,7 @@
 #include <cmath>
 #include <fstream>
 #include <iterator>
+#include <numbers>
 
 namespace pldamp::harness {
 namespace {
@@ -202,6 +205,67 @@ rtol = 1e-8
   EXPECT_EQ(c.err, claim_path +
                        ":20: k: a scene with [[contact]] takes p = 1.5, v0, m and k from its "
                        "contacts (a claim or search may choose e, alpha or alpha_eff)\n");
+}
+
+// A [[trajectory]] names a [[contact]] for its p, m and k: what `pldamp check` gives for the same
+// file from the same materials, row for row (to the rounding of m* and k).
+TEST(SceneContacts, ATrajectoryTakesItsContactFromTheScene) {
+  // The steel contact's closed-form trajectory, sampled 200 times a contact (m* and k as the
+  // scene derives them: read back below).
+  const double m = 4.0 / 3 * std::numbers::pi * 0.005 * 0.005 * 0.005 * 7850;
+  const double k = 4.0 / 3 * 2.1e11 / (1 - 0.29 * 0.29) * std::sqrt(0.005);
+  const std::string file = write_file(
+      "steel.csv",
+      testing::csv_of(testing::sampled_contact(
+          analytic::Contact<double>::from_e(1.5, 0.5, 1.0, m, k), 200, 0.3, true, false)));
+  const std::string contact = R"([[contact]]
+name = "steel"
+geometry = "sphere-wall"
+radius = 0.005
+young = 2.1e11
+poisson = 0.29
+density = 7850
+v0 = 1.0
+[grid]
+e = [0.5]
+[[trajectory]]
+contact = "steel"
+e = 0.5
+v0 = 1.0
+file = ")" + file + "\"\n";
+  const Scene scene = parse_scene(contact, "/x/s.toml");
+  ASSERT_EQ(scene.trajectories.size(), 1u);
+  EXPECT_EQ(scene.trajectories[0].p, 1.5);
+  EXPECT_EQ(scene.trajectories[0].m, scene.contacts[0].m);
+  EXPECT_EQ(scene.trajectories[0].k, scene.contacts[0].k);
+  const TrajectoryCheck checked = check_trajectory(scene.trajectories[0], scene.end);
+  ASSERT_TRUE(checked.failure.empty()) << checked.failure;
+  const CliRun cli =
+      run({"check", file, "--geometry", "sphere-wall", "--radius", "0.005", "--young", "2.1e11",
+           "--poisson", "0.29", "--density", "7850", "--e", "0.5", "--v0", "1", "--json"});
+  ASSERT_EQ(cli.code, 0) << cli.err;
+  const nlohmann::json json = nlohmann::json::parse(cli.out);
+  ASSERT_FALSE(checked.rows.empty());
+  for (const TrajectoryRow& row : checked.rows) {
+    ASSERT_TRUE(row.truth) << row.key;
+    // The command line derives m* and k in double, the scene in float128 rounded once: a few
+    // roundings apart.
+    EXPECT_LE(relative(*row.truth, json[row.key]["truth"].get<double>()), 2e-15) << row.key;
+  }
+  for (const auto& [entry, message] : std::vector<std::pair<std::string, std::string>>{
+           {"contact = \"iron\"", "12: [[trajectory]] contact names no [[contact]] of the scene "
+                                  "(got iron)"},
+           {"contact = \"steel\"\nk = 2.0", "13: [[trajectory]] k is the contact's (steel): give "
+                                            "one or the other"}}) {
+    std::string text = contact;
+    text.replace(text.find("contact = \"steel\""), 17, entry);
+    try {
+      parse_scene(text, "/x/s.toml");
+      ADD_FAILURE() << entry;
+    } catch (const SceneError& e) {
+      EXPECT_EQ(std::string(e.what()), "/x/s.toml:" + message);
+    }
+  }
 }
 
 } // namespace

@@ -169,8 +169,27 @@ void read_trajectories(const Reader& reader, const toml::node& node, Scene& scen
     const toml::table& entry = reader.table(item, "[[trajectory]]");
     reader.only(entry, {scene_keys::trajectory}, "[[trajectory]]");
     TrajectorySpec spec;
+    // A [[contact]] of the scene by name: its p = 1.5, m* and k, in place of p, m and k.
+    const MaterialContact* contact = nullptr;
+    if (const toml::node* name = entry.get("contact")) {
+      const std::string wanted = reader.string(*name, "contact");
+      for (const MaterialContact& known : scene.contacts) {
+        contact = known.name == wanted ? &known : contact;
+      }
+      if (contact == nullptr) {
+        reader.fail(*name, "[[trajectory]] contact names no [[contact]] of the scene (got " +
+                               wanted + ")");
+      }
+      for (const char* key : {"p", "m", "k"}) {
+        if (const toml::node* given = entry.get(key)) {
+          reader.fail(*given, std::string("[[trajectory]] ") + key + " is the contact's (" +
+                                  contact->name + "): give one or the other");
+        }
+      }
+    }
     for (const char* key : {"file", "p", "v0"}) {
-      if (entry.get(key) == nullptr) {
+      if (entry.get(key) == nullptr && (contact == nullptr || key == std::string_view("file") ||
+                                        key == std::string_view("v0"))) {
         reader.fail(item, std::string("[[trajectory]] needs ") + key);
       }
     }
@@ -193,8 +212,15 @@ void read_trajectories(const Reader& reader, const toml::node& node, Scene& scen
       reader.fail(item, "[[trajectory]] needs exactly one of e, alpha and alpha_eff");
     }
     // The values' own refusals at their lines, the domain's at the entry's.
+    if (contact != nullptr) {
+      spec.p = 1.5;
+      spec.m = contact->m;
+      spec.k = contact->k;
+    }
     reader.within_domain(item, [&] {
-      spec.p = reader.number(*entry.get("p"), "p");
+      if (contact == nullptr) {
+        spec.p = reader.number(*entry.get("p"), "p");
+      }
       domain::require_p(spec.p);
       spec.v0 = reader.number(*entry.get("v0"), "v0");
       for (auto [key, value] :

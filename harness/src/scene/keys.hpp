@@ -90,7 +90,7 @@ inline constexpr auto restitution_figure =
     std::to_array<std::string_view>({"kind", "p", "alpha_eff"});
 
 inline constexpr auto trajectory = std::to_array<std::string_view>(
-    {"file", "label", "p", "e", "alpha", "alpha_eff", "v0", "m", "k", "end"});
+    {"file", "label", "contact", "p", "e", "alpha", "alpha_eff", "v0", "m", "k", "end"});
 
 inline constexpr auto report = std::to_array<std::string_view>({"formats", "work_precision"});
 inline constexpr auto timing = std::to_array<std::string_view>({"repeats"});
