@@ -12,10 +12,11 @@ cd "$(dirname "$0")/.."
 # Debian 12 packages; README "Dependencies" says why each is here. The tests also render
 # report.html in a browser: chromium and libpng for them only; the fuzzing step needs Clang and
 # its libFuzzer (clang, libclang-rt-14-dev); the external-solver tests run the adapters (Python)
-# against the real LAMMPS, LIGGGHTS and YADE (python3, lammps, liggghts, yade).
+# against the real LAMMPS, LIGGGHTS and YADE (python3, lammps, liggghts, yade). The Python module
+# (python/) is built with the rest: python3-dev, python3-numpy, pybind11-dev; its tests use pytest.
 packages=(cmake make g++ ccache libboost-dev libsundials-dev libcli11-dev libfmt-dev nlohmann-json3-dev libgtest-dev
-  libbenchmark-dev libtomlplusplus-dev gnuplot-nox clang-format)
-test_packages=(chromium libpng-dev clang libclang-rt-14-dev python3 lammps liggghts yade)
+  libbenchmark-dev libtomlplusplus-dev gnuplot-nox clang-format python3-dev python3-numpy pybind11-dev)
+test_packages=(chromium libpng-dev clang libclang-rt-14-dev python3 python3-pytest lammps liggghts yade)
 
 install_missing() { # install_missing PACKAGE...
   local missing=() p

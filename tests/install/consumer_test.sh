@@ -2,9 +2,10 @@
 # The installed package as its users get it (docs/api.md): `cmake --install` into a prefix, the
 # prefix moved elsewhere (the package is relocatable), its headers including nothing but the
 # standard library, Boost and pldamp, and examples/cmake-consumer configured, built and tested
-# against the moved tree alone.
+# against the moved tree alone; with PLDAMP_PYTHON set (the build has the Python module), the
+# installed module imported from the moved prefix's site directory.
 #
-#   tests/install/consumer_test.sh BUILD_DIR SOURCE_DIR
+#   [PLDAMP_PYTHON=python3] tests/install/consumer_test.sh BUILD_DIR SOURCE_DIR
 set -eu
 build=$1
 source=$2
@@ -27,3 +28,8 @@ cmake -S "$source/examples/cmake-consumer" -B "$work/consumer" -DCMAKE_BUILD_TYP
   -DCMAKE_PREFIX_PATH="$work/moved" ${CMAKE_CXX_COMPILER_LAUNCHER:+-DCMAKE_CXX_COMPILER_LAUNCHER=$CMAKE_CXX_COMPILER_LAUNCHER} > /dev/null
 cmake --build "$work/consumer" -j2
 ctest --test-dir "$work/consumer" --output-on-failure
+
+if [ -n "${PLDAMP_PYTHON:-}" ]; then
+  site=$(ls -d "$work"/moved/lib/python3*/site-packages)
+  PYTHONPATH="$site" "$PLDAMP_PYTHON" -c 'import pldamp; print(pldamp.observables(p=1.5, e=0.5, v0=1.0)["delta_max"])'
+fi

@@ -6,6 +6,7 @@
 #include "cli/commands.hpp"
 #include "cli/materials.hpp"
 #include "common/answer.hpp"
+#include "truth/plan.hpp"
 #include "truth/reference_solve.hpp"
 
 #include "pldamp/analytic.hpp"
@@ -67,7 +68,17 @@ Answer describe(const analytic::Contact<Real>& c, const ContactArgs& a) {
   o["m"] = exact_number(c.m());
   o["k"] = exact_number(c.k());
   o["v0"] = exact_number(c.v0());
+  // α as `calibrate` gives it (seed_alpha: formed in float128 and rounded once) where it is
+  // derived from --e or --alpha-eff; the contact's own product α_eff · √(2(p+1)) in Real was one
+  // ulp off that (e = 0.5, p = 1.5: ...660 against ...657), and two commands printed two α.
   o["alpha"] = exact_number(c.alpha());
+  if (a.e || a.alpha_eff) {
+    const Damping::Kind kind = a.e ? Damping::Kind::e : Damping::Kind::alpha_eff;
+    o["alpha"] = exact_number(seed_alpha<Real>(c.p(), kind,
+                                               parse_real<Real>(a.e ? "--e" : "--alpha-eff",
+                                                                a.e ? *a.e : *a.alpha_eff),
+                                               parse_end(a.end)));
+  }
   o["alpha_eff"] = exact_number(c.alpha_eff());
   describe_materials<Real>(a, o);
   return o;

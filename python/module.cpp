@@ -1,0 +1,207 @@
+// _pldamp, the compiled half of the Python module `pldamp` (docs/python.md; python/pldamp holds the
+// other half). Two doors in: the command line itself, run in-process (every function of the
+// module but the vectorised ones goes through it, so its answers, precisions and refusals are the
+// command line's, word for word), and the closed forms in double over numpy arrays, evaluated
+// element by element in C++ with the GIL released.
+#include "pldamp/analytic.hpp"
+#include "pldamp/harness/cli.hpp"
+
+#include <pybind11/numpy.h>
+#include <pybind11/pybind11.h>
+#include <pybind11/stl.h>
+
+#include <cstddef>
+#include <limits>
+#include <optional>
+#include <sstream>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+namespace py = pybind11;
+
+namespace {
+
+using pldamp::analytic::Contact;
+using pldamp::analytic::ContactEnd;
+
+// `pldamp ARGS...` in-process: (exit code, standard output, standard error).
+py::tuple cli(const std::vector<std::string>& args) {
+  std::vector<const char*> argv{"pldamp"};
+  for (const std::string& arg : args) {
+    argv.push_back(arg.c_str());
+  }
+  std::ostringstream out, err;
+  int code = 0;
+  {
+    py::gil_scoped_release unlocked; // a scene's run may take minutes on its own threads
+    code = pldamp::harness::run_cli(static_cast<int>(argv.size()), argv.data(), out, err);
+  }
+  return py::make_tuple(code, out.str(), err.str());
+}
+
+// The observables a vectorised call computes, by name, and what each needs.
+struct Column {
+  const char* key;
+  unsigned want;
+  std::optional<double> pldamp::analytic::Observables<double>::*member;
+};
+const Column columns[] = {
+    {"e", pldamp::analytic::want_e, &pldamp::analytic::Observables<double>::e},
+    {"delta_max", pldamp::analytic::want_delta_max,
+     &pldamp::analytic::Observables<double>::delta_max},
+    {"t_peak", pldamp::analytic::want_t_peak, &pldamp::analytic::Observables<double>::t_peak},
+    {"tau", pldamp::analytic::want_tau, &pldamp::analytic::Observables<double>::tau},
+    {"tau0", pldamp::analytic::want_tau, &pldamp::analytic::Observables<double>::tau0},
+    {"energy_load", pldamp::analytic::want_energy,
+     &pldamp::analytic::Observables<double>::energy_load},
+    {"energy_unload", pldamp::analytic::want_energy,
+     &pldamp::analytic::Observables<double>::energy_unload},
+    {"spring_force_max", pldamp::analytic::want_spring_force_max,
+     &pldamp::analytic::Observables<double>::spring_force_max},
+    {"normal_force_max", pldamp::analytic::want_normal_force,
+     &pldamp::analytic::Observables<double>::normal_force_max},
+    {"t_normal_force_max", pldamp::analytic::want_normal_force,
+     &pldamp::analytic::Observables<double>::t_normal_force_max},
+    {"dt_crit", pldamp::analytic::want_dt_crit, &pldamp::analytic::Observables<double>::dt_crit},
+    {"dt_tangent", pldamp::analytic::want_dt_crit,
+     &pldamp::analytic::Observables<double>::dt_tangent},
+    {"e_cap", pldamp::analytic::want_capped, &pldamp::analytic::Observables<double>::e_cap},
+    {"t_cut", pldamp::analytic::want_capped, &pldamp::analytic::Observables<double>::t_cut},
+};
+
+const Column& column(const std::string& key) {
+  for (const Column& c : columns) {
+    if (key == c.key) {
+      return c;
+    }
+  }
+  std::ostringstream message;
+  message << "unknown observable in want, expected a list of ";
+  for (std::size_t i = 0; i < std::size(columns); ++i) {
+    message << (i == 0 ? "" : ",") << columns[i].key;
+  }
+  message << " (got " << key << ")";
+  throw std::invalid_argument(message.str());
+}
+
+using Array = py::array_t<double, py::array::c_style | py::array::forcecast>;
+
+// The closed forms over flat arrays of one length (python/pldamp broadcasts them): `damping_kind`
+// is e, alpha or alpha_eff; `end` overlap or force (a target e met where the force ends). Returns
+// alpha, alpha_eff and each wanted observable, NaN where it does not exist (an overdamped
+// contact's τ). A value outside the domain raises ValueError naming the element.
+py::dict observables_double(const Array& p, const std::string& damping_kind, const Array& damping,
+                            const Array& v0, const Array& m, const Array& k, const std::string& end,
+                            const std::vector<std::string>& want) {
+  const auto n = static_cast<std::size_t>(p.size());
+  for (const Array* a : {&damping, &v0, &m, &k}) {
+    if (static_cast<std::size_t>(a->size()) != n) {
+      throw std::invalid_argument("the arrays must have one length (broadcast them first)");
+    }
+  }
+  if (damping_kind != "e" && damping_kind != "alpha" && damping_kind != "alpha_eff") {
+    throw std::invalid_argument("the damping is e, alpha or alpha_eff (got " + damping_kind + ")");
+  }
+  if (end != "overlap" && end != "force") {
+    throw std::invalid_argument("unknown end, expected overlap|force (got " + end + ")");
+  }
+  std::vector<const Column*> wanted;
+  unsigned bits = 0;
+  for (const std::string& key : want) {
+    wanted.push_back(&column(key));
+    bits |= wanted.back()->want;
+  }
+  std::vector<Array> out; // alpha, alpha_eff, then the wanted: each its own buffer
+  std::vector<double*> into;
+  for (std::size_t j = 0; j < wanted.size() + 2; ++j) {
+    out.emplace_back(static_cast<py::ssize_t>(n));
+    into.push_back(out.back().mutable_data());
+  }
+  const double *ps = p.data(), *ds = damping.data(), *vs = v0.data(), *ms = m.data(),
+               *ks = k.data();
+  std::string failure;
+  {
+    py::gil_scoped_release unlocked;
+    for (std::size_t i = 0; i < n && failure.empty(); ++i) {
+      try {
+        const Contact<double> c =
+            damping_kind == "e"
+                ? Contact<double>::from_e(ps[i], ds[i], vs[i], ms[i], ks[i],
+                                          end == "force" ? ContactEnd::force : ContactEnd::overlap)
+            : damping_kind == "alpha"
+                ? Contact<double>::from_alpha(ps[i], ds[i], vs[i], ms[i], ks[i])
+                : Contact<double>::from_alpha_eff(ps[i], ds[i], vs[i], ms[i], ks[i]);
+        const pldamp::analytic::Observables<double> o = pldamp::analytic::observables(c, bits);
+        into[0][i] = c.alpha();
+        into[1][i] = c.alpha_eff();
+        for (std::size_t j = 0; j < wanted.size(); ++j) {
+          into[j + 2][i] =
+              (o.*(wanted[j]->member)).value_or(std::numeric_limits<double>::quiet_NaN());
+        }
+      } catch (const std::exception& e) {
+        std::ostringstream message;
+        message << e.what() << " at element " << i;
+        failure = message.str();
+      }
+    }
+  }
+  if (!failure.empty()) {
+    throw std::invalid_argument(failure);
+  }
+  py::dict result;
+  result["alpha"] = out[0];
+  result["alpha_eff"] = out[1];
+  for (std::size_t j = 0; j < wanted.size(); ++j) {
+    result[wanted[j]->key] = out[j + 2];
+  }
+  return result;
+}
+
+// δ(t) and v(t) of one contact from the closed form (MATH.md §5), in double, at each of `t`:
+// before the contact (t < 0) and after it (t ≥ τ, the overlap end) the free flight at v0 and at
+// −e v0.
+py::tuple trajectory_double(double p, const std::string& damping_kind, double damping, double v0,
+                            double m, double k, const std::string& end, const Array& t) {
+  const Contact<double> c =
+      damping_kind == "e"
+          ? Contact<double>::from_e(p, damping, v0, m, k,
+                                    end == "force" ? ContactEnd::force : ContactEnd::overlap)
+      : damping_kind == "alpha" ? Contact<double>::from_alpha(p, damping, v0, m, k)
+                                : Contact<double>::from_alpha_eff(p, damping, v0, m, k);
+  const auto n = static_cast<std::size_t>(t.size());
+  Array delta(static_cast<py::ssize_t>(n)), v(static_cast<py::ssize_t>(n));
+  double *ds = delta.mutable_data(), *vs = v.mutable_data();
+  const double* ts = t.data();
+  const double tau = pldamp::analytic::contact_duration(c); // ∞ for a contact that never returns
+  const double e = pldamp::analytic::restitution(c);
+  {
+    py::gil_scoped_release unlocked;
+    const pldamp::analytic::Trajectory<double> exact(c);
+    for (std::size_t i = 0; i < n; ++i) {
+      if (ts[i] <= 0 || ts[i] >= tau) { // free flight, towards the contact or away from it
+        vs[i] = ts[i] <= 0 ? v0 : -e * v0;
+        ds[i] = ts[i] <= 0 ? v0 * ts[i] : -e * v0 * (ts[i] - tau);
+        continue;
+      }
+      const auto at = exact.at_time(ts[i]);
+      ds[i] = at.delta;
+      vs[i] = at.v;
+    }
+  }
+  return py::make_tuple(delta, v);
+}
+
+} // namespace
+
+PYBIND11_MODULE(_pldamp, m) {
+  m.doc() = "pldamp's compiled half: the command line in-process, and the closed forms over "
+            "arrays (use the package `pldamp`)";
+  m.def("cli", &cli, py::arg("args"));
+  m.def("observables_double", &observables_double, py::arg("p"), py::arg("damping_kind"),
+        py::arg("damping"), py::arg("v0"), py::arg("m"), py::arg("k"), py::arg("end"),
+        py::arg("want"));
+  m.def("trajectory_double", &trajectory_double, py::arg("p"), py::arg("damping_kind"),
+        py::arg("damping"), py::arg("v0"), py::arg("m"), py::arg("k"), py::arg("end"),
+        py::arg("t"));
+}

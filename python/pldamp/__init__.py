@@ -1,0 +1,247 @@
+"""pldamp from Python: the power-law damped contact oscillator
+
+    m δ'' + α √(m k) δ^((p−1)/2) δ' + k δ^p = 0,
+
+the normal contact of discrete-element (DEM) simulations, in closed form and integrated.
+
+Every function mirrors a command of the `pldamp` command line (README "The command line") and
+takes its flags as keyword arguments, named as the flags with `_` for `-`: ``alpha_eff=0.2`` is
+``--alpha-eff 0.2``. It runs that command in-process and returns its JSON answer as a dict, so its
+values, its precisions and its refusals are the command line's, word for word:
+
+    >>> import pldamp
+    >>> pldamp.observables(p=1.5, e=0.5, v0=1.0)["delta_max"]
+    0.8478...
+
+Numbers go in as the command line reads them: a float by its shortest round-trip digits (the very
+double), an int, a str or a decimal.Decimal as written (``e="0.3"`` is 0.3 in the precision asked,
+not the double nearest 0.3). Answers in ``precision="double"`` are floats; in ``"long"``, ``"quad"``
+and ``"50"`` every number is a decimal.Decimal with all the digits the command printed, never a
+rounded float.
+
+``observables`` with an array for any of p, e, alpha, alpha_eff, v0, m, k (numpy broadcasting)
+evaluates the closed forms element-wise in C++ in double, the GIL released, and returns arrays.
+
+Bad input raises ValueError with the command line's one line; a claim or tolerance that fails
+(exit 1) is an answer, not an exception, except ``run(..., strict=True)``, which raises
+RuntimeError. docs/python.md is the guide.
+"""
+
+from __future__ import annotations
+
+import decimal
+import json
+import numbers
+import os
+import tempfile
+from typing import Any, Iterable, Optional
+
+import numpy as np
+
+from . import _pldamp
+
+__all__ = ["calibrate", "observables", "solve", "timestep", "trajectory", "check", "run", "cli"]
+
+# The observables a vectorised `observables` computes by default, in this order.
+ARRAY_OBSERVABLES = ("e", "delta_max", "t_peak", "tau", "tau0", "energy_load", "energy_unload",
+                     "spring_force_max", "normal_force_max", "t_normal_force_max", "dt_crit",
+                     "dt_tangent", "e_cap", "t_cut")
+
+
+def _text(name: str, value: Any) -> str:
+    """A value as the command line reads it."""
+    if isinstance(value, bool):
+        raise TypeError("%s takes a number or text, not a bool" % name)
+    if isinstance(value, (float, np.floating)):
+        return repr(float(value))  # shortest round trip: the same double
+    if isinstance(value, (numbers.Integral, decimal.Decimal, str)):
+        return str(value)
+    if isinstance(value, (list, tuple)):
+        return ",".join(_text(name, item) for item in value)
+    raise TypeError("%s takes a number, text or a list of them (got %s)" % (name,
+                                                                           type(value).__name__))
+
+
+def _arguments(command: str, positional: Iterable[str], options: dict) -> list:
+    args = [command, *positional]
+    for name, value in options.items():
+        if value is None or value is False:
+            continue
+        flag = "--" + name.replace("_", "-")
+        if value is True:
+            args.append(flag)
+        else:
+            args += [flag, _text(name, value)]
+    return args
+
+
+def cli(*args: str) -> tuple:
+    """`pldamp ARGS...` in-process: (exit code, standard output, standard error)."""
+    return _pldamp.cli([str(a) for a in args])
+
+
+def _answer(command: str, positional: Iterable[str] = (), json_flag: bool = True,
+            **options) -> tuple:
+    args = _arguments(command, positional, options)
+    if json_flag:
+        args.append("--json")
+    code, out, err = _pldamp.cli(args)
+    if code == 2:
+        raise ValueError(err.strip().removeprefix("error: "))
+    if code not in (0, 1):
+        raise RuntimeError(err.strip().removeprefix("error: "))
+    return code, out, err
+
+
+def _parse(out: str, precision: Optional[str]) -> dict:
+    exact = precision not in (None, "double")
+    return json.loads(out, parse_float=decimal.Decimal if exact else float)
+
+
+def _call(command: str, positional: Iterable[str] = (), **options) -> dict:
+    _, out, _ = _answer(command, positional, **options)
+    return _parse(out, options.get("precision"))
+
+
+def calibrate(p: Any = None, e: Any = None, **options) -> dict:
+    """α for a target restitution e, as `pldamp calibrate`.
+
+    calibrate(p=1.5, e=0.5) gives α and α_eff at the overlap end; end="force" for a code that
+    caps the force; code="lammps-tsuji" (and the other codes of `calibrate --help`) for what a DEM
+    code sets and really gives; a velocity-dependent code takes v0, m, k, speeds, reff or a
+    contact from materials (geometry, radius, young, poisson, density). precision="quad" answers
+    in decimal.Decimal.
+    """
+    return _call("calibrate", p=p, e=e, **options)
+
+
+def _is_array(value: Any) -> bool:
+    return isinstance(value, (np.ndarray, list, tuple)) and not isinstance(value, str)
+
+
+def observables(p: Any = None, e: Any = None, alpha: Any = None, alpha_eff: Any = None,
+                v0: Any = None, m: Any = None, k: Any = None, end: Optional[str] = None,
+                precision: Optional[str] = None, want: Optional[Iterable[str]] = None,
+                **options) -> dict:
+    """Every closed-form observable of a contact, as `pldamp observables`.
+
+    Give p, one of e, alpha and alpha_eff, and v0 (m and k default to 1), or a contact from
+    materials: geometry="sphere-sphere" or "sphere-wall", radius, young, poisson, density (a
+    number, or a list of one per body), p then being 3/2. damping_exponent=β answers from the
+    float128 reference solve. The dict is the command's JSON answer (units with materials).
+
+    With an array for any of p, e, alpha, alpha_eff, v0, m, k (broadcast as numpy does), the
+    closed forms are evaluated element-wise in C++ in double with the GIL released, and the dict
+    holds arrays of that shape: alpha, alpha_eff and each observable of `want` (default all of
+    ARRAY_OBSERVABLES; NaN where one does not exist, as τ of a contact that never returns).
+    """
+    scalars = dict(p=p, e=e, alpha=alpha, alpha_eff=alpha_eff, v0=v0, m=m, k=k)
+    if any(_is_array(value) for value in scalars.values()):
+        return _observables_arrays(scalars, end or "overlap", precision, want, options)
+    answer = _call("observables", p=p, e=e, alpha=alpha, alpha_eff=alpha_eff, v0=v0, m=m, k=k,
+                   end=end, precision=precision, **options)
+    if want is not None:
+        wanted = set(want)
+        answer = {key: value for key, value in answer.items()
+                  if key in wanted or key not in ARRAY_OBSERVABLES}
+    return answer
+
+
+def _observables_arrays(scalars: dict, end: str, precision: Optional[str],
+                        want: Optional[Iterable[str]], options: dict) -> dict:
+    if precision not in (None, "double"):
+        raise ValueError("observables over arrays runs in double; call it per element for "
+                         "precision %s (got precision %s)" % (precision, precision))
+    if options:
+        raise ValueError("observables over arrays takes p, e|alpha|alpha_eff, v0, m, k, end and "
+                         "want (got %s)" % ", ".join(sorted(options)))
+    given = [name for name in ("e", "alpha", "alpha_eff") if scalars[name] is not None]
+    if len(given) != 1:
+        raise ValueError("give exactly one of e, alpha, alpha_eff (got %d)" % len(given))
+    for name in ("p", "v0"):
+        if scalars[name] is None:
+            raise ValueError("%s is required (got nothing)" % name)
+    kind = given[0]
+    values = [scalars["p"], scalars[kind], scalars["v0"],
+              1.0 if scalars["m"] is None else scalars["m"],
+              1.0 if scalars["k"] is None else scalars["k"]]
+    arrays = np.broadcast_arrays(*[np.asarray(v, dtype=np.float64) for v in values])
+    shape = arrays[0].shape
+    flat = [np.ascontiguousarray(a).ravel() for a in arrays]
+    result = _pldamp.observables_double(flat[0], kind, flat[1], flat[2], flat[3], flat[4], end,
+                                        list(ARRAY_OBSERVABLES if want is None else want))
+    return {key: value.reshape(shape) for key, value in result.items()}
+
+
+def solve(solver: str, **options) -> dict:
+    """Integrate one collision with a registered solver, as `pldamp solve`.
+
+    solve("cvode-bdf", p=1.5, e=0.5, v0=1.0, rtol=1e-10) returns the outcome, the measured e,
+    delta_max, t_peak, tau, energies and peak force, steps, rhs_evals and wall_seconds; every flag
+    of `pldamp solve --help` is a keyword (dt, steps_per_contact, onset_phase, sample_times, ...).
+    """
+    return _call("solve", solver=solver, **options)
+
+
+def timestep(scheme: str, **options) -> dict:
+    """The largest Δt keeping e, δ_max and τ within a tolerance from any onset phase, as
+    `pldamp timestep` (scheme "dem-verlet", ...; tolerance=0.01; materials add the step as a
+    fraction of the Hertz and Rayleigh times)."""
+    return _call("timestep", scheme=scheme, **options)
+
+
+def trajectory(t: Any, p: Any = None, e: Any = None, alpha: Any = None, alpha_eff: Any = None,
+               v0: Any = 1.0, m: Any = 1.0, k: Any = 1.0, end: str = "overlap") -> tuple:
+    """δ(t) and v(t) from the closed form (docs/MATH.md §5), in double, at the times `t` (an
+    array): free flight at v0 before the contact (t < 0) and at −e v0 after it. Returns two numpy
+    arrays of t's shape."""
+    given = [(name, value) for name, value in (("e", e), ("alpha", alpha),
+                                                ("alpha_eff", alpha_eff)) if value is not None]
+    if len(given) != 1:
+        raise ValueError("give exactly one of e, alpha, alpha_eff (got %d)" % len(given))
+    if p is None:
+        raise ValueError("p is required (got nothing)")
+    times = np.asarray(t, dtype=np.float64)
+    delta, v = _pldamp.trajectory_double(float(p), given[0][0], float(given[0][1]), float(v0),
+                                         float(m), float(k), end,
+                                         np.ascontiguousarray(times).ravel())
+    return delta.reshape(times.shape), v.reshape(times.shape)
+
+
+def check(t: Any, delta: Any, v: Any = None, F: Any = None, **options) -> dict:
+    """A code's dumped trajectory against the closed forms, as `pldamp check`: t and delta (and v,
+    F when the code dumps them) as arrays, the contact as keywords (p, e|alpha|alpha_eff, v0, m,
+    k, or materials; end, tolerance). Returns the command's answer: each observable's value,
+    truth, error and verdict, and `passed` under a tolerance."""
+    columns = {"t": t, "delta": delta}
+    if v is not None:
+        columns["v"] = v
+    if F is not None:
+        columns["F"] = F
+    data = np.column_stack([np.asarray(c, dtype=np.float64).ravel() for c in columns.values()])
+    with tempfile.TemporaryDirectory() as folder:
+        path = os.path.join(folder, "trajectory.csv")
+        np.savetxt(path, data, delimiter=",", header=",".join(columns), comments="",
+                   fmt="%.17g")
+        return _call("check", [path], **options)
+
+
+def run(scene: str, out: Optional[str] = None, strict: bool = False, **options) -> dict:
+    """Run a scene, as `pldamp run SCENE`, and return its report.json as a dict.
+
+    out: the folder for the report files (report.json, .csv, .md, .html); a temporary one that is
+    removed when None. strict=True raises RuntimeError when a claim's verdict is not the one
+    expected. jobs, max_steps, max_seconds, max_runs as the command's flags.
+    """
+    def run_into(folder: str) -> dict:
+        code, _, err = _answer("run", [os.fspath(scene)], json_flag=False, out=folder,
+                               strict=strict, **options)
+        if code == 1:
+            raise RuntimeError(err.strip())
+        with open(os.path.join(folder, "report.json"), encoding="utf-8") as report:
+            return json.load(report)
+
+    if out is not None:
+        return run_into(os.fspath(out))
+    with tempfile.TemporaryDirectory() as folder:
+        return run_into(folder)
