@@ -5,6 +5,8 @@
 
 #include <benchmark/benchmark.h>
 
+#include <vector>
+
 namespace {
 
 using namespace pldamp;
@@ -31,6 +33,30 @@ void alpha_from_e_double(benchmark::State& state) {
   }
 }
 BENCHMARK(alpha_from_e_double);
+
+// The loop the Python module's observables over an array runs (python/module.cpp), written in
+// C++: a contact from each α, its observables with want_e, and α, α_eff and e stored. The module's
+// target is at most twice this per element (bench/python_vectorised.py compares the two).
+void restitutions_over_an_array(benchmark::State& state) {
+  const auto n = static_cast<std::size_t>(state.range(0));
+  std::vector<double> alpha(n), e(n), alpha_out(n), alpha_eff(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    alpha[i] = 2.0 * double(i) / double(n); // 0 to 2: under- and overdamped (α_eff ≥ 1 from √5)
+  }
+  for (auto _ : state) {
+    for (std::size_t i = 0; i < n; ++i) {
+      const Contact<double> c = Contact<double>::from_alpha(1.5, alpha[i], 1.0, 1.0, 1.0);
+      const Observables<double> o = observables(c, want_e);
+      alpha_out[i] = c.alpha();
+      alpha_eff[i] = c.alpha_eff();
+      e[i] = *o.e;
+    }
+    benchmark::DoNotOptimize(e.data());
+    benchmark::ClobberMemory();
+  }
+  state.SetItemsProcessed(state.iterations() * static_cast<std::int64_t>(n));
+}
+BENCHMARK(restitutions_over_an_array)->Arg(1000000)->Unit(benchmark::kMillisecond);
 
 void delta_max_double(benchmark::State& state) {
   const auto c = hertz<double>();

@@ -16,7 +16,8 @@ cd "$(dirname "$0")/.."
 # (python/) is built with the rest: python3-dev, python3-numpy, pybind11-dev; its tests use pytest.
 packages=(cmake make g++ ccache libboost-dev libsundials-dev libcli11-dev libfmt-dev nlohmann-json3-dev libgtest-dev
   libbenchmark-dev libtomlplusplus-dev gnuplot-nox clang-format python3-dev python3-numpy pybind11-dev)
-test_packages=(chromium libpng-dev clang libclang-rt-14-dev python3 python3-pytest lammps liggghts yade)
+test_packages=(chromium libpng-dev clang libclang-rt-14-dev python3 python3-pytest python3-matplotlib
+  python3-venv python3-setuptools python3-wheel lammps liggghts yade)
 
 install_missing() { # install_missing PACKAGE...
   local missing=() p
