@@ -148,6 +148,27 @@ TEST(Overdamped, DecaysWithoutExit) {
   }
 }
 
+// Late in an overdamped decay a time maps to a parameter that maps back to it: at α_eff 1.9–2.01
+// the inversion once jumped to s = 0 and answered the onset (δ = 0, v = v0) from t ~ 1e6 on.
+TEST(Overdamped, LateTimesInvertAndStillDecay) {
+  for (const double p : {1.5, 2.0}) {
+    for (const double z : {1.5, 1.9, 1.95, 2.0, 2.01, 3.0}) {
+      const Contact<double> c = Contact<double>::from_alpha_eff(p, z, 1.0);
+      const Trajectory<double> path(c);
+      double previous = delta_max(c);
+      for (const double t : {1e3, 1e5, 8e5, 2e6, 1e8, 1e10}) {
+        const auto at = path.at_time(t);
+        EXPECT_LE(std::abs(path.time_at_parameter(at.s) / t - 1), 1e-9)
+            << "p " << p << " z " << z << " t " << t;
+        EXPECT_GT(at.delta, 0) << "p " << p << " z " << z << " t " << t;
+        EXPECT_LT(at.delta, previous) << "p " << p << " z " << z << " t " << t;
+        EXPECT_LE(at.v, 0) << "p " << p << " z " << z << " t " << t;
+        previous = at.delta;
+      }
+    }
+  }
+}
+
 } // namespace
 } // namespace pldamp::analytic
 

@@ -74,10 +74,9 @@ Answer describe(const analytic::Contact<Real>& c, const ContactArgs& a) {
   o["alpha"] = exact_number(c.alpha());
   if (a.e || a.alpha_eff) {
     const Damping::Kind kind = a.e ? Damping::Kind::e : Damping::Kind::alpha_eff;
-    o["alpha"] = exact_number(seed_alpha<Real>(c.p(), kind,
-                                               parse_real<Real>(a.e ? "--e" : "--alpha-eff",
-                                                                a.e ? *a.e : *a.alpha_eff),
-                                               parse_end(a.end)));
+    o["alpha"] = exact_number(seed_alpha<Real>(
+        c.p(), kind, parse_real<Real>(a.e ? "--e" : "--alpha-eff", a.e ? *a.e : *a.alpha_eff),
+        parse_end(a.end)));
   }
   o["alpha_eff"] = exact_number(c.alpha_eff());
   describe_materials<Real>(a, o);

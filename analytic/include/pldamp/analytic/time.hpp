@@ -92,6 +92,15 @@ public:
   // ξ(σ) = x/L.
   Real xi(const Real& sigma) const {
     using std::exp;
+    using std::sqrt;
+    if (d_.mu < 0) {
+      // Overdamped and late: the two decaying modes e^(−(z∓r)σ)/(2r), r = √(z² − 1) < z, which
+      // stay finite where e^(−zσ) underflows and sinh(rσ) overflows (their product was NaN).
+      const Real r = sqrt(-d_.mu);
+      if (r * sigma > 1) {
+        return (exp(-(d_.z - r) * sigma) - exp(-(d_.z + r) * sigma)) / (2 * r);
+      }
+    }
     return exp(-d_.z * sigma) * sigma * sinc_rf(Real(d_.mu * sigma * sigma));
   }
   // dI/dσ = ξ^ν.

@@ -10,6 +10,7 @@
 #include "pldamp/analytic/observables.hpp"
 
 #include <boost/math/tools/roots.hpp>
+#include <boost/math/tools/toms748_solve.hpp>
 
 #include <cmath>
 #include <cstdint>
@@ -77,6 +78,7 @@ public:
       return point(Real(0), Real(0));
     }
     const Real target = t / time_scale_;
+    Real lo(0);
     Real hi = scaled_.sigma_end();
     Real i_hi;
     std::uintmax_t iterations = 200;
@@ -103,17 +105,32 @@ public:
       hi -= last;
       i_hi = i_last;
     } else {
+      // Never returns: double σ until I(σ) passes the target, keeping the last σ below it as the
+      // bracket's low end. Late in a decay I grows like e^(κσ) (κ = −ν times the slow rate), so
+      // Newton from [0, hi] could jump to 0 and stay there: at α_eff 1.9–2.01 it answered the
+      // onset, δ = 0 and v = v0, at t ~ 1e6 (found by a user's trial, tests/analytic).
       hi = peak_phase(c_.damping());
       while ((i_hi = scaled_(hi)) < target) {
+        lo = hi;
         hi *= 2;
       }
     }
     auto residual = [&](const Real& sigma) {
       return std::make_pair(Real(scaled_(sigma) - target), scaled_.integrand(sigma));
     };
-    const Real guess = hi * target / i_hi;
-    const Real sigma = boost::math::tools::newton_raphson_iterate(residual, guess, Real(0), hi,
-                                                                  digits, iterations);
+    const Real guess = lo + (hi - lo) / 2;
+    Real sigma =
+        boost::math::tools::newton_raphson_iterate(residual, guess, lo, hi, digits, iterations);
+    using std::abs;
+    if (!(abs(scaled_(sigma) - target) <=
+          Real(64) * std::numeric_limits<Real>::epsilon() * target)) {
+      // Newton did not settle on the root: TOMS 748 on the bracket, which always does.
+      auto value = [&](const Real& x) { return Real(scaled_(x) - target); };
+      std::uintmax_t more = 400;
+      const auto [a, b] = boost::math::tools::toms748_solve(
+          value, lo, hi, boost::math::tools::eps_tolerance<Real>(digits), more);
+      sigma = a + (b - a) / 2;
+    }
     return point(Real(sigma / c_.omega0()), t);
   }
 
@@ -156,16 +173,28 @@ private:
   const Real& mu() const { return c_.mu(); }
 
   TrajectoryPoint<Real> point(const Real& s, const Real& t) const {
+    using std::exp;
+    using std::sqrt;
     const Real sigma = c_.omega0() * s;
     const Real w = mu() * sigma * sigma;
-    return assemble(s, sigma, t, cos_rf(w), Real(sigma * sinc_rf(w)));
+    const Real r = mu() < 0 ? Real(sqrt(-mu())) : Real(0);
+    if (r * sigma > 1) {
+      // Overdamped and late: e^(−zσ) cosh(rσ) and e^(−zσ) sinh(rσ)/r as the two decaying modes
+      // e^(−(z∓r)σ) (r = √(z² − 1) < z), which neither overflow nor underflow where the factors
+      // do (e^(−zσ) → 0 times cosh rσ → ∞ gave NaN at t = 1e10, α_eff = 2).
+      const Real slow = exp(-(z() - r) * sigma), fast = exp(-(z() + r) * sigma);
+      return assemble(s, t, Real((slow + fast) / 2), Real((slow - fast) / (2 * r)), Real(1));
+    }
+    return assemble(s, t, cos_rf(w), Real(sigma * sinc_rf(w)), exp(-z() * sigma));
   }
 
   // The state at σ = σ_end − ρ, from ρ: cos(√μσ) = −cos(√μρ), sin(√μσ)/√μ = ρ sinc_rf(μρ²).
   TrajectoryPoint<Real> point_before_end(const Real& rho, const Real& t) const {
     const Real sigma = scaled_.sigma_end() - rho;
     const Real w = mu() * rho * rho;
-    return assemble(Real(sigma / c_.omega0()), sigma, t, Real(-cos_rf(w)), Real(rho * sinc_rf(w)));
+    using std::exp;
+    return assemble(Real(sigma / c_.omega0()), t, Real(-cos_rf(w)), Real(rho * sinc_rf(w)),
+                    exp(-z() * sigma));
   }
 
   TrajectoryPoint<Real> exit_point(const Real& t) const {
@@ -173,14 +202,13 @@ private:
             Real(0), Real(0), false};
   }
 
-  // From the regime-free cos and sine parts C, S̃ = Ω0 S at σ = Ω0 s:
-  // ξ = x/L = e^(−zσ) S̃, v = x' = v0 e^(−zσ)(C − z S̃), δ = A (L ξ)^q, forces from δ and v.
-  TrajectoryPoint<Real> assemble(const Real& s, const Real& sigma, const Real& t,
-                                 const Real& cos_part, const Real& sine_part) const {
-    using std::exp;
+  // From the regime-free cos and sine parts C, S̃ = Ω0 S at σ = Ω0 s and the decay e^(−zσ) (1
+  // when the parts carry it already): ξ = x/L = e^(−zσ) S̃, v = x' = v0 e^(−zσ)(C − z S̃),
+  // δ = A (L ξ)^q, forces from δ and v.
+  TrajectoryPoint<Real> assemble(const Real& s, const Real& t, const Real& cos_part,
+                                 const Real& sine_part, const Real& decay) const {
     using std::log;
     using std::sqrt;
-    const Real decay = exp(-z() * sigma);
     const Real xi = decay * sine_part;
     TrajectoryPoint<Real> out{
         s,       t,       Real(0), Real(c_.v0() * decay * (cos_part - z() * sine_part)),
