@@ -33,6 +33,7 @@ import decimal
 import json
 import numbers
 import os
+import re
 import tempfile
 from typing import Any, Iterable, Optional
 
@@ -62,16 +63,24 @@ def _text(name: str, value: Any) -> str:
                                                                            type(value).__name__))
 
 
+# The commands' flags that take no value: True sets them, False leaves them out. Any other
+# keyword given a bool is refused (e=True once became a bare "--e", and m=False dropped m).
+SWITCHES = {"limit_damping", "strict", "verbose", "allow_scene_change"}
+
+
 def _arguments(command: str, positional: Iterable[str], options: dict) -> list:
     args = [command, *positional]
     for name, value in options.items():
-        if value is None or value is False:
-            continue
         flag = "--" + name.replace("_", "-")
-        if value is True:
-            args.append(flag)
-        else:
-            args += [flag, _text(name, value)]
+        if name in SWITCHES:
+            if not isinstance(value, bool) and value is not None:
+                raise TypeError("%s is a switch: True or False (got %r)" % (name, value))
+            if value:
+                args.append(flag)
+            continue
+        if value is None:
+            continue
+        args += [flag, _text(name, value)]
     return args
 
 
@@ -218,12 +227,25 @@ def check(t: Any, delta: Any, v: Any = None, F: Any = None, **options) -> dict:
         columns["v"] = v
     if F is not None:
         columns["F"] = F
-    data = np.column_stack([np.asarray(c, dtype=np.float64).ravel() for c in columns.values()])
+    arrays = {name: np.asarray(c, dtype=np.float64) for name, c in columns.items()}
+    shapes = {name: a.shape for name, a in arrays.items()}
+    if any(len(shape) != 1 for shape in shapes.values()) or len(set(shapes.values())) != 1:
+        raise ValueError("t, delta, v and F are 1-D arrays of one length (got shapes %s)" %
+                         ", ".join("%s %s" % item for item in shapes.items()))
+    data = np.column_stack(list(arrays.values()))
     with tempfile.TemporaryDirectory() as folder:
         path = os.path.join(folder, "trajectory.csv")
         np.savetxt(path, data, delimiter=",", header=",".join(columns), comments="",
                    fmt="%.17g")
-        return _call("check", [path], **options)
+        try:
+            return _call("check", [path], **options)
+        except ValueError as error:
+            # "FILE:LINE: what" names the scratch file: say the index in the arrays instead.
+            match = re.match(re.escape(path) + r":(\d+): (.*)", str(error), re.S)
+            if match is None:
+                raise
+            raise ValueError("at index %d of the arrays: %s" % (int(match.group(1)) - 2,
+                                                                 match.group(2))) from None
 
 
 def run(scene: str, out: Optional[str] = None, strict: bool = False, **options) -> dict:

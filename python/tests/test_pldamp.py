@@ -152,3 +152,20 @@ def test_run_returns_the_report(tmp_path):
     assert (tmp_path / "report.html").exists()
     with pytest.raises(ValueError, match="cannot read the scene"):
         pldamp.run(tmp_path / "missing.toml")
+
+
+def test_a_bool_is_refused_where_a_number_is_meant_and_check_names_array_indices():
+    with pytest.raises(TypeError, match="not a bool"):
+        pldamp.observables(p=1.5, e=True, v0=1)
+    with pytest.raises(TypeError, match="not a bool"):
+        pldamp.observables(p=1.5, e=0.5, v0=1, m=False)
+    with pytest.raises(TypeError, match="is a switch"):
+        pldamp.calibrate(p=1.5, e=0.5, code="lammps-tsuji", limit_damping="yes")
+    with_cap = pldamp.calibrate(p=1.5, e=0.5, code="lammps-tsuji", limit_damping=True)
+    assert with_cap != pldamp.calibrate(p=1.5, e=0.5, code="lammps-tsuji", limit_damping=False)
+    t = np.linspace(0.0, 1.0, 5)
+    with pytest.raises(ValueError, match="1-D arrays of one length"):
+        pldamp.check(t, t[:4], p=1.5, e=0.5, v0=1.0)
+    with pytest.raises(ValueError, match=r"^at index 2 of the arrays: "):
+        pldamp.check(np.array([0.0, 0.1, 0.1, 0.3]), np.array([0.0, 0.1, 0.2, 0.3]), p=1.5,
+                     e=0.5, v0=1.0)

@@ -216,9 +216,10 @@ void run_timestep(const TimestepArgs& args, std::ostream& out) {
   // contact time (the closed form at α = 0) and of the Rayleigh time (the smaller sphere's).
   if (contact_args.geometry) {
     const double hertz_time =
-        analytic::contact_duration(analytic::Contact<double>::from_alpha(q.p, 0.0, q.v0, q.m, q.k));
-    const double rayleigh =
-        rayleigh_time_of<double>(material_input(contact_args), MaterialNames::options());
+        static_cast<double>(analytic::contact_duration(analytic::Contact<Exact>::from_alpha(
+            Exact(q.p), Exact(0), Exact(q.v0), Exact(q.m), Exact(q.k))));
+    const double rayleigh = static_cast<double>(
+        rayleigh_time_of<Exact>(material_input(contact_args), MaterialNames::options()));
     o["t_hertz"] = exact_number(hertz_time);
     o["t_rayleigh"] = exact_number(rayleigh);
     put_number(o, "dt_over_t_hertz",

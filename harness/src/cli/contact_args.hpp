@@ -78,7 +78,14 @@ Answer describe(const analytic::Contact<Real>& c, const ContactArgs& a) {
         c.p(), kind, parse_real<Real>(a.e ? "--e" : "--alpha-eff", a.e ? *a.e : *a.alpha_eff),
         parse_end(a.end)));
   }
+  // α_eff the same way: formed in float128 from --e or --alpha and rounded once.
   o["alpha_eff"] = exact_number(c.alpha_eff());
+  if (a.e || a.alpha) {
+    const Damping::Kind kind = a.e ? Damping::Kind::e : Damping::Kind::alpha;
+    o["alpha_eff"] = exact_number(seed_alpha_eff<Real>(
+        c.p(), kind, parse_real<Real>(a.e ? "--e" : "--alpha", a.e ? *a.e : *a.alpha),
+        parse_end(a.end)));
+  }
   describe_materials<Real>(a, o);
   return o;
 }

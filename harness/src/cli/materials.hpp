@@ -57,13 +57,31 @@ inline void settle_materials(ContactArgs& a, const std::vector<std::string>& mas
   }
 }
 
-// The Hertz contact of --geometry, in Real; none without it. Call settle_materials first.
+// The Hertz contact of --geometry in Real, none without it: derived in float128 (50 digits where
+// Real is wider) and rounded once, as a scene's [[contact]] derives it, so that the command line
+// and a scene hand the solvers the same m and k, digit for digit. Call settle_materials first.
 template <SupportedReal Real>
 std::optional<analytic::HertzContact<Real>> hertz_of(const ContactArgs& a) {
   if (!a.geometry) {
     return std::nullopt;
   }
-  return hertz_of<Real>(material_input(a), MaterialNames::options());
+  using Derived = std::conditional_t<(std::numeric_limits<Real>::digits <
+                                      std::numeric_limits<NarrowestWithDigits10<30>>::digits),
+                                     NarrowestWithDigits10<30>, Real>;
+  const auto wide = hertz_of<Derived>(material_input(a), MaterialNames::options());
+  const analytic::HertzContact<Real> hertz{.m = static_cast<Real>(wide.m),
+                                           .k = static_cast<Real>(wide.k),
+                                           .p = static_cast<Real>(wide.p),
+                                           .radius = static_cast<Real>(wide.radius),
+                                           .modulus = static_cast<Real>(wide.modulus)};
+  using std::isfinite;
+  if (!isfinite(hertz.m) || !isfinite(hertz.k) || !(hertz.m > 0) || !(hertz.k > 0)) {
+    throw InputError("the materials give a mass or stiffness beyond " +
+                     std::string(precision_name<Real>()) + " (got --radius " +
+                     typed_list(a.radius) + " --young " + typed_list(a.young) + " --density " +
+                     typed_list(a.density) + ")");
+  }
+  return hertz;
 }
 
 // m and k of the contact: derived from the materials, or --m and --k as typed.

@@ -139,4 +139,22 @@ Real seed_alpha(const Real& p, Damping::Kind kind, const Real& value, analytic::
   }
 }
 
+// α_eff as seed_alpha gives α: for a target e (or α) formed in Exact and rounded once to Real; a
+// given α_eff as it is. A Real wider than Exact forms it in Real.
+template <SupportedReal Real>
+Real seed_alpha_eff(const Real& p, Damping::Kind kind, const Real& value,
+                    analytic::ContactEnd end) {
+  if (kind == Damping::Kind::alpha_eff) {
+    return value;
+  }
+  if constexpr (std::numeric_limits<Real>::digits > std::numeric_limits<Exact>::digits) {
+    return kind == Damping::Kind::e
+               ? analytic::Contact<Real>::from_e(p, value, Real(1), Real(1), Real(1), end)
+                     .alpha_eff()
+               : analytic::Contact<Real>::from_alpha(p, value, Real(1)).alpha_eff();
+  } else {
+    return static_cast<Real>(seed_contact(Exact(p), kind, Exact(value), end).alpha_eff());
+  }
+}
+
 } // namespace pldamp::harness
