@@ -27,7 +27,7 @@ namespace {
 constexpr double tightest_steps_per_contact = 1e5;
 constexpr double loosest_steps_per_contact = 2;
 // The onset phases each trial takes its worst over (the answer checked at twice as many, then at
-// 131). The
+// 131, and 16 steps down to half of it at those phases). The
 // search's default of 8, checked at 16, let 64 phases find errors up to 5 % beyond the tolerance
 // (1.049 % for 1 % at p = 1, e = 0.9, each DEM scheme); a user quotes this answer for every phase.
 constexpr int onset_phases = 32;

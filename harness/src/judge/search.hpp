@@ -15,7 +15,10 @@
 // phases; if it fails there, the search starts again with the phases doubled (up to 256), so the
 // phases reported are ones that more phases do not change. The settled answer is checked last at
 // a prime count q beyond twice those (phases j/q share only 0 with them) and sought again there if
-// it fails: the worst phase is a supremum the samples approach from below.
+// it fails: the worst phase is a supremum the samples approach from below. Last, the values
+// between the answer and the nearest tighter scan value are checked at those phases (every step
+// count there, or 24 log-spaced), and the answer sought again tighter than any that fails: the
+// error can rise above the bound and fall again between two scan values.
 //
 // Each trial solves every cell of the group once, through a plan of its own (truth/plan.hpp: the
 // same references and errors as the run's records); the solver runs are counted. A record that
@@ -44,7 +47,8 @@ struct SearchGroup {
   int trials = 0;                          // values solved (each over the group's cells and phases)
   int scanned = 0;                         // of them, the scan's
   int onset_phases = 1;                    // the phases each fixed-step trial took its worst over
-  int phases_checked = 0; // the phases the answer was checked at (0: not a fixed step)
+  int phases_checked = 0;   // the phases the answer was checked at (0: not a fixed step)
+  int band_refinements = 0; // times a value between the answer and the scan failed, and moved it
   long solver_runs = 0;
   std::string note; // a failed record, the bound held over the whole range, ...
 };

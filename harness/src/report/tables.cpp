@@ -110,7 +110,8 @@ std::string step_study_description(const StepStudy& study) {
       "the sweep's range (judge/search.hpp): scanned from the finest step, 8 values a decade, then "
       "bisected at the first failure, each value's error the worst over 8 onset phases, the answer "
       "checked at twice as many and sought again there until it moves by less than 1 %, then at a "
-      "prime count beyond{}{}. Per p, the worst over the grid's dampings. The order is the slope "
+      "prime count beyond{}, and 16 values up to twice as tight checked, the answer sought again "
+      "past any that fails{}. Per p, the worst over the grid's dampings. The order is the slope "
       "of the worst error in e against Δt over the finest half of the sweep.",
       phases > 0 ? fmt::format(" (up to {} phases here)", phases) : std::string(),
       from_sweep ? "; an external program's answer is read off its sweep (≤: the coarsest sweep "
