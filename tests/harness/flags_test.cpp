@@ -123,7 +123,7 @@ TEST(Flags, EveryCalibrateFlagChangesItsAnswer) {
                           "--e",       "0.9"};
   check_rows("calibrate",
              joined(material_rows({"calibrate", "--code", "lammps-hertz-history", "--e", "0.9"},
-                                  {"--json"}),
+                                  {"--v0", "1", "--json"}),
                     {{"--p", seed, {"calibrate", "--p", "2", "--e", "0.5"}, ""},
                      {"--e", seed, {"calibrate", "--p", "1.5", "--e", "0.6"}, ""},
                      {"--end", seed, with(seed, {"--end", "force"}), ""},
@@ -226,7 +226,7 @@ TEST(Flags, EveryTimestepFlagChangesItsAnswer) {
   const Args one{"timestep", "--scheme", "dem-verlet", "--p", "1.5", "--e", "0.5"};
   check_rows(
       "timestep",
-      joined(material_rows({"timestep", "--scheme", "dem-verlet"}, {"--e", "0.5"}),
+      joined(material_rows({"timestep", "--scheme", "dem-verlet"}, {"--e", "0.5", "--v0", "1"}),
              {{"--scheme", one, {"timestep", "--scheme", "verlet", "--p", "1.5", "--e", "0.5"}, ""},
               {"--p", one, {"timestep", "--scheme", "dem-verlet", "--p", "2", "--e", "0.5"}, ""},
               {"--e", one, {"timestep", "--scheme", "dem-verlet", "--p", "1.5", "--e", "0.9"}, ""},

@@ -191,6 +191,10 @@ TEST(Materials, CalibrateTakesMaterialsForAVelocityDependentCode) {
   const auto json = nlohmann::json::parse(r.out);
   EXPECT_EQ(json["R_eff"].get<double>(), 0.005);
   EXPECT_EQ(json["units"]["v0"], "m/s");
+  // α √(m k) δ^(1/2) δ' is a force in N: √(m k) in kg s^-1 m^-1/4 (k in N/m^1.5), δ^(1/2) δ' in
+  // m^3/2 s^-1, so α is in m^-1/4; the entry α √(k/m)/√R* then in m^-1 s^-1.
+  EXPECT_EQ(json["units"]["alpha"], "m^-0.25");
+  EXPECT_EQ(json["units"]["entry"], "m^-1/s");
   const CliRun seed =
       run(with({"calibrate", "--code", "lammps-tsuji", "--e", "0.9"}, aluminium, {}));
   EXPECT_EQ(seed.code, 2);
@@ -231,7 +235,7 @@ TEST(Materials, BadInputIsOneLineAndExitTwo) {
       {replaced("--geometry", "cube-cube"),
        "unknown --geometry, expected sphere-sphere|sphere-wall (got cube-cube)"},
       {replaced("--radius", "1,2,3"),
-       "--radius takes R1[,R2]-style values: one for both spheres, or one each (got --radius "
+       "--radius takes one value for both spheres, or one each (got --radius "
        "1,2,3)"},
       {with({"observables", "--m", "2"}, aluminium, {"--e", "0.5", "--v0", "1"}),
        "--m and --k are derived from the materials under --geometry, give one or the other (got "
@@ -244,9 +248,15 @@ TEST(Materials, BadInputIsOneLineAndExitTwo) {
        "--m 2)"},
       {with({"observables", "--p", "2"}, aluminium, {"--e", "0.5", "--v0", "1"}),
        "a contact from materials is Hertz's, p = 1.5 (got --p 2)"},
+      // In SI a speed of 1 m/s is no default: Δt and a velocity-dependent e depend on it.
+      {with({"timestep", "--scheme", "dem-verlet"}, aluminium, {"--e", "0.5"}),
+       "--v0, the relative normal speed in m/s, is required with --geometry (got nothing)"},
+      {with({"calibrate", "--code", "lammps-hertz-history"}, aluminium, {"--e", "0.9"}),
+       "--v0, the relative normal speed in m/s at which e is set, is required with --geometry "
+       "(got nothing)"},
       {observables({"--geometry", "sphere-sphere", "--radius", "0.01", "--young", "7e10",
                     "--poisson", "0.3"}),
-       "--density takes R1[,R2]-style values: one for both spheres, or one each (got nothing)"},
+       "--density is required with --geometry sphere-sphere (got nothing)"},
       {observables({"--geometry", "sphere-wall", "--radius", "0.01,0.02", "--young", "7e10",
                     "--poisson", "0.3", "--density", "2700"}),
        "--radius takes one value (the sphere's; the wall has none) (got --radius 0.01,0.02)"},

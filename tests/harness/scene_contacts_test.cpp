@@ -170,11 +170,11 @@ rtol = 1e-8
   };
   const std::vector<std::pair<std::string, std::string>> cases{
       {with("poisson = 0.3", "poisson = 0.5"),
-       "1: [[contact]] c: poisson must be in (-1, 0.5) (got 0.5)"},
+       "6: [[contact]] c: poisson must be in (-1, 0.5) (got 0.5)"},
       {with("radius = 0.01", "radius = -0.01"),
-       "1: [[contact]] c: radius must be a finite number > 0 (got -0.01)"},
+       "4: [[contact]] c: radius must be a finite number > 0 (got -0.01)"},
       {with("radius = 0.01", "radius = [0.01, 0.02]"),
-       "1: [[contact]] c: radius takes one value (the sphere's; the wall has none) (got radius "
+       "4: [[contact]] c: radius takes one value (the sphere's; the wall has none) (got radius "
        "0.01,0.02)"},
       {with("young = 7e10", "young = [7e10, 2e11]"),
        "1: [[contact]] c: an elastic wall takes a second young and a second poisson (got young "

@@ -296,6 +296,11 @@ int run_cli(int argc, const char* const* argv, std::ostream& out, std::ostream& 
       run_solve(solve_args, out);
     } else if (timestep->parsed()) {
       settle_material_options(*timestep, timestep_args.contact);
+      // With materials Δt is in seconds and depends on the speed: no default of 1 m/s.
+      if (timestep_args.contact.geometry && timestep->get_option("--v0")->count() == 0) {
+        throw InputError("--v0, the relative normal speed in m/s, is required with --geometry "
+                         "(got nothing)");
+      }
       if (timestep_args.contact.code && timestep->get_option("--end")->count() > 0) {
         throw InputError("--code sets the contact end (a capped code's is force) (got --end " +
                          timestep_args.contact.end + ")");

@@ -130,11 +130,18 @@ void calibrate_velocity_dependent(const ContactArgs& args, const VelocityDepende
   require(e > 0 && e <= 1, "e must be in (0, 1]", e);
   // From materials: m*, k and R* (MATH.md §13), the Reff LAMMPS divides its entry by.
   const std::optional<analytic::HertzContact<double>> hertz = hertz_of<double>(args);
-  if (hertz &&
-      std::any_of(args.speed_options_given.begin(), args.speed_options_given.end(),
-                  [](const std::string& given) { return given.rfind("--reff", 0) == 0; })) {
+  const auto given = [&](const char* option) {
+    return std::any_of(
+        args.speed_options_given.begin(), args.speed_options_given.end(),
+        [&](const std::string& typed) { return typed.rfind(std::string(option) + " ", 0) == 0; });
+  };
+  if (hertz && given("--reff")) {
     throw InputError("--reff is R* under --geometry, derived from the radii (got --reff " +
                      args.reff + ")");
+  }
+  if (hertz && !given("--v0")) { // in SI the speed at which e is set has no natural default
+    throw InputError("--v0, the relative normal speed in m/s at which e is set, is required with "
+                     "--geometry (got nothing)");
   }
   const auto [m, k] = mass_and_stiffness<double>(args);
   const double v0 = parse_real<double>("--v0", args.v0),
@@ -179,6 +186,18 @@ void calibrate_velocity_dependent(const ContactArgs& args, const VelocityDepende
     o["m"] = exact_number(m);
     o["k"] = exact_number(k);
     describe_materials<double>(args, o);
+    // With another dashpot than the seed's α has a unit: α √(m k) δ^β δ' is a force when α is in
+    // m^((p−1)/2 − β); the entry α √(k/m) (/√R*) is then in m^(−β) (m^(−β−1/2)) per second.
+    const auto metres = [](double power) {
+      return power == 0 ? std::string() : fmt::format("m^{:g}", power);
+    };
+    Answer units = Answer::object();
+    if (const std::string alpha_unit = metres((p - 1) / 2 - code.beta); !alpha_unit.empty()) {
+      units["alpha"] = alpha_unit;
+    }
+    const std::string per_metre = metres(-code.beta - (code.divided_by_radius ? 0.5 : 0.0));
+    units["entry"] = per_metre.empty() ? "1/s" : per_metre + "/s";
+    o["units"] = units;
   }
   Answer curve = Answer::array();
   for (const double speed : speeds) {

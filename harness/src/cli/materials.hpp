@@ -133,8 +133,9 @@ inline void add_units(Answer& o) {
                                                                       {"range", "[s, s]"},
                                                                       {"wall_seconds", "s"},
                                                                       {"samples", "[s, m, m/s]"},
-                                                                      {"e_of_v0", "v0 [m/s]"}};
-  Answer table = Answer::object();
+                                                                      {"e_of_v0", "[{v0: m/s}]"}};
+  // Units a command set itself (a velocity-dependent code's α and entry) are kept.
+  Answer table = o.contains("units") ? o["units"] : Answer::object();
   for (const auto& [key, unit] : units) {
     if (o.contains(key)) {
       table[key] = unit;

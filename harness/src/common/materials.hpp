@@ -59,15 +59,17 @@ inline void check_material_shape(const MaterialInput& in, const MaterialNames& n
     // A wall has no radius or density; its modulus and ratio are optional (rigid without).
     const bool wall_optional = wall && (list == &in.young || list == &in.poisson);
     const std::size_t most = wall && !wall_optional ? 1 : 2;
-    if (list->empty() || list->size() > most) {
-      const std::string typed = typed_list(*list);
+    if (list->empty()) {
+      throw InputError(*name + " is required with " + names.geometry + " " + in.geometry +
+                       " (got nothing)");
+    }
+    if (list->size() > most) {
       throw InputError(*name + " takes " +
                        (most == 1 ? std::string("one value (the sphere's") +
                                         (wall ? "; the wall has none" : "") + ")"
                         : wall ? std::string("the sphere's value, then the wall's if elastic")
-                               : std::string("R1[,R2]-style values: one for both spheres, "
-                                             "or one each")) +
-                       " (got " + (typed.empty() ? "nothing" : *name + " " + typed) + ")");
+                               : std::string("one value for both spheres, or one each")) +
+                       " (got " + *name + " " + typed_list(*list) + ")");
     }
   }
   if (wall && in.young.size() != in.poisson.size()) {

@@ -92,7 +92,15 @@ void read_contacts(const Reader& reader, const toml::node& node, Scene& scene) {
       domain::require_scale("m", contact.m);
       domain::require_scale("k", contact.k);
     } catch (const std::invalid_argument& e) {
-      reader.fail(item, "[[contact]] " + contact.name + ": " + e.what());
+      // At the line of the key the message names ("poisson must be ..."), else the entry's.
+      const std::string what = e.what();
+      const toml::node* at = &item;
+      for (const char* key : {"geometry", "radius", "young", "poisson", "density"}) {
+        if (what.rfind(std::string(key) + " ", 0) == 0) {
+          at = entry.get(key);
+        }
+      }
+      reader.fail(*at, "[[contact]] " + contact.name + ": " + what);
     }
     const toml::node& speeds = *entry.get("v0");
     contact.v0 = reader.numbers(speeds, "v0");
