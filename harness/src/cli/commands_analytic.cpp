@@ -143,7 +143,8 @@ void calibrate_velocity_dependent(const ContactArgs& args, const VelocityDepende
     throw InputError("--v0, the relative normal speed in m/s at which e is set, is required with "
                      "--geometry (got nothing)");
   }
-  const auto [m, k] = mass_and_stiffness<double>(args);
+  const std::pair<double, double> mass_stiffness = mass_and_stiffness<double>(args);
+  const double m = mass_stiffness.first, k = mass_stiffness.second; // (lambdas capture them)
   const double v0 = parse_real<double>("--v0", args.v0),
                reff = hertz ? hertz->radius : parse_real<double>("--reff", args.reff);
   domain::require_scale("v0", v0);

@@ -55,13 +55,14 @@ MapTable contact_truth_table(const RunReport& report) {
     return table;
   }
   table.header = {"contact", "v0 [m/s]", "damping"};
-  std::vector<std::size_t> columns; // indices into plan.observables
-  for (const auto& [key, header] : shown_observables) {
+  std::vector<std::size_t> columns;             // indices into plan.observables
+  for (const auto& shown : shown_observables) { // (no structured binding: Clang 14 would not
+                                                // let the lambda capture it)
     const auto found = std::find_if(plan.observables.begin(), plan.observables.end(),
-                                    [&](const Observable* o) { return o->key == key; });
+                                    [&](const Observable* o) { return o->key == shown.first; });
     if (found != plan.observables.end()) {
       columns.push_back(static_cast<std::size_t>(found - plan.observables.begin()));
-      table.header.emplace_back(header);
+      table.header.emplace_back(shown.second);
     }
   }
   // One column per solver line (a configuration without its sweep value), its configurations'
