@@ -341,10 +341,11 @@ SearchGroup GroupTrials::answer(std::optional<double> bound_given) {
   // The scan sees the error at 8 values a decade, and between two of them it can rise above the
   // bound and fall again (the exit moves within a step as Δt changes, and the phases sampled
   // catch the worst one better at some Δt than at others): a report once answered 546 steps per
-  // contact for e within 1e-4 where counts from 573 to 690 failed. So every value up to twice as
-  // tight as the answer is checked too (each step count there, or band_values log-spaced; a
-  // first-order error is half the bound there), and where one fails the answer is sought again
-  // tighter than the tightest that fails, until the band holds.
+  // contact for e within 1e-4 where counts from 548 to 600 failed. So values up to twice as
+  // tight as the answer are checked too (each step count when there are at most 32, else 16
+  // log-spaced; a first-order error is half the bound there), and where one fails the answer is
+  // sought again tighter than the tightest that fails, until the band holds. Counts between the
+  // band's values are not all checked (README `pldamp timestep`).
   while (fixed_step(search_) && group.loosest) {
     const bool steps = search_.parameter == SearchParameter::steps_per_contact;
     const double answer = *group.loosest;
