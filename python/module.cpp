@@ -87,6 +87,39 @@ const Column& column(const std::string& key) {
 
 using Array = py::array_t<double, py::array::c_style | py::array::forcecast>;
 
+// How a contact's damping is given, read once per call (not per element).
+enum class DampingKind { e, alpha, alpha_eff };
+
+DampingKind damping_kind_of(const std::string& kind) {
+  if (kind == "e" || kind == "alpha" || kind == "alpha_eff") {
+    return kind == "e"       ? DampingKind::e
+           : kind == "alpha" ? DampingKind::alpha
+                             : DampingKind::alpha_eff;
+  }
+  throw std::invalid_argument("the damping is e, alpha or alpha_eff (got " + kind + ')');
+}
+
+ContactEnd end_of(const std::string& end) {
+  if (end != "overlap" && end != "force") {
+    throw std::invalid_argument("unknown end, expected overlap|force (got " + end + ')');
+  }
+  return end == "force" ? ContactEnd::force : ContactEnd::overlap;
+}
+
+// The contact of one element, as the command line builds it from --e, --alpha or --alpha-eff.
+Contact<double> contact_from(DampingKind kind, ContactEnd end, double p, double damping, double v0,
+                             double m, double k) {
+  switch (kind) {
+  case DampingKind::e:
+    return Contact<double>::from_e(p, damping, v0, m, k, end);
+  case DampingKind::alpha:
+    return Contact<double>::from_alpha(p, damping, v0, m, k);
+  case DampingKind::alpha_eff:
+    break;
+  }
+  return Contact<double>::from_alpha_eff(p, damping, v0, m, k);
+}
+
 // The closed forms over flat arrays of one length (python/pldamp broadcasts them): `damping_kind`
 // is e, alpha or alpha_eff; `end` overlap or force (a target e met where the force ends). Returns
 // alpha, alpha_eff and each wanted observable, NaN where it does not exist (an overdamped
@@ -100,12 +133,8 @@ py::dict observables_double(const Array& p, const std::string& damping_kind, con
       throw std::invalid_argument("the arrays must have one length (broadcast them first)");
     }
   }
-  if (damping_kind != "e" && damping_kind != "alpha" && damping_kind != "alpha_eff") {
-    throw std::invalid_argument("the damping is e, alpha or alpha_eff (got " + damping_kind + ")");
-  }
-  if (end != "overlap" && end != "force") {
-    throw std::invalid_argument("unknown end, expected overlap|force (got " + end + ")");
-  }
+  const DampingKind kind = damping_kind_of(damping_kind);
+  const ContactEnd contact_end = end_of(end);
   std::vector<const Column*> wanted;
   unsigned bits = 0;
   for (const std::string& key : want) {
@@ -126,12 +155,7 @@ py::dict observables_double(const Array& p, const std::string& damping_kind, con
     for (std::size_t i = 0; i < n && failure.empty(); ++i) {
       try {
         const Contact<double> c =
-            damping_kind == "e"
-                ? Contact<double>::from_e(ps[i], ds[i], vs[i], ms[i], ks[i],
-                                          end == "force" ? ContactEnd::force : ContactEnd::overlap)
-            : damping_kind == "alpha"
-                ? Contact<double>::from_alpha(ps[i], ds[i], vs[i], ms[i], ks[i])
-                : Contact<double>::from_alpha_eff(ps[i], ds[i], vs[i], ms[i], ks[i]);
+            contact_from(kind, contact_end, ps[i], ds[i], vs[i], ms[i], ks[i]);
         const pldamp::analytic::Observables<double> o = pldamp::analytic::observables(c, bits);
         into[0][i] = c.alpha();
         into[1][i] = c.alpha_eff();
@@ -164,11 +188,7 @@ py::dict observables_double(const Array& p, const std::string& damping_kind, con
 py::tuple trajectory_double(double p, const std::string& damping_kind, double damping, double v0,
                             double m, double k, const std::string& end, const Array& t) {
   const Contact<double> c =
-      damping_kind == "e"
-          ? Contact<double>::from_e(p, damping, v0, m, k,
-                                    end == "force" ? ContactEnd::force : ContactEnd::overlap)
-      : damping_kind == "alpha" ? Contact<double>::from_alpha(p, damping, v0, m, k)
-                                : Contact<double>::from_alpha_eff(p, damping, v0, m, k);
+      contact_from(damping_kind_of(damping_kind), end_of(end), p, damping, v0, m, k);
   const auto n = static_cast<std::size_t>(t.size());
   Array delta(static_cast<py::ssize_t>(n)), v(static_cast<py::ssize_t>(n));
   double *ds = delta.mutable_data(), *vs = v.mutable_data();

@@ -74,13 +74,7 @@ std::optional<analytic::HertzContact<Real>> hertz_of(const ContactArgs& a) {
                                            .p = static_cast<Real>(wide.p),
                                            .radius = static_cast<Real>(wide.radius),
                                            .modulus = static_cast<Real>(wide.modulus)};
-  using std::isfinite;
-  if (!isfinite(hertz.m) || !isfinite(hertz.k) || !(hertz.m > 0) || !(hertz.k > 0)) {
-    throw InputError("the materials give a mass or stiffness beyond " +
-                     std::string(precision_name<Real>()) + " (got --radius " +
-                     typed_list(a.radius) + " --young " + typed_list(a.young) + " --density " +
-                     typed_list(a.density) + ")");
-  }
+  require_representable(hertz, material_input(a), MaterialNames::options());
   return hertz;
 }
 

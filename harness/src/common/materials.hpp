@@ -113,6 +113,21 @@ std::vector<analytic::Sphere<Real>> spheres_of(const MaterialInput& in,
   return {body(0)};
 }
 
+// m* and k finite and > 0 in Real: R³ or E beyond the type gives inf (or inf/inf = NaN in m*),
+// and a narrower type than they were derived in can round them to 0 or inf; said so here, not as
+// a NaN later.
+template <SupportedReal Real>
+void require_representable(const analytic::HertzContact<Real>& hertz, const MaterialInput& in,
+                           const MaterialNames& names) {
+  using std::isfinite;
+  if (!isfinite(hertz.m) || !isfinite(hertz.k) || !(hertz.m > 0) || !(hertz.k > 0)) {
+    throw InputError("the materials give a mass or stiffness beyond " +
+                     std::string(precision_name<Real>()) + " (got " + names.radius + " " +
+                     typed_list(in.radius) + " " + names.young + " " + typed_list(in.young) + " " +
+                     names.density + " " + typed_list(in.density) + ")");
+  }
+}
+
 // The Hertz contact, in Real. Check the shape first.
 template <SupportedReal Real>
 analytic::HertzContact<Real> hertz_of(const MaterialInput& in, const MaterialNames& names) {
@@ -128,14 +143,7 @@ analytic::HertzContact<Real> hertz_of(const MaterialInput& in, const MaterialNam
     }
     hertz = analytic::hertz_contact(spheres[0], wall);
   }
-  // R³ or E beyond the type: inf, or inf/inf = NaN in m*; said so here, not as a NaN later.
-  using std::isfinite;
-  if (!isfinite(hertz.m) || !isfinite(hertz.k)) {
-    throw InputError("the materials give a mass or stiffness beyond " +
-                     std::string(precision_name<Real>()) + " (got " + names.radius + " " +
-                     typed_list(in.radius) + " " + names.young + " " + typed_list(in.young) + " " +
-                     names.density + " " + typed_list(in.density) + ")");
-  }
+  require_representable(hertz, in, names);
   return hertz;
 }
 
