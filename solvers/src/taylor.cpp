@@ -48,7 +48,9 @@
 //
 // Work: rhs_evals counts the orders of the recurrences computed (N per step, plus the terms of
 // each series built); order n costs about n products, so this undercounts the arithmetic of
-// high orders: compare wall time across methods.
+// high orders: compare wall time across methods. The series' terms are counted whether or not the
+// thread's cache held them (contact_series), so that a run's count does not depend on what the
+// thread ran before it.
 #include "collision.hpp"
 #include "contact_series.hpp"
 #include "methods.hpp"
@@ -116,14 +118,51 @@ private:
   // one-variable series (contact_series.hpp), a stated one the two-variable series
   // (two_power_series.hpp), even when it equals (p − 1)/2: that is how the general path is
   // checked against the closed forms.
-  std::unique_ptr<ContactSeries<Real>> contact_series(int sign) const {
+  std::shared_ptr<const ContactSeries<Real>> build_series(int sign) const {
     const Real tolerance = collision_.options().rtol;
     if (general_) {
-      return std::make_unique<TwoPowerSeries<Real>>(table_for(p_, a_, order_), sign, gamma_, kappa_,
+      return std::make_shared<TwoPowerSeries<Real>>(table_for(p_, a_, order_), sign, gamma_, kappa_,
                                                     tolerance);
     }
-    return std::make_unique<ContactPointSeries<Real>>(p_, Real(sign) * gamma_, 2 * gamma_,
+    return std::make_shared<ContactPointSeries<Real>>(p_, Real(sign) * gamma_, 2 * gamma_,
                                                       tolerance, series_terms(), with_work());
+  }
+  // A series with where the entry stretch ends (for the entry's).
+  struct SeriesAndEnd {
+    std::shared_ptr<const ContactSeries<Real>> series;
+    Real entry_end;
+  };
+  // The series depend on (p, β, γ, the tolerance, the work) alone, not on v0, m or k, which the
+  // units absorb: the cells of a grid that share p and α share them. Building one is most of a
+  // double collision's cost (two series of 2N terms against a few steps of N), so each thread
+  // keeps the last few it built.
+  SeriesAndEnd contact_series(int sign) const {
+    struct Key {
+      Real p, beta, gamma, tolerance;
+      int sign;
+      bool general, work;
+      bool operator==(const Key&) const = default;
+    };
+    static constexpr std::size_t kept = 16;
+    thread_local std::vector<std::pair<Key, SeriesAndEnd>> cache;
+    thread_local std::size_t next_evicted = 0;
+    const Key key{p_, a_, gamma_, collision_.options().rtol, sign, general_, with_work()};
+    for (const auto& [cached_key, cached] : cache) {
+      if (cached_key == key) {
+        return cached;
+      }
+    }
+    SeriesAndEnd built{build_series(sign), Real(0)};
+    if (sign > 0) {
+      built.entry_end = built.series->entry_end(Real(1), Real(1) / 2);
+    }
+    if (cache.size() < kept) {
+      cache.emplace_back(key, built);
+    } else {
+      cache[next_evicted] = {key, built};
+      next_evicted = (next_evicted + 1) % kept;
+    }
+    return built;
   }
 
   // Terms of the contact-point series: twice the order, so that their reach is ~1/e of their
@@ -132,7 +171,7 @@ private:
   // The exit series, built when a run first needs it (never for peak-only or force-end runs).
   const ContactSeries<Real>& exit_series() {
     if (!exit_) {
-      exit_ = contact_series(-1);
+      exit_ = contact_series(-1).series;
       collision_.count_rhs_evals(series_terms());
     }
     return *exit_;
@@ -211,7 +250,7 @@ private:
     }
   }
   Scaled entry_state(const Real& t) const {
-    const auto point = entry_->at(Real(1), t);
+    const auto point = entry_.series->at(Real(1), t);
     return {point.delta, point.rate, point.work};
   }
 
@@ -219,7 +258,8 @@ private:
   int order_;
   Real p_, a_, kappa_, gamma_; // a_ is β
   bool general_;               // a stated damping exponent (contact_series)
-  std::unique_ptr<ContactSeries<Real>> entry_, exit_;
+  SeriesAndEnd entry_;
+  std::shared_ptr<const ContactSeries<Real>> exit_;
   Real safety_, time_unit_, horizon_;
   StateOf<Real> units_;
   Scaled carry_{};                                // the compensated sum's low parts (advance)
@@ -272,13 +312,17 @@ void TaylorContact<Real>::compute_coefficients(const Scaled& y) {
 template <SupportedReal Real>
 Real TaylorContact<Real>::step_size() const {
   using std::abs;
-  using std::pow;
-  Real rho = std::numeric_limits<Real>::infinity();
+  using std::exp;
+  using std::log;
+  // ρ = min (s / |x_n|)^(1/n), taken as min ln(s / |x_n|) / n: a logarithm per bound, one
+  // exponential at the end, instead of a power per bound.
+  Real log_rho = std::numeric_limits<Real>::infinity();
   auto bound_by = [&](const std::vector<Real>& x, const Real& scale) {
     for (const int n : {order_ - 1, order_}) {
       const Real coefficient = abs(x[static_cast<std::size_t>(n)]);
       if (scale > 0 && coefficient > 0) {
-        rho = std::min(rho, Real(pow(scale / coefficient, inverse_[static_cast<std::size_t>(n)])));
+        log_rho = std::min(log_rho,
+                           Real(log(scale / coefficient) * inverse_[static_cast<std::size_t>(n)]));
       }
     }
   };
@@ -287,7 +331,7 @@ Real TaylorContact<Real>::step_size() const {
   // with |v_0| alone the steps would shrink with v towards the peak, a geometric creep that never
   // reaches it at low orders (h ∝ |v_0|^(1/(N−1))).
   bound_by(d_, abs(d_[0]));
-  const Real reach = rho < std::numeric_limits<Real>::infinity() ? rho : Real(0);
+  const Real reach = log_rho < std::numeric_limits<Real>::infinity() ? Real(exp(log_rho)) : Real(0);
   bound_by(v_, abs(v_[0]) + abs(v_[1]) * reach);
   if (with_work()) {
     // W must take part: where the solution is entire (p = 1, and odd p away from δ = 0) ρ measures
@@ -295,13 +339,14 @@ Real TaylorContact<Real>::step_size() const {
     // term is then ~2^N times theirs (the work of p = 1 erred by 6e-27 in quad without this).
     bound_by(w_, abs(w_[0]) + abs(w_[1]) * reach);
   }
-  return rho * safety_;
+  return log_rho < std::numeric_limits<Real>::infinity() ? Real(exp(log_rho)) * safety_
+                                                         : std::numeric_limits<Real>::infinity();
 }
 
 template <SupportedReal Real>
 Result<Real> TaylorContact<Real>::run() {
   // Entry: the series up to its reach, and not past the loss of half the impact speed.
-  Real t = std::min(entry_->entry_end(Real(1), Real(1) / 2), horizon_);
+  Real t = std::min(entry_.entry_end, horizon_);
   Scaled y = entry_state(t);
   sample_through(t, [&](const Real& s) { return entry_state(s); });
   // The normal force's peak within the entry stretch (a heavily damped contact's comes early):
