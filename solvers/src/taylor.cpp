@@ -77,14 +77,20 @@ public:
   using Scaled = StateOf<Real>; // (δ, v, W) in units δ_u, v0, KE0
 
   TaylorContact(const Problem<Real>& problem, const Options<Real>& options)
-      : collision_(problem, options), order_(order_for(options.rtol)), p_(problem.p),
-        a_(problem.beta()), kappa_((problem.p + 1) / 2),
-        gamma_(gamma_of(problem, collision_.ode().delta_scale())),
+      : collision_(problem, options), order_(order_for(options.rtol)),
+        exact_orders_(exact_orders_for(order_)), p_(problem.p), a_(problem.beta()),
+        kappa_((problem.p + 1) / 2), gamma_(gamma_of(problem, collision_.ode().delta_scale())),
         general_(problem.damping_exponent.has_value()), entry_(contact_series(+1)) {
     using std::exp;
     const std::size_t n = static_cast<std::size_t>(order_) + 1;
     for (std::vector<Real>* series : {&d_, &v_, &w_, &u_, &q_, &f_, &g_, &power_, &cut_}) {
       series->assign(n, Real(0));
+    }
+    if (exact_orders_ < order_) {
+      for (std::vector<double>* series :
+           {&low_.d, &low_.v, &low_.w, &low_.u, &low_.q, &low_.f, &low_.g, &low_.power}) {
+        series->assign(n, 0.0);
+      }
     }
     inverse_.assign(n, Real(0));
     for (std::size_t i = 1; i < n; ++i) {
@@ -224,6 +230,37 @@ private:
   }
 
   void compute_coefficients(const Scaled& y);
+  template <class T>
+  struct Series {
+    std::vector<T>&d, &v, &w, &u, &q, &f, &g, &power;
+  };
+  template <class T>
+  struct Constants {
+    T gamma, kappa, a, q_exponent, time_scale;
+  };
+  template <class T>
+  void recurrences(Series<T> s, const Constants<T>& c, std::size_t from, std::size_t to) const;
+  void low_order_tail(const Real& q_exponent);
+  // The order below which double's digits do not suffice for a coefficient's term (Real wider
+  // than double; the order itself otherwise): the smallest n with n ε_d e^(−2n) ≤ ε/1024, the
+  // term's size at the step's end being ~e^(−2n) of the state's (h = ρ e^−2, step_size).
+  static int exact_orders_for(int order) {
+    using std::exp;
+    if constexpr (std::numeric_limits<Real>::digits <= std::numeric_limits<double>::digits + 11) {
+      return order;
+    } else {
+      const Real eps = std::numeric_limits<Real>::epsilon();
+      const Real eps_double = Real(std::numeric_limits<double>::epsilon());
+      for (int n = 1; n < order; ++n) {
+        if (Real(n) * eps_double * exp(Real(-2 * n)) <= eps / 1024) {
+          return n;
+        }
+      }
+      return order;
+    }
+  }
+  // ln ρ from the coefficients at orders top − 1 and top (step_size).
+  Real log_radius_of(std::size_t top) const;
   Real step_size() const;
   Scaled state_at(const Real& theta) const {
     return {horner(span_of(d_), theta), horner(span_of(v_), theta),
@@ -255,7 +292,7 @@ private:
   }
 
   BasicCollision<Real> collision_;
-  int order_;
+  int order_, exact_orders_;
   Real p_, a_, kappa_, gamma_; // a_ is β
   bool general_;               // a stated damping exponent (contact_series)
   SeriesAndEnd entry_;
@@ -266,12 +303,16 @@ private:
   std::vector<Real> inverse_;                     // 1/n
   std::vector<Real> d_, v_, w_;                   // the state's Taylor coefficients
   std::vector<Real> u_, q_, f_, g_, power_, cut_; // δ^β, δ^(p−β), δ^p, δ^β v, δ^β v², κ q + γ v
+  struct {
+    std::vector<double> d, v, w, u, q, f, g, power;
+  } low_; // the orders above exact_orders_, scaled (low_order_tail)
 };
 
 template <SupportedReal Real>
 void TaylorContact<Real>::compute_coefficients(const Scaled& y) {
   using std::pow;
   const std::size_t order = static_cast<std::size_t>(order_);
+  const std::size_t exact = static_cast<std::size_t>(exact_orders_);
   d_[0] = y[0];
   v_[0] = y[1];
   w_[0] = y[2];
@@ -281,27 +322,12 @@ void TaylorContact<Real>::compute_coefficients(const Scaled& y) {
   if (general_) {
     q_[0] = pow(y[0], q_exponent);
   }
-  auto q_coefficient = [&](std::size_t n) {
-    return general_ ? (n == 0 ? q_[0] : power_coefficient(d_, q_, q_exponent, n))
-                    : product_coefficient(u_, d_, n);
-  };
-  for (std::size_t n = 0; n < order; ++n) {
-    if (n > 0) {
-      u_[n] = power_coefficient(d_, u_, a_, n);
-    }
-    q_[n] = q_coefficient(n);
-    f_[n] = product_coefficient(u_, q_, n);
-    g_[n] = product_coefficient(u_, v_, n);
-    d_[n + 1] = v_[n] * inverse_[n + 1];
-    v_[n + 1] = -(gamma_ * g_[n] + kappa_ * f_[n]) * inverse_[n + 1];
-    if (with_work()) {
-      power_[n] = product_coefficient(g_, v_, n);
-      w_[n + 1] = 2 * gamma_ * power_[n] * inverse_[n + 1];
-    }
+  recurrences<Real>({d_, v_, w_, u_, q_, f_, g_, power_}, {gamma_, kappa_, a_, q_exponent, Real(1)},
+                    0, std::min(order, exact));
+  if (exact < order) {
+    low_order_tail(q_exponent);
   }
   if (force_end()) {
-    u_[order] = power_coefficient(d_, u_, a_, order);
-    q_[order] = q_coefficient(order);
     for (std::size_t n = 0; n <= order; ++n) {
       cut_[n] = kappa_ * q_[n] + gamma_ * v_[n];
     }
@@ -309,8 +335,91 @@ void TaylorContact<Real>::compute_coefficients(const Scaled& y) {
   collision_.count_rhs_evals(order_);
 }
 
+// The recurrences of (1) for orders [from, to) in any arithmetic T: u_n, q_n, f_n, g_n, P_n from
+// the coefficients below them, then δ, v and W at n + 1. With a time scale H ≠ 1 every series
+// holds c_n H^n instead of c_n: products and powers keep their form, and the derivative brings
+// a factor H into δ' = v, v' = −(γ g + κ f) and W' = 2γ P.
 template <SupportedReal Real>
-Real TaylorContact<Real>::step_size() const {
+template <class T>
+void TaylorContact<Real>::recurrences(Series<T> s, const Constants<T>& c, std::size_t from,
+                                      std::size_t to) const {
+  for (std::size_t n = from; n < to; ++n) {
+    if (n > 0) {
+      s.u[n] = power_coefficient(s.d, s.u, c.a, n);
+    }
+    if (general_) {
+      if (n > 0) {
+        s.q[n] = power_coefficient(s.d, s.q, c.q_exponent, n);
+      }
+    } else {
+      s.q[n] = product_coefficient(s.u, s.d, n);
+    }
+    s.f[n] = product_coefficient(s.u, s.q, n);
+    s.g[n] = product_coefficient(s.u, s.v, n);
+    const T step = c.time_scale / T(n + 1);
+    s.d[n + 1] = s.v[n] * step;
+    s.v[n + 1] = -(c.gamma * s.g[n] + c.kappa * s.f[n]) * step;
+    if (with_work()) {
+      s.power[n] = product_coefficient(s.g, s.v, n);
+      s.w[n + 1] = 2 * c.gamma * s.power[n] * step;
+    }
+  }
+  if (force_end() && to > 0 && from < to) {
+    // The cut needs u and q at the top order too.
+    s.u[to] = power_coefficient(s.d, s.u, c.a, to);
+    s.q[to] = general_ ? power_coefficient(s.d, s.q, c.q_exponent, to)
+                       : product_coefficient(s.u, s.d, to);
+  }
+}
+
+// The orders above exact_orders_ in double (Real wider than double only). Their terms are below
+// ε/1024 of the state at the step's end (exact_orders_), so double's 16 digits in each suffice; the
+// recurrences cost O(N²) and the lower orders are most of the terms but the fewest of the sums.
+// The series are scaled by H = the radius the exact orders show (step_size's estimate), so that
+// every scaled coefficient is of the state's size: unscaled, c_n ~ ρ^−n could leave double's range.
+template <SupportedReal Real>
+void TaylorContact<Real>::low_order_tail(const Real& q_exponent) {
+  using std::exp;
+  const std::size_t order = static_cast<std::size_t>(order_);
+  const std::size_t exact = static_cast<std::size_t>(exact_orders_);
+  const Real log_radius = log_radius_of(exact);
+  const Real scale =
+      log_radius < std::numeric_limits<Real>::infinity() ? Real(exp(log_radius)) : Real(1);
+  // Copy the exact coefficients, scaled: c_n H^n.
+  Real power = Real(1);
+  for (std::size_t n = 0; n <= exact; ++n, power *= scale) {
+    for (auto [low, high] :
+         {std::pair{&low_.d, &d_}, std::pair{&low_.v, &v_}, std::pair{&low_.w, &w_},
+          std::pair{&low_.u, &u_}, std::pair{&low_.q, &q_}, std::pair{&low_.f, &f_},
+          std::pair{&low_.g, &g_}, std::pair{&low_.power, &power_}}) {
+      (*low)[n] = static_cast<double>((*high)[n] * power);
+    }
+  }
+  recurrences<double>({low_.d, low_.v, low_.w, low_.u, low_.q, low_.f, low_.g, low_.power},
+                      {static_cast<double>(gamma_), static_cast<double>(kappa_),
+                       static_cast<double>(a_), static_cast<double>(q_exponent),
+                       static_cast<double>(scale)},
+                      exact, order);
+  // Back, unscaled: c_n = (c_n H^n) / H^n.
+  const Real inverse = 1 / scale;
+  power = Real(1);
+  for (std::size_t n = 1; n <= order; ++n) {
+    power *= inverse;
+    if (n <= exact) {
+      continue;
+    }
+    d_[n] = Real(low_.d[n]) * power;
+    v_[n] = Real(low_.v[n]) * power;
+    w_[n] = Real(low_.w[n]) * power;
+    if (force_end()) {
+      u_[n] = Real(low_.u[n]) * power;
+      q_[n] = Real(low_.q[n]) * power;
+    }
+  }
+}
+
+template <SupportedReal Real>
+Real TaylorContact<Real>::log_radius_of(std::size_t top) const {
   using std::abs;
   using std::exp;
   using std::log;
@@ -318,11 +427,10 @@ Real TaylorContact<Real>::step_size() const {
   // exponential at the end, instead of a power per bound.
   Real log_rho = std::numeric_limits<Real>::infinity();
   auto bound_by = [&](const std::vector<Real>& x, const Real& scale) {
-    for (const int n : {order_ - 1, order_}) {
-      const Real coefficient = abs(x[static_cast<std::size_t>(n)]);
+    for (const std::size_t n : {top - 1, top}) {
+      const Real coefficient = abs(x[n]);
       if (scale > 0 && coefficient > 0) {
-        log_rho = std::min(log_rho,
-                           Real(log(scale / coefficient) * inverse_[static_cast<std::size_t>(n)]));
+        log_rho = std::min(log_rho, Real(log(scale / coefficient) * inverse_[n]));
       }
     }
   };
@@ -339,6 +447,13 @@ Real TaylorContact<Real>::step_size() const {
     // term is then ~2^N times theirs (the work of p = 1 erred by 6e-27 in quad without this).
     bound_by(w_, abs(w_[0]) + abs(w_[1]) * reach);
   }
+  return log_rho;
+}
+
+template <SupportedReal Real>
+Real TaylorContact<Real>::step_size() const {
+  using std::exp;
+  const Real log_rho = log_radius_of(static_cast<std::size_t>(order_));
   return log_rho < std::numeric_limits<Real>::infinity() ? Real(exp(log_rho)) * safety_
                                                          : std::numeric_limits<Real>::infinity();
 }
