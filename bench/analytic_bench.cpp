@@ -5,6 +5,8 @@
 
 #include <benchmark/benchmark.h>
 
+#include <string>
+#include <utility>
 #include <vector>
 
 namespace {
@@ -109,6 +111,40 @@ BENCHMARK(bundle_near_critical<double>)->Name("bundle_double_z0.999");
 #if PLDAMP_WITH_QUAD
 BENCHMARK(bundle_near_critical<quad>)->Name("bundle_quad_z0.999")->Unit(benchmark::kMicrosecond);
 #endif
+
+// Each observable of the bundle alone (observables(c, bit)), in double and float128: what a
+// scene that asks for one pays. `observable/all/*` is every observable (want_all).
+template <SupportedReal Real>
+void observable_of(benchmark::State& state, unsigned want) {
+  const auto c = hertz<Real>();
+  for (auto _ : state) {
+    benchmark::DoNotOptimize(observables(c, want));
+  }
+}
+const int observables_registered = [] {
+  const std::pair<const char*, unsigned> wants[] = {
+      {"e", want_e},
+      {"delta_max", want_delta_max},
+      {"t_peak", want_t_peak},
+      {"tau", want_tau},
+      {"energy", want_energy},
+      {"spring_force_max", want_spring_force_max},
+      {"dt_crit", want_dt_crit},
+      {"capped", want_capped},
+      {"normal_force", want_normal_force},
+      {"all", want_all},
+  };
+  for (const auto& [name, want] : wants) {
+    benchmark::RegisterBenchmark((std::string("observable/") + name + "/double").c_str(),
+                                 observable_of<double>, want);
+#if PLDAMP_WITH_QUAD
+    benchmark::RegisterBenchmark((std::string("observable/") + name + "/quad").c_str(),
+                                 observable_of<quad>, want)
+        ->Unit(benchmark::kMicrosecond);
+#endif
+  }
+  return 0;
+}();
 
 // Building a contact (validation, A, Ω0, ln L) is paid once per cell.
 void contact_from_e_double(benchmark::State& state) {
