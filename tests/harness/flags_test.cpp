@@ -216,8 +216,15 @@ TEST(Flags, EverySolveFlagChangesItsAnswer) {
            {"--horizon", cvode, with(cvode, {"--horizon", "2"}), ""},
            {"--sample-times", cvode, with(cvode, {"--sample-times", "1"}), ""},
            {"--max-steps", cvode, with(cvode, {"--max-steps", "3"}), ""},
-           {"--max-seconds", taylor, with(taylor, {"--max-seconds", "1e-9"}), ""}}),
+           {"--max-seconds", taylor, with(taylor, {"--max-seconds", "1e-9"}), ""},
+           {"--repeats", taylor, with(taylor, {"--repeats", "5"}),
+            "every solve gives the same answer; only wall_seconds, the fastest, changes"}}),
       [](const Args& args) { return shown(run(args)); });
+  for (const char* repeats : {"0", "1001", "2.5", "x"}) {
+    const CliRun refused = run(with(taylor, {"--repeats", repeats}));
+    EXPECT_EQ(refused.code, 2) << repeats;
+    EXPECT_NE(refused.err.find("--repeats"), std::string::npos) << refused.err;
+  }
 }
 
 TEST(Flags, EveryTimestepFlagChangesItsAnswer) {

@@ -174,6 +174,9 @@ int run_cli(int argc, const char* const* argv, std::ostream& out, std::ostream& 
   solve->add_option("--max-steps", solve_args.max_steps, "step limit (default 1e6)");
   solve->add_option("--max-seconds", solve_args.max_seconds,
                     "wall-clock limit of the solve (default 60): outcome time_limit beyond it");
+  solve->add_option("--repeats", solve_args.repeats,
+                    "solve this many times, in [1, 1000] (default 3): wall_seconds is the fastest "
+                    "(the first pays for cold caches and builds taylor's contact-point series)");
 
   TimestepArgs timestep_args;
   CLI::App* timestep = app.add_subcommand(

@@ -48,6 +48,7 @@ struct SolveArgs {
   std::optional<std::string> onset_phase;       // fixed-step solvers, in [0, 1)
   std::string max_steps = "1000000";
   std::string max_seconds = "60";
+  std::string repeats = "3"; // wall_seconds: the fastest of this many solves
 };
 
 // `pldamp timestep`: the contact options plus the question's.

@@ -7,6 +7,7 @@
 
 #include "pldamp/solvers/registry.hpp"
 
+#include <algorithm>
 #include <sstream>
 
 namespace pldamp::harness {
@@ -96,7 +97,18 @@ void solve_in(const SolveArgs& args, const solvers::SolverInfo* solver, std::ost
   options.max_steps = parse_integer("--max-steps", args.max_steps);
   options.max_seconds = static_cast<double>(parse_real<double>("--max-seconds", args.max_seconds));
 
-  const solvers::Result<Real> r = solvers::solve(args.solver, problem, options);
+  const long repeats = parse_integer("--repeats", args.repeats);
+  if (repeats < 1 || repeats > 1000) {
+    throw InputError("--repeats must be in [1, 1000] (got " + args.repeats + ")");
+  }
+  // Every solve gives the same answer; the time reported is the fastest, as the harness's (the
+  // first solve of a process pays for cold caches and page faults: 70 µs against 10 µs in loop
+  // for a double taylor collision).
+  solvers::Result<Real> r = solvers::solve(args.solver, problem, options);
+  for (long i = 1; i < repeats; ++i) {
+    r.wall_seconds =
+        std::min(r.wall_seconds, solvers::solve(args.solver, problem, options).wall_seconds);
+  }
 
   o["solver"] = args.solver;
   if (r.fixed_step) { // what a fixed-step run used instead of tolerances
