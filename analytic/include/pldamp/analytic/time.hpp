@@ -83,6 +83,16 @@ public:
     if (rate * h_ > 1) {
       h_ = 1 / rate;
     }
+    // The piece touching σ = 0 may reach further when underdamped: up to σ_end/2 its nearest
+    // singularity, the zero of sin at σ_end, lies at least a piece-width beyond it (ρ ≥ 3 + √8),
+    // and within 1/rate e^(−νzσ) still varies by at most e. So σ_peak ≤ σ_end/2 (and the normal
+    // force's peak before it) is one Gauss–Jacobi piece: half the evaluations of two pieces.
+    left_reach_ = h_;
+    if (d.mu > 0) {
+      const Real half_contact = sigma_end_ / 2;
+      const Real left = rate > 0 && rate * half_contact > 1 ? Real(1 / rate) : half_contact;
+      left_reach_ = std::max(h_, left);
+    }
   }
 
   const Real& sigma_end() const { return sigma_end_; }
@@ -134,6 +144,9 @@ public:
     }
     if (sigma <= 0) {
       return Real(0);
+    }
+    if (sigma <= left_reach_) {
+      return left_piece(sigma);
     }
     if (sigma_end_ - sigma < h_) {
       return before_end(Real(sigma_end_ - sigma));
@@ -227,7 +240,7 @@ private:
   }
 
   Damping<Real> d_;
-  Real q_, nu_, sigma_end_, h_;
+  Real q_, nu_, sigma_end_, h_, left_reach_;
   mutable std::size_t evaluations_ = 0;
 };
 
