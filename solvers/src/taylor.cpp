@@ -53,6 +53,7 @@
 // thread ran before it.
 #include "collision.hpp"
 #include "contact_series.hpp"
+#include "double_double.hpp"
 #include "methods.hpp"
 #include "polynomial.hpp"
 #include "two_power_series.hpp"
@@ -66,6 +67,7 @@
 #include <memory>
 #include <optional>
 #include <span>
+#include <type_traits>
 #include <vector>
 
 namespace pldamp::solvers::detail {
@@ -78,8 +80,9 @@ public:
 
   TaylorContact(const Problem<Real>& problem, const Options<Real>& options)
       : collision_(problem, options), order_(order_for(options.rtol)),
-        exact_orders_(exact_orders_for(order_)), p_(problem.p), a_(problem.beta()),
-        kappa_((problem.p + 1) / 2), gamma_(gamma_of(problem, collision_.ode().delta_scale())),
+        exact_orders_(orders_in<DoubleDouble>(order_)), double_orders_(orders_in<double>(order_)),
+        p_(problem.p), a_(problem.beta()), kappa_((problem.p + 1) / 2),
+        gamma_(gamma_of(problem, collision_.ode().delta_scale())),
         general_(problem.damping_exponent.has_value()), entry_(contact_series(+1)) {
     using std::exp;
     const std::size_t n = static_cast<std::size_t>(order_) + 1;
@@ -87,10 +90,8 @@ public:
       series->assign(n, Real(0));
     }
     if (exact_orders_ < order_) {
-      for (std::vector<double>* series :
-           {&low_.d, &low_.v, &low_.w, &low_.u, &low_.q, &low_.f, &low_.g, &low_.power}) {
-        series->assign(n, 0.0);
-      }
+      middle_.assign(n);
+      low_.assign(n);
     }
     inverse_.assign(n, Real(0));
     for (std::size_t i = 1; i < n; ++i) {
@@ -240,19 +241,24 @@ private:
   };
   template <class T>
   void recurrences(Series<T> s, const Constants<T>& c, std::size_t from, std::size_t to) const;
-  void low_order_tail(const Real& q_exponent);
-  // The order below which double's digits do not suffice for a coefficient's term (Real wider
-  // than double; the order itself otherwise): the smallest n with n ε_d e^(−2n) ≤ ε/1024, the
-  // term's size at the step's end being ~e^(−2n) of the state's (h = ρ e^−2, step_size).
-  static int exact_orders_for(int order) {
+  void lower_tiers(const Real& q_exponent);
+  // Where each order's coefficients are summed (Real wider than 106 bits only; the order itself
+  // otherwise): from order n on in T when n ε_T e^(−2n) ≤ ε/1024, the term of order n at the
+  // step's end being ~e^(−2n) of the state's (h = ρ e^−2, step_size) and its sums erring by
+  // ~n ε_T. In float128 (order 40): 0-6 in float128, 7-25 in double-double, 26-40 in double.
+  template <class T>
+  static int orders_in(int order) {
     using std::exp;
-    if constexpr (std::numeric_limits<Real>::digits <= std::numeric_limits<double>::digits + 11) {
+    using std::ldexp;
+    if constexpr (std::numeric_limits<Real>::digits <= 106) {
       return order;
     } else {
       const Real eps = std::numeric_limits<Real>::epsilon();
-      const Real eps_double = Real(std::numeric_limits<double>::epsilon());
+      const Real eps_t = std::is_same_v<T, double>
+                             ? Real(std::numeric_limits<double>::epsilon())
+                             : Real(ldexp(Real(1), -104)); // double-double, 4 ulps of 2^-106
       for (int n = 1; n < order; ++n) {
-        if (Real(n) * eps_double * exp(Real(-2 * n)) <= eps / 1024) {
+        if (Real(n) * eps_t * exp(Real(-2 * n)) <= eps / 1024) {
           return n;
         }
       }
@@ -292,9 +298,9 @@ private:
   }
 
   BasicCollision<Real> collision_;
-  int order_, exact_orders_;
-  Real p_, a_, kappa_, gamma_; // a_ is β
-  bool general_;               // a stated damping exponent (contact_series)
+  int order_, exact_orders_, double_orders_; // the tiers (orders_in)
+  Real p_, a_, kappa_, gamma_;               // a_ is β
+  bool general_;                             // a stated damping exponent (contact_series)
   SeriesAndEnd entry_;
   std::shared_ptr<const ContactSeries<Real>> exit_;
   Real safety_, time_unit_, horizon_;
@@ -303,9 +309,19 @@ private:
   std::vector<Real> inverse_;                     // 1/n
   std::vector<Real> d_, v_, w_;                   // the state's Taylor coefficients
   std::vector<Real> u_, q_, f_, g_, power_, cut_; // δ^β, δ^(p−β), δ^p, δ^β v, δ^β v², κ q + γ v
-  struct {
-    std::vector<double> d, v, w, u, q, f, g, power;
-  } low_; // the orders above exact_orders_, scaled (low_order_tail)
+  // The orders summed below Real, scaled (lower_tiers).
+  template <class T>
+  struct Tier {
+    std::vector<T> d, v, w, u, q, f, g, power;
+    void assign(std::size_t n) {
+      for (std::vector<T>* series : {&d, &v, &w, &u, &q, &f, &g, &power}) {
+        series->assign(n, T(0));
+      }
+    }
+    Series<T> view() { return {d, v, w, u, q, f, g, power}; }
+  };
+  Tier<DoubleDouble> middle_;
+  Tier<double> low_;
 };
 
 template <SupportedReal Real>
@@ -325,7 +341,7 @@ void TaylorContact<Real>::compute_coefficients(const Scaled& y) {
   recurrences<Real>({d_, v_, w_, u_, q_, f_, g_, power_}, {gamma_, kappa_, a_, q_exponent, Real(1)},
                     0, std::min(order, exact));
   if (exact < order) {
-    low_order_tail(q_exponent);
+    lower_tiers(q_exponent);
   }
   if (force_end()) {
     for (std::size_t n = 0; n <= order; ++n) {
@@ -372,48 +388,70 @@ void TaylorContact<Real>::recurrences(Series<T> s, const Constants<T>& c, std::s
   }
 }
 
-// The orders above exact_orders_ in double (Real wider than double only). Their terms are below
-// ε/1024 of the state at the step's end (exact_orders_), so double's 16 digits in each suffice; the
-// recurrences cost O(N²) and the lower orders are most of the terms but the fewest of the sums.
-// The series are scaled by H = the radius the exact orders show (step_size's estimate), so that
-// every scaled coefficient is of the state's size: unscaled, c_n ~ ρ^−n could leave double's range.
+// The orders from exact_orders_ on, in double-double and then double (Real wider than 106 bits
+// only; orders_in). The series are scaled by H = the radius the exact orders show (step_size's
+// estimate), so that every scaled coefficient is of the state's size: unscaled, c_n ~ ρ^−n could
+// leave double's range.
 template <SupportedReal Real>
-void TaylorContact<Real>::low_order_tail(const Real& q_exponent) {
+void TaylorContact<Real>::lower_tiers(const Real& q_exponent) {
   using std::exp;
   const std::size_t order = static_cast<std::size_t>(order_);
   const std::size_t exact = static_cast<std::size_t>(exact_orders_);
+  const std::size_t middle_end = std::min(order, static_cast<std::size_t>(double_orders_));
   const Real log_radius = log_radius_of(exact);
   const Real scale =
       log_radius < std::numeric_limits<Real>::infinity() ? Real(exp(log_radius)) : Real(1);
-  // Copy the exact coefficients, scaled: c_n H^n.
+  // Real -> double-double, scaled: c_n H^n.
   Real power = Real(1);
+  const Series<Real> high{d_, v_, w_, u_, q_, f_, g_, power_};
+  Series<DoubleDouble> middle = middle_.view();
   for (std::size_t n = 0; n <= exact; ++n, power *= scale) {
-    for (auto [low, high] :
-         {std::pair{&low_.d, &d_}, std::pair{&low_.v, &v_}, std::pair{&low_.w, &w_},
-          std::pair{&low_.u, &u_}, std::pair{&low_.q, &q_}, std::pair{&low_.f, &f_},
-          std::pair{&low_.g, &g_}, std::pair{&low_.power, &power_}}) {
-      (*low)[n] = static_cast<double>((*high)[n] * power);
+    for (auto [to, from] : {std::pair{&middle.d, &high.d}, std::pair{&middle.v, &high.v},
+                            std::pair{&middle.w, &high.w}, std::pair{&middle.u, &high.u},
+                            std::pair{&middle.q, &high.q}, std::pair{&middle.f, &high.f},
+                            std::pair{&middle.g, &high.g}, std::pair{&middle.power, &high.power}}) {
+      (*to)[n] = DoubleDouble::from((*from)[n] * power);
     }
   }
-  recurrences<double>({low_.d, low_.v, low_.w, low_.u, low_.q, low_.f, low_.g, low_.power},
-                      {static_cast<double>(gamma_), static_cast<double>(kappa_),
-                       static_cast<double>(a_), static_cast<double>(q_exponent),
-                       static_cast<double>(scale)},
-                      exact, order);
+  recurrences<DoubleDouble>(middle,
+                            {DoubleDouble::from(gamma_), DoubleDouble::from(kappa_),
+                             DoubleDouble::from(a_), DoubleDouble::from(q_exponent),
+                             DoubleDouble::from(scale)},
+                            exact, middle_end);
+  Series<double> low = low_.view();
+  if (middle_end < order) {
+    for (std::size_t n = 0; n <= middle_end; ++n) {
+      for (auto [to, from] : {std::pair{&low.d, &middle.d}, std::pair{&low.v, &middle.v},
+                              std::pair{&low.w, &middle.w}, std::pair{&low.u, &middle.u},
+                              std::pair{&low.q, &middle.q}, std::pair{&low.f, &middle.f},
+                              std::pair{&low.g, &middle.g}, std::pair{&low.power, &middle.power}}) {
+        (*to)[n] = (*from)[n].hi();
+      }
+    }
+    recurrences<double>(low,
+                        {static_cast<double>(gamma_), static_cast<double>(kappa_),
+                         static_cast<double>(a_), static_cast<double>(q_exponent),
+                         static_cast<double>(scale)},
+                        middle_end, order);
+  }
   // Back, unscaled: c_n = (c_n H^n) / H^n.
   const Real inverse = 1 / scale;
   power = Real(1);
+  auto back = [&](std::vector<Real>& to, const std::vector<DoubleDouble>& mid,
+                  const std::vector<double>& lo, std::size_t n) {
+    to[n] = (n <= middle_end ? mid[n].template to<Real>() : Real(lo[n])) * power;
+  };
   for (std::size_t n = 1; n <= order; ++n) {
     power *= inverse;
     if (n <= exact) {
       continue;
     }
-    d_[n] = Real(low_.d[n]) * power;
-    v_[n] = Real(low_.v[n]) * power;
-    w_[n] = Real(low_.w[n]) * power;
+    back(d_, middle.d, low.d, n);
+    back(v_, middle.v, low.v, n);
+    back(w_, middle.w, low.w, n);
     if (force_end()) {
-      u_[n] = Real(low_.u[n]) * power;
-      q_[n] = Real(low_.q[n]) * power;
+      back(u_, middle.u, low.u, n);
+      back(q_, middle.q, low.q, n);
     }
   }
 }
