@@ -369,20 +369,29 @@ void TaylorContact<Real>::recurrences(Series<T> s, const Constants<T>& c, std::s
     if (n > 0) {
       s.u[n] = power_coefficient(s.d, s.u, c.a, n);
     }
-    if (general_) {
-      if (n > 0) {
-        s.q[n] = power_coefficient(s.d, s.q, c.q_exponent, n);
-      }
-    } else {
-      s.q[n] = product_coefficient(s.u, s.d, n);
+    if (general_ && n > 0) {
+      s.q[n] = power_coefficient(s.d, s.q, c.q_exponent, n);
     }
-    s.f[n] = product_coefficient(s.u, s.q, n);
-    s.g[n] = product_coefficient(s.u, s.v, n);
+    // The products of order n in one pass over j (u and v are read once for all of them, and
+    // the four sums are independent chains): q = u δ (seed's β), f = u q, g = u v, P = g v, each
+    // but its term with a factor of order n, which waits for that factor.
+    T uq(0), ud(0), uv(0), gv(0);
+    for (std::size_t j = 1; j <= n; ++j) {
+      ud += s.u[j] * s.d[n - j];
+      uq += s.u[j] * s.q[n - j];
+      uv += s.u[j] * s.v[n - j];
+      gv += s.g[j - 1] * s.v[n - j + 1];
+    }
+    if (!general_) {
+      s.q[n] = ud + s.u[0] * s.d[n];
+    }
+    s.f[n] = uq + s.u[0] * s.q[n];
+    s.g[n] = uv + s.u[0] * s.v[n];
     const T step = c.time_scale / T(n + 1);
     s.d[n + 1] = s.v[n] * step;
     s.v[n + 1] = -(c.gamma * s.g[n] + c.kappa * s.f[n]) * step;
     if (with_work()) {
-      s.power[n] = product_coefficient(s.g, s.v, n);
+      s.power[n] = gv + s.g[n] * s.v[0];
       s.w[n + 1] = 2 * c.gamma * s.power[n] * step;
     }
   }
