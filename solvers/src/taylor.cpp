@@ -247,6 +247,10 @@ private:
   };
   template <class T>
   void recurrences(Series<T> s, const Constants<T>& c, std::size_t from, std::size_t to) const;
+  Series<Real> own_series() { return {d_, v_, w_, u_, q_, f_, g_, power_}; }
+  Constants<Real> own_constants(const Real& q_exponent) const {
+    return {gamma_, kappa_, a_, q_exponent, Real(1)};
+  }
   void lower_tiers(const Real& q_exponent);
   // Where each order's coefficients are summed (Real wider than 106 bits only; the order itself
   // otherwise): from order n on in T when n ε_T e^(−2n) ≤ ε/1024, the term of order n at the
@@ -344,8 +348,7 @@ void TaylorContact<Real>::compute_coefficients(const Scaled& y) {
   if (general_) {
     q_[0] = pow(y[0], q_exponent);
   }
-  recurrences<Real>({d_, v_, w_, u_, q_, f_, g_, power_}, {gamma_, kappa_, a_, q_exponent, Real(1)},
-                    0, std::min(order, exact));
+  recurrences<Real>(own_series(), own_constants(q_exponent), 0, std::min(order, exact));
   if (exact < order) {
     lower_tiers(q_exponent);
   }
@@ -416,9 +419,17 @@ void TaylorContact<Real>::lower_tiers(const Real& q_exponent) {
   const Real log_radius = log_radius_of(exact);
   const Real scale =
       log_radius < std::numeric_limits<Real>::infinity() ? Real(exp(log_radius)) : Real(1);
+  using std::abs;
+  using std::log;
+  if (!(abs(log(scale)) * Real(order) < log(std::numeric_limits<Real>::max()) / 2)) {
+    // H^N itself would leave Real's range (no contact in the units of §7 comes near): all in Real.
+    recurrences<Real>({d_, v_, w_, u_, q_, f_, g_, power_},
+                      {gamma_, kappa_, a_, q_exponent, Real(1)}, exact, order);
+    return;
+  }
   // Real -> double-double, scaled: c_n H^n.
   Real power = Real(1);
-  const Series<Real> high{d_, v_, w_, u_, q_, f_, g_, power_};
+  const Series<Real> high = own_series();
   Series<DoubleDouble> middle = middle_.view();
   for (std::size_t n = 0; n <= exact; ++n, power *= scale) {
     for (auto [to, from] : {std::pair{&middle.d, &high.d}, std::pair{&middle.v, &high.v},
