@@ -423,8 +423,7 @@ void TaylorContact<Real>::lower_tiers(const Real& q_exponent) {
   using std::log;
   if (!(abs(log(scale)) * Real(order) < log(std::numeric_limits<Real>::max()) / 2)) {
     // H^N itself would leave Real's range (no contact in the units of §7 comes near): all in Real.
-    recurrences<Real>({d_, v_, w_, u_, q_, f_, g_, power_},
-                      {gamma_, kappa_, a_, q_exponent, Real(1)}, exact, order);
+    recurrences<Real>(own_series(), own_constants(q_exponent), exact, order);
     return;
   }
   // Real -> double-double, scaled: c_n H^n.
