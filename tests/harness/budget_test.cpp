@@ -162,13 +162,19 @@ repeats = 5
   const std::vector<Record> records = run_plan(plan, 1, totals);
   ASSERT_EQ(records.size(), 20u);
   EXPECT_EQ(totals.solver_runs, 100);
-  long apart = 0;
+  long apart = 0, cpu_apart = 0;
   for (const Record& record : records) {
     EXPECT_GT(record.wall_seconds, 0);
     EXPECT_LE(record.wall_seconds, record.wall_seconds_slowest);
     apart += record.wall_seconds < record.wall_seconds_slowest ? 1 : 0;
+    // The thread's CPU time of the same repeats: the same rule.
+    ASSERT_TRUE(record.cpu_seconds && record.cpu_seconds_slowest);
+    EXPECT_GT(*record.cpu_seconds, 0);
+    EXPECT_LE(*record.cpu_seconds, *record.cpu_seconds_slowest);
+    cpu_apart += *record.cpu_seconds < *record.cpu_seconds_slowest ? 1 : 0;
   }
   EXPECT_GT(apart, 0);
+  EXPECT_GT(cpu_apart, 0);
 }
 
 // e's relative error against the closed form (α as the solver receives it), worst over `phases`

@@ -181,6 +181,70 @@ TEST(Diff, AWorkPointMustBeItsRecordsLargestAndAReportBeforeThemStillReads) {
   }
 }
 
+TEST(ReportJson, EachRecordOnALineOfItsOwnAndNoAbsError) {
+  const HandMade h = hand_made();
+  const Budgets b = make_budgets(h.plan, h.records);
+  const RunReport report{h.plan, h.records, b, RunTotals{400, 4, 1.0, {}}, {}};
+  const std::string text = report_json_text(report);
+  EXPECT_EQ(nlohmann::json::parse(text), nlohmann::json(report_json(report)));
+  std::istringstream lines(text);
+  std::size_t record_lines = 0;
+  for (std::string line; std::getline(lines, line);) {
+    if (line.rfind("  {\"key\":", 0) == 0) {
+      ++record_lines;
+      const auto record = nlohmann::json::parse(line.substr(0, line.find_last_of('}') + 1));
+      EXPECT_FALSE(record.contains("abs_error"));
+      EXPECT_EQ(record["cpu_seconds"], record["wall_seconds"]); // as the fixture has them
+      EXPECT_EQ(record["error"]["e"], h.records[record_lines - 1].error[0]);
+    }
+  }
+  EXPECT_EQ(record_lines, h.records.size());
+}
+
+TEST(Diff, AReportStreamedIsReadAsAWholeOneAndAnotherSchemaIsOneLine) {
+  const nlohmann::json report = hand_made_report();
+  std::istringstream in(report.dump());
+  std::vector<nlohmann::json> handed;
+  const nlohmann::json rest = schema::read_report(
+      in, "r.json", [&](nlohmann::json&& record) { handed.push_back(std::move(record)); });
+  EXPECT_EQ(nlohmann::json(handed), report["records"]);
+  EXPECT_EQ(rest["records"], nlohmann::json::array());
+  EXPECT_EQ(rest["claims"], report["claims"]);
+  // Diffed from streams as from trees.
+  nlohmann::json worse = report;
+  worse["records"][0]["rel_error"]["delta_max"] = 3e-4;
+  worse["records"][2]["failed"] = true;
+  std::istringstream old_text(report.dump()), new_text(worse.dump());
+  DiffOptions verbose;
+  verbose.verbose = true;
+  EXPECT_EQ(diff_reports(old_text, "old.json", new_text, "new.json", verbose).lines,
+            diff_reports(report, worse, verbose).lines);
+  // Another schema: its one line, and none of its records handed over.
+  nlohmann::json older = report;
+  older["schema"] = 2;
+  std::istringstream older_text(older.dump());
+  handed.clear();
+  try {
+    schema::read_report(older_text, "older.json",
+                        [&](nlohmann::json&& record) { handed.push_back(std::move(record)); });
+    ADD_FAILURE() << "read";
+  } catch (const InputError& e) {
+    EXPECT_EQ(std::string(e.what()), "older.json: report schema 2 is not 3");
+  }
+  EXPECT_TRUE(handed.empty());
+  // A damaged record: named by its place, as read_report of a text names it.
+  nlohmann::json damaged = report;
+  damaged["records"][1]["rel_error"]["e"] = -1;
+  std::istringstream damaged_text(damaged.dump());
+  try {
+    schema::read_report(damaged_text, "d.json", [](nlohmann::json&&) {});
+    ADD_FAILURE() << "read";
+  } catch (const InputError& e) {
+    EXPECT_EQ(std::string(e.what()),
+              "d.json: records[1].rel_error.e must be null or a number >= 0 (got -1)");
+  }
+}
+
 TEST(Diff, SameReportHasNothingToSay) {
   const nlohmann::json report = hand_made_report();
   const DiffResult same = diff_reports(report, report);
@@ -274,22 +338,48 @@ TEST(Diff, ThresholdsComeFromTheSceneAndFlagsOverrideThem) {
   flags.error_factor = 20;
   EXPECT_EQ(diff_reports(old_report, nine, flags).regressions, 0);
 
-  // Time: a configuration's sum of fastest repeats, judged above the floor only.
+  // Time: a configuration's sum of fastest repeats on its thread's CPU clock, judged above the
+  // floor only, against the larger of time_factor and the two nights' spread (slowest over
+  // fastest: 1.2 on each night here, x1.44 in all).
   nlohmann::json slower = old_report;
   for (auto& record : slower["records"]) {
-    record["wall_seconds"] = 3 * record["wall_seconds"].get<double>(); // 12 ms -> 36 ms
+    record["cpu_seconds"] = 3 * record["cpu_seconds"].get<double>(); // 12 ms -> 36 ms
+    record["cpu_seconds_slowest"] = 3 * record["cpu_seconds_slowest"].get<double>();
   }
   const DiffResult slow = diff_reports(old_report, slower);
-  EXPECT_EQ(slow.lines,
-            (std::vector<std::string>{"REGRESSION time_grew | cvode-bdf rtol=1e-08 | wall_seconds "
-                                      "| 1 configuration | 0.012 s -> 0.036 s (x3) over 4 records",
-                                      "1 regression, 0 changes"}));
+  EXPECT_EQ(slow.lines, (std::vector<std::string>{
+                            "REGRESSION time_grew | cvode-bdf rtol=1e-08 | cpu_seconds | 1 "
+                            "configuration | 0.012 s -> 0.036 s (x3, noise x1.44) over 4 records",
+                            "1 regression, 0 changes"}));
   flags = {};
   flags.time_floor = 0.02;
   EXPECT_EQ(diff_reports(old_report, slower, flags).regressions, 0);
   flags = {};
   flags.time_factor = 4;
   EXPECT_EQ(diff_reports(old_report, slower, flags).regressions, 0);
+  // The same 3x on a night whose repeats spread 2.6x: within the noise of both (x3.12), no finding.
+  nlohmann::json noisy = slower;
+  for (auto& record : noisy["records"]) {
+    record["cpu_seconds_slowest"] = 2.6 * record["cpu_seconds"].get<double>();
+  }
+  EXPECT_EQ(diff_reports(old_report, noisy).lines,
+            std::vector<std::string>{"0 regressions, 0 changes"});
+  // Records without a CPU time (an external program's): their wall time, spread 1.5 each night.
+  nlohmann::json walls = old_report;
+  for (auto& record : walls["records"]) {
+    record.erase("cpu_seconds");
+    record.erase("cpu_seconds_slowest");
+  }
+  nlohmann::json slower_walls = walls;
+  for (auto& record : slower_walls["records"]) {
+    record["wall_seconds"] = 3 * record["wall_seconds"].get<double>();
+    record["wall_seconds_slowest"] = 3 * record["wall_seconds_slowest"].get<double>();
+  }
+  EXPECT_EQ(diff_reports(walls, slower_walls).lines,
+            (std::vector<std::string>{
+                "REGRESSION time_grew | cvode-bdf rtol=1e-08 | wall_seconds | 1 configuration | "
+                "0.012 s -> 0.036 s (x3, noise x2.25) over 4 records",
+                "1 regression, 0 changes"}));
 }
 
 TEST(Diff, ADifferentSceneIsRefusedUnlessAllowedThenWhatChangedIsListed) {
@@ -480,6 +570,13 @@ TEST(Diff, ThroughTheCommandLine) {
   const CliRun bad = run({"diff", a, write_file("bad.json", "{\"schema\": 2}")});
   EXPECT_EQ(bad.code, 2);
   EXPECT_NE(bad.err.find("not a pldamp report.json"), std::string::npos) << bad.err;
+  nlohmann::json older = old_report;
+  older["schema"] = 2;
+  const std::string older_path = write_file("older.json", older.dump());
+  const CliRun refused = run({"diff", older_path, a});
+  EXPECT_EQ(refused.code, 2);
+  EXPECT_EQ(refused.out, "");
+  EXPECT_EQ(refused.err, "error: " + older_path + ": report schema 2 is not 3\n");
   const CliRun factor = run({"diff", a, a, "--work-factor", "0.5"});
   EXPECT_EQ(factor.code, 2);
   EXPECT_EQ(factor.err, "error: --work-factor must be in (1, 1e6] (got 0.5)\n");

@@ -178,15 +178,13 @@ double planned_runs(const Scene& scene) {
   return grid_cells(scene) * per_cell + claim_solves + search_runs;
 }
 
-// The report at `path`, read whole and checked (common/report_schema.hpp).
-nlohmann::json read_report_file(const std::string& path) {
+// The report at `path`, opened to be read (common/report_schema.hpp checks it as it is read).
+std::ifstream open_report(const std::string& path) {
   std::ifstream in(path, std::ios::binary);
   if (!in || std::filesystem::is_directory(path)) {
     throw InputError("cannot read report (got " + path + ")");
   }
-  std::ostringstream text;
-  text << in.rdbuf();
-  return schema::read_report(text.str(), path);
+  return in;
 }
 
 } // namespace
@@ -350,9 +348,10 @@ int run_diff(const DiffArgs& args, std::ostream& out) {
   options.work_factor = threshold("--work-factor", args.work_factor, 1, false);
   options.time_factor = threshold("--time-factor", args.time_factor, 1, false);
   options.time_floor = threshold("--time-floor", args.time_floor, 0, true);
-  const nlohmann::json old_report = read_report_file(args.old_path);
-  const nlohmann::json new_report = read_report_file(args.new_path);
-  const DiffResult result = diff_reports(old_report, new_report, options);
+  std::ifstream old_report = open_report(args.old_path);
+  std::ifstream new_report = open_report(args.new_path);
+  const DiffResult result =
+      diff_reports(old_report, args.old_path, new_report, args.new_path, options);
   for (const std::string& line : result.lines) {
     out << line << "\n";
   }

@@ -3,6 +3,7 @@
 #include "common/input.hpp"
 
 #include <cmath>
+#include <initializer_list>
 
 namespace pldamp::harness::schema {
 
@@ -89,10 +90,108 @@ const nlohmann::json& member(const nlohmann::json& object, const char* key, cons
   return *found;
 }
 
-} // namespace
+// `value`, at `where`, must be an object whose members `names` are strings.
+void expect_strings(const nlohmann::json& value, std::initializer_list<const char*> names,
+                    const std::string& path, const std::string& where) {
+  expect(
+      value, [](const nlohmann::json& j) { return j.is_object(); }, path, where, "an object");
+  for (const char* name : names) {
+    expect(
+        member(value, name, path, where), [](const nlohmann::json& j) { return j.is_string(); },
+        path, where + "." + name, "a string");
+  }
+}
 
-nlohmann::json read_report(std::string_view text, const std::string& path) {
-  nlohmann::json report = nlohmann::json::parse(text, nullptr, false);
+// The claims as read_report checks them.
+void check_claims(const nlohmann::json& claims, const std::string& path) {
+  std::size_t i = 0;
+  for (const nlohmann::json& claim : claims) {
+    const std::string where = std::string(key::claims) + "[" + std::to_string(i++) + "]";
+    expect_strings(claim, {key::name, key::verdict}, path, where);
+    if (claim.contains(key::expect)) { // reports before the claim kinds have none
+      expect(
+          claim.at(key::expect),
+          [](const nlohmann::json& j) { return j == word::holds || j == word::fails; }, path,
+          where + "." + key::expect, "holds or fails");
+    }
+  }
+}
+
+// A record as read_report checks it: `where` names it in the message.
+void check_record(const nlohmann::json& record, const std::string& path, const std::string& where) {
+  expect_strings(record, {key::key, key::outcome}, path, where);
+  expect(
+      member(record, key::failed, path, where),
+      [](const nlohmann::json& j) { return j.is_boolean(); }, path, where + "." + key::failed,
+      "true or false");
+  const std::string errors_at = where + "." + key::rel_error;
+  const nlohmann::json& errors = member(record, key::rel_error, path, where);
+  expect(
+      errors, [](const nlohmann::json& j) { return j.is_object(); }, path, errors_at, "an object");
+  for (const auto& [name, error] : errors.items()) {
+    expect(
+        error,
+        [](const nlohmann::json& j) {
+          return j.is_null() || (j.is_number() && !(j.get<double>() < 0));
+        },
+        path, errors_at + "." + name, "null or a number >= 0");
+  }
+  if (const auto precision = record.find(key::precision); precision != record.end()) {
+    expect(
+        *precision,
+        [](const nlohmann::json& j) {
+          bool known = false;
+          if (j.is_string()) {
+            for_each_precision([&]<class Real>() {
+              known = known || precision_name<Real>() == j.get<std::string>();
+            });
+          }
+          return known;
+        },
+        path, where + "." + key::precision, "one of " + precision_names());
+  }
+}
+
+// read_report, of any input nlohmann::json::parse takes: every record of the schema's version is
+// checked and handed to `each` as soon as it is read, and not kept (one record in memory at a
+// time); a record read before the schema's version is known is kept until it is.
+template <class Input>
+nlohmann::json read_report_from(Input&& input, const std::string& path, const RecordSink& each) {
+  using event = nlohmann::json::parse_event_t;
+  std::string section;         // the top-level member being read
+  std::optional<bool> ours;    // whether its schema is this version's (none: not yet read)
+  bool in_records = false;     // inside the top-level records array
+  std::size_t read = 0;        // records handed over
+  bool claims_checked = false; // as soon as they are read (before the records, as pldamp writes)
+  const auto take = [&](nlohmann::json&& record) {
+    check_record(record, path, std::string(key::records) + "[" + std::to_string(read++) + "]");
+    each(std::move(record));
+  };
+  const nlohmann::json::parser_callback_t callback = [&](int depth, event e,
+                                                         nlohmann::json& parsed) {
+    if (depth == 1) {
+      if (e == event::key) {
+        section = parsed.get<std::string>();
+      } else if (e == event::value && section == key::schema) {
+        ours = parsed == version;
+      } else if (e == event::array_end && section == key::claims && ours == true) {
+        check_claims(parsed, path);
+        claims_checked = true;
+      }
+      in_records = section == key::records && e == event::array_start;
+      return true;
+    }
+    const bool element = depth == 2 && in_records &&
+                         (e == event::object_end || e == event::array_end || e == event::value);
+    if (!element || !ours) {
+      return true; // a record before the schema: kept in the tree, handed over at the end
+    }
+    if (*ours) {
+      take(std::move(parsed));
+    }
+    return false; // of another schema: refused at the end, its records never kept
+  };
+  nlohmann::json report = nlohmann::json::parse(std::forward<Input>(input), callback, false);
   if (report.is_discarded()) {
     throw InputError("not a JSON report (got " + path + ")");
   }
@@ -104,67 +203,31 @@ nlohmann::json read_report(std::string_view text, const std::string& path) {
     throw InputError(path + ": report schema " + shown(report.at(key::schema)) + " is not " +
                      std::to_string(version));
   }
-  const auto is_object = [](const nlohmann::json& j) { return j.is_object(); };
   const auto is_array = [](const nlohmann::json& j) { return j.is_array(); };
   expect(report.at(key::claims), is_array, path, key::claims, "an array");
   expect(report.at(key::records), is_array, path, key::records, "an array");
-  // A member of an object at `where` that must be a string.
-  const auto expect_string = [&](const nlohmann::json& object, const char* name,
-                                 const std::string& where) {
-    expect(
-        member(object, name, path, where), [](const nlohmann::json& j) { return j.is_string(); },
-        path, where + "." + name, "a string");
-  };
-  std::size_t i = 0;
-  for (const nlohmann::json& claim : report.at(key::claims)) {
-    const std::string where = std::string(key::claims) + "[" + std::to_string(i++) + "]";
-    expect(claim, is_object, path, where, "an object");
-    expect_string(claim, key::name, where);
-    expect_string(claim, key::verdict, where);
-    if (claim.contains(key::expect)) { // reports before the claim kinds have none
-      expect(
-          claim.at(key::expect),
-          [](const nlohmann::json& j) { return j == word::holds || j == word::fails; }, path,
-          where + "." + key::expect, "holds or fails");
-    }
+  if (!claims_checked) {
+    check_claims(report.at(key::claims), path);
   }
-  i = 0;
-  for (const nlohmann::json& record : report.at(key::records)) {
-    const std::string where = std::string(key::records) + "[" + std::to_string(i++) + "]";
-    expect(record, is_object, path, where, "an object");
-    expect_string(record, key::key, where);
-    expect_string(record, key::outcome, where);
-    expect(
-        member(record, key::failed, path, where),
-        [](const nlohmann::json& j) { return j.is_boolean(); }, path, where + "." + key::failed,
-        "true or false");
-    const std::string errors_at = where + "." + key::rel_error;
-    const nlohmann::json& errors = member(record, key::rel_error, path, where);
-    expect(errors, is_object, path, errors_at, "an object");
-    for (const auto& [name, error] : errors.items()) {
-      expect(
-          error,
-          [](const nlohmann::json& j) {
-            return j.is_null() || (j.is_number() && !(j.get<double>() < 0));
-          },
-          path, errors_at + "." + name, "null or a number >= 0");
-    }
-    if (const auto precision = record.find(key::precision); precision != record.end()) {
-      expect(
-          *precision,
-          [](const nlohmann::json& j) {
-            bool known = false;
-            if (j.is_string()) {
-              for_each_precision([&]<class Real>() {
-                known = known || precision_name<Real>() == j.get<std::string>();
-              });
-            }
-            return known;
-          },
-          path, where + "." + key::precision, "one of " + precision_names());
-    }
+  for (nlohmann::json& record : report.at(key::records)) {
+    take(std::move(record));
   }
+  report.at(key::records) = nlohmann::json::array();
   return report;
+}
+
+} // namespace
+
+nlohmann::json read_report(std::string_view text, const std::string& path) {
+  nlohmann::json records = nlohmann::json::array();
+  nlohmann::json report = read_report_from(
+      text, path, [&](nlohmann::json&& record) { records.push_back(std::move(record)); });
+  report.at(key::records) = std::move(records);
+  return report;
+}
+
+nlohmann::json read_report(std::istream& in, const std::string& path, const RecordSink& each) {
+  return read_report_from(in, path, each);
 }
 
 } // namespace pldamp::harness::schema

@@ -4,7 +4,7 @@
 // (`pldamp diff`, and whatever else reads a report) spells a key through here, never as a string
 // literal of its own.
 //
-// report.json, schema 2 (README "Reports"; `?`: only when there is something to say):
+// report.json, schema 3 (README "Reports"; `?`: only when there is something to say):
 //   schema        2
 //   scene         end, observables, grid {p, v0, m, k, damping_exponent?, contacts? [{name,
 //                 geometry, R_eff, E_eff, m, k, v0 [], rayleigh_time}], units? {KEY: SI unit},
@@ -36,10 +36,10 @@
 //                 order_e, needed [{target, steps_per_contact, tau_over_dt, within_sweep, returns,
 //                 from_sweep}], dt_over_tau_and_worst_rel}], per_point [{p, damping, needed}]}]}
 //   records       [{key, config, precision, p, damping, alpha_eff, alpha, v0, m, k, contact?,
-//   outcome,
-//                 failed, steps, rhs_evals, wall_seconds, wall_seconds_slowest, alpha_digits?, dt?,
-//                 value, reference, error, abs_error, rel_error, phase_spread? {OBSERVABLE},
-//                 phases?, failure?, skipped?, note?, replica_difference?}]
+//                 outcome, failed, steps, rhs_evals, wall_seconds, wall_seconds_slowest,
+//                 cpu_seconds?, cpu_seconds_slowest?, alpha_digits?, dt?, value, reference,
+//                 error, rel_error, phase_spread? {OBSERVABLE}, phases?, failure?, skipped?,
+//                 note?, replica_difference?}], one record per line
 //   figures       [{kind, title, x, y, max_deviation, deviation_of, series [{title, closed_form,
 //                 points}], failure?, table?}]
 // A work-precision point is extended compatibly: schema 2 had config, solver, p, seconds,
@@ -50,6 +50,8 @@
 
 #include <nlohmann/json.hpp>
 
+#include <functional>
+#include <istream>
 #include <optional>
 #include <string>
 #include <string_view>
@@ -57,8 +59,9 @@
 namespace pldamp::harness::schema {
 
 // The version of report.json. 2: scene fingerprints and diff thresholds, records' reference and
-// signed error, cost per regime, searches.
-inline constexpr int version = 2;
+// signed error, cost per regime, searches. 3: records' CPU time (what diff judges), no abs_error
+// (|error|), one record per line.
+inline constexpr int version = 3;
 
 // The keys of report.json, each spelled here once (the layout above says where each stands).
 namespace key {
@@ -208,6 +211,8 @@ inline constexpr const char* key = "key";
 inline constexpr const char* alpha = "alpha";
 inline constexpr const char* outcome = "outcome";
 inline constexpr const char* wall_seconds_slowest = "wall_seconds_slowest";
+inline constexpr const char* cpu_seconds = "cpu_seconds";
+inline constexpr const char* cpu_seconds_slowest = "cpu_seconds_slowest";
 inline constexpr const char* alpha_digits = "alpha_digits";
 inline constexpr const char* reference = "reference";
 inline constexpr const char* error = "error";
@@ -262,6 +267,11 @@ nlohmann::ordered_json number_or_null(const std::optional<double>& x);
 // precisions); everything else is read defensively (below). Throws InputError naming `path` and
 // the first thing amiss, so a damaged or foreign file is one line, exit 2.
 nlohmann::json read_report(std::string_view text, const std::string& path);
+// The same of a stream, its records checked one at a time and handed to `each` in order rather
+// than kept: the tree returned has an empty records array, and a reader that keeps only what it
+// needs of each record never holds them all (`pldamp diff` of two nightly reports).
+using RecordSink = std::function<void(nlohmann::json&& record)>;
+nlohmann::json read_report(std::istream& in, const std::string& path, const RecordSink& each);
 
 // Reading defensively: a member of an object (null when the object is not one or lacks it), a
 // member that is a number (none otherwise: a field absent or null is simply absent), a string

@@ -4,6 +4,9 @@
 
 #include <fmt/format.h>
 
+#include <exception>
+#include <future>
+
 namespace pldamp::harness {
 namespace diff {
 
@@ -96,14 +99,41 @@ SceneChange scene_change(const json& old_report, const json& new_report) {
 
 } // namespace diff
 
+namespace {
+
 using diff::json;
 
-DiffResult diff_reports(const json& old_report, const json& new_report,
-                        const DiffOptions& options) {
+// A report read whole (read_report's tree) as diff reads it: its records' facts beside the rest.
+diff::Report facts_of(const json& report) {
+  diff::Report out{.rest = json::object(), .records = {}};
+  for (const auto& [name, value] : report.items()) {
+    if (name == diff::key::records) {
+      for (const json& record : value) {
+        out.records.push_back(diff::RecordFacts::of(record));
+      }
+    } else {
+      out.rest[name] = value;
+    }
+  }
+  return out;
+}
+
+// A report streamed (read_report of a stream): its records' facts taken one record at a time.
+diff::Report facts_of(std::istream& in, const std::string& path) {
+  diff::Report out;
+  out.rest = schema::read_report(
+      in, path, [&](json&& record) { out.records.push_back(diff::RecordFacts::of(record)); });
+  return out;
+}
+
+DiffResult diff_facts(const diff::Report& old_facts, const diff::Report& new_facts,
+                      const DiffOptions& options) {
   using diff::member_or_null;
   using diff::string_in;
   namespace key = diff::key;
   DiffResult result;
+  const json& old_report = old_facts.rest;
+  const json& new_report = new_facts.rest;
   result.thresholds = diff::thresholds_of(new_report, options);
   const diff::SceneChange change = diff::scene_change(old_report, new_report);
   const std::string old_print = string_in(member_or_null(old_report, key::scene), key::fingerprint);
@@ -123,13 +153,41 @@ DiffResult diff_reports(const json& old_report, const json& new_report,
   }
   diff::Findings findings;
   diff::compare_claims(findings, old_report, new_report, change, result.thresholds);
-  diff::compare_records(findings, old_report, new_report, change, result.thresholds);
-  diff::compare_budgets(findings, old_report, new_report, change, result.thresholds);
+  diff::compare_records(findings, old_facts, new_facts, change, result.thresholds);
+  diff::compare_budgets(findings, old_report, new_facts, change, result.thresholds);
   findings.write(result, options.verbose);
   result.lines.push_back(fmt::format("{} regression{}, {} change{}", result.regressions,
                                      result.regressions == 1 ? "" : "s", result.changes,
                                      result.changes == 1 ? "" : "s"));
   return result;
+}
+
+} // namespace
+
+DiffResult diff_reports(const json& old_report, const json& new_report,
+                        const DiffOptions& options) {
+  return diff_facts(facts_of(old_report), facts_of(new_report), options);
+}
+
+DiffResult diff_reports(std::istream& old_report, const std::string& old_path,
+                        std::istream& new_report, const std::string& new_path,
+                        const DiffOptions& options) {
+  // The two read at once, a thread each: reading is most of diff's time. The old report's error,
+  // if both are bad, is the one said (as when read one after the other).
+  std::future<diff::Report> old_facts =
+      std::async(std::launch::async, [&] { return facts_of(old_report, old_path); });
+  std::exception_ptr new_failed;
+  diff::Report new_facts;
+  try {
+    new_facts = facts_of(new_report, new_path);
+  } catch (...) {
+    new_failed = std::current_exception();
+  }
+  const diff::Report old_read = old_facts.get();
+  if (new_failed) {
+    std::rethrow_exception(new_failed);
+  }
+  return diff_facts(old_read, new_facts, options);
 }
 
 std::vector<std::string> regressions(const json& old_report, const json& new_report) {

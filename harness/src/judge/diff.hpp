@@ -36,6 +36,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include <istream>
 #include <optional>
 #include <string>
 #include <string_view>
@@ -61,6 +62,13 @@ struct DiffResult {
 // InputError when they come from different scenes (their fingerprints differ) and
 // `allow_scene_change` is off.
 DiffResult diff_reports(const nlohmann::json& old_report, const nlohmann::json& new_report,
+                        const DiffOptions& options = {});
+
+// The same of two reports read from streams (report.json files), each checked as
+// schema::read_report checks it and kept only as far as diff compares it: a record is read, its
+// facts kept, and the record dropped (two nightly reports of 62 MB took 560 MB read whole).
+DiffResult diff_reports(std::istream& old_report, const std::string& old_path,
+                        std::istream& new_report, const std::string& new_path,
                         const DiffOptions& options = {});
 
 // The REGRESSION lines of diff_reports, scene changes allowed.

@@ -16,11 +16,15 @@ namespace {
 // Per observable, the largest relative error of some records.
 using LargestErrors = std::map<std::string, std::optional<double>>;
 // Folds a record's relative errors into `largest` (an observable it has, even as null, is there).
-void take_largest(LargestErrors& largest, const json& record) {
-  for (const auto& [name, error] : record.at(key::rel_error).items()) {
-    std::optional<double>& slot = largest[name];
-    if (error.is_number() && (!slot || error.get<double>() > *slot)) {
-      slot = error.get<double>();
+void take_largest(LargestErrors& largest, const RecordFacts& record) {
+  for (const RecordFacts::Observed& observed : record.observed) {
+    const Number& error = observed.fields[rel_error_field];
+    if (error.state == Number::State::absent) {
+      continue;
+    }
+    std::optional<double>& slot = largest[observed.name];
+    if (error.state == Number::State::number && (!slot || error.value > *slot)) {
+      slot = error.value;
     }
   }
 }
@@ -29,17 +33,20 @@ void take_largest(LargestErrors& largest, const json& record) {
 std::pair<std::string, std::optional<double>> config_and_p(const json& object) {
   return {string_in(object, key::config), number_in(object, key::p)};
 }
+std::pair<std::string, std::optional<double>> config_and_p(const RecordFacts& record) {
+  return {record.config.value_or(""), record.p};
+}
 
 // budgets.work_precision: each point's error per observable is the largest of its records' at
 // its configuration and p (a point that shows another observable's error, or a stale one, is a
 // bug). A point without by_observable (a report before it) has nothing to check.
-void compare_work_points(Findings& findings, const json& new_report) {
+void compare_work_points(Findings& findings, const Report& new_report) {
   std::map<std::pair<std::string, std::optional<double>>, LargestErrors> largest;
-  for (const json& record : new_report.at(key::records)) {
+  for (const RecordFacts& record : new_report.records) {
     take_largest(largest[config_and_p(record)], record);
   }
   for (const json& point :
-       array_in(member_or_null(new_report, key::budgets), key::work_precision)) {
+       array_in(member_or_null(new_report.rest, key::budgets), key::work_precision)) {
     const json& by_observable = member_or_null(point, key::by_observable);
     if (!by_observable.is_object()) {
       continue;
@@ -125,14 +132,14 @@ void compare_analytic(Findings& findings, const json& old_budgets, const json& n
 
 // budgets.worst: each configuration's largest error per observable, against the old report's,
 // and against the new report's own records (a budget that no longer matches them is a bug).
-void compare_budgets(Findings& findings, const json& old_report, const json& new_report,
+void compare_budgets(Findings& findings, const json& old_report, const Report& new_report,
                      const SceneChange& change, const DiffThresholds& t) {
-  const Noise noise(new_report);
+  const Noise noise(new_report.rest);
   const auto config_and_observable = [](const json& entry) {
     return std::pair(string_in(entry, key::config), string_in(entry, key::observable));
   };
   const json& old_budgets = member_or_null(old_report, key::budgets);
-  const json& new_budgets = member_or_null(new_report, key::budgets);
+  const json& new_budgets = member_or_null(new_report.rest, key::budgets);
   std::map<std::pair<std::string, std::string>, const json*> now;
   for (const json& entry : array_in(new_budgets, key::worst)) {
     now[config_and_observable(entry)] = &entry;
@@ -164,8 +171,8 @@ void compare_budgets(Findings& findings, const json& old_report, const json& new
   }
   // Consistency: a budget's number is the largest of its records' relative errors.
   std::map<std::string, LargestErrors> largest;
-  for (const json& record : new_report.at(key::records)) {
-    take_largest(largest[string_in(record, key::config)], record);
+  for (const RecordFacts& record : new_report.records) {
+    take_largest(largest[record.config.value_or("")], record);
   }
   for (const json& entry : array_in(new_budgets, key::worst)) {
     const std::optional<double> budget = number_in(entry, key::max_rel);

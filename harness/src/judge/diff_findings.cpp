@@ -109,6 +109,45 @@ void compare_error(Findings& findings, const Finding& base, double before, doubl
   }
 }
 
+Number Number::in(const json& object, std::string_view key) {
+  const json& found = member_or_null(object, key);
+  if (found.is_number()) {
+    return {.state = State::number, .value = found.get<double>()};
+  }
+  return {.state = found.is_null() && object.is_object() && object.contains(key) ? State::null
+                                                                                 : State::absent};
+}
+
+void compare_fields(Findings& findings, const Finding& base, const std::string& subject,
+                    const std::vector<FieldNow>& fields) {
+  std::string lost, appeared;
+  for (const FieldNow& f : fields) {
+    if (f.before.state == Number::State::number && !f.after) {
+      lost +=
+          fmt::format("{}{} {}", lost.empty() ? "" : ", ", f.field, number_text(f.before.value));
+    } else if (f.before.state == Number::State::null && f.after) {
+      appeared +=
+          fmt::format("{}{} {}", appeared.empty() ? "" : ", ", f.field, number_text(*f.after));
+    }
+  }
+  Finding f = base;
+  f.subject = subject;
+  if (!lost.empty()) {
+    f.severity = Severity::regression;
+    f.what = "number_lost";
+    f.worst = lost + " -> null";
+    f.rank = 1;
+  } else if (!appeared.empty()) {
+    f.severity = Severity::change;
+    f.what = "number_appeared";
+    f.worst = "null -> " + appeared;
+  } else {
+    return;
+  }
+  f.detail += ": " + f.worst;
+  findings.add(f);
+}
+
 void compare_numbers(Findings& findings, const Finding& base, const json& was, const json& now,
                      const std::set<std::string>& removed) {
   if (!was.is_object()) {
@@ -118,33 +157,13 @@ void compare_numbers(Findings& findings, const Finding& base, const json& was, c
     if (removed.contains(name) || !fields.is_object()) {
       continue;
     }
-    std::string lost, appeared;
+    std::vector<FieldNow> changes;
     for (const auto& [field, value] : fields.items()) {
-      const std::optional<double> after = number_in(member_or_null(now, name), field);
-      if (value.is_number() && !after) {
-        lost += fmt::format("{}{} {}", lost.empty() ? "" : ", ", field,
-                            number_text(value.get<double>()));
-      } else if (value.is_null() && after) {
-        appeared +=
-            fmt::format("{}{} {}", appeared.empty() ? "" : ", ", field, number_text(*after));
-      }
+      changes.push_back({.field = field,
+                         .before = Number::in(fields, field),
+                         .after = number_in(member_or_null(now, name), field)});
     }
-    Finding f = base;
-    f.subject = name;
-    if (!lost.empty()) {
-      f.severity = Severity::regression;
-      f.what = "number_lost";
-      f.worst = lost + " -> null";
-      f.rank = 1;
-    } else if (!appeared.empty()) {
-      f.severity = Severity::change;
-      f.what = "number_appeared";
-      f.worst = "null -> " + appeared;
-    } else {
-      continue;
-    }
-    f.detail += ": " + f.worst;
-    findings.add(f);
+    compare_fields(findings, base, name, changes);
   }
 }
 

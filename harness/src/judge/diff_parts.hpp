@@ -10,7 +10,10 @@
 
 #include <nlohmann/json.hpp>
 
+#include <array>
+#include <cstdint>
 #include <map>
+#include <optional>
 #include <set>
 #include <string>
 #include <string_view>
@@ -27,6 +30,56 @@ using schema::array_in;
 using schema::member_or_null;
 using schema::number_in;
 using schema::string_in;
+
+// A number of a report as diff reads it: a number, null, or absent (missing, or of another type).
+struct Number {
+  enum class State : std::uint8_t { absent, null, number };
+  State state = State::absent;
+  double value = 0;
+  static Number in(const json& object, std::string_view key);
+  std::optional<double> number() const {
+    return state == State::number ? std::optional(value) : std::nullopt;
+  }
+};
+
+// The fields of a record diff compares per observable, in the order of their names (the order a
+// line lists them in).
+inline constexpr std::array observed_fields{key::error, key::phase_spread, key::reference,
+                                            key::rel_error, key::value};
+inline constexpr std::size_t rel_error_field = 3;
+static_assert(std::string_view(observed_fields[rel_error_field]) == key::rel_error);
+
+// What diff keeps of a record, and no more: a nightly report holds 38 640 records, and two such
+// reports as JSON trees took 560 MB.
+struct RecordFacts {
+  std::string key;
+  // Its identity fields, each none when missing or of another type.
+  std::optional<std::string> config, damping;
+  std::optional<double> p, v0, m, k;
+  std::string outcome, failure;
+  bool failed = false;
+  struct Observed {
+    std::string name;
+    std::array<Number, observed_fields.size()> fields;
+  };
+  std::vector<Observed> observed; // by name
+  Number rhs_evals, steps;
+  // Its time, fastest and slowest of the repeats: the thread's CPU time where the record has one
+  // (pldamp's solvers), else the wall time (an external program's own).
+  std::optional<double> seconds, seconds_slowest;
+  bool cpu = false;
+
+  static RecordFacts of(const json& record); // a record read_report checked
+  std::optional<schema::RecordId> id() const;
+  const Observed* find(const std::string& name) const;
+};
+
+// A report as diff reads it: everything but its records as read_report's tree, and its records'
+// facts, in order.
+struct Report {
+  json rest;
+  std::vector<RecordFacts> records;
+};
 
 enum class Severity { regression, change };
 
@@ -84,9 +137,18 @@ private:
 void compare_error(Findings& findings, const Finding& base, double before, double after,
                    double noise, double factor);
 
-// Numbers that were there and are not (regressions), and nulls that became numbers (changes).
-// `was` and `now` map a subject (an observable, a count) to its fields' values; one finding per
-// subject, however many of its fields went, but none for a subject the new scene removed.
+// Numbers that were there and are not (regressions), and nulls that became numbers (changes):
+// one finding for a subject (an observable, a count), however many of its fields went. Each
+// field: its name, its value before, and the number it holds now (none: null or missing).
+struct FieldNow {
+  std::string_view field;
+  Number before;
+  std::optional<double> after;
+};
+void compare_fields(Findings& findings, const Finding& base, const std::string& subject,
+                    const std::vector<FieldNow>& fields);
+// The same of JSON: `was` and `now` map a subject to its fields' values; none for a subject the
+// new scene removed.
 void compare_numbers(Findings& findings, const Finding& base, const json& was, const json& now,
                      const std::set<std::string>& removed = {});
 
@@ -104,9 +166,9 @@ SceneChange scene_change(const json& old_report, const json& new_report);
 // The comparators: records (errors, numbers, outcomes, work, time), budgets (budgets.worst,
 // work-precision points and the analytic layer, each also against the new report's own records),
 // claims and searches.
-void compare_records(Findings& findings, const json& old_report, const json& new_report,
+void compare_records(Findings& findings, const Report& old_report, const Report& new_report,
                      const SceneChange& change, const DiffThresholds& t);
-void compare_budgets(Findings& findings, const json& old_report, const json& new_report,
+void compare_budgets(Findings& findings, const json& old_report, const Report& new_report,
                      const SceneChange& change, const DiffThresholds& t);
 void compare_claims(Findings& findings, const json& old_report, const json& new_report,
                     const SceneChange& change, const DiffThresholds& t);

@@ -6,37 +6,99 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
+#include <unordered_map>
 
 namespace pldamp::harness::diff {
+
+RecordFacts RecordFacts::of(const json& record) {
+  RecordFacts facts;
+  facts.key = record.at(key::key).get<std::string>();
+  for (auto [field, into] :
+       {std::pair{key::config, &facts.config}, {key::damping, &facts.damping}}) {
+    if (const json& text = member_or_null(record, field); text.is_string()) {
+      *into = text.get<std::string>();
+    }
+  }
+  facts.p = number_in(record, key::p);
+  facts.v0 = number_in(record, key::v0);
+  facts.m = number_in(record, key::m);
+  facts.k = number_in(record, key::k);
+  facts.outcome = record.at(key::outcome).get<std::string>();
+  facts.failure = string_in(record, key::failure);
+  facts.failed = record.at(key::failed).get<bool>();
+  for (std::size_t f = 0; f < observed_fields.size(); ++f) {
+    const json& values = member_or_null(record, observed_fields[f]);
+    if (!values.is_object()) {
+      continue;
+    }
+    for (const auto& [name, value] : values.items()) {
+      auto at = std::find_if(facts.observed.begin(), facts.observed.end(),
+                             [&](const Observed& o) { return o.name == name; });
+      if (at == facts.observed.end()) {
+        facts.observed.push_back({.name = name, .fields = {}});
+        at = facts.observed.end() - 1;
+      }
+      at->fields[f] = Number::in(values, name);
+    }
+  }
+  std::sort(facts.observed.begin(), facts.observed.end(),
+            [](const Observed& a, const Observed& b) { return a.name < b.name; });
+  facts.rhs_evals = Number::in(record, key::rhs_evals);
+  facts.steps = Number::in(record, key::steps);
+  facts.cpu = number_in(record, key::cpu_seconds).has_value();
+  facts.seconds = number_in(record, facts.cpu ? key::cpu_seconds : key::wall_seconds);
+  facts.seconds_slowest =
+      number_in(record, facts.cpu ? key::cpu_seconds_slowest : key::wall_seconds_slowest);
+  return facts;
+}
+
+std::optional<schema::RecordId> RecordFacts::id() const {
+  if (!config || !damping || !p || !v0 || !m || !k) {
+    return std::nullopt;
+  }
+  return schema::RecordId{
+      .config = *config, .p = *p, .damping = *damping, .v0 = *v0, .m = *m, .k = *k};
+}
+
+const RecordFacts::Observed* RecordFacts::find(const std::string& name) const {
+  const auto at =
+      std::lower_bound(observed.begin(), observed.end(), name,
+                       [](const Observed& o, const std::string& n) { return o.name < n; });
+  return at != observed.end() && at->name == name ? &*at : nullptr;
+}
 
 namespace {
 
 // Whether a record of the old report is outside the new scene (its configuration or one of its
 // cell's values removed).
-bool outside(const SceneChange& change, const json& record) {
-  if (change.removed_configs.contains(string_in(record, key::config))) {
+bool outside(const SceneChange& change, const RecordFacts& record) {
+  if (change.removed_configs.contains(record.config.value_or(""))) {
     return true;
   }
-  for (const char* axis : {key::p, key::v0, key::m, key::k}) {
-    const std::optional<double> value = number_in(record, axis);
+  for (const auto& [axis, value] : {std::pair{key::p, record.p}, std::pair{key::v0, record.v0},
+                                    std::pair{key::m, record.m}, std::pair{key::k, record.k}}) {
     if (value && change.removed_values.at(axis).contains(to_string_full(*value))) {
       return true;
     }
   }
-  return change.removed_values.at(key::damping).contains(string_in(record, key::damping));
+  return change.removed_values.at(key::damping).contains(record.damping.value_or(""));
 }
 
 // A record's work (rhs_evals, steps), deterministic: any change listed, growth above the factor a
 // regression.
-void compare_work(Findings& findings, const Finding& base, const json& was, const json& now,
-                  double work_factor) {
-  for (const char* field : {key::rhs_evals, key::steps}) {
-    const std::optional<double> before = number_in(was, field);
-    const std::optional<double> after = number_in(now, field);
+void compare_work(Findings& findings, const Finding& base, const RecordFacts& was,
+                  const RecordFacts& now, double work_factor) {
+  for (const auto& [field, before_number, after_number] :
+       {std::tuple{key::rhs_evals, was.rhs_evals, now.rhs_evals},
+        std::tuple{key::steps, was.steps, now.steps}}) {
+    const std::optional<double> before = before_number.number();
+    const std::optional<double> after = after_number.number();
     if (before && !after) {
-      compare_numbers(findings, base, field_of(was, field, field), field_of(now, field, field));
+      compare_fields(findings, base, field,
+                     {{.field = field, .before = before_number, .after = std::nullopt}});
     } else if (before && after && *before != *after) {
       Finding f = base;
       f.subject = field;
@@ -52,33 +114,63 @@ void compare_work(Findings& findings, const Finding& base, const json& was, cons
   }
 }
 
+// A configuration's time on each night: the sums of its records' fastest and slowest repeats.
+struct Time {
+  double before = 0, before_slowest = 0, after = 0, after_slowest = 0;
+  long records = 0;
+  bool cpu = true; // every record timed by its thread's CPU clock, on both nights
+};
+
+// Time per configuration: the ratio of the sums of the fastest repeats, judged above the floor
+// against the larger of time_factor and the noise of both nights (each night's slowest over its
+// fastest: a ratio within what the repeats of one night already differ by is no finding).
+void compare_time(Findings& findings, const std::string& config, const Time& sums,
+                  const DiffThresholds& t) {
+  if (sums.before < t.time_floor || sums.before <= 0 || sums.after <= 0) {
+    return;
+  }
+  const double ratio = sums.after / sums.before;
+  const double noise = std::max(1.0, sums.before_slowest / sums.before) *
+                       std::max(1.0, sums.after_slowest / sums.after);
+  const double factor = std::max(t.time_factor, noise);
+  if (ratio > factor || ratio * factor < 1) {
+    const std::string worst =
+        fmt::format("{:.3g} s -> {:.3g} s (x{:.3g}, noise x{:.3g}) over {} records", sums.before,
+                    sums.after, ratio, noise, sums.records);
+    findings.add({.severity = ratio > 1 ? Severity::regression : Severity::change,
+                  .what = ratio > 1 ? "time_grew" : "time_fell",
+                  .owner = config,
+                  .subject = sums.cpu ? key::cpu_seconds : key::wall_seconds,
+                  .unit = "configuration",
+                  .rank = ratio,
+                  .worst = worst,
+                  .detail = config + ": " + worst});
+  }
+}
+
 } // namespace
 
-void compare_records(Findings& findings, const json& old_report, const json& new_report,
+void compare_records(Findings& findings, const Report& old_report, const Report& new_report,
                      const SceneChange& change, const DiffThresholds& t) {
-  std::map<std::string, const json*> new_records;
-  for (const json& record : new_report.at(key::records)) {
-    new_records[record.at(key::key).get<std::string>()] = &record;
+  std::unordered_map<std::string_view, const RecordFacts*> new_records;
+  new_records.reserve(new_report.records.size());
+  for (const RecordFacts& record : new_report.records) {
+    new_records[record.key] = &record;
   }
-  const Noise noise(new_report);
-  struct Time {
-    double before = 0, after = 0;
-    long records = 0;
-  };
+  const Noise noise(new_report.rest);
   std::map<std::string, Time> time; // per configuration, in the old report's order
   std::vector<std::string> time_order;
-  for (const json& old_record : old_report.at(key::records)) {
-    const std::string record_key = old_record.at(key::key).get<std::string>();
+  for (const RecordFacts& old_record : old_report.records) {
     // Its configuration and cell as its fields hold them, never split out of its key (a label
     // may hold " | "); a record without them (not one pldamp wrote) is named by its key.
-    const std::optional<schema::RecordId> id = schema::read_record_id(old_record);
-    const std::string config = id ? id->config : record_key;
+    const std::optional<schema::RecordId> id = old_record.id();
+    const std::string config = id ? id->config : old_record.key;
     Finding base{.severity = Severity::regression,
                  .owner = config,
                  .unit = "record",
                  .cell = id ? schema::cell_text(*id) : "",
-                 .detail = record_key};
-    const auto found = new_records.find(record_key);
+                 .detail = old_record.key};
+    const auto found = new_records.find(old_record.key);
     if (found == new_records.end()) {
       if (!outside(change, old_record)) {
         base.what = "record_gone";
@@ -89,25 +181,19 @@ void compare_records(Findings& findings, const json& old_report, const json& new
       }
       continue;
     }
-    const json& now = *found->second;
-    const bool failed_before = old_record.at(key::failed).get<bool>();
-    const bool failed_now = now.at(key::failed).get<bool>();
-    const auto outcomes = [&] {
-      return old_record.at(key::outcome).get<std::string>() + " -> " +
-             now.at(key::outcome).get<std::string>();
-    };
-    if (failed_now && !failed_before) {
+    const RecordFacts& now = *found->second;
+    const auto outcomes = [&] { return old_record.outcome + " -> " + now.outcome; };
+    if (now.failed && !old_record.failed) {
       base.what = "now_fails";
       base.subject = key::outcome;
       base.worst = outcomes();
-      const std::string failure = string_in(now, key::failure);
-      base.detail += ": " + base.worst + (failure.empty() ? "" : " (" + failure + ")");
+      base.detail += ": " + base.worst + (now.failure.empty() ? "" : " (" + now.failure + ")");
       base.rank = 1;
       findings.add(base);
       continue;
     }
-    if (failed_before) {
-      if (!failed_now) {
+    if (old_record.failed) {
+      if (!now.failed) {
         base.severity = Severity::change;
         base.what = "now_passes";
         base.subject = key::outcome;
@@ -118,62 +204,50 @@ void compare_records(Findings& findings, const json& old_report, const json& new
     }
     // Numbers lost or appeared: one finding per observable of the record, however many of its
     // fields (value, reference, error, ...) went.
-    json fields_before = json::object(), fields_now = json::object();
-    for (const char* field : {key::value, key::reference, key::error, key::abs_error,
-                              key::rel_error, key::phase_spread}) {
-      for (const bool before : {true, false}) { // the two may be one object: a report with itself
-        const json& values = member_or_null(before ? old_record : now, field);
-        if (!values.is_object()) {
-          continue;
-        }
-        json& into = before ? fields_before : fields_now;
-        for (const auto& [name, value] : values.items()) {
-          into[name][field] = value;
+    for (const RecordFacts::Observed& was : old_record.observed) {
+      if (change.removed_observables.contains(was.name)) {
+        continue;
+      }
+      const RecordFacts::Observed* is = now.find(was.name);
+      std::vector<FieldNow> fields;
+      for (std::size_t f = 0; f < observed_fields.size(); ++f) {
+        if (was.fields[f].state != Number::State::absent) {
+          fields.push_back({.field = observed_fields[f],
+                            .before = was.fields[f],
+                            .after = is != nullptr ? is->fields[f].number() : std::nullopt});
         }
       }
+      compare_fields(findings, base, was.name, fields);
     }
-    compare_numbers(findings, base, fields_before, fields_now, change.removed_observables);
-    for (const auto& [name, was] : old_record.at(key::rel_error).items()) {
-      const std::optional<double> is = number_in(now.at(key::rel_error), name);
-      if (was.is_number() && is) {
+    for (const RecordFacts::Observed& was : old_record.observed) {
+      const Number& before = was.fields[rel_error_field];
+      const RecordFacts::Observed* is = now.find(was.name);
+      const std::optional<double> after =
+          is != nullptr ? is->fields[rel_error_field].number() : std::nullopt;
+      if (before.state == Number::State::number && after) {
         Finding f = base;
         f.what = "error";
-        f.subject = name;
-        compare_error(findings, f, was.get<double>(), *is, noise.of(config), t.error_factor);
+        f.subject = was.name;
+        compare_error(findings, f, before.value, *after, noise.of(config), t.error_factor);
       }
     }
     compare_work(findings, base, old_record, now, t.work_factor);
-    const std::optional<double> before = number_in(old_record, key::wall_seconds);
-    const std::optional<double> after = number_in(now, key::wall_seconds);
-    if (before && after) {
+    if (old_record.seconds && now.seconds) {
       const auto [at, fresh] = time.try_emplace(config);
       if (fresh) {
         time_order.push_back(config);
       }
-      at->second.before += *before;
-      at->second.after += *after;
-      ++at->second.records;
+      Time& sums = at->second;
+      sums.before += *old_record.seconds;
+      sums.before_slowest += old_record.seconds_slowest.value_or(*old_record.seconds);
+      sums.after += *now.seconds;
+      sums.after_slowest += now.seconds_slowest.value_or(*now.seconds);
+      sums.cpu = sums.cpu && old_record.cpu && now.cpu;
+      ++sums.records;
     }
   }
-  // Time per configuration: the sum of the fastest repeats, judged above the floor.
   for (const std::string& config : time_order) {
-    const Time& sums = time.at(config);
-    if (sums.before < t.time_floor || sums.before <= 0) {
-      continue;
-    }
-    const double ratio = sums.after / sums.before;
-    if (ratio > t.time_factor || ratio * t.time_factor < 1) {
-      const std::string worst = fmt::format("{:.3g} s -> {:.3g} s (x{:.3g}) over {} records",
-                                            sums.before, sums.after, ratio, sums.records);
-      findings.add({.severity = ratio > 1 ? Severity::regression : Severity::change,
-                    .what = ratio > 1 ? "time_grew" : "time_fell",
-                    .owner = config,
-                    .subject = key::wall_seconds,
-                    .unit = "configuration",
-                    .rank = ratio,
-                    .worst = worst,
-                    .detail = config + ": " + worst});
-    }
+    compare_time(findings, config, time.at(config), t);
   }
 }
 

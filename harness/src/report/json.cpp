@@ -299,4 +299,28 @@ ordered_json report_json(const RunReport& report) {
   return out;
 }
 
+std::string report_json_text(const RunReport& report) {
+  const ordered_json json = report_json(report);
+  std::string text = "{";
+  for (const auto& [name, value] : json.items()) {
+    text += (text.size() == 1 ? "\n " : ",\n ") + ordered_json(name).dump() + ": ";
+    if (name == key::records) {
+      text += "[";
+      for (const ordered_json& record : value) {
+        text += (&record == &value.front() ? "\n  " : ",\n  ") + record.dump();
+      }
+      text += value.empty() ? "]" : "\n ]";
+      continue;
+    }
+    // Indented one level deeper: a JSON text holds no raw line break but between its values.
+    for (const char c : value.dump(1)) {
+      text += c;
+      if (c == '\n') {
+        text += ' ';
+      }
+    }
+  }
+  return text + "\n}\n";
+}
+
 } // namespace pldamp::harness

@@ -1,7 +1,11 @@
 // report.json's budgets and records (common/report_schema.hpp gives their layout and every key).
 #include "report/sections.hpp"
 
+#include <fmt/format.h>
+
 #include <array>
+#include <cmath>
+#include <string>
 #include <utility>
 
 namespace pldamp::harness {
@@ -11,6 +15,12 @@ using schema::number_or_null;
 namespace key = schema::key;
 
 namespace {
+
+// A time for report.json: 4 significant digits, which the noise of timing never reaches (the
+// full 17 of a mean over onset phases are bytes of nothing, in every record).
+double timing(double seconds) {
+  return std::isfinite(seconds) ? std::stod(fmt::format("{:.4g}", seconds)) : seconds;
+}
 
 // Per observable of the plan, a value each: {"e": ..., "tau": ...}.
 ordered_json per_observable(const Plan& plan, const std::vector<std::optional<double>>& values) {
@@ -184,8 +194,12 @@ ordered_json records_json(const RunReport& report) {
                    {key::failed, record.failed()},
                    {key::steps, record.steps},
                    {key::rhs_evals, record.rhs_evals},
-                   {key::wall_seconds, record.wall_seconds},
-                   {key::wall_seconds_slowest, record.wall_seconds_slowest}};
+                   {key::wall_seconds, timing(record.wall_seconds)},
+                   {key::wall_seconds_slowest, timing(record.wall_seconds_slowest)}};
+    if (record.cpu_seconds && record.cpu_seconds_slowest) {
+      r[key::cpu_seconds] = timing(*record.cpu_seconds);
+      r[key::cpu_seconds_slowest] = timing(*record.cpu_seconds_slowest);
+    }
     if (!record.alpha_digits.empty()) {
       r[key::alpha_digits] = record.alpha_digits; // α in the configuration's wider precision
     }
@@ -195,10 +209,13 @@ ordered_json records_json(const RunReport& report) {
     if (record.dt) {
       r[key::dt] = *record.dt;
     }
+    // No abs_error: it is |error| exactly (both rounded once from the same Exact difference).
     const std::pair<const char*, const std::vector<std::optional<double>>*> columns[] = {
-        {key::value, &record.value},         {key::reference, &record.reference},
-        {key::error, &record.error},         {key::abs_error, &record.abs_error},
-        {key::rel_error, &record.rel_error}, {key::phase_spread, &record.spread}};
+        {key::value, &record.value},
+        {key::reference, &record.reference},
+        {key::error, &record.error},
+        {key::rel_error, &record.rel_error},
+        {key::phase_spread, &record.spread}};
     for (const auto& [field, column] : columns) {
       if (column == &record.spread && record.phases == 1) {
         continue; // one phase: no spread

@@ -17,7 +17,7 @@ WrittenReports write_reports(const RunReport& report, const std::string& folder)
     try {
       switch (format) {
       case ReportFormat::json:
-        write_file_atomically(path, report_json(report).dump(1) + "\n");
+        write_file_atomically(path, report_json_text(report));
         break;
       case ReportFormat::csv:
         write_file_atomically(path, report_csv(report));

@@ -32,6 +32,10 @@ struct RunReport {
 // gives report.json's layout and keys, report/sections.hpp the tables report.md and report.html
 // share.
 nlohmann::ordered_json report_json(const RunReport& report);
+// report.json's text: each section indented, and each record on one line of its own (a nightly
+// report holds 39 480 records: indented, their line breaks and spaces were a tenth of the file;
+// one per line, a record is still one grep away).
+std::string report_json_text(const RunReport& report);
 std::string report_csv(const RunReport& report);
 std::string report_markdown(const RunReport& report);
 // `gnuplot` is the program to draw with; empty or missing: no plots.

@@ -26,6 +26,10 @@ struct Record {
   // Per collision, the mean over onset phases of the fastest of the repeats (what a report
   // compares: the least disturbed by other load) and of the slowest (its spread).
   double wall_seconds = 0, wall_seconds_slowest = 0;
+  // The same of the solving thread's CPU time (CLOCK_THREAD_CPUTIME_ID), which other processes
+  // on the machine disturb far less: the time `pldamp diff` judges. None for an external solver
+  // (its work is done in its own process: its wall time is what it reports).
+  std::optional<double> cpu_seconds, cpu_seconds_slowest;
   // α exactly as the solver received it (alpha_as_received, truth/plan.hpp): as a double, which is
   // what a double solver and an external program get, and in full digits where the configuration
   // runs wider than double (empty otherwise).
@@ -62,8 +66,8 @@ struct Record {
   std::string_view outcome_name() const;
 };
 
-// The wall times of a solve's repeats: the fastest is the one reported (timing noise only ever
-// adds), the slowest shows how noisy the machine was.
+// The times (wall or CPU) of a solve's repeats: the fastest is the one reported (timing noise only
+// ever adds), the slowest shows how noisy the machine was.
 struct RepeatTimes {
   double fastest = std::numeric_limits<double>::infinity(), slowest = 0;
   void add(double seconds) {
