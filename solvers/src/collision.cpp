@@ -383,21 +383,27 @@ void validate_against(const Problem<Real>& problem, const Options<Real>& options
     const Real scale =
         min(min(ode.delta_scale(), ode.v0()), with_work ? ode.energy_scale() : ode.v0());
     const Real floor = epsilon * epsilon * scale;
-    require(*options.atol < scale && *options.atol >= floor,
-            "atol must be in [" + to_string_full(floor) + ", " + to_string_full(scale) +
-                "), epsilon^2 times and once the smallest natural scale of the state (delta_u, " +
-                "v0" + (with_work ? ", m v0^2/2" : "") + ")",
-            *options.atol);
+    require(
+        *options.atol < scale && *options.atol >= floor,
+        [&] {
+          return "atol must be in [" + to_string_full(floor) + ", " + to_string_full(scale) +
+                 "), epsilon^2 times and once the smallest natural scale of the state (delta_u, " +
+                 "v0" + (with_work ? ", m v0^2/2" : "") + ")";
+        },
+        *options.atol);
   }
   // The horizon: at least ε of the time scale (CVODE refused a stop time of 1e-300 as behind
   // t = 0), at most 1e9 of it (an overdamped contact's steps then grew to 1e133 and CVODE's
   // corrector failed; the default is 1000).
   const Real horizon = options.horizon.value_or(1000 * time_scale);
-  require(horizon >= epsilon * time_scale && horizon <= 1000000000 * time_scale,
-          "horizon must be in [" + to_string_full(Real(epsilon * time_scale)) + ", " +
-              to_string_full(Real(1000000000 * time_scale)) +
-              "], epsilon and 1e9 times the time scale delta_u/v0",
-          horizon);
+  require(
+      horizon >= epsilon * time_scale && horizon <= 1000000000 * time_scale,
+      [&] {
+        return "horizon must be in [" + to_string_full(Real(epsilon * time_scale)) + ", " +
+               to_string_full(Real(1000000000 * time_scale)) +
+               "], epsilon and 1e9 times the time scale delta_u/v0";
+      },
+      horizon);
   // A fixed step below ε of the time scale does not advance time; one beyond the horizon never
   // sees the contact at all.
   if (options.fixed_step) {

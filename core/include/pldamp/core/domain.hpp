@@ -34,8 +34,9 @@ void require_p(const Real& p) {
 template <SupportedReal Real>
 void require_scale(const std::string& name, const Real& value) {
   require_finite(name, value);
-  require(value >= Real(scale_min) && value <= Real(scale_max), name + " must be in [1e-30, 1e30]",
-          value);
+  require(
+      value >= Real(scale_min) && value <= Real(scale_max),
+      [&] { return name + " must be in [1e-30, 1e30]"; }, value);
 }
 
 template <SupportedReal Real>
@@ -56,8 +57,9 @@ void require_alpha(const Real& alpha) {
 template <SupportedReal Real>
 void require_damping_exponent(const Real& beta, const Real& p) {
   require_finite("damping exponent", beta);
-  require(beta >= 0 && beta <= p,
-          "damping exponent must be in [0, p] = [0, " + to_string_full(p) + "]", beta);
+  require(
+      beta >= 0 && beta <= p,
+      [&] { return "damping exponent must be in [0, p] = [0, " + to_string_full(p) + "]"; }, beta);
 }
 
 } // namespace pldamp::domain

@@ -9,6 +9,7 @@
 #include <cassert>
 #include <charconv>
 #include <cmath>
+#include <concepts>
 #include <iomanip>
 #include <sstream>
 #include <stdexcept>
@@ -44,16 +45,27 @@ void require(bool ok, const std::string& what, const Real& value) {
   }
 }
 
+// The same with the message built only when it is thrown: a solve validates its problem each
+// time, and formatting bounds it never breaks cost a tenth of a double taylor collision.
+template <SupportedReal Real, std::invocable Message>
+void require(bool ok, Message&& what, const Real& value) {
+  if (!ok) {
+    require(false, std::string(what()), value);
+  }
+}
+
 template <SupportedReal Real>
 void require_finite(const std::string& name, const Real& value) {
   using std::isfinite;
-  require(static_cast<bool>(isfinite(value)), name + " must be finite", value);
+  require(
+      static_cast<bool>(isfinite(value)), [&] { return name + " must be finite"; }, value);
 }
 
 template <SupportedReal Real>
 void require_positive(const std::string& name, const Real& value) {
   require_finite(name, value);
-  require(value > 0, name + " must be > 0", value);
+  require(
+      value > 0, [&] { return name + " must be > 0"; }, value);
 }
 
 } // namespace pldamp

@@ -111,10 +111,13 @@ struct Options {
     require(rtol < 1, "rtol must be < 1", rtol);
     // Below the working precision's ε no integrator can meet the tolerance (CVODE and ARKODE
     // stop with "too much accuracy requested"; taylor would silently give ε).
-    require(rtol >= numeric_limits<Real>::epsilon(),
-            "rtol must be >= " + to_string_full(Real(numeric_limits<Real>::epsilon())) +
-                ", the epsilon of " + std::string(precision_name<Real>()),
-            rtol);
+    require(
+        rtol >= numeric_limits<Real>::epsilon(),
+        [] {
+          return "rtol must be >= " + to_string_full(Real(numeric_limits<Real>::epsilon())) +
+                 ", the epsilon of " + std::string(precision_name<Real>());
+        },
+        rtol);
     if (atol) {
       require_positive("atol", *atol);
     }
