@@ -271,7 +271,7 @@ int run_scene(const RunArgs& args, std::ostream& out, std::ostream& err) {
     return *code;
   }
   const Budgets budgets = make_budgets(plan, records, static_cast<int>(jobs));
-  const std::vector<Figure> figures = make_figures(scene);
+  const std::vector<Figure> figures = make_figures(scene, static_cast<int>(jobs));
   std::vector<TrajectoryCheck> trajectories;
   for (const TrajectorySpec& spec : scene.trajectories) {
     trajectories.push_back(check_trajectory(spec, scene.end));
