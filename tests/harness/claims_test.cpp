@@ -4,12 +4,14 @@
 #include "fake_solver.hpp"
 #include "judge/claims.hpp"
 #include "judge/solve.hpp"
+#include "run/parallel.hpp"
 
 #include "pldamp/analytic/observables.hpp"
 #include "pldamp/analytic/seed.hpp"
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <fstream>
 #include <iterator>
@@ -455,6 +457,113 @@ p = [3.0]
   // Pinned as failing, yet it holds: a change of verdict, which is what --strict is for.
   EXPECT_EQ(run({"run", scene_with("expect = \"fails\"\n", 0.5), "--out", out, "--strict"}).code,
             1);
+}
+
+// The claims' cells, the searches' groups and the step study's points run on --jobs threads
+// (run/parallel.hpp): every result lands in its own slot and is judged in order, so the report is
+// the same on one thread as on three, apart from the timings.
+TEST(Claims, TheReportDoesNotDependOnTheThreads) {
+  const std::string scene = write_file("jobs.toml", R"(name = "jobs"
+want = ["e", "tau"]
+[grid]
+p = [1.5, 2.0]
+e = [0.5, 0.9]
+v0 = [1.0]
+[[solver]]
+name = "dem-verlet"
+steps_per_contact = [20, 50]
+[[claim]]
+name = "relation"
+kind = "relation"
+solver = "arkode-dp5"
+rtol = 1e-8
+quantity = "e"
+formula = "seed_restitution"
+relation = "equal_within"
+tolerance = 1e-6
+absolute = true
+p = [1.0, 1.5, 2.0]
+e = [0.1, 0.5, 0.9]
+denser = true
+[[claim]]
+name = "asymptotic"
+kind = "asymptotic"
+solver = "dem-verlet"
+steps_per_contact = 2000
+quantity = "tau_ratio"
+formula = "seed_tau_ratio_curve"
+p = [1.5, 2.0]
+order = 1
+range = [1e-3, 1e-1]
+points = 5
+[[claim]]
+name = "recovered"
+kind = "recovered_parameter"
+solver = "arkode-dp5"
+rtol = 1e-8
+bound = 1e-6
+p = [1.0, 2.0]
+e = [0.2, 0.9]
+[[claim]]
+name = "stability"
+kind = "stability"
+solver = "dem-verlet"
+formula = "seed_dt_crit"
+p = [1.0, 2.0]
+e = [0.5]
+[[search]]
+name = "rtol"
+solver = "arkode-dp5"
+atol = 1e-13
+parameter = "rtol"
+range = [1e-10, 1e-3]
+observable = "e"
+bound = 1e-6
+group_by = "p"
+)");
+  auto report_on = [&](int jobs) {
+    const std::string out = (testing::scratch() / ("jobs-" + std::to_string(jobs))).string();
+    const testing::CliRun r = run({"run", scene, "--out", out, "--jobs", std::to_string(jobs)});
+    EXPECT_EQ(r.code, 0) << r.err;
+    std::ifstream in(out + "/report.json");
+    nlohmann::json report = nlohmann::json::parse(in);
+    for (nlohmann::json& record : report["records"]) {
+      record.erase("wall_seconds");
+      record.erase("wall_seconds_slowest");
+    }
+    return nlohmann::json{{"records", report["records"]},
+                          {"claims", report["claims"]},
+                          {"searches", report["searches"]},
+                          {"step_study", report["budgets"]["step_study"]}};
+  };
+  const nlohmann::json one = report_on(1);
+  ASSERT_EQ(one["claims"].size(), 4u);
+  ASSERT_EQ(one["searches"].at(0)["groups"].size(), 2u);
+  ASSERT_FALSE(one["step_study"].is_null());
+  EXPECT_EQ(one.dump(), report_on(3).dump());
+}
+
+// Every piece runs once, its result in its own slot; of the pieces that throw, the first by
+// index is the one rethrown (as a serial loop would), after every piece has run.
+TEST(Claims, ForEachIndexKeepsTheOrderAndTheFirstException) {
+  const std::vector<std::size_t> squares =
+      map_indices<std::size_t>(1000, 4, [](std::size_t i) { return i * i; });
+  for (std::size_t i = 0; i < squares.size(); ++i) {
+    ASSERT_EQ(squares[i], i * i);
+  }
+  std::vector<int> ran(100, 0);
+  try {
+    for_each_index(ran.size(), 3, [&](std::size_t i) {
+      ++ran[i];
+      if (i % 10 == 7) {
+        throw std::runtime_error("piece " + std::to_string(i));
+      }
+    });
+    ADD_FAILURE() << "no exception";
+  } catch (const std::runtime_error& e) {
+    EXPECT_STREQ(e.what(), "piece 7");
+  }
+  EXPECT_EQ(std::count(ran.begin(), ran.end(), 1), 100);
 }
 
 } // namespace

@@ -6,6 +6,7 @@
 #include "judge/diff.hpp"
 #include "judge/step_study.hpp"
 #include "report/report.hpp"
+#include "run/parallel.hpp"
 
 #include <fmt/format.h>
 
@@ -16,7 +17,6 @@
 #include <iostream>
 #include <optional>
 #include <sstream>
-#include <thread>
 #include <type_traits>
 #include <unistd.h>
 #include <variant>
@@ -191,9 +191,8 @@ std::ifstream open_report(const std::string& path) {
 
 int run_scene(const RunArgs& args, std::ostream& out, std::ostream& err) {
   Scene scene = load_scene(args.scene); // every scene error before any work
-  const long jobs = args.jobs
-                        ? parse_integer("--jobs", *args.jobs)
-                        : static_cast<long>(std::max(1u, std::thread::hardware_concurrency()));
+  const long jobs =
+      args.jobs ? parse_integer("--jobs", *args.jobs) : static_cast<long>(all_cores());
   if (jobs < 1 || jobs > 1024) {
     throw InputError("--jobs must be in [1, 1024] (got " + std::to_string(jobs) + ")");
   }
@@ -269,8 +268,8 @@ int run_scene(const RunArgs& args, std::ostream& out, std::ostream& err) {
     err << "stopped by a signal: no report written, " << args.out << " left as it was\n";
     return *code;
   }
-  const Budgets budgets = make_budgets(plan, records);
-  const std::vector<Figure> figures = make_figures(scene);
+  const Budgets budgets = make_budgets(plan, records, static_cast<int>(jobs));
+  const std::vector<Figure> figures = make_figures(scene, static_cast<int>(jobs));
   std::vector<TrajectoryCheck> trajectories;
   for (const TrajectorySpec& spec : scene.trajectories) {
     trajectories.push_back(check_trajectory(spec, scene.end));

@@ -10,7 +10,6 @@
 #include <cmath>
 #include <limits>
 #include <numeric>
-#include <thread>
 
 namespace pldamp::harness {
 namespace {
@@ -318,7 +317,7 @@ bool last_of_its_solver(const Plan& plan, std::size_t config) {
   return next == plan.configs.size() || plan.configs[next].line() != plan.configs[config].line();
 }
 
-Budgets make_budgets(const Plan& plan, const std::vector<Record>& records) {
+Budgets make_budgets(const Plan& plan, const std::vector<Record>& records, int jobs) {
   Budgets budgets;
   const std::size_t configs = plan.configs.size(), observables = plan.observables.size();
   budgets.worst.assign(configs, std::vector<Worst>(observables));
@@ -401,11 +400,10 @@ Budgets make_budgets(const Plan& plan, const std::vector<Record>& records) {
       }
     }
   }
-  const int jobs = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
   for (const Claim& claim : plan.scene.claims) {
     budgets.claims.push_back(claim.claim_kind() == ClaimKind::bound
                                  ? judge_bound(plan, records, claim, jobs)
-                                 : judge_on_grid(plan.scene, claim));
+                                 : judge_on_grid(plan.scene, claim, jobs));
   }
   for (const Search& search : plan.scene.searches) {
     budgets.searches.push_back(run_search(plan.scene, search, jobs));

@@ -3,6 +3,7 @@
 
 #include "judge/search.hpp"
 #include "judge/step_study.hpp"
+#include "run/parallel.hpp"
 #include "run/run.hpp"
 
 #include <optional>
@@ -142,7 +143,9 @@ struct Budgets {
   long failed_records = 0;
 };
 
-Budgets make_budgets(const Plan& plan, const std::vector<Record>& records);
+// The claims, searches and step study solve on `jobs` threads (--jobs); nothing in the budgets
+// depends on their number (run/parallel.hpp).
+Budgets make_budgets(const Plan& plan, const std::vector<Record>& records, int jobs = all_cores());
 
 // The index of the `quantile` of `values` by nearest rank (the ⌈q·n⌉-th smallest; NaN counts as
 // the largest; q = 1: the largest). `values` must not be empty.

@@ -1,6 +1,7 @@
 #include "judge/claims.hpp"
 
 #include "judge/solve.hpp"
+#include "run/parallel.hpp"
 #include "truth/plan.hpp"
 
 #include "pldamp/analytic/observables.hpp"
@@ -171,8 +172,14 @@ private:
   std::map<double, std::vector<std::string>> by_p_;
 };
 
+// A cell's two sides (quantity, formula), or why it has none (what computing them threw).
+struct Sides {
+  Exact a = 0, f = 0;
+  std::optional<std::string> failure;
+};
+
 Judgement judge(const Scene& scene, const RelationClaim& claim, const ClaimGrid& grid,
-                std::vector<MeasuredOrder>&) {
+                std::vector<MeasuredOrder>&, int jobs) {
   Judgement j;
   j.grid = grid_text(grid);
   const std::vector<ClaimCell> cells = cells_of(grid);
@@ -187,40 +194,52 @@ Judgement judge(const Scene& scene, const RelationClaim& claim, const ClaimGrid&
   // equal_within, relative: the range of formula / quantity, which says how a formula is wrong.
   Smallest lowest_ratio;
   Largest highest_ratio;
-  for (const ClaimCell& cell : cells) {
-    const std::string where = cell_text(grid, cell);
+  // The sides on the threads, then judged in the grid's order (run/parallel.hpp).
+  const std::vector<Sides> sides = map_indices<Sides>(cells.size(), jobs, [&](std::size_t i) {
+    Sides s;
     try {
-      const Contact<Exact> c = truth_contact(cell);
-      const Exact a = quantity_value(scene, claim.of, c);
-      const Exact f = seed::evaluate(claim.formula, c);
-      if (!isfinite(a) || !isfinite(f) || (f == 0 && !claim.absolute)) {
-        add_without_value(j, where,
-                          fmt::format("{} = {:.6g}, the formula {:.6g}",
-                                      name_of(quantities, claim.of.quantity),
-                                      static_cast<double>(a), static_cast<double>(f)),
-                          true);
-        continue;
-      }
-      if (equal_within) {
-        if (!claim.absolute && a != 0) {
-          const double ratio = static_cast<double>(f / a);
-          lowest_ratio.see(ratio, where);
-          highest_ratio.see(ratio, where);
-        }
-        const double d = static_cast<double>(claim.absolute ? abs(a - f) : abs(a / f - 1));
-        largest.see(d, where);
-        continue;
-      }
-      const Exact difference = claim.relation == Relation::lower_bound ? a - f : f - a;
-      const double gap = static_cast<double>(claim.absolute ? difference : difference / abs(f));
-      smallest.see(gap, where);
-      if (std::abs(gap) <= tolerance) {
-        ties.add(cell);
-      } else {
-        smallest_apart.see(gap, where);
-      }
+      const Contact<Exact> c = truth_contact(cells[i]);
+      s.a = quantity_value(scene, claim.of, c);
+      s.f = seed::evaluate(claim.formula, c);
     } catch (const std::exception& e) {
-      add_without_value(j, where, e.what(), true);
+      s.failure = e.what();
+    }
+    return s;
+  });
+  for (std::size_t i = 0; i < cells.size(); ++i) {
+    const ClaimCell& cell = cells[i];
+    const std::string where = cell_text(grid, cell);
+    if (sides[i].failure) {
+      add_without_value(j, where, *sides[i].failure, true);
+      continue;
+    }
+    const Exact& a = sides[i].a;
+    const Exact& f = sides[i].f;
+    if (!isfinite(a) || !isfinite(f) || (f == 0 && !claim.absolute)) {
+      add_without_value(j, where,
+                        fmt::format("{} = {:.6g}, the formula {:.6g}",
+                                    name_of(quantities, claim.of.quantity), static_cast<double>(a),
+                                    static_cast<double>(f)),
+                        true);
+      continue;
+    }
+    if (equal_within) {
+      if (!claim.absolute && a != 0) {
+        const double ratio = static_cast<double>(f / a);
+        lowest_ratio.see(ratio, where);
+        highest_ratio.see(ratio, where);
+      }
+      const double d = static_cast<double>(claim.absolute ? abs(a - f) : abs(a / f - 1));
+      largest.see(d, where);
+      continue;
+    }
+    const Exact difference = claim.relation == Relation::lower_bound ? a - f : f - a;
+    const double gap = static_cast<double>(claim.absolute ? difference : difference / abs(f));
+    smallest.see(gap, where);
+    if (std::abs(gap) <= tolerance) {
+      ties.add(cell);
+    } else {
+      smallest_apart.see(gap, where);
     }
   }
   if (equal_within) {
@@ -260,8 +279,15 @@ double slope(const std::vector<double>& x, const std::vector<double>& y) {
   return (n * sxy - sx * sy) / (n * sxx - sx * sx);
 }
 
+// One point of an asymptotic claim: |a − f|, the side's accuracy and |f|, or what computing them
+// threw.
+struct Gap {
+  double difference = 0, accuracy = 0, f = 0;
+  std::optional<std::string> failure;
+};
+
 Judgement judge(const Scene& scene, const AsymptoticClaim& claim, const ClaimGrid& grid,
-                std::vector<MeasuredOrder>& orders) {
+                std::vector<MeasuredOrder>& orders, int jobs) {
   Judgement j;
   const auto [from, to] = claim.range;
   j.grid = fmt::format("p in {} x {} alpha_eff log-spaced over [{:g}, {:g}]: {} cells",
@@ -273,34 +299,58 @@ Judgement judge(const Scene& scene, const AsymptoticClaim& claim, const ClaimGri
   const double equal = 1e-25;
   orders.clear();
   std::vector<std::string> notes;
-  for (const double p : grid.p) {
+  const CellScale scale = grid_scales(grid).front();
+  const auto points = static_cast<std::size_t>(claim.points);
+  const auto z_at = [&](std::size_t i) {
+    return from * std::pow(to / from, double(i) / (claim.points - 1));
+  };
+  // Every (p, α_eff) on the threads, then each p judged in order (run/parallel.hpp); a p whose
+  // point fails is judged no further, as before its later points were computed.
+  const std::vector<Gap> gaps =
+      map_indices<Gap>(grid.p.size() * points, jobs, [&](std::size_t index) {
+        Gap gap;
+        try {
+          const ClaimCell cell{grid.p[index / points],
+                               {Damping::Kind::alpha_eff, z_at(index % points)},
+                               scale.v0,
+                               scale.m,
+                               scale.k};
+          const Contact<Exact> c = truth_contact(cell);
+          const Exact a = quantity_value(scene, claim.of, c);
+          const Exact f = seed::evaluate(claim.formula, c);
+          gap.difference = static_cast<double>(abs(a - f));
+          gap.accuracy = claim.of.solver
+                             ? 10 * static_cast<double>(abs(a - truth_value(claim.of.quantity, c)))
+                             : 0.0;
+          gap.f = static_cast<double>(abs(f));
+        } catch (const std::exception& e) {
+          gap.failure = e.what();
+        }
+        return gap;
+      });
+  for (std::size_t pi = 0; pi < grid.p.size(); ++pi) {
+    const double p = grid.p[pi];
     std::vector<double> log_z, log_difference;
     double smallest_z = 0, its_difference = 0;
-    const CellScale scale = grid_scales(grid).front();
-    const ClaimCell at_p{p, {Damping::Kind::alpha_eff, from}, scale.v0, scale.m, scale.k};
     try {
-      for (int i = 0; i < claim.points; ++i) {
-        ClaimCell cell = at_p;
-        cell.damping.value = from * std::pow(to / from, double(i) / (claim.points - 1));
-        const Contact<Exact> c = truth_contact(cell);
-        const Exact a = quantity_value(scene, claim.of, c);
-        const Exact f = seed::evaluate(claim.formula, c);
-        const double difference = static_cast<double>(abs(a - f));
-        const double accuracy =
-            claim.of.solver ? 10 * static_cast<double>(abs(a - truth_value(claim.of.quantity, c)))
-                            : 0.0;
-        if (!std::isfinite(difference) || !std::isfinite(accuracy)) {
-          throw std::runtime_error("a side is not finite at alpha_eff = " +
-                                   verdict_number(cell.damping.value));
+      for (std::size_t i = 0; i < points; ++i) {
+        const Gap& gap = gaps[pi * points + i];
+        const double z = z_at(i);
+        if (gap.failure) {
+          throw std::runtime_error(*gap.failure);
         }
-        if (difference <= std::max(equal * static_cast<double>(abs(f)), accuracy)) {
+        const double difference = gap.difference, accuracy = gap.accuracy;
+        if (!std::isfinite(difference) || !std::isfinite(accuracy)) {
+          throw std::runtime_error("a side is not finite at alpha_eff = " + verdict_number(z));
+        }
+        if (difference <= std::max(equal * gap.f, accuracy)) {
           continue;
         }
         if (log_z.empty()) {
-          smallest_z = cell.damping.value;
+          smallest_z = z;
           its_difference = difference;
         }
-        log_z.push_back(std::log(cell.damping.value));
+        log_z.push_back(std::log(z));
         log_difference.push_back(std::log(difference));
       }
     } catch (const std::exception& e) {
@@ -346,23 +396,39 @@ Judgement judge(const Scene& scene, const AsymptoticClaim& claim, const ClaimGri
   return j;
 }
 
+// A cell's measurement, or why it has none.
+struct CellValue {
+  double value = 0;
+  std::optional<std::string> failure;
+};
+
 Judgement judge(const Scene& scene, const RecoveredParameterClaim& claim, const ClaimGrid& grid,
-                std::vector<MeasuredOrder>&) {
+                std::vector<MeasuredOrder>&, int jobs) {
   Judgement j;
   j.grid = grid_text(grid);
   Largest worst;
   const std::vector<ClaimCell> cells = cells_of(grid);
   j.cells = static_cast<long>(cells.size());
-  for (const ClaimCell& cell : cells) {
-    const std::string where = cell_text(grid, cell);
+  // The bisections on the threads, then judged in the grid's order (run/parallel.hpp).
+  const std::vector<CellValue> off = map_indices<CellValue>(cells.size(), jobs, [&](std::size_t i) {
+    const ClaimCell& cell = cells[i];
+    CellValue d;
     try {
       const double found = alpha_by_bisection(claim.config, {cell.p, 0, cell.v0, cell.m, cell.k},
                                               cell.damping.value, scene.limits);
       const Exact formula = seed::alpha_of_e(Exact(cell.p), Exact(cell.damping.value));
-      const double d = static_cast<double>(abs(Exact(found) / formula - 1));
-      worst.see(d, where);
+      d.value = static_cast<double>(abs(Exact(found) / formula - 1));
     } catch (const std::exception& e) {
-      add_without_value(j, where, e.what(), true);
+      d.failure = e.what();
+    }
+    return d;
+  });
+  for (std::size_t i = 0; i < cells.size(); ++i) {
+    const std::string where = cell_text(grid, cells[i]);
+    if (off[i].failure) {
+      add_without_value(j, where, *off[i].failure, true);
+    } else {
+      worst.see(off[i].value, where);
     }
   }
   conclude_at_most(j, worst, claim.bound);
@@ -370,8 +436,44 @@ Judgement judge(const Scene& scene, const RecoveredParameterClaim& claim, const 
   return j;
 }
 
+// A cell of a stability claim: the largest stable Δt over the formula's, and e's relative error
+// at the formula's Δt (none: unstable there); or why it has no answer.
+struct StableAtBound {
+  double ratio = 0;
+  std::optional<double> e_off;
+  std::optional<std::string> failure;
+};
+
+StableAtBound stable_at_bound(const Scene& scene, const StabilityClaim& claim,
+                              const ClaimCell& cell) {
+  const Contact<Exact> c = truth_contact(cell);
+  if (c.mu() <= 0) {
+    return {0, std::nullopt, "alpha_eff >= 1: the contact does not return"};
+  }
+  const double tau = static_cast<double>(analytic::contact_duration(c));
+  const double bound = claim.fraction * static_cast<double>(seed::evaluate(claim.formula, c));
+  const double e = static_cast<double>(analytic::restitution(c));
+  const Inputs in{cell.p, static_cast<double>(c.alpha()), cell.v0, cell.m, cell.k};
+  const StableStep stable = largest_stable_dt(claim.config, in, scene.limits, tau);
+  std::string limit = stable.limit;
+  const solvers::Result<double> at_bound =
+      solve_unchecked(claim.config, in, solvers::want_e, scene.limits, {}, bound);
+  if (at_bound.outcome == solvers::Outcome::step_limit ||
+      at_bound.outcome == solvers::Outcome::time_limit) {
+    limit = fmt::format("{} at dt = {:.4g}", solvers::outcome_name(at_bound.outcome), bound);
+  }
+  if (!limit.empty()) {
+    return {0, std::nullopt, limit};
+  }
+  StableAtBound out{stable.dt / bound, std::nullopt, std::nullopt};
+  if (at_bound.outcome == solvers::Outcome::exited && at_bound.e && *at_bound.e <= 1) {
+    out.e_off = std::abs(*at_bound.e / e - 1);
+  }
+  return out;
+}
+
 Judgement judge(const Scene& scene, const StabilityClaim& claim, const ClaimGrid& grid,
-                std::vector<MeasuredOrder>&) {
+                std::vector<MeasuredOrder>&, int jobs) {
   Judgement j;
   j.grid = grid_text(grid);
   Smallest smallest;
@@ -379,38 +481,19 @@ Judgement judge(const Scene& scene, const StabilityClaim& claim, const ClaimGrid
   long unstable_at_bound = 0;
   const std::vector<ClaimCell> cells = cells_of(grid);
   j.cells = static_cast<long>(cells.size());
-  for (const ClaimCell& cell : cells) {
-    const std::string where = cell_text(grid, cell);
-    const Contact<Exact> c = truth_contact(cell);
-    if (c.mu() <= 0) {
-      add_without_value(j, where, "alpha_eff >= 1: the contact does not return", true);
+  // The scans on the threads, then judged in the grid's order (run/parallel.hpp).
+  const std::vector<StableAtBound> found = map_indices<StableAtBound>(
+      cells.size(), jobs, [&](std::size_t i) { return stable_at_bound(scene, claim, cells[i]); });
+  for (std::size_t i = 0; i < cells.size(); ++i) {
+    const std::string where = cell_text(grid, cells[i]);
+    if (found[i].failure) {
+      add_without_value(j, where, *found[i].failure, true);
       continue;
     }
-    const double tau = static_cast<double>(analytic::contact_duration(c));
-    const double bound = claim.fraction * static_cast<double>(seed::evaluate(claim.formula, c));
-    const double e = static_cast<double>(analytic::restitution(c));
-    const Inputs in{cell.p, static_cast<double>(c.alpha()), cell.v0, cell.m, cell.k};
-    const StableStep stable = largest_stable_dt(claim.config, in, scene.limits, tau);
-    std::string limit = stable.limit;
-    const double lo = stable.dt;
-    auto run = [&](double dt) {
-      const solvers::Result<double> r =
-          solve_unchecked(claim.config, in, solvers::want_e, scene.limits, {}, dt);
-      if (r.outcome == solvers::Outcome::step_limit || r.outcome == solvers::Outcome::time_limit) {
-        limit = fmt::format("{} at dt = {:.4g}", solvers::outcome_name(r.outcome), dt);
-      }
-      return r;
-    };
-    const solvers::Result<double> at_bound = run(bound);
-    if (!limit.empty()) {
-      add_without_value(j, where, limit, true);
-      continue;
-    }
-    const double ratio = lo / bound;
-    smallest.see(ratio, where);
-    largest.see(ratio, where);
-    if (at_bound.outcome == solvers::Outcome::exited && at_bound.e && *at_bound.e <= 1) {
-      worst_e.see(std::abs(*at_bound.e / e - 1), where);
+    smallest.see(found[i].ratio, where);
+    largest.see(found[i].ratio, where);
+    if (found[i].e_off) {
+      worst_e.see(*found[i].e_off, where);
     } else {
       ++unstable_at_bound;
     }
@@ -505,14 +588,14 @@ Described describe(const StabilityClaim& claim) {
 
 // A claim of the kinds judged on a grid of their own, over `grid`.
 Judgement judge_kind(const Scene& scene, const Claim& claim, const ClaimGrid& grid,
-                     std::vector<MeasuredOrder>& orders) {
+                     std::vector<MeasuredOrder>& orders, int jobs) {
   return std::visit(
       [&](const auto& stated) -> Judgement {
         if constexpr (std::decay_t<decltype(stated)>::claim_kind == ClaimKind::bound) {
           throw std::logic_error(
               "a bound claim is judged from the plan's records (judge/budget.cpp)");
         } else {
-          return judge(scene, stated, grid, orders);
+          return judge(scene, stated, grid, orders, jobs);
         }
       },
       claim.kind);
@@ -540,12 +623,12 @@ Verdict verdict_of(const Claim& claim) {
   return v;
 }
 
-Verdict judge_on_grid(const Scene& scene, const Claim& claim) {
+Verdict judge_on_grid(const Scene& scene, const Claim& claim, int jobs) {
   Verdict verdict = verdict_of(claim);
-  static_cast<Judgement&>(verdict) = judge_kind(scene, claim, claim.grid, verdict.orders);
+  static_cast<Judgement&>(verdict) = judge_kind(scene, claim, claim.grid, verdict.orders, jobs);
   if (claim.denser) {
     std::vector<MeasuredOrder> orders;
-    verdict.denser = judge_kind(scene, claim, denser_grid(claim.grid), orders);
+    verdict.denser = judge_kind(scene, claim, denser_grid(claim.grid), orders, jobs);
   }
   return verdict;
 }

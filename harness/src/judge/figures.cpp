@@ -1,6 +1,7 @@
 #include "judge/figures.hpp"
 
 #include "judge/solve.hpp"
+#include "run/parallel.hpp"
 #include "truth/reference_solve.hpp"
 
 #include "pldamp/analytic.hpp"
@@ -373,9 +374,10 @@ Figure make_figure(const FigureSpec& spec, const Limits& limits) {
 
 } // namespace
 
-std::vector<Figure> make_figures(const Scene& scene) {
-  std::vector<Figure> figures;
-  for (const FigureSpec& spec : scene.figures) {
+std::vector<Figure> make_figures(const Scene& scene, int jobs) {
+  // The figures on the threads, each in its slot (run/parallel.hpp).
+  return map_indices<Figure>(scene.figures.size(), jobs, [&](std::size_t i) {
+    const FigureSpec& spec = scene.figures[i];
     Figure figure;
     try {
       figure = make_figure(spec, scene.limits);
@@ -384,9 +386,8 @@ std::vector<Figure> make_figures(const Scene& scene) {
       figure = Figure{kind, kind, "", "", {}, 0, "", e.what(), false, false, {}, {}};
     }
     figure.title += " (" + spec.config.label() + ")";
-    figures.push_back(std::move(figure));
-  }
-  return figures;
+    return figure;
+  });
 }
 
 } // namespace pldamp::harness

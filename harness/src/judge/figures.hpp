@@ -47,7 +47,7 @@ struct Figure {
 // Computes every figure of the scene (double precision, the figure's solver configuration, each
 // solve within the scene's [limits]). A figure whose solver fails (a step limit, no exit where
 // one was due, a bisection without a bracket) carries the reason in `failure` and no series; the
-// others are unaffected.
-std::vector<Figure> make_figures(const Scene& scene);
+// others are unaffected. The figures are computed on `jobs` threads, each the same on any number.
+std::vector<Figure> make_figures(const Scene& scene, int jobs = 1);
 
 } // namespace pldamp::harness

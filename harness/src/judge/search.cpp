@@ -2,6 +2,7 @@
 
 #include "judge/budget.hpp"
 #include "judge/claims.hpp"
+#include "run/parallel.hpp"
 #include "run/run.hpp"
 
 #include <fmt/format.h>
@@ -424,13 +425,25 @@ SearchResult run_search(const Scene& scene, const Search& search, int jobs) {
   result.observable = search.observable;
   result.measure = search_measure(search);
   result.bound = search.bound;
-  for (const auto& [name, group_scene] : search_groups_of(scene, search)) {
-    if (stop_requested()) {
+  // The groups on the threads, each trial's cells on the threads left over (run/parallel.hpp);
+  // a group not begun when a stop was asked for ends the list.
+  const std::vector<std::pair<std::string, Scene>> groups = search_groups_of(scene, search);
+  const int per_group =
+      std::max(1, jobs / static_cast<int>(std::max<std::size_t>(groups.size(), 1)));
+  const std::vector<std::optional<SearchGroup>> answers = map_indices<std::optional<SearchGroup>>(
+      groups.size(), jobs, [&](std::size_t g) -> std::optional<SearchGroup> {
+        if (stop_requested()) {
+          return std::nullopt;
+        }
+        GroupTrials trials(groups[g].first, groups[g].second, search, per_group);
+        return trials.answer();
+      });
+  for (const std::optional<SearchGroup>& answer : answers) {
+    if (!answer) {
       break;
     }
-    GroupTrials trials(name, group_scene, search, jobs);
-    result.groups.push_back(trials.answer());
-    result.solver_runs += result.groups.back().solver_runs;
+    result.groups.push_back(*answer);
+    result.solver_runs += answer->solver_runs;
   }
   return result;
 }

@@ -1,6 +1,7 @@
 #include "judge/step_study.hpp"
 
 #include "judge/search.hpp"
+#include "run/parallel.hpp"
 
 #include "pldamp/analytic.hpp"
 #include "pldamp/solvers/registry.hpp"
@@ -125,6 +126,62 @@ std::optional<double> log_slope(const std::vector<std::pair<double, double>>& xy
   return (n * sxy - sx * sy) / denominator;
 }
 
+// The steps needed at one point of a sweep, for each of step_targets: the searches' answers (an
+// external program's off its sweep, `by_steps` its worst error per configuration), with the
+// phases they took and their solves.
+struct PointSteps {
+  std::array<StepsNeeded, 3> needed;
+  int onset_phases = 0;
+  long solver_runs = 0;
+};
+
+PointSteps steps_needed(const Plan& plan, const StepSweep& sweep,
+                        const std::vector<double>& by_steps, std::size_t tau, const Point& point) {
+  PointSteps out;
+  std::array<StepsNeeded, 3>& needed = out.needed;
+  const SolverConfig& first = plan.configs[sweep.configs.front()];
+  // Overdamped, a contact still returns under the force cap (e_cap > 0, MATH.md §4).
+  const bool returns = !point.overdamped || end_of(plan.scene, first) == solvers::End::force;
+  if (!returns || !point.no_truth.empty()) {
+    for (StepsNeeded& each : needed) {
+      each.returns = false; // no return, so no restitution to keep within a bound
+    }
+    return out;
+  }
+  if (first.external()) {
+    std::vector<std::pair<double, double>> errors;
+    for (std::size_t k = 0; k < sweep.configs.size(); ++k) {
+      errors.emplace_back(*plan.configs[sweep.configs[k]].steps_per_contact, by_steps[k]);
+    }
+    for (std::size_t t = 0; t < step_targets.size(); ++t) {
+      needed[t] = needed_from_sweep(errors, step_targets[t]);
+    }
+  } else {
+    const Search search = study_search(plan.scene, plan.configs, sweep, point.p, point.damping);
+    const auto groups = search_groups_of(plan.scene, search);
+    // One cell: its trials gain nothing from threads (the points are on them instead).
+    GroupTrials trials(groups.front().first, groups.front().second, search, 1);
+    for (std::size_t t = 0; t < step_targets.size(); ++t) {
+      const SearchGroup answer = trials.answer(step_targets[t]);
+      needed[t].steps = answer.loosest;
+      needed[t].within_sweep = answer.failing.has_value();
+      out.onset_phases = std::max(out.onset_phases, answer.onset_phases);
+      out.solver_runs = answer.solver_runs; // the trials' solves so far: the bounds share them
+    }
+  }
+  // τ/Δt at the answer: steps per contact × τ / (π δ_u/v0), at unit scale.
+  const std::optional<Exact>& unit_tau =
+      point.reference.at({alpha_precision(first), end_of(plan.scene, first)})[tau];
+  for (StepsNeeded& each : needed) {
+    if (each.steps && unit_tau && isfinite(*unit_tau)) {
+      const double delta_u = std::pow((point.p + 1) / 2, 1 / (point.p + 1));
+      each.tau_over_dt =
+          *each.steps * static_cast<double>(*unit_tau) / (std::numbers::pi * delta_u);
+    }
+  }
+  return out;
+}
+
 } // namespace
 
 StepStudy make_step_study(const Plan& plan, const std::vector<Record>& records, int jobs) {
@@ -154,15 +211,15 @@ StepStudy make_step_study(const Plan& plan, const std::vector<Record>& records, 
   for (const Record& record : records) {
     by_config_cell[{record.config, record.cell}] = &record;
   }
+  // by_steps_of[sweep][point][k]: the worst error in e over the point's cells at configuration k
+  // (an external program's answer is read off it).
+  std::vector<std::vector<std::vector<double>>> by_steps_of;
   for (StepSweep& sweep : study.sweeps) {
     const std::size_t configs = sweep.configs.size();
-    const SolverConfig& first = plan.configs[sweep.configs.front()];
     sweep.points.assign(observables,
                         std::vector<std::vector<StepPoint>>(ps, std::vector<StepPoint>(configs)));
     sweep.order.assign(ps, std::nullopt);
     std::vector<std::vector<long>> counts(ps, std::vector<long>(configs, 0));
-    // by_steps[point][k]: the worst error in e over the point's cells at configuration k (an
-    // external program's answer is read off it).
     std::vector<std::vector<double>> by_steps(plan.points.size(), std::vector<double>(configs, 0));
     for (std::size_t cell_index = 0; cell_index < plan.cells.size(); ++cell_index) {
       const Cell& cell = plan.cells[cell_index];
@@ -214,51 +271,27 @@ StepStudy make_step_study(const Plan& plan, const std::vector<Record>& records, 
       }
       sweep.order[i] = log_slope(fine);
     }
-    // The steps needed, per point: the search's answers (an external program's off its sweep).
-    sweep.by_point.assign(plan.points.size(), {});
-    for (std::size_t pi = 0; pi < plan.points.size() && !stop_requested(); ++pi) {
-      const Point& point = plan.points[pi];
-      std::array<StepsNeeded, 3>& needed = sweep.by_point[pi];
-      // Overdamped, a contact still returns under the force cap (e_cap > 0, MATH.md §4).
-      const bool returns = !point.overdamped || end_of(plan.scene, first) == solvers::End::force;
-      if (!returns || !point.no_truth.empty()) {
-        for (StepsNeeded& each : needed) {
-          each.returns = false; // no return, so no restitution to keep within a bound
+    by_steps_of.push_back(std::move(by_steps));
+  }
+  // The steps needed at every point of every sweep, on the threads, then gathered in order
+  // (run/parallel.hpp): each point's searches are independent of the others'.
+  const std::size_t points = plan.points.size();
+  const std::vector<PointSteps> found =
+      map_indices<PointSteps>(study.sweeps.size() * points, jobs, [&](std::size_t i) -> PointSteps {
+        if (stop_requested()) {
+          return {};
         }
-        continue;
-      }
-      if (first.external()) {
-        std::vector<std::pair<double, double>> errors;
-        for (std::size_t k = 0; k < configs; ++k) {
-          errors.emplace_back(*plan.configs[sweep.configs[k]].steps_per_contact, by_steps[pi][k]);
-        }
-        for (std::size_t t = 0; t < step_targets.size(); ++t) {
-          needed[t] = needed_from_sweep(errors, step_targets[t]);
-        }
-      } else {
-        const Search search = study_search(plan.scene, plan.configs, sweep, point.p, point.damping);
-        const auto groups = search_groups_of(plan.scene, search);
-        GroupTrials trials(groups.front().first, groups.front().second, search, jobs);
-        long runs = 0; // the trials' solves so far: the bounds share them
-        for (std::size_t t = 0; t < step_targets.size(); ++t) {
-          const SearchGroup answer = trials.answer(step_targets[t]);
-          needed[t].steps = answer.loosest;
-          needed[t].within_sweep = answer.failing.has_value();
-          sweep.onset_phases = std::max(sweep.onset_phases, answer.onset_phases);
-          runs = answer.solver_runs;
-        }
-        sweep.solver_runs += runs;
-      }
-      // τ/Δt at the answer: steps per contact × τ / (π δ_u/v0), at unit scale.
-      const std::optional<Exact>& unit_tau =
-          point.reference.at({alpha_precision(first), end_of(plan.scene, first)})[*tau];
-      for (StepsNeeded& each : needed) {
-        if (each.steps && unit_tau && isfinite(*unit_tau)) {
-          const double delta_u = std::pow((point.p + 1) / 2, 1 / (point.p + 1));
-          each.tau_over_dt =
-              *each.steps * static_cast<double>(*unit_tau) / (std::numbers::pi * delta_u);
-        }
-      }
+        const std::size_t s = i / points, pi = i % points;
+        return steps_needed(plan, study.sweeps[s], by_steps_of[s][pi], *tau, plan.points[pi]);
+      });
+  for (std::size_t s = 0; s < study.sweeps.size(); ++s) {
+    StepSweep& sweep = study.sweeps[s];
+    sweep.by_point.assign(points, {});
+    for (std::size_t pi = 0; pi < points; ++pi) {
+      const PointSteps& at = found[s * points + pi];
+      sweep.by_point[pi] = at.needed;
+      sweep.onset_phases = std::max(sweep.onset_phases, at.onset_phases);
+      sweep.solver_runs += at.solver_runs;
     }
     // Per p, the worst over its points: none if one is not reached; an upper bound if any is.
     sweep.needed.assign(ps, {});

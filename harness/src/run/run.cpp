@@ -1,6 +1,7 @@
 #include "run/run.hpp"
 
 #include "run/external.hpp"
+#include "run/parallel.hpp"
 #include "truth/reference_solve.hpp"
 
 #include "pldamp/solvers/registry.hpp"
@@ -14,7 +15,6 @@
 #include <limits>
 #include <memory>
 #include <mutex>
-#include <thread>
 
 #include <time.h>
 
@@ -354,48 +354,40 @@ std::vector<Record> run_plan(const Plan& plan, int jobs, RunTotals& totals,
     externals[c]->facts().require_honoured(config);
     totals.external[c] = externals[c]->facts().describe();
   }
-  std::atomic<std::size_t> next{0};
   std::mutex report;
   std::size_t done = 0;
-  auto work = [&] {
-    for (std::size_t i = next++; i < records.size() && !stop_requested(); i = next++) {
-      Record& record = records[i];
-      try {
-        with_precision(plan.configs[record.config].precision, [&]<SupportedReal Real>() {
-          solve_record<Real>(plan, record, externals[record.config]);
-        });
-      } catch (const Skipped& e) {
-        Record skipped;
-        skipped.cell = record.cell;
-        skipped.config = record.config;
-        skipped.alpha = record.alpha;
-        skipped.alpha_digits = record.alpha_digits;
-        record = std::move(skipped);
-        record.skip_reason = e.what();
-        record.value.assign(plan.observables.size(), std::nullopt);
-        record.reference = record.error = record.abs_error = record.rel_error = record.spread =
-            record.value;
-      } catch (const std::exception& e) {
-        record.outcome.reset();
-        record.failure = e.what();
-        record.value.assign(plan.observables.size(), std::nullopt);
-        record.reference = record.error = record.abs_error = record.rel_error = record.spread =
-            record.value;
-      }
-      if (progress) {
-        const std::lock_guard lock(report);
-        progress(++done, records.size());
-      }
+  for_each_index(records.size(), jobs, [&](std::size_t i) {
+    if (stop_requested()) {
+      return; // no new record
     }
-  };
-  std::vector<std::thread> workers;
-  for (int j = 1; j < std::max(jobs, 1); ++j) {
-    workers.emplace_back(work);
-  }
-  work();
-  for (std::thread& worker : workers) {
-    worker.join();
-  }
+    Record& record = records[i];
+    try {
+      with_precision(plan.configs[record.config].precision, [&]<SupportedReal Real>() {
+        solve_record<Real>(plan, record, externals[record.config]);
+      });
+    } catch (const Skipped& e) {
+      Record skipped;
+      skipped.cell = record.cell;
+      skipped.config = record.config;
+      skipped.alpha = record.alpha;
+      skipped.alpha_digits = record.alpha_digits;
+      record = std::move(skipped);
+      record.skip_reason = e.what();
+      record.value.assign(plan.observables.size(), std::nullopt);
+      record.reference = record.error = record.abs_error = record.rel_error = record.spread =
+          record.value;
+    } catch (const std::exception& e) {
+      record.outcome.reset();
+      record.failure = e.what();
+      record.value.assign(plan.observables.size(), std::nullopt);
+      record.reference = record.error = record.abs_error = record.rel_error = record.spread =
+          record.value;
+    }
+    if (progress) {
+      const std::lock_guard lock(report);
+      progress(++done, records.size());
+    }
+  });
   for (const Record& record : records) {
     totals.rhs_evals += record.rhs_evals * record.phases;
     const int repeats = externals[record.config] != nullptr ? 1 : plan.scene.repeats;
