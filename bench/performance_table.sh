@@ -1,11 +1,12 @@
 #!/usr/bin/env bash
 # The rows of docs/performance.md's table for one build directory, each from the command that
 # measures it (run it on a quiet machine; two builds side by side give before and after):
-#     bench/performance_table.sh build [SCENE_DIR]
-# Needs the targets taylor_bench, analytic_bench and pldamp built in BUILD.
+#     bench/performance_table.sh build [kernels|scenes|all]
+# Needs the targets taylor_bench, analytic_bench and pldamp built in BUILD. kernels: the solvers and
+# closed forms (a few minutes); scenes: the nightly and paper scenes' wall time and peak memory.
 set -euo pipefail
 build=${1:-build}
-scenes=${2:-data/scenes}
+part=${2:-all}
 json() { "$@" --benchmark_format=json --benchmark_repetitions=5 --benchmark_min_time=0.2 2>/dev/null; }
 # The fastest of the repetitions' CPU times, in the benchmark's own unit.
 fastest() {
@@ -15,9 +16,10 @@ runs = json.load(sys.stdin)["benchmarks"]
 for name in sys.argv[1:]:
     times = [r for r in runs if r.get("run_type") == "iteration" and r["run_name"] == name]
     best = min(times, key=lambda r: r["cpu_time"])
-    print(f"{name:<32} {best[\"cpu_time\"]:10.3f} {best[\"time_unit\"]}")
+    print("%-32s %10.3f %s" % (name, best["cpu_time"], best["time_unit"]))
 ' "$@"
 }
+if [[ $part != scenes ]]; then
 echo "== taylor, one collision at epsilon (taylor_bench, CPU time, fastest of 5)"
 json "$build/bench/taylor_bench" --benchmark_filter='^taylor(_cold)?/(double|quad)/' |
   fastest taylor/double/p:1 taylor/double/p:1.5 taylor/double/p:2 taylor/double/p:3 \
@@ -36,8 +38,11 @@ echo "== closed forms (analytic_bench, CPU time, fastest of 5)"
 json "$build/bench/analytic_bench" --benchmark_filter='^(bundle_(double|quad)$|observable/)' |
   fastest bundle_double bundle_quad observable/t_peak/double observable/t_peak/quad \
     observable/all/double observable/all/quad
-echo "== scenes on $(nproc) cores (wall seconds and peak RSS)"
-for scene in nightly paper; do
-  /usr/bin/time -f "$scene: %e s, %M kB" "$build/harness/pldamp" run "$scenes/$scene.toml" \
-    --out "$(mktemp -d)" >/dev/null
-done
+fi
+if [[ $part != kernels ]]; then
+  echo "== scenes on $(nproc) cores (wall seconds and peak RSS)"
+  for scene in nightly paper; do
+    /usr/bin/time -f "$scene: %e s, %M kB" "$build/harness/pldamp" run "data/scenes/$scene.toml" \
+      --out "$(mktemp -d)" >/dev/null
+  done
+fi
