@@ -289,7 +289,8 @@ struct Gap {
 Judgement judge(const Scene& scene, const AsymptoticClaim& claim, const ClaimGrid& grid,
                 std::vector<MeasuredOrder>& orders, int jobs) {
   Judgement j;
-  const auto [from, to] = claim.range;
+  // Not a structured binding: Clang 14 (the fuzz build) lets no lambda capture one (z_at).
+  const double from = claim.range[0], to = claim.range[1];
   j.grid = fmt::format("p in {} x {} alpha_eff log-spaced over [{:g}, {:g}]: {} cells",
                        list_text(grid.p), claim.points, from, to, grid.p.size() * claim.points);
   j.cells = static_cast<long>(grid.p.size()); // a p fails whole: its cells are one

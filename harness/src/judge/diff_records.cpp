@@ -34,7 +34,9 @@ RecordFacts RecordFacts::of(const json& record) {
     if (!values.is_object()) {
       continue;
     }
-    for (const auto& [name, value] : values.items()) {
+    for (const auto& item : values.items()) {
+      // Not a structured binding: Clang 14 (the fuzz build) lets no lambda capture one.
+      const std::string& name = item.key();
       auto at = std::find_if(facts.observed.begin(), facts.observed.end(),
                              [&](const Observed& o) { return o.name == name; });
       if (at == facts.observed.end()) {
