@@ -155,27 +155,13 @@ public:
           rhs -= kappa * yp[j - 2];
         }
         c[j] = rhs / (jb * (1 + jb)); // (2)
-        // E = Y^a and Y^p by the power recurrence (power_coefficient), both in one pass over c.
-        const Real aj = a_ * Real(j), a1 = a_ + 1, pj = p * Real(j), p1 = p + 1;
-        Real e_sum = Real(0), yp_sum = Real(0);
-        for (std::size_t i = 0; i < j; ++i) {
-          const Real ci = c[j - i], index = Real(i);
-          e_sum += (aj - a1 * index) * ci * e[i];
-          yp_sum += (pj - p1 * index) * ci * yp[i];
-        }
-        e[j] = e_sum / Real(j);
-        yp[j] = yp_sum / Real(j);
+        e[j] = power_coefficient(c, e, a_, j);
+        yp[j] = power_coefficient(c, yp, p, j);
       }
       z[j] = c[j] * (1 + Real(j) * b_);
-      // E Z and M = (E Z) Z in one pass: M's term ez_j z_0 waits for ez_j.
-      Real ez_sum = e[0] * z[j], m_sum = Real(0);
-      for (std::size_t i = 1; i <= j; ++i) {
-        ez_sum += e[i] * z[j - i];
-        m_sum += ez[i - 1] * z[j - i + 1];
-      }
-      ez[j] = ez_sum;
+      ez[j] = product_coefficient(e, z, j);
       if (with_work) {
-        m[j] = m_sum + ez[j] * z[0];
+        m[j] = product_coefficient(ez, z, j);
       }
     }
     y_ = std::move(c);

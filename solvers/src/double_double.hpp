@@ -33,7 +33,6 @@ public:
     return Wide(hi_) + Wide(lo_);
   }
   double hi() const { return hi_; }
-  double lo() const { return lo_; }
 
   friend DoubleDouble operator+(const DoubleDouble& a, const DoubleDouble& b) {
     double s_err = 0, t_err = 0;
@@ -59,8 +58,6 @@ public:
     return quick_sum(q1, q2) + DoubleDouble(q3);
   }
   DoubleDouble& operator+=(const DoubleDouble& b) { return *this = *this + b; }
-  DoubleDouble& operator-=(const DoubleDouble& b) { return *this = *this - b; }
-  DoubleDouble& operator*=(const DoubleDouble& b) { return *this = *this * b; }
 
 private:
   constexpr DoubleDouble(double hi, double lo) : hi_(hi), lo_(lo) {}

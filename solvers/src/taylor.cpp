@@ -255,20 +255,19 @@ private:
   // Where each order's coefficients are summed (Real wider than 106 bits only; the order itself
   // otherwise): from order n on in T when n ε_T e^(−2n) ≤ ε/1024, the term of order n at the
   // step's end being ~e^(−2n) of the state's (h = ρ e^−2, step_size) and its sums erring by
-  // ~n ε_T. In float128 (order 40): 0-6 in float128, 7-25 in double-double, 26-40 in double.
+  // ~n ε_T. In float128 (order 40): 0-7 in float128, 8-25 in double-double, 26-40 in double.
   template <class T>
   static int orders_in(int order) {
-    using std::exp;
-    using std::ldexp;
     if constexpr (std::numeric_limits<Real>::digits <= 106) {
       return order;
     } else {
-      const Real eps = std::numeric_limits<Real>::epsilon();
-      const Real eps_t = std::is_same_v<T, double>
-                             ? Real(std::numeric_limits<double>::epsilon())
-                             : Real(ldexp(Real(1), -104)); // double-double, 4 ulps of 2^-106
+      // In logarithms, in double: a threshold, computed once per solve, needs no more.
+      const double eps_t = std::is_same_v<T, double> ? std::numeric_limits<double>::epsilon()
+                                                     : std::ldexp(1.0, -104); // 4 ulps of 2^-106
+      const double bound =
+          std::log(static_cast<double>(std::numeric_limits<Real>::epsilon()) / 1024 / eps_t);
       for (int n = 1; n < order; ++n) {
-        if (Real(n) * eps_t * exp(Real(-2 * n)) <= eps / 1024) {
+        if (std::log(double(n)) - 2.0 * n <= bound) {
           return n;
         }
       }
