@@ -23,6 +23,15 @@ BasicCollision<Real>::BasicCollision(const Problem<Real>& problem, const Options
   using std::min;
   const State atol = absolute_tolerances();
   exit_speed_noise_ = min(10 * (atol[1] + atol[0] / ode_.time_scale()), ode_.v0() / 1000);
+  settled_energy_ = ode_.mechanical_energy(Real(0), exit_speed_noise_ / 10);
+}
+
+template <SupportedReal Real>
+bool BasicCollision<Real>::settled(const State& y) const {
+  using std::max;
+  // pending(exit): the overlap's peak, hence the force's, is behind.
+  return pending(EventKind::exit) && next_sample_ == sample_times_.size() &&
+         ode_.mechanical_energy(max(y[0], Real(0)), y[1]) < settled_energy_;
 }
 
 template <SupportedReal Real>
@@ -357,7 +366,7 @@ Result<double> run_one_step_method(OneStepMethod& method, Collision& collision) 
       const bool exited = collision.record(EventKind::exit, t_exit, y_exit); // not if noise
       return collision.finish(exited ? Outcome::exited : Outcome::no_exit, method.steps());
     }
-    if (t >= horizon) {
+    if (t >= horizon || collision.settled(y)) {
       return collision.finish(Outcome::no_exit, method.steps());
     }
   }

@@ -78,6 +78,16 @@ public:
   // and can be the largest force (p = 1 with α_eff ≥ ½; MATH.md §3); offered when wanted.
   void offer_onset_force();
   Real exit_speed_noise() const { return exit_speed_noise_; }
+  // True once the contact can no longer end above the noise, so that integrating on to the
+  // horizon would only confirm `no_exit`: the peaks and every sample behind, the exit pending,
+  // and the mechanical energy ½mv² + kδ^(p+1)/(p+1) below that of a tenth of the noise speed. The
+  // dashpot only takes energy out (its power c δ^β v² ≥ 0, any β), so any later exit, at δ = 0
+  // or where a capped force vanishes, comes at a speed ≤ √(2E/m) < exit_speed_noise() / 10: one
+  // record() refuses whatever the integrator's error (the factor 10 is its margin). No
+  // transformation of the paper's is used: only that the energy is a Lyapunov function.
+  // A critical or overdamped contact gets there by δ_u/v0 times tens (p = 1) to thousands
+  // (p = 1.5) instead of the 1000 of the horizon, and before its state reaches subnormal numbers.
+  bool settled(const State& y) const;
 
   // Records the requested samples with times up to t (inclusive), in order.
   template <class StateAt>
@@ -111,6 +121,7 @@ private:
   Options<Real> options_;
   Real horizon_;
   Real exit_speed_noise_ = 0; // set in the constructor
+  Real settled_energy_ = 0;   // settled()'s threshold, set in the constructor
   long rhs_evals_ = 0, jacobian_evals_ = 0;
   std::vector<Real> sample_times_; // sorted
   std::size_t next_sample_ = 0;

@@ -93,10 +93,13 @@ Result<double> solve_cvode(CvodeMethod method, const Problem<double>& problem,
   };
   collision.sample_through(0, [&](double) { return collision.initial_state(); });
   collision.offer_onset_force();
-  // Without samples, CVODE runs from root to root in one call (CV_NORMAL); with them, one step
-  // per call, so that each step's samples come off its interpolant.
-  const int mode = options.sample_times.empty() ? CV_NORMAL : CV_ONE_STEP;
+  // Without samples, CVODE runs to the overlap's peak in one call (CV_NORMAL); with them, and
+  // once the exit is pending, one step per call, so that each step's samples come off its
+  // interpolant and a settled contact (Collision::settled) is seen.
   for (;;) {
+    const int mode = options.sample_times.empty() && collision.pending(EventKind::peak)
+                         ? CV_NORMAL
+                         : CV_ONE_STEP;
     double t = 0;
     const int flag = CVode(cvode, collision.horizon(), w.y.get(), &t, mode);
     if (const auto spent = collision.out_of_budget(steps(), true)) {
@@ -122,7 +125,8 @@ Result<double> solve_cvode(CvodeMethod method, const Problem<double>& problem,
                                   steps());
         }
       }
-    } else if (flag == CV_TSTOP_RETURN || (mode == CV_NORMAL && flag == CV_SUCCESS)) {
+    } else if (flag == CV_TSTOP_RETURN || (mode == CV_NORMAL && flag == CV_SUCCESS) ||
+               collision.settled(y)) {
       return collision.finish(Outcome::no_exit, steps());
     }
   }

@@ -573,6 +573,9 @@ Result<Real> TaylorContact<Real>::run() {
     advance(y, h);
     t = to_horizon && h == horizon_ - t ? horizon_ : t + h;
     ++steps;
+    if (collision_.settled(physical(y))) {
+      return collision_.finish(Outcome::no_exit, steps);
+    }
     if (!force_end() && !collision_.pending(EventKind::peak) && y[1] < 0) {
       const ContactSeries<Real>& exit = exit_series();
       // The straight-line guesses u ≈ −v, s ≈ δ / −v: Newton only near the reach.

@@ -84,7 +84,9 @@ struct Options {
   // durations. For p = 1 an overdamped overlap has then decayed exponentially, by tens of orders
   // of magnitude; for p > 1 the creep is algebraic (δ ~ t^(−2/(p−1))), and a heavily damped
   // contact can return later than that (p = 10, e = 1e-4 at 2100 δ_u/v0): set the horizon
-  // accordingly to see such returns.
+  // accordingly to see such returns. A run stops before the horizon, also as `no_exit`, once its
+  // mechanical energy is too small for any later exit to be told from the tolerance noise (the
+  // dashpot only dissipates; every sample taken first).
   std::optional<Real> horizon;
   // Times at which to record (t, δ, v); only those inside the contact are recorded.
   std::vector<Real> sample_times;
@@ -151,7 +153,8 @@ void validate_against(const Problem<Real>& problem, const Options<Real>& options
 enum class Outcome {
   exited,     // the contact ended: everything wanted is filled
   peak,       // stopped at the peak, as asked (only peak quantities were wanted)
-  no_exit,    // the horizon came first (critical or overdamped): e = 0, τ = ∞, loading measured
+  no_exit,    // the horizon came first, or the energy left cannot carry an exit above the noise
+              // (critical or overdamped): e = 0, τ = ∞, loading measured
   step_limit, // max_steps came first: whatever was reached is filled
   time_limit, // max_seconds (or a stop request) came first: whatever was reached is filled
   unstable,   // an impossible answer: a state not finite, δ_max < 0, energy gained (e > 1 beyond
