@@ -8,7 +8,8 @@
 //
 // A step from (δ, v, W) at t computes the Taylor coefficients of the solution to order N by the
 // automatic-differentiation recurrences (contact_series.hpp):
-//     u = δ^β (power),  q = δ^(p−β) (u δ for the seed's β, a power otherwise),  f = u q = δ^p,
+//     u = δ^β (power, by way of g: MATH.md §9),  q = δ^(p−β) (u δ for the seed's β, a power
+//     otherwise),  f = u q = δ^p,
 //     g = u v = δ^β v,  P = g v = δ^β v²,
 //     δ_{n+1} = v_n / (n+1),   v_{n+1} = −(γ g_n + κ f_n) / (n+1),   W_{n+1} = 2γ P_n / (n+1),
 // O(N²) operations per step. Order and step follow Jorba & Zou (2005), as heyoka does:
@@ -247,6 +248,9 @@ private:
   };
   template <class T>
   void recurrences(Series<T> s, const Constants<T>& c, std::size_t from, std::size_t to) const;
+  // recurrences' orders for a β known to be the seed's or not and with or without the work W.
+  template <class T, bool General, bool Work>
+  void orders(Series<T> s, const Constants<T>& c, std::size_t from, std::size_t to) const;
   Series<Real> own_series() { return {d_, v_, w_, u_, q_, f_, g_, power_}; }
   Constants<Real> own_constants(const Real& q_exponent) const {
     return {gamma_, kappa_, a_, q_exponent, Real(1)};
@@ -367,41 +371,83 @@ template <SupportedReal Real>
 template <class T>
 void TaylorContact<Real>::recurrences(Series<T> s, const Constants<T>& c, std::size_t from,
                                       std::size_t to) const {
-  for (std::size_t n = from; n < to; ++n) {
-    if (n > 0) {
-      s.u[n] = power_coefficient(s.d, s.u, c.a, n);
-    }
-    if (general_ && n > 0) {
-      s.q[n] = power_coefficient(s.d, s.q, c.q_exponent, n);
-    }
-    // The products of order n in one pass over j (u and v are read once for all of them, and
-    // the four sums are independent chains): q = u δ (seed's β), f = u q, g = u v, P = g v, each
-    // but its term with a factor of order n, which waits for that factor.
-    T uq(0), ud(0), uv(0), gv(0);
-    for (std::size_t j = 1; j <= n; ++j) {
-      ud += s.u[j] * s.d[n - j];
-      uq += s.u[j] * s.q[n - j];
-      uv += s.u[j] * s.v[n - j];
-      gv += s.g[j - 1] * s.v[n - j + 1];
-    }
-    if (!general_) {
-      s.q[n] = ud + s.u[0] * s.d[n];
-    }
-    s.f[n] = uq + s.u[0] * s.q[n];
-    s.g[n] = uv + s.u[0] * s.v[n];
-    const T step = c.time_scale / T(n + 1);
-    s.d[n + 1] = s.v[n] * step;
-    s.v[n + 1] = -(c.gamma * s.g[n] + c.kappa * s.f[n]) * step;
-    if (with_work()) {
-      s.power[n] = gv + s.g[n] * s.v[0];
-      s.w[n + 1] = 2 * c.gamma * s.power[n] * step;
-    }
+  if (general_) {
+    with_work() ? orders<T, true, true>(s, c, from, to) : orders<T, true, false>(s, c, from, to);
+  } else {
+    with_work() ? orders<T, false, true>(s, c, from, to) : orders<T, false, false>(s, c, from, to);
   }
   if (force_end() && to > 0 && from < to) {
     // The cut needs u and q at the top order too.
     s.u[to] = power_coefficient(s.d, s.u, c.a, to);
     s.q[to] = general_ ? power_coefficient(s.d, s.q, c.q_exponent, to)
                        : product_coefficient(s.u, s.d, to);
+  }
+}
+
+// Order n in one pass over 1 ≤ j < n (each coefficient read once for all the sums, which are
+// independent chains), the terms with a factor of order n added once that factor is known:
+// - u = δ^β needs no sum of its own (MATH.md §9): the power rule n δ_0 u_n = Σ_{j<n} (β(n − j) −
+//   j) δ_{n−j} u_j, with (n − j) δ_{n−j} = H v_{n−j−1} (δ' = v), is
+//   n δ_0 u_n = (β + 1) H g_{n−1} − n S_n,   S_n = Σ_{1≤j≤n} δ_j u_{n−j},
+//   and S_n + δ_0 u_n is the seed's q_n = (u δ)_n: one sum gives both.
+// - q = δ^(p−β) for a stated β: the power rule, n δ_0 q_n = Σ_{1≤j≤n} ((p − β + 1) j − n) δ_j
+// q_{n−j}.
+// - f = u q, g = u v, P = g v: Cauchy products.
+template <SupportedReal Real>
+template <class T, bool General, bool Work>
+void TaylorContact<Real>::orders(Series<T> s, const Constants<T>& c, std::size_t from,
+                                 std::size_t to) const {
+  const T inverse_d0 = T(1) / s.d[0], a1 = c.a + T(1), b1 = c.q_exponent + T(1);
+  for (std::size_t n = from; n < to; ++n) {
+    if (n == 0) {
+      if constexpr (!General) {
+        s.q[0] = s.u[0] * s.d[0];
+      }
+      s.f[0] = s.g[0] = T(0);
+      if constexpr (Work) {
+        s.power[0] = T(0);
+      }
+    } else {
+      T du(0), uq(0), uv(0), gv(0), dq(0);
+      const T order = T(n);
+      for (std::size_t j = 1; j < n; ++j) {
+        du += s.u[j] * s.d[n - j];
+        uq += s.u[j] * s.q[n - j];
+        uv += s.u[j] * s.v[n - j];
+        if constexpr (Work) {
+          gv += s.g[j - 1] * s.v[n - j + 1];
+        }
+        if constexpr (General) {
+          dq += (b1 * T(j) - order) * s.d[j] * s.q[n - j];
+        }
+      }
+      const T sum = du + s.d[n] * s.u[0]; // S_n
+      s.u[n] = (a1 * c.time_scale * s.g[n - 1] - order * sum) * inverse_d0 / order;
+      if constexpr (General) {
+        s.q[n] = (dq + c.q_exponent * order * s.d[n] * s.q[0]) * inverse_d0 / order;
+      } else {
+        s.q[n] = sum + s.u[n] * s.d[0];
+      }
+      uq += s.u[n] * s.q[0];
+      uv += s.u[n] * s.v[0];
+      if constexpr (Work) {
+        gv += s.g[n - 1] * s.v[1];
+      }
+      s.f[n] = uq;
+      s.g[n] = uv;
+      if constexpr (Work) {
+        s.power[n] = gv;
+      }
+    }
+    s.f[n] += s.u[0] * s.q[n];
+    s.g[n] += s.u[0] * s.v[n];
+    const T step = c.time_scale / T(n + 1);
+    s.d[n + 1] = s.v[n] * step;
+    s.v[n + 1] = -(c.gamma * s.g[n] + c.kappa * s.f[n]) * step;
+    if constexpr (Work) {
+      s.power[n] += s.g[n] * s.v[0];
+      s.w[n + 1] = 2 * c.gamma * s.power[n] * step;
+    }
   }
 }
 
