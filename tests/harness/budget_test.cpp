@@ -155,6 +155,7 @@ name = "cvode-bdf"
 rtol = 1e-8
 [timing]
 repeats = 5
+repeat_below = 1e300
 )",
                             "repeats.toml");
   const Plan plan = make_plan(scene);
@@ -175,6 +176,16 @@ repeats = 5
   }
   EXPECT_GT(apart, 0);
   EXPECT_GT(cpu_apart, 0);
+  // A run that took repeat_below seconds of CPU or more is timed once: its fastest is its slowest.
+  scene.repeat_below = 1e-12;
+  RunTotals once;
+  const std::vector<Record> timed_once = run_plan(make_plan(scene), 1, once);
+  EXPECT_EQ(once.solver_runs, 20);
+  for (const Record& record : timed_once) {
+    EXPECT_EQ(record.runs, 1);
+    EXPECT_EQ(record.wall_seconds, record.wall_seconds_slowest);
+    EXPECT_EQ(*record.cpu_seconds, *record.cpu_seconds_slowest);
+  }
 }
 
 // e's relative error against the closed form (α as the solver receives it), worst over `phases`

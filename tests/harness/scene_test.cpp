@@ -353,6 +353,9 @@ TEST(Scene, AKeyWithoutEffectIsRefusedWithWhy) {
        "\"code\"\n[timing]\nrepeats = 2\n",
        "9: repeats has no effect: the scene runs none of pldamp's solvers on its grid (an "
        "external program runs once; claims on grids of their own and searches solve once)"},
+      {"[grid]\np = 1.5\ne = 0.5\nv0 = 1.0\n[[solver]]\nname = \"taylor\"\n[timing]\n"
+       "repeat_below = 1e-3\n",
+       "8: repeat_below has no effect with repeats = 1"},
       // A limit where nothing it limits runs: an external program is given no step limit, and
       // a trajectory is judged by the closed forms.
       {"[grid]\np = 1.5\ne = 0.5\nv0 = 1.0\n[[solver]]\ncommand = [\"./code\"]\nlabel = "
@@ -398,8 +401,9 @@ TEST(Scene, TheKeysBesideTheRefusedOnesTakeEffect) {
   const Scene repeated = load_scene(write_file(
       "repeats.toml", "[grid]\np = 1.5\ne = 0.5\nv0 = 1.0\n[[claim]]\nname = \"c\"\n"
                       "observable = \"e\"\nsolver = \"cvode-bdf\"\nrtol = 1e-6\nbound = 1e-2\n"
-                      "[timing]\nrepeats = 2\n"));
+                      "[timing]\nrepeats = 2\nrepeat_below = 0.5\n"));
   EXPECT_EQ(repeated.repeats, 2);
+  EXPECT_EQ(repeated.repeat_below, 0.5);
   const Scene denser = load_scene(write_file(
       "denser.toml", valid_scene + "[[claim]]\nname = \"c\"\nobservable = \"e\"\nsolver = "
                                    "\"cvode-bdf\"\nrtol = 1e-6\nbound = 1e-2\nv0 = [1.0, 2.0]\n"

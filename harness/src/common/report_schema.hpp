@@ -10,8 +10,9 @@
 //                 geometry, R_eff, E_eff, m, k, v0 [], rayleigh_time}], units? {KEY: SI unit},
 //                 damping [{label, alpha_eff, overdamped}]}, configs [{label, solver, precision,
 //                 rtol, atol, steps_per_contact, dt?, options?}], claims [name], searches [name],
-//                 fingerprint (of all the above), name, path, repeats, work_precision [observable
-//                 or "worst"], diff {error_factor, work_factor, time_factor, time_floor}
+//                 fingerprint (of all the above), name, path, repeats, repeat_below,
+//                 work_precision [observable or "worst"], diff {error_factor, work_factor,
+//                 time_factor, time_floor}
 //   totals        rhs_evals, solver_runs, wall_seconds, failed_records
 //   external_solvers?  {solver line: {command, handshake}}
 //   trajectories? [{label, file, inputs, failure?, OBSERVABLE: {value, truth, rel_error,
@@ -108,6 +109,7 @@ inline constexpr const char* fingerprint = "fingerprint";
 inline constexpr const char* name = "name";
 inline constexpr const char* path = "path";
 inline constexpr const char* repeats = "repeats";
+inline constexpr const char* repeat_below = "repeat_below";
 inline constexpr const char* work_precision = "work_precision";
 inline constexpr const char* diff = "diff";
 inline constexpr const char* error_factor = "error_factor";

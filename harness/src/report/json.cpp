@@ -96,6 +96,7 @@ ordered_json scene_json(const Plan& plan) {
   scene[key::name] = plan.scene.name;
   scene[key::path] = plan.scene.path;
   scene[key::repeats] = plan.scene.repeats;
+  scene[key::repeat_below] = plan.scene.repeat_below;
   // What the work-precision diagrams and report.md's table show (a choice of presentation: not
   // in the fingerprint; budgets.work_precision has every observable).
   for (const WorkPanel& panel : work_panels(plan)) {

@@ -219,11 +219,14 @@ std::string budget_table_note(const Plan& plan) {
       "× analytic: the time per cell as a multiple of the closed forms' for the same observables "
       "in double ({} µs per cell).",
       any_overdamped(plan) ? ", underdamped and overdamped cells apart (an overdamped contact "
-                             "never returns: its solve runs to the horizon)"
+                             "never returns: its solve runs until its energy is below the "
+                             "noise or to the horizon)"
                            : "",
-      plan.scene.repeats > 1 ? "; slowest repeat: how much slower the slowest was (the noise of "
-                               "the machine)"
-                             : "",
+      plan.scene.repeats > 1
+          ? fmt::format("; slowest repeat: how much slower the slowest was (the noise of the "
+                        "machine); a run of {} s of CPU or more is timed once",
+                        short_number(plan.scene.repeat_below, 3))
+          : "",
       short_number(mean_analytic_seconds(plan) * 1e6, 2));
 }
 
@@ -395,7 +398,7 @@ MapTable cost_table(const RunReport& report) {
   if (overdamped) {
     table.header.emplace_back("rhs_evals / cell, overdamped");
   }
-  table.header.push_back(fmt::format("µs / cell (fastest of {})", plan.scene.repeats));
+  table.header.push_back(fmt::format("µs / cell (fastest of ≤ {})", plan.scene.repeats));
   if (repeats) {
     table.header.emplace_back("slowest repeat");
   }

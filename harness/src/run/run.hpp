@@ -36,6 +36,7 @@ struct Record {
   double alpha = 0;
   std::string alpha_digits;
   int phases = 1;           // onset phases run (fixed-step configurations)
+  long runs = 0;            // solver runs made, onset phases and repeats included
   std::optional<double> dt; // the fixed step a fixed-step run used
   // Per observable (Plan::observables): the value and the reference (rounded to double for the
   // report), the signed error value − reference and its absolute and relative size, computed in

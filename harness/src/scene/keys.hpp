@@ -93,7 +93,7 @@ inline constexpr auto trajectory = std::to_array<std::string_view>(
     {"file", "label", "contact", "p", "e", "alpha", "alpha_eff", "v0", "m", "k", "end"});
 
 inline constexpr auto report = std::to_array<std::string_view>({"formats", "work_precision"});
-inline constexpr auto timing = std::to_array<std::string_view>({"repeats"});
+inline constexpr auto timing = std::to_array<std::string_view>({"repeats", "repeat_below"});
 inline constexpr auto limits =
     std::to_array<std::string_view>({"max_steps", "max_seconds", "max_runs"});
 inline constexpr auto diff =

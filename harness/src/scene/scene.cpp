@@ -155,7 +155,8 @@ void read_diff(const Reader& reader, const toml::node& node, Scene& scene) {
 
 // [timing] repeats: the records of pldamp's own configurations on the scene's grid, of its
 // [[solver]]s and of the bound claims judged from them, are repeated (run/run.cpp); not an
-// external program's, nor the solves of claims on grids of their own and of searches.
+// external program's, nor the solves of claims on grids of their own and of searches; nor a run
+// that took repeat_below seconds of CPU or more.
 void read_timing(const Reader& reader, const toml::node& node, Scene& scene) {
   const toml::table& table = reader.table(node, "[timing]");
   reader.only(table, {scene_keys::timing}, "[timing]");
@@ -170,6 +171,12 @@ void read_timing(const Reader& reader, const toml::node& node, Scene& scene) {
       reader.fail(*repeats, "repeats has no effect: the scene runs none of pldamp's solvers on "
                             "its grid (an external program runs once; claims on grids of their "
                             "own and searches solve once)");
+    }
+  }
+  if (const toml::node* below = table.get("repeat_below")) {
+    scene.repeat_below = reader.number_in(*below, "repeat_below", Range::above(0));
+    if (scene.repeats == 1) {
+      reader.fail(*below, "repeat_below has no effect with repeats = 1");
     }
   }
 }

@@ -354,6 +354,9 @@ struct Scene {
   // the default (judge/budget.hpp, work_panels).
   std::vector<std::string> work_precision;
   int repeats = 1;
+  // A run that took at least this many seconds on its thread's CPU clock is not repeated: its own
+  // length averages the noise a repeat is there to remove (run/run.cpp).
+  double repeat_below = 1e-3;
   Limits limits;
   DiffThresholds diff;
 };
