@@ -103,7 +103,8 @@ Result<double> solve_verlet(const Problem<double>& problem, const Options<double
       const bool exited = collision.record(EventKind::exit, t, y); // not if tolerance noise
       return collision.finish(exited ? Outcome::exited : Outcome::no_exit, steps);
     }
-    if (t >= collision.horizon()) {
+    // Settled (Collision::settled): looked at every 64 steps, as the energy costs a power.
+    if (t >= collision.horizon() || (steps % 64 == 0 && collision.settled(y))) {
       return collision.finish(Outcome::no_exit, steps);
     }
   }

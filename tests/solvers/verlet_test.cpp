@@ -42,4 +42,26 @@ TEST(FixedStep, VerletDefaultsToFiftyStepsPerContactTimeScale) {
 }
 
 } // namespace
+
+TEST(FixedStep, VerletStopsASettledContactWithTheSameAnswer) {
+  // Collision::settled, looked at every 64 steps: an overdamped contact whose energy can no
+  // longer carry an exit above the noise ends no_exit there, not at the horizon 1000 δ_u/v0
+  // (318,000 steps at 1000 per contact). A sample at the horizon keeps the run going to it.
+  for (double p : {1.0, 1.25}) {
+    const auto c = Contact<double>::from_alpha_eff(p, 4.0, 1.0);
+    Options<double> options;
+    options.steps_per_contact = 1000;
+    const Result<double> settled = solve("verlet-predicted", problem_of(c), options);
+    options.sample_times = {settled.horizon};
+    const Result<double> full = solve("verlet-predicted", problem_of(c), options);
+    ASSERT_EQ(settled.outcome, Outcome::no_exit) << p;
+    ASSERT_EQ(full.outcome, Outcome::no_exit) << p;
+    EXPECT_EQ(*settled.e, 0.0) << p;
+    EXPECT_EQ(*settled.delta_max, *full.delta_max) << p; // the same steps up to the peak
+    EXPECT_EQ(*settled.energy_load, *full.energy_load) << p;
+    EXPECT_EQ(settled.steps % 64, 0) << p;
+    EXPECT_LT(settled.steps, full.steps / 2) << p;
+  }
+}
+
 } // namespace pldamp::solvers::testing
