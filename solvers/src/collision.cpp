@@ -29,8 +29,10 @@ BasicCollision<Real>::BasicCollision(const Problem<Real>& problem, const Options
 template <SupportedReal Real>
 bool BasicCollision<Real>::settled(const State& y) const {
   using std::max;
-  // pending(exit): the overlap's peak, hence the force's, is behind.
+  // pending(exit): the overlap's peak, hence the force's, is behind. The kinetic energy first:
+  // while it alone is above the threshold the spring's power need not be taken.
   return pending(EventKind::exit) && next_sample_ == sample_times_.size() &&
+         ode_.m() * y[1] * y[1] / 2 < settled_energy_ &&
          ode_.mechanical_energy(max(y[0], Real(0)), y[1]) < settled_energy_;
 }
 
