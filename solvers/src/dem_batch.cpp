@@ -70,6 +70,8 @@ public:
       f_[i] = 0;
       lane_[i].capped = stepped.end == End::force;
       lane_[i].want_force = (stepped.want & want_normal_force) != 0;
+      lane_[i].horizon = collision.horizon();
+      lane_[i].max_steps = stepped.max_steps;
       lane_[i].t_last = t_[i];
       lane_[i].last_d = d_[i];
       lane_[i].last_v = v_[i];
@@ -111,8 +113,8 @@ private:
     double force_max = 0, t_force_max = 0;
     double t_last = 0, last_d = 0, last_v = 0; // the last step position and the code's state
     bool last_initial = true;                  // last_ is the start: W = 0 there (dem.cpp)
-    long steps = 0, rhs_evals = 0;
-    double v_bound = 0, d_bound = 0;
+    long steps = 0, rhs_evals = 0, max_steps = 0;
+    double v_bound = 0, d_bound = 0, horizon = 0;
   };
 
   void resize() {
@@ -191,7 +193,25 @@ private:
   }
 
   // DemContact::after_step for lane i at its current (t, δ, v); true when the lane is complete.
+  // Most steps record nothing and stay within every bound: they only move the last position on.
   bool after_step(std::size_t i, Result<double>& result) {
+    Lane& lane = lane_[i];
+    const double t = t_[i], delta = d_[i], v = v_[i];
+    const bool routine = !(lane.touched && !lane.peak_found && delta < lane.last_d) &&
+                         !lane.ended && std::abs(v) <= lane.v_bound &&
+                         std::abs(delta) <= lane.d_bound && t < lane.horizon &&
+                         lane.steps < lane.max_steps && lane.steps % 256 != 0;
+    if (routine) {
+      lane.t_last = t;
+      lane.last_d = delta;
+      lane.last_v = v;
+      lane.last_initial = false;
+      return false;
+    }
+    return after_step_in_full(i, result);
+  }
+
+  bool after_step_in_full(std::size_t i, Result<double>& result) {
     Lane& lane = lane_[i];
     Collision& collision = *collisions_[i];
     const double t = t_[i], delta = d_[i], v = v_[i];
