@@ -82,8 +82,8 @@ public:
     }
   }
 
-  std::vector<Result<double>> run() {
-    const auto start = std::chrono::steady_clock::now();
+  // `start`: when the batch began (its lanes' set-up included).
+  std::vector<Result<double>> run(std::chrono::steady_clock::time_point start) {
     std::vector<Result<double>> results(n_);
     std::size_t active = 0;
     for (std::size_t i = 0; i < n_; ++i) {
@@ -352,6 +352,7 @@ private:
 std::vector<Result<double>> solve_dem_batch(DemScheme scheme,
                                             std::span<const Problem<double>> problems,
                                             std::span<const Options<double>> options) {
+  const auto start = std::chrono::steady_clock::now();
   std::vector<Result<double>> results(problems.size());
   std::vector<std::size_t> lanes; // those that share the first lane's powers and take no samples
   for (std::size_t i = 0; i < problems.size(); ++i) {
@@ -366,7 +367,7 @@ std::vector<Result<double>> solve_dem_batch(DemScheme scheme,
   if (lanes.empty()) {
     return results;
   }
-  std::vector<Result<double>> batched = DemBatch(scheme, problems, options, lanes).run();
+  std::vector<Result<double>> batched = DemBatch(scheme, problems, options, lanes).run(start);
   for (std::size_t j = 0; j < lanes.size(); ++j) {
     results[lanes[j]] = std::move(batched[j]);
   }
