@@ -194,7 +194,7 @@ private:
 
   // DemContact::after_step for lane i at its current (t, δ, v); true when the lane is complete.
   // Most steps record nothing and stay within every bound: they only move the last position on.
-  bool after_step(std::size_t i, Result<double>& result) {
+  [[gnu::always_inline]] bool after_step(std::size_t i, Result<double>& result) {
     Lane& lane = lane_[i];
     const double t = t_[i], delta = d_[i], v = v_[i];
     const bool routine = !(lane.touched && !lane.peak_found && delta < lane.last_d) &&
@@ -211,7 +211,7 @@ private:
     return after_step_in_full(i, result);
   }
 
-  bool after_step_in_full(std::size_t i, Result<double>& result) {
+  [[gnu::noinline]] bool after_step_in_full(std::size_t i, Result<double>& result) {
     Lane& lane = lane_[i];
     Collision& collision = *collisions_[i];
     const double t = t_[i], delta = d_[i], v = v_[i];
@@ -281,16 +281,21 @@ private:
       d_[i] += dt_[i] * v_[i];             // drift
     }
     contact_forces();
-    std::size_t completed = 0;
     for (std::size_t i = 0; i < n_; ++i) {
-      if (lane_[i].done) {
-        continue;
+      if (!lane_[i].done) {
+        f_[i] = contact_force(i, t_[i] + dt_[i]);
       }
-      f_[i] = contact_force(i, t_[i] + dt_[i]);
+    }
+    for (std::size_t i = 0; i < n_; ++i) { // a finished lane: Δt = 0 and f = 0, it stands still
       v_[i] += dt_[i] / 2 * f_[i] / m_[i]; // half kick
       t_[i] += dt_[i];
-      ++lane_[i].steps;
-      completed += after_step(i, results[i]) ? 1 : 0;
+    }
+    std::size_t completed = 0;
+    for (std::size_t i = 0; i < n_; ++i) {
+      if (!lane_[i].done) {
+        ++lane_[i].steps;
+        completed += after_step(i, results[i]) ? 1 : 0;
+      }
     }
     return completed;
   }
