@@ -312,17 +312,12 @@ private:
       if (lane_[i].ended) {
         // No force from here on: the body leaves with v_n. dem.cpp leaves its loop and, with the
         // exit pending, ends the contact at the state it holds; otherwise as the loop left it.
-        Collision& collision = *collisions_[i];
-        if (lane_[i].peak_found && collision.pending(EventKind::exit)) {
-          completed += after_step(i, results[i]) ? 1 : 0;
-          if (!lane_[i].done) { // dem.cpp's outcome is then still its initial step_limit
-            finish(i, Outcome::step_limit, results[i]);
-            ++completed;
-          }
+        if (lane_[i].peak_found && collisions_[i]->pending(EventKind::exit)) {
+          after_step(i, results[i]); // ended with the exit pending: records it, the lane is done
         } else {
-          finish(i, Outcome::step_limit, results[i]);
-          ++completed;
+          finish(i, Outcome::step_limit, results[i]); // dem.cpp's outcome is still its initial one
         }
+        ++completed;
         continue;
       }
     }
