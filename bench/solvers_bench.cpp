@@ -136,7 +136,8 @@ const int registered = [] {
       }
     }
   }
-  for (const char* name : {"dem-verlet", "dem-symplectic-euler", "dem-leapfrog"}) {
+  for (const char* name :
+       {"dem-verlet", "dem-symplectic-euler", "dem-leapfrog", "verlet-predicted"}) {
     for (const double p : {1.0, 1.5, 2.0, 3.0}) {
       for (const int steps : {50, 1000}) {
         for (const bool batch : {false, true}) {

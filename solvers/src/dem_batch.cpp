@@ -19,10 +19,9 @@
 // - The bookkeeping (the events, the budget) is inline per lane instead of calls per step.
 // Lanes must share p and β (one power per batch) and have no sample times; solve_dem_batch
 // hands any other lane to the scalar solver.
+#include "batch_lanes.hpp"
 #include "collision.hpp"
 #include "methods.hpp"
-
-#include <boost/math/constants/constants.hpp>
 
 #include <algorithm>
 #include <chrono>
@@ -35,27 +34,20 @@
 namespace pldamp::solvers::detail {
 namespace {
 
-// How the lanes raise |δ| to β: exactly where std::pow is exact, std::pow otherwise.
-enum class Power { one, identity, pow };
-
 class DemBatch {
 public:
   DemBatch(DemScheme scheme, std::span<const Problem<double>> problems,
            std::span<const Options<double>> options, std::span<const std::size_t> lanes)
-      : scheme_(scheme), n_(lanes.size()) {
+      : scheme_(scheme), n_(lanes.size()),
+        power_(ContactOde<double>(problems[lanes[0]]).damping_exponent()) {
     const ContactOde<double> first(problems[lanes[0]]);
-    beta_ = first.damping_exponent();
     p_ = first.p();
-    seed_ = beta_ == (p_ - 1) / 2; // as ContactOde decides it
-    power_ = beta_ == 0 ? Power::one : beta_ == 1 ? Power::identity : Power::pow;
+    seed_ = first.damping_exponent() == (p_ - 1) / 2; // as ContactOde decides it
     resize();
     collisions_.reserve(n_);
     for (std::size_t i = 0; i < n_; ++i) {
       const Problem<double>& problem = problems[lanes[i]];
-      Options<double> stepped = options[lanes[i]]; // the step is reported in the result
-      stepped.fixed_step = stepped.fixed_step.value_or(boost::math::constants::pi<double>() *
-                                                       ContactOde<double>(problem).time_scale() /
-                                                       stepped.steps_per_contact);
+      const Options<double> stepped = with_fixed_step(problem, options[lanes[i]]);
       collisions_.push_back(std::make_unique<Collision>(problem, stepped));
       const Collision& collision = *collisions_.back();
       const ContactOde<double>& ode = collision.ode();
@@ -82,8 +74,7 @@ public:
     }
   }
 
-  // `start`: when the batch began (its lanes' set-up included).
-  std::vector<Result<double>> run(std::chrono::steady_clock::time_point start) {
+  std::vector<Result<double>> run() {
     std::vector<Result<double>> results(n_);
     std::size_t active = 0;
     for (std::size_t i = 0; i < n_; ++i) {
@@ -96,12 +87,6 @@ public:
     while (active > 0) {
       active -= scheme_ == DemScheme::verlet ? verlet_step(results) : force_first_step(results);
     }
-    // The batch's time divided among its lanes: what each contact cost.
-    const double seconds =
-        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    for (Result<double>& r : results) {
-      r.wall_seconds = seconds / double(n_);
-    }
     return results;
   }
 
@@ -109,11 +94,10 @@ private:
   struct Lane {
     bool done = false, capped = false, want_force = false;
     bool touched = false, ended = false, peak_found = false;
-    bool has_force = false; // a normal force offered (DemContact::force, while before the peak)
-    double force_max = 0, t_force_max = 0;
     double t_last = 0, last_d = 0, last_v = 0; // the last step position and the code's state
     bool last_initial = true;                  // last_ is the start: W = 0 there (dem.cpp)
-    long steps = 0, rhs_evals = 0, max_steps = 0;
+    LaneCounts counts;
+    long max_steps = 0;
     double v_bound = 0, d_bound = 0, horizon = 0;
   };
 
@@ -124,29 +108,10 @@ private:
     lane_.assign(n_, Lane{});
   }
 
-  // |δ|^β for every lane, as ContactOde::dashpot_factor evaluates it.
-  void dashpot_factors() {
-    switch (power_) {
-    case Power::one:
-      std::fill(da_.begin(), da_.end(), 1.0);
-      break;
-    case Power::identity:
-      for (std::size_t i = 0; i < n_; ++i) {
-        da_[i] = std::abs(d_[i]);
-      }
-      break;
-    case Power::pow:
-      for (std::size_t i = 0; i < n_; ++i) {
-        da_[i] = std::pow(std::abs(d_[i]), beta_);
-      }
-      break;
-    }
-  }
-
   // m · v' of ContactOde::rhs at (δ, v) for every lane (meaningful where δ > 0): the contact force
   // on the overlap coordinate, DemContact::force before its cases.
   void contact_forces() {
-    dashpot_factors();
+    power_(d_, da_);
     if (seed_) {
       for (std::size_t i = 0; i < n_; ++i) {
         const double spring = k_[i] * (da_[i] * da_[i] * d_[i]);
@@ -171,14 +136,10 @@ private:
       return 0;
     }
     lane.touched = true;
-    ++lane.rhs_evals;
+    ++lane.counts.rhs_evals;
     const double force = force_[i];
-    if (lane.want_force && !lane.peak_found) { // BasicCollision::offer_normal_force
-      if (!lane.has_force || -force > lane.force_max) {
-        lane.has_force = true;
-        lane.force_max = -force;
-        lane.t_force_max = t;
-      }
+    if (lane.want_force && !lane.peak_found) {
+      lane.counts.offer(t, -force);
     }
     if (lane.capped && force >= 0) {
       lane.ended = true;
@@ -200,7 +161,7 @@ private:
     const bool routine = !(lane.touched && !lane.peak_found && delta < lane.last_d) &&
                          !lane.ended && std::abs(v) <= lane.v_bound &&
                          std::abs(delta) <= lane.d_bound && t < lane.horizon &&
-                         lane.steps < lane.max_steps && lane.steps % 256 != 0;
+                         lane.counts.steps < lane.max_steps && lane.counts.steps % 256 != 0;
     if (routine) {
       lane.t_last = t;
       lane.last_d = delta;
@@ -252,8 +213,8 @@ private:
     }
     // Within the bounds W is finite: the state is finite iff δ and v are (already tested above
     // when out of them).
-    if (lane.steps >= collision.options().max_steps || lane.steps % 256 == 0) {
-      if (const auto spent = collision.out_of_budget(lane.steps)) {
+    if (lane.counts.steps >= collision.options().max_steps || lane.counts.steps % 256 == 0) {
+      if (const auto spent = collision.out_of_budget(lane.counts.steps)) {
         finish(i, *spent, result);
         return true;
       }
@@ -263,12 +224,7 @@ private:
 
   void finish(std::size_t i, Outcome outcome, Result<double>& result) {
     Lane& lane = lane_[i];
-    Collision& collision = *collisions_[i];
-    if (lane.has_force) {
-      collision.offer_normal_force(lane.t_force_max, lane.force_max);
-    }
-    collision.count_rhs_evals(lane.rhs_evals);
-    result = collision.finish(outcome, lane.steps);
+    result = lane.counts.finish(*collisions_[i], outcome);
     lane.done = true;
     dt_[i] = 0; // the lane stands still from here on (masked)
     f_[i] = 0;
@@ -293,7 +249,7 @@ private:
     std::size_t completed = 0;
     for (std::size_t i = 0; i < n_; ++i) {
       if (!lane_[i].done) {
-        ++lane_[i].steps;
+        ++lane_[i].counts.steps;
         completed += after_step(i, results[i]) ? 1 : 0;
       }
     }
@@ -330,7 +286,7 @@ private:
       if (lane_[i].done) {
         continue;
       }
-      ++lane_[i].steps;
+      ++lane_[i].counts.steps;
       completed += after_step(i, results[i]) ? 1 : 0;
     }
     return completed;
@@ -338,9 +294,9 @@ private:
 
   DemScheme scheme_;
   std::size_t n_;
-  double beta_ = 0, p_ = 1;
+  LanePower power_;
+  double p_ = 1;
   bool seed_ = true;
-  Power power_ = Power::pow;
   // The lanes' state and constants, structure of arrays.
   std::vector<double> t_, d_, v_, f_, dt_, m_, k_, c_, da_, force_;
   std::vector<Lane> lane_;
@@ -352,26 +308,14 @@ private:
 std::vector<Result<double>> solve_dem_batch(DemScheme scheme,
                                             std::span<const Problem<double>> problems,
                                             std::span<const Options<double>> options) {
-  const auto start = std::chrono::steady_clock::now();
-  std::vector<Result<double>> results(problems.size());
-  std::vector<std::size_t> lanes; // those that share the first lane's powers and take no samples
-  for (std::size_t i = 0; i < problems.size(); ++i) {
-    const bool shares = !lanes.empty() && problems[i].p == problems[lanes[0]].p &&
-                        problems[i].damping_exponent == problems[lanes[0]].damping_exponent;
-    if (options[i].sample_times.empty() && (lanes.empty() || shares)) {
-      lanes.push_back(i);
-    } else {
-      results[i] = solve_dem(scheme, problems[i], options[i]);
-    }
-  }
-  if (lanes.empty()) {
-    return results;
-  }
-  std::vector<Result<double>> batched = DemBatch(scheme, problems, options, lanes).run(start);
-  for (std::size_t j = 0; j < lanes.size(); ++j) {
-    results[lanes[j]] = std::move(batched[j]);
-  }
-  return results;
+  return solve_in_lanes(
+      problems, options,
+      [&](const Problem<double>& problem, const Options<double>& lane) {
+        return solve_dem(scheme, problem, lane);
+      },
+      [&](std::span<const std::size_t> lanes) {
+        return DemBatch(scheme, problems, options, lanes).run();
+      });
 }
 
 } // namespace pldamp::solvers::detail

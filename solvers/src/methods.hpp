@@ -21,6 +21,9 @@ Result<double> solve_arkode(ArkodeMethod method, const Problem<double>& problem,
 Result<double> solve_odeint(OdeintMethod method, const Problem<double>& problem,
                             const Options<double>& options);
 Result<double> solve_verlet(const Problem<double>& problem, const Options<double>& options);
+// solve_verlet for every problems[i] with options[i], stepped together (verlet_batch.cpp).
+std::vector<Result<double>> solve_verlet_batch(std::span<const Problem<double>> problems,
+                                               std::span<const Options<double>> options);
 Result<double> solve_dem(DemScheme scheme, const Problem<double>& problem,
                          const Options<double>& options);
 // solve_dem for every problems[i] with options[i], the lanes stepped together (dem_batch.cpp);

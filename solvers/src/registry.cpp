@@ -53,7 +53,8 @@ constexpr Entry in_double(SolverInfo info, SolveFn<double> solve) {
   return entry;
 }
 
-// A solver solve_batch steps in lanes (the DEM schemes, dem_batch.cpp).
+// A solver solve_batch steps in lanes (the DEM schemes, dem_batch.cpp; verlet-predicted,
+// verlet_batch.cpp).
 constexpr Entry batched(Entry entry, BatchFn batch) {
   entry.info.batched = true;
   entry.batch = batch;
@@ -99,11 +100,13 @@ constexpr std::array entries{
                                "contact-point series at entry and exit; double, long, quad or 50 "
                                "digits",
                                false, false, false, epsilon}),
-    in_double({"verlet-predicted",
-               "velocity Verlet, the dashpot fed the predicted full-step velocity (second order; "
-               "no DEM code runs it)",
-               true, false, false, standard},
-              detail::solve_verlet),
+    batched(in_double(
+                {"verlet-predicted",
+                 "velocity Verlet, the dashpot fed the predicted full-step velocity (second order; "
+                 "no DEM code runs it)",
+                 true, false, false, standard},
+                detail::solve_verlet),
+            detail::solve_verlet_batch),
     batched(in_double({"dem-verlet",
                        "velocity Verlet as LAMMPS, LIGGGHTS and MercuryDPM run it: the force from "
                        "x_{n+1} and v_{n+1/2}",

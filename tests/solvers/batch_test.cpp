@@ -14,7 +14,9 @@
 namespace pldamp::solvers::testing {
 namespace {
 
-const std::vector<std::string> dem_schemes{"dem-verlet", "dem-symplectic-euler", "dem-leapfrog"};
+// Every solver with a batch path: the DEM schemes and verlet-predicted.
+const std::vector<std::string> batched_schemes{"dem-verlet", "dem-symplectic-euler", "dem-leapfrog",
+                                               "verlet-predicted"};
 
 // The bits of a value (NaN and −0 told apart from anything else), or a marker for none.
 std::string bits(const std::optional<double>& x) {
@@ -111,7 +113,7 @@ TEST(Batch, EveryLaneIsTheScalarSolveBitForBit) {
                                          {2.5, {}}, {1.5, 0.5}, {1.0, 0.5}, {2.0, 0.0}};
   std::vector<Outcome> seen;
   std::size_t lanes_run = 0;
-  for (const std::string& scheme : dem_schemes) {
+  for (const std::string& scheme : batched_schemes) {
     for (const Exponents& x : exponents) {
       Lanes lanes;
       for (const double e : {0.95, 0.5, 0.05}) {
@@ -171,7 +173,7 @@ TEST(Batch, EveryLaneIsTheScalarSolveBitForBit) {
     EXPECT_NE(std::find(seen.begin(), seen.end(), outcome), seen.end())
         << "no lane ended " << outcome_name(outcome);
   }
-  EXPECT_EQ(lanes_run, dem_schemes.size() * exponents.size() * (3 * 2 * 3 * 8 + 4));
+  EXPECT_EQ(lanes_run, batched_schemes.size() * exponents.size() * (3 * 2 * 3 * 8 + 4));
 }
 
 TEST(Batch, LanesOfOtherExponentsOrWithSamplesAreSolvedAlone) {
@@ -185,7 +187,7 @@ TEST(Batch, LanesOfOtherExponentsOrWithSamplesAreSolvedAlone) {
   Options<double> sampled;
   sampled.sample_times = {0.1, 0.5, 1.0};
   lanes.add(problem_of(Contact<double>::from_e(1.5, 0.4, 1.0)), sampled, "samples");
-  for (const std::string& scheme : dem_schemes) {
+  for (const std::string& scheme : batched_schemes) {
     expect_bit_identical(scheme, lanes);
   }
   const std::vector<Result<double>> with_samples =
@@ -195,14 +197,13 @@ TEST(Batch, LanesOfOtherExponentsOrWithSamplesAreSolvedAlone) {
 
 TEST(Batch, OtherSolversAreSolvedOneByOne) {
   EXPECT_TRUE(solver_named("dem-leapfrog").batched);
-  EXPECT_FALSE(solver_named("verlet-predicted").batched);
+  EXPECT_TRUE(solver_named("verlet-predicted").batched);
+  EXPECT_FALSE(solver_named("cvode-bdf").batched);
   Lanes lanes;
-  for (int phase = 0; phase < 4; ++phase) {
-    Options<double> o;
-    o.onset_phase = phase / 4.0;
-    lanes.add(problem_of(Contact<double>::from_e(2.0, 0.7, 1.0)), o, "phase");
+  for (const double e : {0.9, 0.5, 0.1}) {
+    lanes.add(problem_of(Contact<double>::from_e(2.0, e, 1.0)), {}, "e=" + std::to_string(e));
   }
-  expect_bit_identical("verlet-predicted", lanes);
+  expect_bit_identical("cvode-bdf", lanes);
 }
 
 TEST(Batch, RefusesWhatSolveRefuses) {

@@ -91,11 +91,11 @@ Result<Real> solve(std::string_view name, const Problem<Real>& problem,
 
 // Integrates problems[i] with options[i] for every i with the named solver in double; the
 // Result of each is bit for bit what solve() returns for it, but for wall_seconds: a batched
-// solver (SolverInfo::batched, the DEM schemes) steps the contacts together, and each Result's
-// wall_seconds is then the batch's divided among its lanes. Lanes are stepped together when
-// they share p and the damping exponent and ask for no samples (the onset phases of one cell, or
-// cells of one p); any other lane is solved alone. Throws as solve() does, for the first lane that
-// would throw.
+// solver (SolverInfo::batched: the DEM schemes and verlet-predicted) steps the contacts together,
+// and each Result's wall_seconds is then the batch's divided among its lanes. Lanes are stepped
+// together when they share p and the damping exponent and ask for no samples (the onset phases of
+// one cell, or cells of one p); any other lane is solved alone. Throws as solve() does, for the
+// first lane that would throw.
 std::vector<Result<double>> solve_batch(std::string_view name,
                                         std::span<const Problem<double>> problems,
                                         std::span<const Options<double>> options);
