@@ -11,7 +11,9 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <sstream>
 #include <string>
+#include <vector>
 
 namespace {
 
@@ -78,6 +80,45 @@ void collision(benchmark::State& state, const std::string& name, double rtol, in
   state.counters["ns_per_step"] = took.count() * 1e9 / double(state.iterations()) / double(r.steps);
 }
 
+// Throughput of the batch path against the scalar one on the same cells: the onset phases k/n
+// of one contact (e = 0.5, v0 = m = k = 1, every observable, `steps` per contact) at p, 16 as in
+// data/scenes/dem.toml, as the
+// harness runs a record's phases. `batch` false: solve() per phase; true: one solve_batch.
+// Counters: contacts per second of this core (items_per_second) and ns per lane-step.
+void phases(benchmark::State& state, const std::string& name, double p, int lanes, int steps,
+            bool batch) {
+  const Contact<double> c = Contact<double>::from_e(p, 0.5, 1.0);
+  std::vector<solvers::Problem<double>> problems(
+      static_cast<std::size_t>(lanes),
+      solvers::Problem<double>{c.p(), c.m(), c.k(), c.v0(), c.alpha()});
+  std::vector<solvers::Options<double>> options(static_cast<std::size_t>(lanes));
+  for (int phase = 0; phase < lanes; ++phase) {
+    options[static_cast<std::size_t>(phase)].onset_phase = double(phase) / lanes;
+    options[static_cast<std::size_t>(phase)].steps_per_contact = steps;
+  }
+  long lane_steps = 0;
+  for (auto _ : state) {
+    lane_steps = 0;
+    if (batch) {
+      const std::vector<solvers::Result<double>> r = solvers::solve_batch(name, problems, options);
+      for (const solvers::Result<double>& one : r) {
+        lane_steps += one.steps;
+      }
+      benchmark::DoNotOptimize(r);
+    } else {
+      for (std::size_t i = 0; i < problems.size(); ++i) {
+        const solvers::Result<double> r = solvers::solve(name, problems[i], options[i]);
+        lane_steps += r.steps;
+        benchmark::DoNotOptimize(r);
+      }
+    }
+  }
+  state.SetItemsProcessed(state.iterations() * lanes);
+  state.counters["ns_per_lane_step"] =
+      benchmark::Counter(double(lane_steps) * double(state.iterations()) * 1e-9,
+                         benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
+}
+
 const int registered = [] {
   for (const solvers::SolverInfo& info : solvers::registry()) {
     const std::string name(info.name);
@@ -92,6 +133,20 @@ const int registered = [] {
         benchmark::RegisterBenchmark((name + "/steps:" + std::to_string(steps)).c_str(), collision,
                                      name, 1e-6, steps)
             ->Unit(benchmark::kMicrosecond);
+      }
+    }
+  }
+  for (const char* name :
+       {"dem-verlet", "dem-symplectic-euler", "dem-leapfrog", "verlet-predicted"}) {
+    for (const double p : {1.0, 1.5, 2.0, 3.0}) {
+      for (const int steps : {50, 1000}) {
+        for (const bool batch : {false, true}) {
+          std::ostringstream label;
+          label << "phases/" << name << "/p:" << p << "/lanes:16/steps:" << steps << "/"
+                << (batch ? "batch" : "scalar");
+          benchmark::RegisterBenchmark(label.str().c_str(), phases, name, p, 16, steps, batch)
+              ->Unit(benchmark::kMicrosecond);
+        }
       }
     }
   }

@@ -418,11 +418,14 @@ void validate_against(const Problem<Real>& problem, const Options<Real>& options
   // A fixed step below ε of the time scale does not advance time; one beyond the horizon never
   // sees the contact at all.
   if (options.fixed_step) {
-    require(*options.fixed_step >= epsilon * time_scale && *options.fixed_step < horizon,
-            "dt must be in [" + to_string_full(Real(epsilon * time_scale)) + ", " +
-                to_string_full(horizon) + "), epsilon times the time scale delta_u/v0 and the " +
-                "horizon",
-            *options.fixed_step);
+    require(
+        *options.fixed_step >= epsilon * time_scale && *options.fixed_step < horizon,
+        [&] {
+          return "dt must be in [" + to_string_full(Real(epsilon * time_scale)) + ", " +
+                 to_string_full(horizon) + "), epsilon times the time scale delta_u/v0 and the " +
+                 "horizon";
+        },
+        *options.fixed_step);
   }
 }
 

@@ -3,6 +3,9 @@
 
 #include "pldamp/solvers/problem.hpp"
 
+#include <span>
+#include <vector>
+
 namespace pldamp::solvers::detail {
 
 enum class CvodeMethod { bdf, adams };
@@ -18,8 +21,16 @@ Result<double> solve_arkode(ArkodeMethod method, const Problem<double>& problem,
 Result<double> solve_odeint(OdeintMethod method, const Problem<double>& problem,
                             const Options<double>& options);
 Result<double> solve_verlet(const Problem<double>& problem, const Options<double>& options);
+// solve_verlet for every problems[i] with options[i], stepped together (verlet_batch.cpp).
+std::vector<Result<double>> solve_verlet_batch(std::span<const Problem<double>> problems,
+                                               std::span<const Options<double>> options);
 Result<double> solve_dem(DemScheme scheme, const Problem<double>& problem,
                          const Options<double>& options);
+// solve_dem for every problems[i] with options[i], the lanes stepped together (dem_batch.cpp);
+// each Result is bit for bit solve_dem's but for wall_seconds, the batch's divided among its lanes.
+std::vector<Result<double>> solve_dem_batch(DemScheme scheme,
+                                            std::span<const Problem<double>> problems,
+                                            std::span<const Options<double>> options);
 // Instantiated for every SupportedReal.
 template <SupportedReal Real>
 Result<Real> solve_taylor(const Problem<Real>& problem, const Options<Real>& options);

@@ -4,6 +4,7 @@
 
 #include <array>
 #include <stdexcept>
+#include <string>
 #include <tuple>
 
 namespace pldamp::solvers {
@@ -28,9 +29,20 @@ Result<double> with_method(const Problem<double>& problem, const Options<double>
   return solve_family(method, problem, options);
 }
 
+using BatchFn = std::vector<Result<double>> (*)(std::span<const Problem<double>>,
+                                                std::span<const Options<double>>);
+
+// The DEM batch path with its scheme fixed.
+template <DemScheme scheme>
+std::vector<Result<double>> dem_batch(std::span<const Problem<double>> problems,
+                                      std::span<const Options<double>> options) {
+  return detail::solve_dem_batch(scheme, problems, options);
+}
+
 struct Entry {
   SolverInfo info;
   EntryPoints solve;
+  BatchFn batch = nullptr; // several contacts stepped together (SolverInfo::batched)
 };
 
 // The entry point and the precision set are filled together, so the set says where it runs.
@@ -38,6 +50,14 @@ constexpr Entry in_double(SolverInfo info, SolveFn<double> solve) {
   Entry entry{info, {}};
   std::get<SolveFn<double>>(entry.solve) = solve;
   entry.info.precisions = precision_bit<double>();
+  return entry;
+}
+
+// A solver solve_batch steps in lanes (the DEM schemes, dem_batch.cpp; verlet-predicted,
+// verlet_batch.cpp).
+constexpr Entry batched(Entry entry, BatchFn batch) {
+  entry.info.batched = true;
+  entry.batch = batch;
   return entry;
 }
 
@@ -80,24 +100,31 @@ constexpr std::array entries{
                                "contact-point series at entry and exit; double, long, quad or 50 "
                                "digits",
                                false, false, false, epsilon}),
-    in_double({"verlet-predicted",
-               "velocity Verlet, the dashpot fed the predicted full-step velocity (second order; "
-               "no DEM code runs it)",
-               true, false, false, standard},
-              detail::solve_verlet),
-    in_double({"dem-verlet",
-               "velocity Verlet as LAMMPS, LIGGGHTS and MercuryDPM run it: the force from "
-               "x_{n+1} and v_{n+1/2}",
-               true, false, false, standard},
-              with_method<detail::solve_dem, DemScheme::verlet>),
-    in_double({"dem-symplectic-euler",
-               "semi-implicit Euler as Project Chrono's SMC runs it: the force from (x_n, v_n)",
-               true, false, false, standard},
-              with_method<detail::solve_dem, DemScheme::symplectic_euler>),
-    in_double({"dem-leapfrog",
-               "leapfrog as YADE's NewtonIntegrator runs it: the force from x_n and v_{n-1/2}",
-               true, false, false, standard},
-              with_method<detail::solve_dem, DemScheme::leapfrog>),
+    batched(in_double(
+                {"verlet-predicted",
+                 "velocity Verlet, the dashpot fed the predicted full-step velocity (second order; "
+                 "no DEM code runs it)",
+                 true, false, false, standard},
+                detail::solve_verlet),
+            detail::solve_verlet_batch),
+    batched(in_double({"dem-verlet",
+                       "velocity Verlet as LAMMPS, LIGGGHTS and MercuryDPM run it: the force from "
+                       "x_{n+1} and v_{n+1/2}",
+                       true, false, false, standard},
+                      with_method<detail::solve_dem, DemScheme::verlet>),
+            dem_batch<DemScheme::verlet>),
+    batched(
+        in_double({"dem-symplectic-euler",
+                   "semi-implicit Euler as Project Chrono's SMC runs it: the force from (x_n, v_n)",
+                   true, false, false, standard},
+                  with_method<detail::solve_dem, DemScheme::symplectic_euler>),
+        dem_batch<DemScheme::symplectic_euler>),
+    batched(
+        in_double({"dem-leapfrog",
+                   "leapfrog as YADE's NewtonIntegrator runs it: the force from x_n and v_{n-1/2}",
+                   true, false, false, standard},
+                  with_method<detail::solve_dem, DemScheme::leapfrog>),
+        dem_batch<DemScheme::leapfrog>),
 };
 
 constexpr auto infos = [] {
@@ -176,6 +203,28 @@ Result<Real> solve(std::string_view name, const Problem<Real>& problem,
   const Entry& entry = entry_named(name);
   check_solver_options(entry.info, options);
   return std::get<SolveFn<Real>>(entry.solve)(problem, options);
+}
+
+std::vector<Result<double>> solve_batch(std::string_view name,
+                                        std::span<const Problem<double>> problems,
+                                        std::span<const Options<double>> options) {
+  if (problems.size() != options.size()) {
+    throw std::invalid_argument("solve_batch: " + std::to_string(problems.size()) +
+                                " problems and " + std::to_string(options.size()) + " options");
+  }
+  const Entry& entry = entry_named(name);
+  for (const Options<double>& lane : options) {
+    check_solver_options(entry.info, lane);
+  }
+  if (entry.batch != nullptr && !problems.empty()) {
+    return entry.batch(problems, options);
+  }
+  std::vector<Result<double>> results;
+  results.reserve(problems.size());
+  for (std::size_t i = 0; i < problems.size(); ++i) {
+    results.push_back(std::get<SolveFn<double>>(entry.solve)(problems[i], options[i]));
+  }
+  return results;
 }
 
 #define PLDAMP_INSTANTIATE(Real, name)                                                             \

@@ -15,26 +15,12 @@
 // The onset phase φ puts the first step position at t = φ Δt, δ = v0 φ Δt (free flight before);
 // φ = 0 starts on the moment of contact, with the force evaluated there.
 #include "collision.hpp"
+#include "hermite.hpp"
 #include "methods.hpp"
 
 #include <boost/math/constants/constants.hpp>
 
 namespace pldamp::solvers::detail {
-namespace {
-
-// Cubic Hermite interpolation of δ on [t0, t0 + h] from δ and v = δ' at both ends, at fraction θ.
-double hermite(double theta, double h, const State& y0, const State& y1) {
-  const double t2 = theta * theta, t3 = t2 * theta;
-  return (2 * t3 - 3 * t2 + 1) * y0[0] + (t3 - 2 * t2 + theta) * h * y0[1] +
-         (-2 * t3 + 3 * t2) * y1[0] + (t3 - t2) * h * y1[1];
-}
-
-State interpolate(double theta, double h, const State& y0, const State& y1) {
-  return {hermite(theta, h, y0, y1), y0[1] + theta * (y1[1] - y0[1]),
-          y0[2] + theta * (y1[2] - y0[2])};
-}
-
-} // namespace
 
 Result<double> solve_verlet(const Problem<double>& problem, const Options<double>& options) {
   Options<double> stepped = options; // the step is reported in the result

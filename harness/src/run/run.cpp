@@ -143,6 +143,89 @@ void compare_with_replica(const Plan& plan, const SolverConfig& config,
   }
 }
 
+// One onset phase of a record: its result (the first run's) and the times of its repeats.
+template <SupportedReal Real>
+struct PhaseRun {
+  solvers::Result<Real> result;
+  RepeatTimes wall, cpu;
+};
+
+// Every onset phase k/n, one solve at a time (repeats for the timing only, and only for runs
+// shorter than repeat_below: they remove the noise of a short run, a timer tick or a preemption,
+// which a long one averages itself; the nightly's overdamped solves, 80 % of its CPU time, are
+// timed once).
+template <SupportedReal Real>
+std::vector<PhaseRun<Real>>
+run_phases(const Plan& plan, const SolverConfig& config, ExternalSolver* external,
+           const solvers::Problem<Real>& problem, solvers::Options<Real> options, Record& record) {
+  std::vector<PhaseRun<Real>> runs;
+  for (int phase = 0; phase < config.onset_phases; ++phase) {
+    options.onset_phase = Real(phase) / Real(config.onset_phases);
+    PhaseRun<Real> run;
+    double cpu_start = thread_cpu_seconds();
+    ++record.runs; // counted if it throws too
+    run.result = solve_with(config, external, problem, options);
+    run.cpu.add(thread_cpu_seconds() - cpu_start);
+    if (!config.replica.empty()) {
+      compare_with_replica(plan, config, problem, options, run.result, record);
+    }
+    run.wall.add(run.result.wall_seconds);
+    for (int repeat = 1; repeat < (external != nullptr ? 1 : plan.scene.repeats) &&
+                         run.cpu.fastest < plan.scene.repeat_below;
+         ++repeat) {
+      cpu_start = thread_cpu_seconds();
+      run.wall.add(solvers::solve(config.name, problem, options).wall_seconds);
+      run.cpu.add(thread_cpu_seconds() - cpu_start);
+      ++record.runs;
+    }
+    runs.push_back(std::move(run));
+  }
+  return runs;
+}
+
+// Whether a record's onset phases (in double) are solved as one batch (solvers::solve_batch):
+// pldamp's own fixed-step scheme with a batch path, more than one phase.
+bool batched(const SolverConfig& config, const ExternalSolver* external) {
+  return external == nullptr && config.onset_phases > 1 &&
+         solvers::solver_named(config.name).batched;
+}
+
+// Every onset phase k/n in one solve_batch, each result bit for bit the phase's own solve: the
+// same record. Time is attributed per phase as the batch's divided among its lanes: each repeat's
+// CPU time over n (and its wall_seconds, solve_batch's share), so a record's cpu_seconds stays
+// the CPU time of one contact and a configuration's sum the CPU time of its records (docs/ci.md).
+std::vector<PhaseRun<double>> run_phases_batched(const SolverConfig& config,
+                                                 const solvers::Problem<double>& problem,
+                                                 const solvers::Options<double>& options,
+                                                 const Scene& scene, Record& record) {
+  const auto n = static_cast<std::size_t>(config.onset_phases);
+  const std::vector<solvers::Problem<double>> problems(n, problem);
+  std::vector<solvers::Options<double>> lanes(n, options);
+  for (std::size_t phase = 0; phase < n; ++phase) {
+    lanes[phase].onset_phase = double(phase) / double(n);
+  }
+  std::vector<PhaseRun<double>> runs(n);
+  double batch_cpu = 0; // the last batch's CPU time: repeated while below repeat_below
+  for (int repeat = 0;
+       repeat < std::max(scene.repeats, 1) && (repeat == 0 || batch_cpu < scene.repeat_below);
+       ++repeat) {
+    const double cpu_start = thread_cpu_seconds();
+    record.runs += static_cast<long>(n);
+    std::vector<solvers::Result<double>> results =
+        solvers::solve_batch(config.name, problems, lanes);
+    batch_cpu = thread_cpu_seconds() - cpu_start;
+    const double cpu_share = batch_cpu / double(n);
+    for (std::size_t phase = 0; phase < n; ++phase) {
+      runs[phase].cpu.add(cpu_share);
+      runs[phase].wall.add(results[phase].wall_seconds);
+      if (repeat == 0) {
+        runs[phase].result = std::move(results[phase]);
+      }
+    }
+  }
+  return runs;
+}
+
 template <SupportedReal Real>
 void solve_record(const Plan& plan, Record& record, ExternalSolver* external) {
   const Cell& cell = plan.cells[record.cell];
@@ -209,28 +292,19 @@ void solve_record(const Plan& plan, Record& record, ExternalSolver* external) {
       highest(observables, -std::numeric_limits<double>::infinity());
   double steps = 0, rhs_evals = 0, fastest_seconds = 0, slowest_seconds = 0, fastest_cpu = 0,
          slowest_cpu = 0;
+  std::vector<PhaseRun<Real>> phase_runs;
+  if constexpr (std::is_same_v<Real, double>) {
+    if (batched(config, external)) {
+      phase_runs = run_phases_batched(config, problem, options, plan.scene, record);
+    }
+  }
+  if (phase_runs.empty()) {
+    phase_runs = run_phases(plan, config, external, problem, options, record);
+  }
   for (int phase = 0; phase < config.onset_phases; ++phase) {
-    options.onset_phase = Real(phase) / Real(config.onset_phases);
-    RepeatTimes times, cpu;
-    double cpu_start = thread_cpu_seconds();
-    ++record.runs; // counted if it throws too
-    const solvers::Result<Real> result = solve_with(config, external, problem, options);
-    cpu.add(thread_cpu_seconds() - cpu_start);
-    if (!config.replica.empty()) {
-      compare_with_replica(plan, config, problem, options, result, record);
-    }
-    times.add(result.wall_seconds);
-    // Repeats only for runs shorter than repeat_below: they remove the noise of a short run (a
-    // timer tick, a preemption), which a long one averages itself (the nightly's overdamped
-    // solves, 80 % of its CPU time, are timed once).
-    for (int repeat = 1; repeat < (external != nullptr ? 1 : plan.scene.repeats) &&
-                         cpu.fastest < plan.scene.repeat_below;
-         ++repeat) {
-      cpu_start = thread_cpu_seconds();
-      times.add(solvers::solve(config.name, problem, options).wall_seconds);
-      cpu.add(thread_cpu_seconds() - cpu_start);
-      ++record.runs;
-    }
+    const solvers::Result<Real>& result = phase_runs[static_cast<std::size_t>(phase)].result;
+    const RepeatTimes& times = phase_runs[static_cast<std::size_t>(phase)].wall;
+    const RepeatTimes& cpu = phase_runs[static_cast<std::size_t>(phase)].cpu;
     // A failed phase fails the record; the outcome kept is the worst seen.
     if (!record.outcome || solvers::failing(result.outcome)) {
       record.outcome = result.outcome;

@@ -8,6 +8,7 @@
 #include <span>
 #include <string>
 #include <string_view>
+#include <vector>
 
 namespace pldamp::solvers {
 
@@ -31,6 +32,8 @@ struct SolverInfo {
   DefaultTolerance default_tolerance;
   // The precisions it runs in (derived from the entry points it is registered with).
   PrecisionSet precisions = 0;
+  // solve_batch steps several contacts of it together (SIMD lanes); otherwise one by one.
+  bool batched = false;
 
   bool takes_rtol() const { return !fixed_step; }
   bool runs_in(std::string_view precision) const {
@@ -85,5 +88,16 @@ void check_solver_options(const SolverInfo& info, const Options<Real>& options);
 template <SupportedReal Real>
 Result<Real> solve(std::string_view name, const Problem<Real>& problem,
                    const Options<Real>& options);
+
+// Integrates problems[i] with options[i] for every i with the named solver in double; the
+// Result of each is bit for bit what solve() returns for it, but for wall_seconds: a batched
+// solver (SolverInfo::batched: the DEM schemes and verlet-predicted) steps the contacts together,
+// and each Result's wall_seconds is then the batch's divided among its lanes. Lanes are stepped
+// together when they share p and the damping exponent and ask for no samples (the onset phases of
+// one cell, or cells of one p); any other lane is solved alone. Throws as solve() does, for the
+// first lane that would throw.
+std::vector<Result<double>> solve_batch(std::string_view name,
+                                        std::span<const Problem<double>> problems,
+                                        std::span<const Options<double>> options);
 
 } // namespace pldamp::solvers

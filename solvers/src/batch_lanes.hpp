@@ -1,0 +1,127 @@
+// What the batch paths (dem_batch.cpp, verlet_batch.cpp) share: |δ|^β over the lanes as
+// ContactOde::dashpot_factor evaluates it, bit for bit (docs/performance.md, "Batch mode"), a
+// lane's counts, and the split of a batch into the lanes stepped together and the rest.
+#pragma once
+
+#include "collision.hpp"
+
+#include <boost/math/constants/constants.hpp>
+
+#include <chrono>
+#include <cmath>
+#include <cstddef>
+#include <span>
+#include <vector>
+
+namespace pldamp::solvers::detail {
+
+// std::pow(|δ|, β) is exact for β = 0 (1) and β = 1 (|δ|), so any exact evaluation equals it and
+// vectorizes; otherwise only std::pow itself rounds as the scalar path does (glibc's pow is not
+// correctly rounded: pow(x, 0.5) and sqrt(x) differ in about 1 in 1100 arguments).
+class LanePower {
+public:
+  explicit LanePower(double beta) : beta_(beta) {}
+
+  void operator()(const std::vector<double>& delta, std::vector<double>& out) const {
+    const std::size_t n = delta.size();
+    if (beta_ == 0) {
+      for (std::size_t i = 0; i < n; ++i) {
+        out[i] = 1;
+      }
+    } else if (beta_ == 1) {
+      for (std::size_t i = 0; i < n; ++i) {
+        out[i] = std::abs(delta[i]);
+      }
+    } else {
+      for (std::size_t i = 0; i < n; ++i) {
+        out[i] = std::pow(std::abs(delta[i]), beta_);
+      }
+    }
+  }
+
+private:
+  double beta_;
+};
+
+// The lanes a batch steps together: those that share the first one's p and damping exponent
+// (one power for all) and record no samples; the others are left to the scalar solver.
+template <class Problems, class OptionsList>
+std::vector<std::size_t> lanes_together(const Problems& problems, const OptionsList& options) {
+  std::vector<std::size_t> lanes;
+  for (std::size_t i = 0; i < problems.size(); ++i) {
+    const bool shares =
+        lanes.empty() || (problems[i].p == problems[lanes[0]].p &&
+                          problems[i].damping_exponent == problems[lanes[0]].damping_exponent);
+    if (options[i].sample_times.empty() && shares) {
+      lanes.push_back(i);
+    }
+  }
+  return lanes;
+}
+
+// The options a fixed-step solver runs with: Δt from steps_per_contact unless given (it is
+// reported in the result), as dem.cpp and verlet.cpp set it.
+inline Options<double> with_fixed_step(const Problem<double>& problem,
+                                       const Options<double>& options) {
+  Options<double> stepped = options;
+  stepped.fixed_step = options.fixed_step.value_or(boost::math::constants::pi<double>() *
+                                                   ContactOde<double>(problem).time_scale() /
+                                                   options.steps_per_contact);
+  return stepped;
+}
+
+// A lane's steps, its right-hand sides and the largest normal force offered (what the scalar
+// solvers hand to their Collision as they go, handed over when the lane finishes).
+struct LaneCounts {
+  long steps = 0, rhs_evals = 0;
+  bool has_force = false;
+  double force_max = 0, t_force_max = 0;
+
+  // BasicCollision::offer_normal_force: the first, then only a larger one.
+  void offer(double t, double force) {
+    if (!has_force || force > force_max) {
+      has_force = true;
+      force_max = force;
+      t_force_max = t;
+    }
+  }
+  Result<double> finish(Collision& collision, Outcome outcome) const {
+    if (has_force) {
+      collision.offer_normal_force(t_force_max, force_max);
+    }
+    collision.count_rhs_evals(rhs_evals);
+    return collision.finish(outcome, steps);
+  }
+};
+
+// Every problems[i] with options[i]: the lanes that can be stepped together by `batch` (a
+// callable taking their indices and returning their Results), the others by `scalar`. Each
+// batched Result's wall_seconds is the batch's time, its lanes' set-up included, over its lanes.
+template <class Scalar, class Batch>
+std::vector<Result<double>> solve_in_lanes(std::span<const Problem<double>> problems,
+                                           std::span<const Options<double>> options,
+                                           Scalar&& scalar, Batch&& batch) {
+  std::vector<Result<double>> results(problems.size());
+  const std::vector<std::size_t> lanes = lanes_together(problems, options);
+  for (std::size_t i = 0, j = 0; i < problems.size(); ++i) {
+    if (j < lanes.size() && lanes[j] == i) {
+      ++j;
+    } else {
+      results[i] = scalar(problems[i], options[i]);
+    }
+  }
+  if (lanes.empty()) {
+    return results;
+  }
+  const auto start = std::chrono::steady_clock::now();
+  std::vector<Result<double>> batched = batch(std::span<const std::size_t>(lanes));
+  const double seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  for (std::size_t j = 0; j < lanes.size(); ++j) {
+    results[lanes[j]] = std::move(batched[j]);
+    results[lanes[j]].wall_seconds = seconds / double(lanes.size());
+  }
+  return results;
+}
+
+} // namespace pldamp::solvers::detail
