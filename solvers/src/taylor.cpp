@@ -398,6 +398,10 @@ template <class T, bool General, bool Work>
 void TaylorContact<Real>::orders(Series<T> s, const Constants<T>& c, std::size_t from,
                                  std::size_t to) const {
   const T inverse_d0 = T(1) / s.d[0], a1 = c.a + T(1), b1 = c.q_exponent + T(1);
+  // β = 0 (the seed's p = 1): u = 1 exactly. The rule below would give u_n as the difference of
+  // two roundings of one number, a noise of ε that moved the radius estimate (one float128 step
+  // more at p = 1, e = 0.5).
+  const bool constant_u = a_ == Real(0);
   for (std::size_t n = from; n < to; ++n) {
     if (n == 0) {
       if constexpr (!General) {
@@ -422,7 +426,8 @@ void TaylorContact<Real>::orders(Series<T> s, const Constants<T>& c, std::size_t
         }
       }
       const T sum = du + s.d[n] * s.u[0]; // S_n
-      s.u[n] = (a1 * c.time_scale * s.g[n - 1] - order * sum) * inverse_d0 / order;
+      s.u[n] =
+          constant_u ? T(0) : (a1 * c.time_scale * s.g[n - 1] - order * sum) * inverse_d0 / order;
       if constexpr (General) {
         s.q[n] = (dq + c.q_exponent * order * s.d[n] * s.q[0]) * inverse_d0 / order;
       } else {
