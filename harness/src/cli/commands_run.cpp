@@ -247,12 +247,13 @@ int run_scene(const RunArgs& args, std::ostream& out, std::ostream& err) {
         const ConventionClaim* convention = std::get_if<ConventionClaim>(&c.kind);
         return bound ? bound->own_grid || c.denser : !convention || convention->own_grid;
       });
-  out << fmt::format("{}: {:.0f} cells x {:.0f} solver configurations{}: {:.0f} solver runs (onset "
-                     "phases, repeats{} included), about {:.3g} MB of records\n",
+  // With repeats, an upper bound: a run of repeat_below or more is not repeated.
+  out << fmt::format("{}: {:.0f} cells x {:.0f} solver configurations{}: {}{:.0f} solver runs "
+                     "(onset phases, repeats{} included), about {:.3g} MB of records\n",
                      scene.name, cells, double(scene.configs.size()),
                      grid_claims > 0 ? fmt::format(", {} claims on grids of their own", grid_claims)
                                      : "",
-                     runs,
+                     scene.repeats > 1 ? "at most " : "", runs,
                      grid_claims > 0 || !scene.searches.empty()
                          ? " and the claims' and searches' solves, estimated"
                          : "",
