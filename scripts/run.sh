@@ -63,7 +63,7 @@ main)
     echo "the build failed; the whole log is build/build.log" >&2
     exit "$status"
   fi
-  echo "== 3/3 the nightly scene (about 90 s on 2 cores)"
+  echo "== 3/3 the nightly scene (about 45 s on 2 cores)"
   # The nightly scene; its last lines name the report files (report/report.html to read).
   build/harness/pldamp run data/scenes/nightly.toml --out report
   ;;
