@@ -3,6 +3,7 @@
 
 #include "pldamp/harness/cli.hpp"
 
+#include <cmath>
 #include <set>
 #include <sstream>
 #include <string>
@@ -87,6 +88,11 @@ inline std::set<std::string> help_options(const std::string& command) {
     }
   }
   return out;
+}
+
+// |got − want| / |want|: a number the CLI printed against its expected value.
+inline double relative(double got, double want) {
+  return std::abs(got - want) / std::abs(want);
 }
 
 } // namespace pldamp::harness::testing

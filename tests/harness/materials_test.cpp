@@ -15,6 +15,7 @@ namespace {
 
 using testing::CliRun;
 using testing::raw_number;
+using testing::relative;
 using testing::run;
 
 const std::vector<std::string> aluminium{"--geometry", "sphere-sphere", "--radius",  "0.01",
@@ -26,10 +27,6 @@ std::vector<std::string> with(std::vector<std::string> head, const std::vector<s
   head.insert(head.end(), a.begin(), a.end());
   head.insert(head.end(), tail.begin(), tail.end());
   return head;
-}
-
-double relative(double got, double want) {
-  return std::abs(got - want) / std::abs(want);
 }
 
 // Two equal aluminium spheres, against mpmath (data/reference/hertz.csv, line 3): m* = 9π/5000 kg,

@@ -58,10 +58,6 @@ bound_rel = 1e-8
 e = [0.5]
 )";
 
-double relative(double got, double want) {
-  return std::abs(got - want) / std::abs(want);
-}
-
 TEST(SceneContacts, EachContactIsItsMassAndStiffnessAtItsOwnSpeeds) {
   const Scene scene = load_scene(write_file("contacts.toml", two_contacts));
   ASSERT_EQ(scene.contacts.size(), 2u);

@@ -19,7 +19,7 @@ constexpr auto no_closed_form = exact([](const auto& x) { return decltype(x.e){}
 // Under the force end e and τ are the capped restitution and the cut time (MATH.md §4); the
 // analytic layer splits the energy of the full contact only, so energy_unload has no closed form
 // there.
-constexpr std::array table{
+constexpr std::array every_observable{
     Observable{.key = "e",
                .capped_key = "e_cap",
                .want_word = "e",
@@ -116,12 +116,12 @@ constexpr std::array table{
 } // namespace
 
 std::span<const Observable> observable_table() {
-  return table;
+  return every_observable;
 }
 
 std::vector<const Observable*> observables_of(unsigned solver_want) {
   std::vector<const Observable*> out;
-  for (const Observable& observable : table) {
+  for (const Observable& observable : every_observable) {
     if (solver_want & observable.solver_want) {
       out.push_back(&observable);
     }
@@ -138,15 +138,15 @@ unsigned analytic_want_of(unsigned solver_want, solvers::End end) {
 }
 
 const Observable* find_observable(std::string_view key) {
-  const auto found = std::find_if(table.begin(), table.end(), [&](const Observable& observable) {
-    return observable.key == key;
-  });
-  return found == table.end() ? nullptr : &*found;
+  const auto found =
+      std::find_if(every_observable.begin(), every_observable.end(),
+                   [&](const Observable& observable) { return observable.key == key; });
+  return found == every_observable.end() ? nullptr : &*found;
 }
 
 std::string want_words(bool with_all) {
   std::string words;
-  for (const Observable& observable : table) {
+  for (const Observable& observable : every_observable) {
     const std::string word(observable.want_word);
     if (words.empty() || ("|" + words + "|").find("|" + word + "|") == std::string::npos) {
       words += words.empty() ? "" : "|";
@@ -161,7 +161,7 @@ unsigned parse_want(const std::vector<std::string>& words, const std::string& wh
   unsigned want = 0;
   for (const std::string& word : words) {
     unsigned bits = with_all && word == "all" ? unsigned(solvers::want_all) : 0;
-    for (const Observable& observable : table) {
+    for (const Observable& observable : every_observable) {
       bits |= observable.want_word == word ? observable.solver_want : 0;
     }
     if (bits == 0) {
