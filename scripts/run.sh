@@ -83,7 +83,7 @@ test)
   echo "== tests under AddressSanitizer + UndefinedBehaviorSanitizer, with assertions"
   # -O1 -g1: half the compile time of -O2 -g on the multiprecision units, line numbers kept. A unity
   # build (CMake batches each target's units, eight to a batch): the headers' templates compile
-  # once per batch, not once per unit, 30 % less CPU than unit by unit (19 min -> 12 on 2 cores,
+  # once per batch, not once per unit, 30 % less CPU than unit by unit (19 min -> 11 on 2 cores,
   # cold). The Release build above stays unit by unit, as a developer builds it: it checks that
   # every unit includes what it uses. (Test programs at -O0 halved their compile but doubled the
   # tests' run: their weak copies of the libraries' templates replace the -O1 ones at link.)
@@ -111,7 +111,7 @@ test)
   echo "== the CLI by Clang without float128"
   # The whole library and the CLI, warning-free under Clang and without float128
   # (-DPLDAMP_WITH_QUAD=OFF, what a user without GCC's quadmath builds): -O0 and no sanitizers, as
-  # a compile check it needs neither (about 2 minutes on 2 cores; the CLI under the fuzz build's
+  # a compile check it needs neither (under 3 minutes on 2 cores; the CLI under the fuzz build's
   # sanitizers took 7). It answers in 50 digits and refuses quad with the documented line.
   CC=clang CXX=clang++ BUILD_TARGET=pldamp build build-noquad -DPLDAMP_WITH_QUAD=OFF \
     -DPLDAMP_WERROR=ON -DPLDAMP_BUILD_TESTS=OFF -DPLDAMP_BUILD_BENCHMARKS=OFF -DPLDAMP_PYTHON=OFF \
