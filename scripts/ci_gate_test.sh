@@ -22,8 +22,8 @@
 # against itself measured time_grew x2.2 to x3 in 6 of 6 tries. Everything else diff compares is
 # deterministic: A against A must give "0 regressions, 0 changes".
 #
-# Cost: B's build, measured and printed (9 s through A's ccache; without one, a full build as A
-# was configured), and 11 s for the rest on idle cores (4 quick.toml runs, the diffs).
+# Cost: B's build, measured and printed (9 to 50 s through A's ccache; without one, a full build as
+# A was configured), and 11 s for the rest on idle cores (4 quick.toml runs, the diffs).
 set -euo pipefail
 
 root=$(cd "$(dirname "$0")/.." && pwd)
@@ -117,7 +117,8 @@ build_started=$SECONDS
 # B is configured as A (the same compiler, build type and flags: their times are compared) and,
 # when A was built through ccache (scripts/run.sh does), built through the same cache, with each
 # checkout as its own CCACHE_BASEDIR so that the paths ccache hashes are the same: every unit but
-# the two edited is a hit (9 s on 2 cores).
+# the two edited is a hit (9 s on 2 cores; in a unity build, as scripts/run.sh builds, the batch
+# holding both edited units compiles: 50 s).
 a_cache=$(dirname "$(dirname "$pldamp_a")")/CMakeCache.txt
 a_setting() { # a_setting NAME: NAME's value in A's CMakeCache.txt, empty if absent
   if [[ -f $a_cache ]]; then # (not `&&`: a false test would end the script under set -e)
@@ -128,7 +129,7 @@ b_options=(-DCMAKE_BUILD_TYPE=Release)
 if [[ -f $a_cache ]]; then
   b_options=()
   for name in CMAKE_CXX_COMPILER CMAKE_CXX_COMPILER_LAUNCHER CMAKE_BUILD_TYPE CMAKE_CXX_FLAGS \
-    CMAKE_CXX_FLAGS_RELEASE PLDAMP_WERROR PLDAMP_WITH_QUAD PLDAMP_SANITIZE; do
+    CMAKE_CXX_FLAGS_RELEASE CMAKE_UNITY_BUILD PLDAMP_WERROR PLDAMP_WITH_QUAD PLDAMP_SANITIZE; do
     b_options+=("-D$name=$(a_setting "$name")")
   done
 fi

@@ -39,6 +39,13 @@ install_missing() { # install_missing PACKAGE...
 export CCACHE_BASEDIR=$PWD
 export CCACHE_SLOPPINESS=pch_defines,time_macros,include_file_mtime,include_file_ctime
 
+# build/ (the main job's and the tests' Release build) is a unity build: CMake batches each
+# target's units, eight to a batch, so the headers' templates compile once per batch, not once
+# per unit (the Release build 10.6 -> 6 min on 2 cores, cold). Both jobs pass it: they share the
+# directory, and a flipped setting would rebuild it whole. That every unit includes what it uses is
+# checked unit by unit by the Clang build without float128 below.
+unity=-DCMAKE_UNITY_BUILD=ON
+
 build() { # build DIR [cmake options...]: configure, then build every target (BUILD_TARGET: those)
   local dir=$1 targets=()
   shift
@@ -54,7 +61,7 @@ main)
   echo "== 2/3 building pldamp (about 3 minutes on 2 cores the first time; a line per target)"
   mkdir -p build
   set +o pipefail
-  BUILD_TARGET=pldamp build build 2>&1 | tee build/build.log |
+  BUILD_TARGET=pldamp build build "$unity" 2>&1 | tee build/build.log |
     grep --line-buffered -E '^\[ *[0-9]+%\] Built target'
   status=${PIPESTATUS[0]}
   set -o pipefail
@@ -69,11 +76,12 @@ main)
   ;;
 test)
   install_missing "${packages[@]}" "${test_packages[@]}"
-  build build -DPLDAMP_WERROR=ON
+  build build -DPLDAMP_WERROR=ON "$unity"
   ctest --test-dir build -j "$(nproc)" --output-on-failure
   echo "== the nightly gate of docs/ci.md on two checkouts, one with an injected regression"
   # A is build/; B, a clone of HEAD with one line of odeint.cpp changed, builds its pldamp in a
-  # temporary directory through A's ccache (about 10 s: only the edited unit compiles).
+  # temporary directory through A's ccache (about a minute: only the batch of the edited units
+  # compiles).
   scripts/ci_gate_test.sh build
   echo "== reference table regenerates bit for bit"
   build/data/pldamp-generate-reference build/analytic.csv
@@ -82,16 +90,14 @@ test)
   git ls-files '*.cpp' '*.hpp' | xargs clang-format --dry-run -Werror
   echo "== tests under AddressSanitizer + UndefinedBehaviorSanitizer, with assertions"
   # -O1 -g1: half the compile time of -O2 -g on the multiprecision units, line numbers kept. A unity
-  # build (CMake batches each target's units, eight to a batch): the headers' templates compile
-  # once per batch, not once per unit, 30 % less CPU than unit by unit (19 min -> 11 on 2 cores,
-  # cold). The Release build above stays unit by unit, as a developer builds it: it checks that
-  # every unit includes what it uses. (Test programs at -O0 halved their compile but doubled the
-  # tests' run: their weak copies of the libraries' templates replace the -O1 ones at link.)
+  # build too (19 min -> 11 on 2 cores, cold). (Test programs at -O0 halved their compile but
+  # doubled the tests' run: their weak copies of the libraries' templates replace the -O1 ones at
+  # link.)
   # Without -DNDEBUG: this is the build whose tests run the code's assert()s (the internal
   # invariants of core, analytic, solvers and the harness; the Release build above drops them).
   # The analytic layer's typed numeric tests ran above; their code runs here through the others.
   build build-sanitize -DPLDAMP_WERROR=ON -DPLDAMP_SANITIZE=ON -DPLDAMP_BUILD_BENCHMARKS=OFF \
-    -DPLDAMP_ANALYTIC_TESTS=OFF -DCMAKE_UNITY_BUILD=ON \
+    -DPLDAMP_ANALYTIC_TESTS=OFF "$unity" \
     -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O1 -g1"
   # The adapters' tests drive LAMMPS, LIGGGHTS and YADE from Python (pldamp only for `solve`):
   # they ran above, and the protocol's C++ side runs here through tests/harness/external_test.cpp.
@@ -112,7 +118,8 @@ test)
   # The whole library and the CLI, warning-free under Clang and without float128
   # (-DPLDAMP_WITH_QUAD=OFF, what a user without GCC's quadmath builds): -O0 and no sanitizers, as
   # a compile check it needs neither (under 3 minutes on 2 cores; the CLI under the fuzz build's
-  # sanitizers took 7). It answers in 50 digits and refuses quad with the documented line.
+  # sanitizers took 7). Unit by unit: it checks that every unit includes what it uses, which the
+  # unity builds above cannot. It answers in 50 digits and refuses quad with the documented line.
   CC=clang CXX=clang++ BUILD_TARGET=pldamp build build-noquad -DPLDAMP_WITH_QUAD=OFF \
     -DPLDAMP_WERROR=ON -DPLDAMP_BUILD_TESTS=OFF -DPLDAMP_BUILD_BENCHMARKS=OFF -DPLDAMP_PYTHON=OFF \
     -DCMAKE_BUILD_TYPE=Debug -DCMAKE_CXX_FLAGS_DEBUG=-O0
