@@ -14,8 +14,8 @@ cd "$(dirname "$0")/.."
 # its libFuzzer (clang, libclang-rt-14-dev); the external-solver tests run the adapters (Python)
 # against the real LAMMPS, LIGGGHTS and YADE (python3, lammps, liggghts, yade). The Python module
 # (python/) is built with the rest: python3-dev, python3-numpy, pybind11-dev; its tests use pytest.
-packages=(cmake make g++ ccache libboost-dev libsundials-dev libcli11-dev libfmt-dev nlohmann-json3-dev libgtest-dev
-  libbenchmark-dev libtomlplusplus-dev gnuplot-nox clang-format python3-dev python3-numpy pybind11-dev)
+packages=(cmake make g++ ccache libboost-dev libsundials-dev libcli11-dev libfmt-dev nlohmann-json3-dev
+  libsimdjson-dev libgtest-dev libbenchmark-dev libtomlplusplus-dev gnuplot-nox clang-format python3-dev python3-numpy pybind11-dev)
 test_packages=(chromium libpng-dev clang libclang-rt-14-dev python3 python3-pytest python3-matplotlib
   python3-venv python3-setuptools python3-wheel lammps liggghts yade)
 

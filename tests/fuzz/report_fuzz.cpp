@@ -3,7 +3,8 @@
 // itself and between it and a small valid report, both ways (what `pldamp diff OLD NEW` computes).
 // An InputError (an std::invalid_argument) is the answer to bad input; any other exception escapes
 // and aborts, and libFuzzer reports it with a crash, a hang (-timeout), a leak or an ASan/UBSan
-// report.
+// report. And diff's fast reader (judge/diff_read.cpp) on the same bytes: when it reads them, the
+// general reader must read the same facts (anything else aborts).
 //
 // Build (Clang; float128 off, Clang has no GCC quadmath.h) and run, from the source tree:
 //   CC=clang CXX=clang++ cmake -S . -B /tmp/build-fuzz -DPLDAMP_FUZZ=ON -DPLDAMP_WITH_QUAD=OFF \
@@ -15,11 +16,15 @@
 //   $F tests/fuzz/corpus/report/crash-...                  # replays one input
 #include "common/report_schema.hpp"
 #include "judge/diff.hpp"
+#include "judge/diff_parts.hpp"
 
 #include <nlohmann/json.hpp>
 
 #include <cstddef>
 #include <cstdint>
+#include <cstdio>
+#include <cstdlib>
+#include <sstream>
 #include <stdexcept>
 #include <string_view>
 
@@ -30,7 +35,7 @@ namespace {
 // work-precision point checked against its records. (Its schema must be schema::version: a report
 // read_report refuses is compared with nothing.)
 constexpr std::string_view other_text = R"({
-  "schema": 2,
+  "schema": 3,
   "claims": [{"name": "seed Table II", "verdict": "holds"},
              {"name": "too tight", "verdict": "fails"}],
   "records": [
@@ -51,16 +56,56 @@ constexpr std::string_view other_text = R"({
   ]}
 })";
 
+// Refused, it would be compared with nothing, every run silently: that happened from schema 3 on
+// until this check.
 const nlohmann::json& other_report() {
-  static const nlohmann::json report =
-      pldamp::harness::schema::read_report(other_text, "other.json");
+  static const nlohmann::json report = [] {
+    try {
+      return pldamp::harness::schema::read_report(other_text, "other.json");
+    } catch (const std::invalid_argument& e) {
+      std::fprintf(stderr, "report_fuzz's own report is refused: %s\n", e.what());
+      std::abort();
+    }
+  }();
   return report;
+}
+
+// The fast reader declines, or reads what the general reader reads.
+void fast_reader_agrees(std::string_view text) {
+  using pldamp::harness::diff::describe;
+  using pldamp::harness::diff::RecordFacts;
+  using pldamp::harness::diff::Report;
+  std::istringstream fast_in{std::string(text)};
+  const std::optional<Report> fast = pldamp::harness::diff::read_record_lines(fast_in, "fuzz.json");
+  if (!fast) {
+    return;
+  }
+  std::istringstream general_in{std::string(text)};
+  Report general;
+  try {
+    general.rest =
+        pldamp::harness::schema::read_report(general_in, "fuzz.json", [&](nlohmann::json&& record) {
+          general.records.push_back(RecordFacts::of(record));
+        });
+  } catch (const std::invalid_argument& e) {
+    std::fprintf(stderr, "the fast reader read a report the general one refuses: %s\n", e.what());
+    std::abort();
+  }
+  bool same = fast->records.size() == general.records.size() && fast->rest == general.rest;
+  for (std::size_t i = 0; same && i < fast->records.size(); ++i) {
+    same = describe(fast->records[i]) == describe(general.records[i]);
+  }
+  if (!same) {
+    std::fprintf(stderr, "the fast reader read other facts than the general one\n");
+    std::abort();
+  }
 }
 
 } // namespace
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   const std::string_view text(reinterpret_cast<const char*>(data), size);
+  fast_reader_agrees(text);
   nlohmann::json report;
   try {
     report = pldamp::harness::schema::read_report(text, "fuzz.json");

@@ -117,7 +117,14 @@ void check_claims(const nlohmann::json& claims, const std::string& path) {
   }
 }
 
-// A record as read_report checks it: `where` names it in the message.
+} // namespace
+
+bool known_precision(std::string_view name) {
+  bool known = false;
+  for_each_precision([&]<class Real>() { known = known || precision_name<Real>() == name; });
+  return known;
+}
+
 void check_record(const nlohmann::json& record, const std::string& path, const std::string& where) {
   expect_strings(record, {key::key, key::outcome}, path, where);
   expect(
@@ -140,17 +147,13 @@ void check_record(const nlohmann::json& record, const std::string& path, const s
     expect(
         *precision,
         [](const nlohmann::json& j) {
-          bool known = false;
-          if (j.is_string()) {
-            for_each_precision([&]<class Real>() {
-              known = known || precision_name<Real>() == j.get<std::string>();
-            });
-          }
-          return known;
+          return j.is_string() && known_precision(j.get<std::string>());
         },
         path, where + "." + key::precision, "one of " + precision_names());
   }
 }
+
+namespace {
 
 // read_report, of any input nlohmann::json::parse takes: every record of the schema's version is
 // checked and handed to `each` as soon as it is read, and not kept (one record in memory at a

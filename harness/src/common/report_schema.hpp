@@ -274,6 +274,10 @@ nlohmann::json read_report(std::string_view text, const std::string& path);
 // needs of each record never holds them all (`pldamp diff` of two nightly reports).
 using RecordSink = std::function<void(nlohmann::json&& record)>;
 nlohmann::json read_report(std::istream& in, const std::string& path, const RecordSink& each);
+// A record as read_report checks it (InputError naming `path` and `where`, e.g. "records[3]"),
+// and whether a precision's name is one of this build's.
+void check_record(const nlohmann::json& record, const std::string& path, const std::string& where);
+bool known_precision(std::string_view name);
 
 // Reading defensively: a member of an object (null when the object is not one or lacks it), a
 // member that is a number (none otherwise: a field absent or null is simply absent), a string

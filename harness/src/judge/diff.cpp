@@ -119,7 +119,19 @@ diff::Report facts_of(const json& report) {
 }
 
 // A report streamed (read_report of a stream): its records' facts taken one record at a time.
+// One in pldamp's layout is read fast (diff::read_record_lines); any other, or one the fast reader
+// doubts, is read again from the start (a stream it cannot go back in is read by this reader
+// alone).
 diff::Report facts_of(std::istream& in, const std::string& path) {
+  if (const std::istream::pos_type start = in.tellg(); start != std::istream::pos_type(-1)) {
+    if (std::optional<diff::Report> fast = diff::read_record_lines(in, path)) {
+      return std::move(*fast);
+    }
+    in.clear();
+    if (!in.seekg(start)) {
+      throw InputError("cannot read " + path + " again");
+    }
+  }
   diff::Report out;
   out.rest = schema::read_report(
       in, path, [&](json&& record) { out.records.push_back(diff::RecordFacts::of(record)); });

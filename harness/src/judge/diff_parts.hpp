@@ -81,6 +81,16 @@ struct Report {
   std::vector<RecordFacts> records;
 };
 
+// A record's facts on one line, each number in its shortest round-trip form and a zero with its
+// sign: how tests tell whether two readers read the same (== cannot tell -0 from 0).
+std::string describe(const RecordFacts& facts);
+
+// A report.json in the layout pldamp writes (report_json_text: a record per line) read fast, its
+// records parsed by simdjson (judge/diff_read.cpp); none when the input is in another layout, or
+// anything in it is not as the general reader (schema::read_report, then RecordFacts::of) would
+// read it, which then reads it and says what is wrong. Reads `in` to its end either way.
+std::optional<Report> read_record_lines(std::istream& in, const std::string& path);
+
 enum class Severity { regression, change };
 
 // One thing that changed. Findings of one kind (`what`), owner (a configuration, claim or

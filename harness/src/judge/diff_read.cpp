@@ -1,0 +1,347 @@
+// diff's fast reader: a report.json as pldamp writes it, a record per line, its records parsed by
+// simdjson. Reading was most of diff's time: nlohmann's lexer and tree took about 40 ns a byte;
+// with simdjson's DOM parser (validating, as nlohmann is) two nightly reports are diffed in 1.2 s
+// of CPU instead of 3.8 (docs/performance.md, "The harness"). The general reader
+// (schema::read_report, then RecordFacts::of) stays the authority: this one returns nothing
+// whenever it is not sure to read exactly what that one reads, and a record it doubts is read by
+// nlohmann; tests/fuzz/report_fuzz.cpp compares the two on arbitrary input.
+#include "judge/diff_parts.hpp"
+
+#include "common/input.hpp"
+
+#include <fmt/format.h>
+#include <simdjson.h>
+
+#include <algorithm>
+#include <string>
+
+namespace pldamp::harness::diff {
+
+namespace {
+
+namespace dom = simdjson::dom;
+
+// The fields of a record the reader looks at, each allowed once (a repeated one, which nlohmann
+// would keep the last of, is left to it).
+enum Field : unsigned {
+  f_key,
+  f_config,
+  f_damping,
+  f_p,
+  f_v0,
+  f_m,
+  f_k,
+  f_outcome,
+  f_failure,
+  f_failed,
+  f_precision,
+  f_rhs_evals,
+  f_steps,
+  f_cpu_seconds,
+  f_cpu_seconds_slowest,
+  f_wall_seconds,
+  f_wall_seconds_slowest,
+  f_observed, // + the index in observed_fields
+};
+constexpr std::array<std::pair<std::string_view, unsigned>, f_observed> scalar_fields{{
+    {key::key, f_key},
+    {key::config, f_config},
+    {key::damping, f_damping},
+    {key::p, f_p},
+    {key::v0, f_v0},
+    {key::m, f_m},
+    {key::k, f_k},
+    {key::outcome, f_outcome},
+    {key::failure, f_failure},
+    {key::failed, f_failed},
+    {key::precision, f_precision},
+    {key::rhs_evals, f_rhs_evals},
+    {key::steps, f_steps},
+    {key::cpu_seconds, f_cpu_seconds},
+    {key::cpu_seconds_slowest, f_cpu_seconds_slowest},
+    {key::wall_seconds, f_wall_seconds},
+    {key::wall_seconds_slowest, f_wall_seconds_slowest},
+}};
+
+std::optional<unsigned> record_field_named(std::string_view name) {
+  for (const auto& [field_name, field] : scalar_fields) {
+    if (name == field_name) {
+      return field;
+    }
+  }
+  for (std::size_t f = 0; f < observed_fields.size(); ++f) {
+    if (name == observed_fields[f]) {
+      return f_observed + static_cast<unsigned>(f);
+    }
+  }
+  return std::nullopt;
+}
+
+// A number as nlohmann reads it (none: not a number). Both read an integer as a 64-bit one, and
+// "-0" as the integer 0, converted to double; a number with a fraction or an exponent correctly
+// rounded (a subnormal too); both refuse one beyond double's range. An integer beyond 64 bits
+// simdjson refuses and nlohmann reads as a double: such a record is read by nlohmann, as the
+// general reader reads it.
+std::optional<double> number_of(dom::element value) {
+  switch (value.type()) {
+  case dom::element_type::INT64:
+    return static_cast<double>(value.get_int64().value_unsafe());
+  case dom::element_type::UINT64:
+    return static_cast<double>(value.get_uint64().value_unsafe());
+  case dom::element_type::DOUBLE:
+    return value.get_double().value_unsafe();
+  default:
+    return std::nullopt;
+  }
+}
+
+// Number::in of a member present with this value.
+Number number_field(dom::element value) {
+  if (const std::optional<double> x = number_of(value)) {
+    return {.state = Number::State::number, .value = *x};
+  }
+  return {.state = value.is_null() ? Number::State::null : Number::State::absent};
+}
+
+// RecordFacts::of of a record read_report would accept, parsed by simdjson; none when the record
+// is not one read_report accepts or the two readings could differ in any way.
+std::optional<RecordFacts> facts_from_dom(dom::element record) {
+  dom::object object;
+  if (record.get(object) != simdjson::SUCCESS) {
+    return std::nullopt;
+  }
+  RecordFacts facts;
+  std::optional<double> cpu, cpu_slowest, wall, wall_slowest;
+  unsigned seen = 0;
+  bool has_key = false, has_outcome = false, has_failed = false, has_rel_error = false;
+  for (const dom::key_value_pair member : object) {
+    const std::optional<unsigned> field = record_field_named(member.key);
+    if (!field) {
+      continue;
+    }
+    if (seen & (1u << *field)) {
+      return std::nullopt;
+    }
+    seen |= 1u << *field;
+    const dom::element value = member.value;
+    std::string_view text;
+    const bool is_string = value.get(text) == simdjson::SUCCESS;
+    switch (*field) {
+    case f_key:
+    case f_outcome:
+      if (!is_string) {
+        return std::nullopt;
+      }
+      (*field == f_key ? facts.key : facts.outcome) = text;
+      (*field == f_key ? has_key : has_outcome) = true;
+      break;
+    case f_config:
+    case f_damping:
+      if (is_string) {
+        (*field == f_config ? facts.config : facts.damping) = std::string(text);
+      }
+      break;
+    case f_failure:
+      if (is_string) {
+        facts.failure = text;
+      }
+      break;
+    case f_failed:
+      if (value.get(facts.failed) != simdjson::SUCCESS) {
+        return std::nullopt;
+      }
+      has_failed = true;
+      break;
+    case f_precision:
+      if (!is_string || !schema::known_precision(text)) {
+        return std::nullopt;
+      }
+      break;
+    case f_rhs_evals:
+    case f_steps:
+      (*field == f_steps ? facts.steps : facts.rhs_evals) = number_field(value);
+      break;
+    case f_p:
+    case f_v0:
+    case f_m:
+    case f_k:
+    case f_cpu_seconds:
+    case f_cpu_seconds_slowest:
+    case f_wall_seconds:
+    case f_wall_seconds_slowest: {
+      std::optional<double>& into = *field == f_p                     ? facts.p
+                                    : *field == f_v0                  ? facts.v0
+                                    : *field == f_m                   ? facts.m
+                                    : *field == f_k                   ? facts.k
+                                    : *field == f_cpu_seconds         ? cpu
+                                    : *field == f_cpu_seconds_slowest ? cpu_slowest
+                                    : *field == f_wall_seconds        ? wall
+                                                                      : wall_slowest;
+      into = number_of(value);
+      break;
+    }
+    default: { // an observed field: an object of a number (or null) per observable
+      const std::size_t f = *field - f_observed;
+      dom::object values;
+      if (value.get(values) != simdjson::SUCCESS) {
+        if (f == rel_error_field) {
+          return std::nullopt; // read_report requires an object
+        }
+        break;
+      }
+      has_rel_error = has_rel_error || f == rel_error_field;
+      for (const dom::key_value_pair item : values) {
+        const Number number = number_field(item.value);
+        if (f == rel_error_field && (number.state == Number::State::absent ||
+                                     (number.state == Number::State::number && number.value < 0))) {
+          return std::nullopt; // read_report requires null or a number >= 0
+        }
+        auto at = std::find_if(facts.observed.begin(), facts.observed.end(),
+                               [&](const RecordFacts::Observed& o) { return o.name == item.key; });
+        if (at == facts.observed.end()) {
+          facts.observed.push_back({.name = std::string(item.key), .fields = {}});
+          at = facts.observed.end() - 1;
+        } else if (at->fields[f].state != Number::State::absent) {
+          return std::nullopt; // an observable named twice in one object
+        }
+        at->fields[f] = number;
+      }
+      break;
+    }
+    }
+  }
+  if (!has_key || !has_outcome || !has_failed || !has_rel_error) {
+    return std::nullopt;
+  }
+  std::sort(facts.observed.begin(), facts.observed.end(),
+            [](const RecordFacts::Observed& a, const RecordFacts::Observed& b) {
+              return a.name < b.name;
+            });
+  facts.cpu = cpu.has_value();
+  facts.seconds = facts.cpu ? cpu : wall;
+  facts.seconds_slowest = facts.cpu ? cpu_slowest : wall_slowest;
+  return facts;
+}
+
+// The nesting depth of a JSON text read so far, a line at a time: where a line that looks like
+// the report's records (`"records": [` at the top level) really is.
+class Depth {
+public:
+  void read(std::string_view line) {
+    for (const char c : line) {
+      if (in_string_) {
+        in_string_ = escaped_ || c != '"';
+        escaped_ = !escaped_ && c == '\\';
+      } else if (c == '"') {
+        in_string_ = true;
+      } else if (c == '{' || c == '[') {
+        ++depth_;
+      } else if (c == '}' || c == ']') {
+        --depth_;
+      }
+    }
+  }
+  bool top_level() const { return depth_ == 1 && !in_string_; }
+
+private:
+  long depth_ = 0;
+  bool in_string_ = false, escaped_ = false;
+};
+
+} // namespace
+
+std::string describe(const RecordFacts& facts) {
+  const auto number = [](const Number& n) {
+    return n.state == Number::State::number ? fmt::format("{}", n.value)
+           : n.state == Number::State::null ? std::string("null")
+                                            : std::string("absent");
+  };
+  const auto optional = [](const auto& x) { return x ? fmt::format("{}", *x) : "none"; };
+  std::string out = fmt::format(
+      "key={:?} config={} damping={} p={} v0={} m={} k={} outcome={:?} failure={:?} failed={} "
+      "rhs_evals={} steps={} cpu={} seconds={} slowest={}",
+      facts.key, optional(facts.config), optional(facts.damping), optional(facts.p),
+      optional(facts.v0), optional(facts.m), optional(facts.k), facts.outcome, facts.failure,
+      facts.failed, number(facts.rhs_evals), number(facts.steps), facts.cpu,
+      optional(facts.seconds), optional(facts.seconds_slowest));
+  for (const RecordFacts::Observed& observed : facts.observed) {
+    out += fmt::format(" {:?}:", observed.name);
+    for (const Number& field : observed.fields) {
+      out += fmt::format(" {}", number(field));
+    }
+  }
+  return out;
+}
+
+std::optional<Report> read_record_lines(std::istream& in, const std::string& path) {
+  // The lines report_json_text writes around the records, and each record's indent.
+  constexpr std::string_view records_open = R"( "records": [)", record_indent = "  ";
+  std::string rest; // the report without its records' lines: read_report checks it
+  std::vector<RecordFacts> records;
+  dom::parser parser;
+  std::string line;
+  enum class Where { before, inside, after } where = Where::before; // the records
+  Depth depth;                   // of the text before the records
+  bool comma_after_last = false; // whether the last record line ended with one
+  while (std::getline(in, line)) {
+    if (where != Where::inside) {
+      if (where == Where::before) {
+        if (line == records_open && depth.top_level()) {
+          where = Where::inside;
+        }
+        depth.read(line);
+      }
+      rest += line;
+      rest += '\n';
+      continue;
+    }
+    if (line == " ]" || line == " ],") {
+      if (comma_after_last) {
+        return std::nullopt;
+      }
+      where = Where::after;
+      rest += line;
+      rest += '\n';
+      continue;
+    }
+    if (!line.starts_with(record_indent) || (!records.empty() && !comma_after_last)) {
+      return std::nullopt; // not pldamp's layout: the general reader reads it
+    }
+    comma_after_last = line.ends_with(',');
+    const std::size_t length = line.size() - (comma_after_last ? 1 : 0);
+    // simdjson reads up to SIMDJSON_PADDING bytes past the end.
+    line.reserve(line.size() + simdjson::SIMDJSON_PADDING);
+    std::optional<RecordFacts> facts;
+    dom::element record;
+    if (parser.parse(line.data(), length, false).get(record) == simdjson::SUCCESS) {
+      facts = facts_from_dom(record);
+    }
+    if (!facts) { // a record simdjson refuses or doubts: read as the general reader reads it
+      try {
+        json parsed = json::parse(std::string_view(line).substr(0, length));
+        schema::check_record(
+            parsed, path, std::string(key::records) + "[" + std::to_string(records.size()) + "]");
+        facts = RecordFacts::of(parsed);
+      } catch (const std::exception&) {
+        return std::nullopt; // the general reader says what is wrong
+      }
+    }
+    records.push_back(std::move(*facts));
+  }
+  if (where != Where::after || in.bad()) {
+    return std::nullopt;
+  }
+  Report report;
+  try {
+    report.rest = schema::read_report(rest, path);
+  } catch (const std::exception&) {
+    return std::nullopt;
+  }
+  if (!report.rest.at(key::records).empty()) {
+    return std::nullopt; // another records array in the rest (a key named twice)
+  }
+  report.records = std::move(records);
+  return report;
+}
+
+} // namespace pldamp::harness::diff

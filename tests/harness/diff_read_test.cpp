@@ -1,0 +1,231 @@
+// diff's fast reader (judge/diff_read.cpp) against the general one (schema::read_report, then
+// RecordFacts::of): on pldamp's layout, odd records included, both read the same facts; on any
+// other layout, or a damaged report, the fast one declines and diff says what the general reader
+// says. tests/fuzz/report_fuzz.cpp compares the two on arbitrary bytes.
+#include "fixtures.hpp"
+
+#include "common/report_schema.hpp"
+#include "judge/diff.hpp"
+#include "judge/diff_parts.hpp"
+#include "report/report.hpp"
+
+#include <nlohmann/json.hpp>
+
+#include <gtest/gtest.h>
+
+#include <sstream>
+#include <streambuf>
+
+namespace pldamp::harness {
+namespace {
+
+using namespace testing;
+
+std::string report_text() {
+  const HandMade h = hand_made();
+  const Budgets b = make_budgets(h.plan, h.records);
+  return report_json_text({h.plan, h.records, b, RunTotals{400, 4, 1.0, {}}, {}});
+}
+
+// What the general reader makes of a text (its message when it refuses it).
+struct General {
+  diff::Report report;
+  std::string error;
+};
+General general(const std::string& text) {
+  General out;
+  std::istringstream in(text);
+  try {
+    out.report.rest = schema::read_report(in, "r.json", [&](nlohmann::json&& record) {
+      out.report.records.push_back(diff::RecordFacts::of(record));
+    });
+  } catch (const InputError& e) {
+    out.error = e.what();
+  }
+  return out;
+}
+
+// Every record's facts, a line each (diff::describe tells -0 from 0).
+std::vector<std::string> described(const diff::Report& report) {
+  std::vector<std::string> out;
+  for (const diff::RecordFacts& record : report.records) {
+    out.push_back(diff::describe(record));
+  }
+  return out;
+}
+
+std::optional<diff::Report> fast(const std::string& text) {
+  std::istringstream in(text);
+  return diff::read_record_lines(in, "r.json");
+}
+
+// The text with its record line `index` (0-based) replaced by `line`.
+std::string with_record_line(const std::string& text, std::size_t index, const std::string& line) {
+  std::istringstream in(text);
+  std::string out;
+  std::size_t record = 0;
+  for (std::string l; std::getline(in, l);) {
+    if (l.rfind("  {\"key\":", 0) == 0 && record++ == index) {
+      l = "  " + line + (l.ends_with(",") ? "," : "");
+    }
+    out += l + "\n";
+  }
+  return out;
+}
+
+TEST(DiffReader, ReadsPldampsLayoutAsTheGeneralReaderDoesOddRecordsIncluded) {
+  const std::string text = report_text();
+  {
+    const General g = general(text);
+    ASSERT_EQ(g.error, "");
+    ASSERT_GE(g.report.records.size(), 3u);
+    const std::optional<diff::Report> f = fast(text);
+    ASSERT_TRUE(f.has_value());
+    EXPECT_EQ(described(*f), described(g.report));
+    EXPECT_EQ(f->rest, g.report.rest);
+  }
+  // Records read_report accepts, each in the place of the second: escapes and non-ASCII text, a
+  // negative zero, integers beyond 2^53 and 2^64, identity fields of the wrong type, null and
+  // string numbers, a field named twice (the last one counts), an observable named twice, a wall
+  // time alone, unknown members, a deep value.
+  const std::vector<std::string> odd = {
+      R"({"key":"a \"quoted\" \u00e9 key\\","outcome":"exited","failed":false,"rel_error":{"e":null,"tau":0},"p":-0,"v0":"fast","value":{"e":-0.0,"tau":"x"},"steps":12,"rhs_evals":null})",
+      R"({"key":"k","outcome":"exited","failed":false,"rel_error":{"e":1},"rel_error":{"e":2},"config":"c"})",
+      R"({"key":"k","outcome":"exited","failed":true,"rel_error":{},"steps":18446744073709551615,"rhs_evals":9007199254740993,"m":1e308,"k":123456789012345678901234567890})",
+      R"({"key":"k","outcome":"exited","failed":false,"rel_error":{"e":1e-300},"error":{"e":1,"e":2},"precision":"long"})",
+      R"({"key":"k","outcome":"no_exit","failed":false,"rel_error":{"e":0.5},"wall_seconds":0.5,"wall_seconds_slowest":0.75,"damping":7,"config":null,"failure":"why"})",
+      R"({"key":"k","outcome":"exited","failed":false,"rel_error":{"e":2.5},"cpu_seconds":1,"wall_seconds":3,"extra":[[[[{"a":[1,2,{"b":null}]}]]]],"phase_spread":[1],"reference":{"e":true}})",
+      R"({"failed":false,"rel_error":{"e":3},"outcome":"exited","key":"fields in another order","p":1.5,"v0":2,"m":3,"k":4,"damping":"e=0.5","config":"taylor"})",
+      R"({"key":"zeros","outcome":"exited","failed":false,"rel_error":{"e":0.0,"tau":-0.0},"error":{"e":-0.0,"tau":-0,"t_peak":-0e0,"delta_max":4.9e-325,"energy_load":5e-324},"p":-0.0})",
+  };
+  for (const std::string& record : odd) {
+    SCOPED_TRACE(record);
+    const std::string edited = with_record_line(text, 1, record);
+    const General g = general(edited);
+    ASSERT_EQ(g.error, "");
+    const std::optional<diff::Report> f = fast(edited);
+    ASSERT_TRUE(f.has_value());
+    EXPECT_EQ(described(*f), described(g.report));
+    EXPECT_EQ(f->rest, g.report.rest);
+  }
+  // Spot checks of the facts themselves, against values known independently of both readers.
+  const std::optional<diff::Report> f = fast(with_record_line(text, 1, odd[2]));
+  ASSERT_TRUE(f.has_value());
+  EXPECT_EQ(f->records[1].steps.value, 18446744073709551616.0);
+  EXPECT_EQ(f->records[1].rhs_evals.value, 9007199254740992.0); // 2^53 + 1 rounds to even
+  EXPECT_EQ(f->records[1].k, 1.2345678901234568e29);
+  const std::optional<diff::Report> zeros = fast(with_record_line(text, 1, odd.back()));
+  ASSERT_TRUE(zeros.has_value());
+  EXPECT_EQ(diff::describe(zeros->records[1]),
+            R"(key="zeros" config=none damping=none p=-0 v0=none m=none k=none outcome="exited" )"
+            R"(failure="" failed=false rhs_evals=absent steps=absent cpu=false seconds=none )"
+            R"(slowest=none "delta_max": 0 absent absent absent absent "e": -0 absent absent 0 )"
+            R"(absent "energy_load": 5e-324 absent absent absent absent "t_peak": -0 absent )"
+            R"(absent absent absent "tau": 0 absent absent -0 absent)");
+  const std::optional<diff::Report> g = fast(with_record_line(text, 1, odd[4]));
+  ASSERT_TRUE(g.has_value());
+  EXPECT_FALSE(g->records[1].cpu);
+  EXPECT_EQ(g->records[1].seconds, 0.5);
+  EXPECT_EQ(g->records[1].seconds_slowest, 0.75);
+  EXPECT_EQ(g->records[1].failure, "why");
+  EXPECT_FALSE(g->records[1].config.has_value());
+}
+
+TEST(DiffReader, OtherLayoutsAndDamagedReportsAreLeftToTheGeneralReader) {
+  const std::string text = report_text();
+  const nlohmann::json tree = nlohmann::json::parse(text);
+  struct Case {
+    std::string name, text, error; // error: the general reader's message, "" when it reads it
+  };
+  // A "records" line inside another member, the top level's records empty.
+  std::string nested = text;
+  nested.erase(nested.rfind("\n \"records\": [\n"));
+  nested += "\n \"records\": []\n}\n";
+  nested.insert(nested.find("\n \"scene\": {"),
+                "\n \"junk\": {\"x\": 1,\n \"records\": [\n  {\"key\":\"k\",\"outcome\":\"exited\","
+                "\"failed\":false,\"rel_error\":{}}\n ]},");
+  std::string trailing_comma = text;
+  trailing_comma.replace(trailing_comma.rfind("}\n ]"), 3, "},\n ");
+  std::string two_on_a_line = text;
+  two_on_a_line.replace(two_on_a_line.find("},\n  {\"key\""), 5, "}, ");
+  std::string older = text;
+  older.replace(older.find("\"schema\": 3"), 11, "\"schema\": 2");
+  std::string crlf;
+  for (const char c : text) {
+    crlf += c == '\n' ? std::string("\r\n") : std::string(1, c);
+  }
+  const std::vector<Case> cases = {
+      {"pretty-printed", tree.dump(2), ""},
+      {"on one line", tree.dump(), ""},
+      {"CRLF line ends", crlf, ""},
+      {"two records on a line", two_on_a_line, ""},
+      {"records nested in another member", nested, ""},
+      {"damaged record",
+       with_record_line(text, 1,
+                        R"({"key":"k","outcome":"exited","failed":false,"rel_error":{"e":-1}})"),
+       "r.json: records[1].rel_error.e must be null or a number >= 0 (got -1)"},
+      {"failed not a boolean",
+       with_record_line(text, 0, R"({"key":"k","outcome":"exited","failed":0,"rel_error":{}})"),
+       "r.json: records[0].failed must be true or false (got 0)"},
+      {"another schema", older, "r.json: report schema 2 is not 3"},
+      {"a trailing comma", trailing_comma, "not a JSON report (got r.json)"},
+      {"cut short", text.substr(0, text.size() / 2), "not a JSON report (got r.json)"},
+      {"not JSON in a record",
+       with_record_line(text, 0,
+                        R"({"key":"k","outcome":"exited","failed":false,"rel_error":{}})"
+                        "x"),
+       "not a JSON report (got r.json)"},
+  };
+  for (const Case& c : cases) {
+    SCOPED_TRACE(c.name);
+    const General g = general(c.text);
+    EXPECT_EQ(g.error, c.error);
+    const std::optional<diff::Report> f = fast(c.text);
+    if (!c.error.empty()) {
+      EXPECT_FALSE(f.has_value());
+      // diff of a stream says what the general reader says.
+      std::istringstream old_text(c.text), new_text(text);
+      try {
+        (void)diff_reports(old_text, "r.json", new_text, "new.json");
+        ADD_FAILURE() << "read";
+      } catch (const InputError& e) {
+        EXPECT_EQ(std::string(e.what()), c.error);
+      }
+    } else if (f) { // read fast only when it reads the same
+      EXPECT_EQ(described(*f), described(g.report));
+      EXPECT_EQ(f->rest, g.report.rest);
+    }
+  }
+}
+
+// A stream that cannot seek (a pipe): read by the general reader alone, the same diff.
+class Unseekable : public std::streambuf {
+public:
+  explicit Unseekable(std::string text) : text_(std::move(text)) {
+    setg(text_.data(), text_.data(), text_.data() + text_.size());
+  }
+
+private:
+  std::string text_;
+};
+
+TEST(DiffReader, DiffOfStreamsEqualsDiffOfTreesSeekableOrNot) {
+  const std::string text = report_text();
+  nlohmann::json worse = nlohmann::json::parse(text);
+  worse["records"][0]["rel_error"]["delta_max"] = 3e-4;
+  worse["records"][2]["failed"] = true;
+  DiffOptions verbose;
+  verbose.verbose = true;
+  const DiffResult trees = diff_reports(nlohmann::json::parse(text), worse, verbose);
+  ASSERT_GE(trees.regressions, 2);
+  std::istringstream old_text(text), new_text(worse.dump());
+  EXPECT_EQ(diff_reports(old_text, "old.json", new_text, "new.json", verbose).lines, trees.lines);
+  Unseekable old_buffer(text), new_buffer(worse.dump());
+  std::istream old_stream(&old_buffer), new_stream(&new_buffer);
+  ASSERT_EQ(old_stream.tellg(), std::istream::pos_type(-1));
+  EXPECT_EQ(diff_reports(old_stream, "old.json", new_stream, "new.json", verbose).lines,
+            trees.lines);
+}
+
+} // namespace
+} // namespace pldamp::harness
