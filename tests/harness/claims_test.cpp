@@ -23,7 +23,7 @@ namespace {
 using testing::run;
 using testing::write_file;
 
-const std::string grid = R"(name = "claims"
+const std::string claims_scene = R"(name = "claims"
 [grid]
 p = [1.5]
 e = [0.5]
@@ -32,7 +32,7 @@ v0 = [1.0]
 
 // The scene's one claim, judged.
 Verdict judged(const std::string& claim) {
-  const Scene scene = parse_scene(grid + "[[claim]]\n" + claim, "claims.toml");
+  const Scene scene = parse_scene(claims_scene + "[[claim]]\n" + claim, "claims.toml");
   return judge_on_grid(scene, scene.claims.front());
 }
 
@@ -265,7 +265,7 @@ TEST(Claims, GridAlphaKeepsItsKind) {
 TEST(Claims, SceneErrorsNameTheLine) {
   auto error_of = [](const std::string& claim) {
     try {
-      parse_scene(grid + "[[claim]]\n" + claim, "claims.toml");
+      parse_scene(claims_scene + "[[claim]]\n" + claim, "claims.toml");
     } catch (const SceneError& e) {
       return std::string(e.what());
     }
@@ -434,7 +434,7 @@ TEST(Claims, ABoundClaimOnAGridOfItsOwnIsSolvedForItAlone) {
 // one, either way round.
 TEST(Claims, StrictExitsOneOnAnUnexpectedVerdict) {
   auto scene_with = [](const std::string& expect, double tolerance) {
-    return write_file("strict.toml", grid + R"([[claim]]
+    return write_file("strict.toml", claims_scene + R"([[claim]]
 name = "collapse"
 kind = "relation"
 of = "truth"

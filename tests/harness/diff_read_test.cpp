@@ -150,6 +150,21 @@ TEST(DiffReader, OtherLayoutsAndDamagedReportsAreLeftToTheGeneralReader) {
   two_on_a_line.replace(two_on_a_line.find("},\n  {\"key\""), 5, "}, ");
   std::string older = text;
   older.replace(older.find("\"schema\": 3"), 11, "\"schema\": 2");
+  // A NUL ends nlohmann's input (simdjson refuses it): after a record, and after a whole report.
+  std::string nul_after_record = with_record_line(
+      text, 0,
+      std::string(R"({"key":"k","outcome":"exited","failed":false,"rel_error":{}})") + '\0' +
+          " garbage ]]] {{");
+  const std::string nul_between =
+      std::string(R"({"schema":3,"claims":[],"records":[]})") + '\0' + "{\n \"records\": [\n  " +
+      R"({"key":"k1","outcome":"exited","failed":false,"rel_error":{"e":1}})" + "\n ]\n}\n";
+  // A top-level member named twice: the tree keeps the last one, the records handed over were the
+  // first one's (read before the schema, or dropped as another schema's).
+  const std::string record = R"({"key":"k","outcome":"exited","failed":false,"rel_error":{}})";
+  const std::string records_twice = "{\n \"claims\": [],\n \"records\": [\n  " + record +
+                                    "\n ],\n \"schema\": 3,\n \"re\\u0063ords\": []\n}\n";
+  const std::string schema_twice = "{\n \"schema\": 2,\n \"claims\": [],\n \"records\": [\n  " +
+                                   record + "\n ],\n \"schema\": 3\n}\n";
   std::string crlf;
   for (const char c : text) {
     crlf += c == '\n' ? std::string("\r\n") : std::string(1, c);
@@ -168,6 +183,10 @@ TEST(DiffReader, OtherLayoutsAndDamagedReportsAreLeftToTheGeneralReader) {
        with_record_line(text, 0, R"({"key":"k","outcome":"exited","failed":0,"rel_error":{}})"),
        "r.json: records[0].failed must be true or false (got 0)"},
       {"another schema", older, "r.json: report schema 2 is not 3"},
+      {"a NUL after a record", nul_after_record, "not a JSON report (got r.json)"},
+      {"a NUL after a whole report", nul_between, ""},
+      {"records named twice", records_twice, "r.json: the report names records twice"},
+      {"schema named twice", schema_twice, "r.json: the report names schema twice"},
       {"a trailing comma", trailing_comma, "not a JSON report (got r.json)"},
       {"cut short", text.substr(0, text.size() / 2), "not a JSON report (got r.json)"},
       {"not JSON in a record",

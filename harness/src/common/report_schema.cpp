@@ -4,6 +4,7 @@
 
 #include <cmath>
 #include <initializer_list>
+#include <set>
 
 namespace pldamp::harness::schema {
 
@@ -166,6 +167,7 @@ nlohmann::json read_report_from(Input&& input, const std::string& path, const Re
   bool in_records = false;     // inside the top-level records array
   std::size_t read = 0;        // records handed over
   bool claims_checked = false; // as soon as they are read (before the records, as pldamp writes)
+  std::set<std::string> named; // of schema, claims and records: each once
   const auto take = [&](nlohmann::json&& record) {
     check_record(record, path, std::string(key::records) + "[" + std::to_string(read++) + "]");
     each(std::move(record));
@@ -175,6 +177,12 @@ nlohmann::json read_report_from(Input&& input, const std::string& path, const Re
     if (depth == 1) {
       if (e == event::key) {
         section = parsed.get<std::string>();
+        // Named twice, the tree would keep the last one while the records handed over (or
+        // dropped, or the claims checked) were the first one's: refused.
+        if ((section == key::schema || section == key::claims || section == key::records) &&
+            !named.insert(section).second) {
+          throw InputError(path + ": the report names " + section + " twice");
+        }
       } else if (e == event::value && section == key::schema) {
         ours = parsed == version;
       } else if (e == event::array_end && section == key::claims && ours == true) {

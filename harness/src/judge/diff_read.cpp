@@ -256,14 +256,19 @@ std::string describe(const RecordFacts& facts) {
            : n.state == Number::State::null ? std::string("null")
                                             : std::string("absent");
   };
-  const auto optional = [](const auto& x) { return x ? fmt::format("{}", *x) : "none"; };
+  const auto text = [](const std::optional<std::string>& x) {
+    return x ? fmt::format("{:?}", *x) : "none";
+  };
+  const auto optional = [](const std::optional<double>& x) {
+    return x ? fmt::format("{}", *x) : "none";
+  };
   std::string out = fmt::format(
       "key={:?} config={} damping={} p={} v0={} m={} k={} outcome={:?} failure={:?} failed={} "
       "rhs_evals={} steps={} cpu={} seconds={} slowest={}",
-      facts.key, optional(facts.config), optional(facts.damping), optional(facts.p),
-      optional(facts.v0), optional(facts.m), optional(facts.k), facts.outcome, facts.failure,
-      facts.failed, number(facts.rhs_evals), number(facts.steps), facts.cpu,
-      optional(facts.seconds), optional(facts.seconds_slowest));
+      facts.key, text(facts.config), text(facts.damping), optional(facts.p), optional(facts.v0),
+      optional(facts.m), optional(facts.k), facts.outcome, facts.failure, facts.failed,
+      number(facts.rhs_evals), number(facts.steps), facts.cpu, optional(facts.seconds),
+      optional(facts.seconds_slowest));
   for (const RecordFacts::Observed& observed : facts.observed) {
     out += fmt::format(" {:?}:", observed.name);
     for (const Number& field : observed.fields) {
@@ -284,6 +289,9 @@ std::optional<Report> read_record_lines(std::istream& in, const std::string& pat
   Depth depth;                   // of the text before the records
   bool comma_after_last = false; // whether the last record line ended with one
   while (std::getline(in, line)) {
+    if (line.find('\0') != std::string::npos) {
+      return std::nullopt; // nlohmann ends its input at a NUL, simdjson refuses it
+    }
     if (where != Where::inside) {
       if (where == Where::before) {
         if (line == records_open && depth.top_level()) {
