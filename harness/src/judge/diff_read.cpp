@@ -112,8 +112,7 @@ std::optional<RecordFacts> facts_from_dom(dom::element record) {
   }
   RecordFacts facts;
   std::optional<double> cpu, cpu_slowest, wall, wall_slowest;
-  unsigned seen = 0;
-  bool has_key = false, has_outcome = false, has_failed = false, has_rel_error = false;
+  unsigned seen = 0; // the fields read (a required one of the wrong kind returns none at once)
   for (const dom::key_value_pair member : object) {
     const std::optional<unsigned> field = record_field_named(member.key);
     if (!field) {
@@ -133,7 +132,6 @@ std::optional<RecordFacts> facts_from_dom(dom::element record) {
         return std::nullopt;
       }
       (*field == f_key ? facts.key : facts.outcome) = text;
-      (*field == f_key ? has_key : has_outcome) = true;
       break;
     case f_config:
     case f_damping:
@@ -150,7 +148,6 @@ std::optional<RecordFacts> facts_from_dom(dom::element record) {
       if (value.get(facts.failed) != simdjson::SUCCESS) {
         return std::nullopt;
       }
-      has_failed = true;
       break;
     case f_precision:
       if (!is_string || !schema::known_precision(text)) {
@@ -189,7 +186,6 @@ std::optional<RecordFacts> facts_from_dom(dom::element record) {
         }
         break;
       }
-      has_rel_error = has_rel_error || f == rel_error_field;
       for (const dom::key_value_pair item : values) {
         const Number number = number_field(item.value);
         if (f == rel_error_field && (number.state == Number::State::absent ||
@@ -210,7 +206,9 @@ std::optional<RecordFacts> facts_from_dom(dom::element record) {
     }
     }
   }
-  if (!has_key || !has_outcome || !has_failed || !has_rel_error) {
+  constexpr unsigned required =
+      1u << f_key | 1u << f_outcome | 1u << f_failed | 1u << (f_observed + rel_error_field);
+  if ((seen & required) != required) {
     return std::nullopt;
   }
   std::sort(facts.observed.begin(), facts.observed.end(),
