@@ -13,6 +13,7 @@
 #include <cmath>
 #include <sstream>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace {
@@ -80,21 +81,38 @@ void collision(benchmark::State& state, const std::string& name, double rtol, in
   state.counters["ns_per_step"] = took.count() * 1e9 / double(state.iterations()) / double(r.steps);
 }
 
-// Throughput of the batch path against the scalar one on the same cells: the onset phases k/n
-// of one contact (e = 0.5, v0 = m = k = 1, every observable, `steps` per contact) at p, 16 as in
-// data/scenes/dem.toml, as the
-// harness runs a record's phases. `batch` false: solve() per phase; true: one solve_batch.
+// What a batch's lanes hold: the onset phases k/n of one contact (e = 0.5, v0 = m = k = 1), as
+// the harness runs a record's phases (16 as in data/scenes/dem.toml); 16 cells of one p (e 0.9 to
+// 0.3, v0 0.1 and 10, m 1 and 1e-3, k = 1e5), as it runs the cells of one configuration; or those
+// cells with the last 4 overdamped (α_eff = 1.5), which run until they settle, 10 to 100 times
+// longer: the lanes that finish early leave the batch (compact_lanes).
+enum class LaneSet { phases, cells, cells_overdamped };
+
+std::vector<solvers::Problem<double>> lane_problems(LaneSet set, double p) {
+  std::vector<solvers::Problem<double>> problems;
+  for (int lane = 0; lane < 16; ++lane) {
+    Contact<double> c = Contact<double>::from_e(p, 0.5, 1.0);
+    if (set != LaneSet::phases) {
+      const double v0 = lane % 2 == 0 ? 0.1 : 10.0, m = lane / 2 % 2 == 0 ? 1.0 : 1e-3;
+      c = set == LaneSet::cells_overdamped && lane >= 12
+              ? Contact<double>::from_alpha_eff(p, 1.5, v0, m, 1e5)
+              : Contact<double>::from_e(p, 0.9 - 0.2 * (lane / 4), v0, m, 1e5);
+    }
+    problems.push_back({c.p(), c.m(), c.k(), c.v0(), c.alpha()});
+  }
+  return problems;
+}
+
+// Throughput of the batch path against the scalar one on the same 16 lanes (LaneSet), every
+// observable, `steps` per contact. `batch` false: solve() per lane; true: one solve_batch.
 // Counters: contacts per second of this core (items_per_second) and ns per lane-step.
-void phases(benchmark::State& state, const std::string& name, double p, int lanes, int steps,
-            bool batch) {
-  const Contact<double> c = Contact<double>::from_e(p, 0.5, 1.0);
-  std::vector<solvers::Problem<double>> problems(
-      static_cast<std::size_t>(lanes),
-      solvers::Problem<double>{c.p(), c.m(), c.k(), c.v0(), c.alpha()});
-  std::vector<solvers::Options<double>> options(static_cast<std::size_t>(lanes));
-  for (int phase = 0; phase < lanes; ++phase) {
-    options[static_cast<std::size_t>(phase)].onset_phase = double(phase) / lanes;
-    options[static_cast<std::size_t>(phase)].steps_per_contact = steps;
+void lanes(benchmark::State& state, const std::string& name, LaneSet set, double p, int steps,
+           bool batch) {
+  const std::vector<solvers::Problem<double>> problems = lane_problems(set, p);
+  std::vector<solvers::Options<double>> options(problems.size());
+  for (std::size_t lane = 0; lane < options.size(); ++lane) {
+    options[lane].onset_phase = set == LaneSet::phases ? double(lane) / 16 : 0.0;
+    options[lane].steps_per_contact = steps;
   }
   long lane_steps = 0;
   for (auto _ : state) {
@@ -113,7 +131,7 @@ void phases(benchmark::State& state, const std::string& name, double p, int lane
       }
     }
   }
-  state.SetItemsProcessed(state.iterations() * lanes);
+  state.SetItemsProcessed(state.iterations() * static_cast<long>(problems.size()));
   state.counters["ns_per_lane_step"] =
       benchmark::Counter(double(lane_steps) * double(state.iterations()) * 1e-9,
                          benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
@@ -136,16 +154,21 @@ const int registered = [] {
       }
     }
   }
-  for (const char* name :
-       {"dem-verlet", "dem-symplectic-euler", "dem-leapfrog", "verlet-predicted"}) {
-    for (const double p : {1.0, 1.5, 2.0, 3.0}) {
-      for (const int steps : {50, 1000}) {
-        for (const bool batch : {false, true}) {
-          std::ostringstream label;
-          label << "phases/" << name << "/p:" << p << "/lanes:16/steps:" << steps << "/"
-                << (batch ? "batch" : "scalar");
-          benchmark::RegisterBenchmark(label.str().c_str(), phases, name, p, 16, steps, batch)
-              ->Unit(benchmark::kMicrosecond);
+  const std::pair<LaneSet, const char*> sets[] = {{LaneSet::phases, "phases"},
+                                                  {LaneSet::cells, "cells"},
+                                                  {LaneSet::cells_overdamped, "cells_overdamped"}};
+  for (const auto& [set, set_name] : sets) {
+    for (const char* name :
+         {"dem-verlet", "dem-symplectic-euler", "dem-leapfrog", "verlet-predicted"}) {
+      for (const double p : {1.0, 1.5, 2.0, 3.0}) {
+        for (const int steps : {50, 1000}) {
+          for (const bool batch : {false, true}) {
+            std::ostringstream label;
+            label << set_name << "/" << name << "/p:" << p << "/lanes:16/steps:" << steps << "/"
+                  << (batch ? "batch" : "scalar");
+            benchmark::RegisterBenchmark(label.str().c_str(), lanes, name, set, p, steps, batch)
+                ->Unit(benchmark::kMicrosecond);
+          }
         }
       }
     }

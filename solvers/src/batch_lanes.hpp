@@ -7,10 +7,12 @@
 
 #include <boost/math/constants/constants.hpp>
 
+#include <array>
 #include <chrono>
 #include <cmath>
 #include <cstddef>
 #include <span>
+#include <utility>
 #include <vector>
 
 namespace pldamp::solvers::detail {
@@ -22,7 +24,7 @@ class LanePower {
 public:
   explicit LanePower(double beta) : beta_(beta) {}
 
-  void operator()(const std::vector<double>& delta, std::vector<double>& out) const {
+  void operator()(std::span<const double> delta, std::span<double> out) const {
     const std::size_t n = delta.size();
     if (beta_ == 0) {
       for (std::size_t i = 0; i < n; ++i) {
@@ -57,6 +59,29 @@ std::vector<std::size_t> lanes_together(const Problems& problems, const OptionsL
     }
   }
   return lanes;
+}
+
+// Moves the lanes that are done (lanes[i].done) out of the slots [0, active) that a step's loops
+// run over: the last running lane takes a finished one's slot, its entries in every array, in
+// `lanes` and in each of `others` moving with it. Without it a batch of contacts of different
+// lengths (the cells of a configuration, an overdamped one among them) costs its longest lane's
+// steps in every lane. A lane's arithmetic is elementwise, so its slot does not change what it
+// computes.
+template <std::size_t N, class Lanes, class... Others>
+void compact_lanes(std::size_t& active, const std::array<std::vector<double>*, N>& arrays,
+                   Lanes& lanes, Others&... others) {
+  for (std::size_t i = 0; i < active;) {
+    if (!lanes[i].done) {
+      ++i;
+      continue;
+    }
+    const std::size_t last = --active;
+    for (std::vector<double>* array : arrays) {
+      std::swap((*array)[i], (*array)[last]);
+    }
+    std::swap(lanes[i], lanes[last]);
+    (std::swap(others[i], others[last]), ...);
+  }
 }
 
 // The options a fixed-step solver runs with: Δt from steps_per_contact unless given (it is

@@ -24,6 +24,7 @@
 #include "methods.hpp"
 
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <cmath>
 #include <cstddef>
@@ -51,6 +52,7 @@ public:
       collisions_.push_back(std::make_unique<Collision>(problem, stepped));
       const Collision& collision = *collisions_.back();
       const ContactOde<double>& ode = collision.ode();
+      slot_lane_[i] = i;
       dt_[i] = *stepped.fixed_step;
       m_[i] = ode.m();
       k_[i] = ode.k();
@@ -76,16 +78,20 @@ public:
 
   std::vector<Result<double>> run() {
     std::vector<Result<double>> results(n_);
-    std::size_t active = 0;
+    std::size_t completed = 0;
     for (std::size_t i = 0; i < n_; ++i) {
       if (const auto spent = collisions_[i]->out_of_budget(0)) { // dem.cpp looks before a step
         finish(i, *spent, results[i]);
-      } else {
-        ++active;
+        ++completed;
       }
     }
-    while (active > 0) {
-      active -= scheme_ == DemScheme::verlet ? verlet_step(results) : force_first_step(results);
+    while (active_ > 0) {
+      if (completed > 0) {
+        compact_lanes(active_, arrays(), lane_, collisions_, slot_lane_);
+      }
+      if (active_ > 0) {
+        completed = scheme_ == DemScheme::verlet ? verlet_step(results) : force_first_step(results);
+      }
     }
     return results;
   }
@@ -101,26 +107,31 @@ private:
     double v_bound = 0, d_bound = 0, horizon = 0;
   };
 
+  std::array<std::vector<double>*, 10> arrays() {
+    return {&t_, &d_, &v_, &f_, &dt_, &m_, &k_, &c_, &da_, &force_};
+  }
+
   void resize() {
-    for (std::vector<double>* array : {&t_, &d_, &v_, &f_, &dt_, &m_, &k_, &c_, &da_, &force_}) {
+    for (std::vector<double>* array : arrays()) {
       array->assign(n_, 0.0);
     }
     lane_.assign(n_, Lane{});
+    slot_lane_.resize(n_);
   }
 
-  // m · v' of ContactOde::rhs at (δ, v) for every lane (meaningful where δ > 0): the contact force
-  // on the overlap coordinate, DemContact::force before its cases.
+  // m · v' of ContactOde::rhs at (δ, v) for every running lane (meaningful where δ > 0): the
+  // contact force on the overlap coordinate, DemContact::force before its cases.
   void contact_forces() {
-    power_(d_, da_);
+    power_({d_.data(), active_}, {da_.data(), active_});
     if (seed_) {
-      for (std::size_t i = 0; i < n_; ++i) {
+      for (std::size_t i = 0; i < active_; ++i) {
         const double spring = k_[i] * (da_[i] * da_[i] * d_[i]);
         const double dashpot = c_[i] * da_[i];
         force_[i] = m_[i] * (-(dashpot * v_[i] + spring) / m_[i]);
       }
       return;
     }
-    for (std::size_t i = 0; i < n_; ++i) {
+    for (std::size_t i = 0; i < active_; ++i) {
       const double magnitude = std::pow(std::abs(d_[i]), p_);
       const double spring = k_[i] * (d_[i] < 0 ? -magnitude : magnitude);
       const double dashpot = c_[i] * da_[i];
@@ -230,37 +241,40 @@ private:
     f_[i] = 0;
   }
 
-  // One LAMMPS step in every lane (dem.cpp, DemScheme::verlet); returns the lanes completed.
+  // One LAMMPS step in every running lane (dem.cpp, DemScheme::verlet); returns the lanes
+  // completed.
   std::size_t verlet_step(std::vector<Result<double>>& results) {
-    for (std::size_t i = 0; i < n_; ++i) {
+    const std::size_t n = active_;
+    for (std::size_t i = 0; i < n; ++i) {
       v_[i] += dt_[i] / 2 * f_[i] / m_[i]; // half kick
       d_[i] += dt_[i] * v_[i];             // drift
     }
     contact_forces();
-    for (std::size_t i = 0; i < n_; ++i) {
+    for (std::size_t i = 0; i < n; ++i) {
       if (!lane_[i].done) {
         f_[i] = contact_force(i, t_[i] + dt_[i]);
       }
     }
-    for (std::size_t i = 0; i < n_; ++i) { // a finished lane: Δt = 0 and f = 0, it stands still
+    for (std::size_t i = 0; i < n; ++i) {  // a finished lane: Δt = 0 and f = 0, it stands still
       v_[i] += dt_[i] / 2 * f_[i] / m_[i]; // half kick
       t_[i] += dt_[i];
     }
     std::size_t completed = 0;
-    for (std::size_t i = 0; i < n_; ++i) {
+    for (std::size_t i = 0; i < n; ++i) {
       if (!lane_[i].done) {
         ++lane_[i].counts.steps;
-        completed += after_step(i, results[i]) ? 1 : 0;
+        completed += after_step(i, results[slot_lane_[i]]) ? 1 : 0;
       }
     }
     return completed;
   }
 
-  // One Chrono or YADE step in every lane (dem.cpp: the force at the start of the step).
+  // One Chrono or YADE step in every running lane (dem.cpp: the force at the start of the step).
   std::size_t force_first_step(std::vector<Result<double>>& results) {
+    const std::size_t n = active_;
     contact_forces();
     std::size_t completed = 0;
-    for (std::size_t i = 0; i < n_; ++i) {
+    for (std::size_t i = 0; i < n; ++i) {
       if (lane_[i].done) {
         continue;
       }
@@ -269,34 +283,38 @@ private:
         // No force from here on: the body leaves with v_n. dem.cpp leaves its loop and, with the
         // exit pending, ends the contact at the state it holds; otherwise as the loop left it.
         if (lane_[i].peak_found && collisions_[i]->pending(EventKind::exit)) {
-          after_step(i, results[i]); // ended with the exit pending: records it, the lane is done
+          after_step(
+              i,
+              results[slot_lane_[i]]); // ended with the exit pending: records it, the lane is done
         } else {
-          finish(i, Outcome::step_limit, results[i]); // dem.cpp's outcome is still its initial one
+          finish(i, Outcome::step_limit,
+                 results[slot_lane_[i]]); // dem.cpp's outcome is still its initial one
         }
         ++completed;
         continue;
       }
     }
-    for (std::size_t i = 0; i < n_; ++i) {
+    for (std::size_t i = 0; i < n; ++i) {
       v_[i] += dt_[i] * f_[i] / m_[i];
       d_[i] += dt_[i] * v_[i];
       t_[i] += dt_[i];
     }
-    for (std::size_t i = 0; i < n_; ++i) {
+    for (std::size_t i = 0; i < n; ++i) {
       if (lane_[i].done) {
         continue;
       }
       ++lane_[i].counts.steps;
-      completed += after_step(i, results[i]) ? 1 : 0;
+      completed += after_step(i, results[slot_lane_[i]]) ? 1 : 0;
     }
     return completed;
   }
 
   DemScheme scheme_;
-  std::size_t n_;
+  std::size_t n_, active_ = n_; // lanes, and lanes still running (the first slots)
   LanePower power_;
   double p_ = 1;
   bool seed_ = true;
+  std::vector<std::size_t> slot_lane_; // the lane (its index among the results) in each slot
   // The lanes' state and constants, structure of arrays.
   std::vector<double> t_, d_, v_, f_, dt_, m_, k_, c_, da_, force_;
   std::vector<Lane> lane_;

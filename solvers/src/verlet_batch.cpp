@@ -10,6 +10,7 @@
 #include "hermite.hpp"
 #include "methods.hpp"
 
+#include <array>
 #include <chrono>
 #include <cmath>
 #include <memory>
@@ -27,12 +28,11 @@ public:
     const ContactOde<double> first(problems[lanes[0]]);
     p_ = first.p();
     seed_ = first.damping_exponent() == (p_ - 1) / 2; // as ContactOde decides it
-    for (std::vector<double>* array :
-         {&t_, &d_, &v_, &w_, &a_, &power_at_, &dt_, &m_, &k_, &c_, &phase_, &d_old_, &v_old_,
-          &w_old_, &t_old_, &v_half_, &v_predicted_, &da_}) {
+    for (std::vector<double>* array : arrays()) {
       array->assign(n_, 0.0);
     }
     lane_.assign(n_, Lane{});
+    slot_lane_.resize(n_);
     collisions_.reserve(n_);
     for (std::size_t i = 0; i < n_; ++i) {
       const Problem<double>& problem = problems[lanes[i]];
@@ -41,6 +41,7 @@ public:
       Collision& collision = *collisions_.back();
       const ContactOde<double>& ode = collision.ode();
       Lane& lane = lane_[i];
+      slot_lane_[i] = i;
       lane.capped = stepped.end == End::force;
       lane.want_force = (stepped.want & want_normal_force) != 0;
       lane.with_work = collision.with_work();
@@ -67,9 +68,10 @@ public:
 
   std::vector<Result<double>> run() {
     std::vector<Result<double>> results(n_);
-    std::size_t active = n_;
-    while (active > 0) {
-      active -= step(results);
+    while (active_ > 0) {
+      if (step(results) > 0) {
+        compact_lanes(active_, arrays(), lane_, collisions_, slot_lane_);
+      }
     }
     return results;
   }
@@ -99,19 +101,25 @@ private:
     a_[i] = 0;
   }
 
-  // One step of every lane; returns the lanes completed.
+  std::array<std::vector<double>*, 18> arrays() {
+    return {&t_, &d_,     &v_,     &w_,     &a_,     &power_at_, &dt_,     &m_,           &k_,
+            &c_, &phase_, &d_old_, &v_old_, &w_old_, &t_old_,    &v_half_, &v_predicted_, &da_};
+  }
+
+  // One step of every running lane (slots [0, active_)); returns the lanes completed.
   std::size_t step(std::vector<Result<double>>& results) {
+    const std::size_t n = active_;
     std::size_t completed = 0;
-    for (std::size_t i = 0; i < n_; ++i) { // the budget, before each step
+    for (std::size_t i = 0; i < n; ++i) { // the budget, before each step
       Lane& lane = lane_[i];
       if (!lane.done && (lane.counts.steps >= lane.max_steps || lane.counts.steps % 256 == 0)) {
         if (const auto spent = collisions_[i]->out_of_budget(lane.counts.steps)) {
-          finish(i, *spent, results[i]);
+          finish(i, *spent, results[slot_lane_[i]]);
           ++completed;
         }
       }
     }
-    for (std::size_t i = 0; i < n_; ++i) {
+    for (std::size_t i = 0; i < n; ++i) {
       d_old_[i] = d_[i];
       v_old_[i] = v_[i];
       w_old_[i] = w_[i];
@@ -120,26 +128,26 @@ private:
       d_[i] = d_[i] + v_half_[i] * dt_[i];
       v_predicted_[i] = v_[i] + a_[i] * dt_[i];
     }
-    power_(d_, da_);
+    power_({d_.data(), n}, {da_.data(), n});
     // ContactOde::rhs at (δ, v + a Δt): v' = −(c |δ|^β v + k sgn(δ)|δ|^p)/m.
     if (seed_) {
-      for (std::size_t i = 0; i < n_; ++i) {
+      for (std::size_t i = 0; i < n; ++i) {
         const double spring = k_[i] * (da_[i] * da_[i] * d_[i]);
         const double dashpot = c_[i] * da_[i];
         a_[i] = -(dashpot * v_predicted_[i] + spring) / m_[i];
       }
     } else {
-      for (std::size_t i = 0; i < n_; ++i) {
+      for (std::size_t i = 0; i < n; ++i) {
         const double magnitude = std::pow(std::abs(d_[i]), p_);
         const double spring = k_[i] * (d_[i] < 0 ? -magnitude : magnitude);
         const double dashpot = c_[i] * da_[i];
         a_[i] = -(dashpot * v_predicted_[i] + spring) / m_[i];
       }
     }
-    for (std::size_t i = 0; i < n_; ++i) {
+    for (std::size_t i = 0; i < n; ++i) {
       v_[i] = v_half_[i] + a_[i] * dt_[i] / 2;
     }
-    for (std::size_t i = 0; i < n_; ++i) {
+    for (std::size_t i = 0; i < n; ++i) {
       Lane& lane = lane_[i];
       if (lane.done) {
         continue;
@@ -156,7 +164,7 @@ private:
                            !(lane.peak_found && (lane.capped || d_[i] <= 0)) &&
                            t_[i] < lane.horizon &&
                            !(lane.peak_found && lane.counts.steps % 64 == 0); // settled?
-      if (!routine && after_step(i, results[i])) {
+      if (!routine && after_step(i, results[slot_lane_[i]])) {
         ++completed;
       }
     }
@@ -202,10 +210,11 @@ private:
     return false;
   }
 
-  std::size_t n_;
+  std::size_t n_, active_ = n_; // lanes, and lanes still running (the first slots)
   LanePower power_;
   double p_ = 1;
   bool seed_ = true;
+  std::vector<std::size_t> slot_lane_; // the lane (its index among the results) in each slot
   // The lanes' state, the previous step position, the step's intermediates and the constants.
   std::vector<double> t_, d_, v_, w_, a_, power_at_, dt_, m_, k_, c_, phase_;
   std::vector<double> d_old_, v_old_, w_old_, t_old_, v_half_, v_predicted_, da_;
