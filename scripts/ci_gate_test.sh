@@ -3,7 +3,7 @@
 #   A  the checkout this script is in, already built (its pldamp is passed in);
 #   B  a git clone of HEAD in a temporary directory with two lines changed on purpose: odeint-rkf78
 #      handed a relative tolerance 1000 times looser than asked (its errors grow, nothing fails),
-#      and verlet-predicted solving every problem three times over (3x its cost, the same
+#      and verlet-predicted solving every batch three times over (3x its cost, the same
 #      answers), built here as A was built (the pldamp target only, through A's ccache if A used
 #      one).
 #   scripts/ci_gate_test.sh [BUILD_DIR | PLDAMP]      (default: build)
@@ -102,16 +102,18 @@ inject() {
 # Errors: RKF78's error checker handed 1000 x rtol.
 inject solvers/src/odeint.cpp 'collision.options().rtol, 1, 0)),' \
   'collision.options().rtol * 1e3, 1, 0)),'
-# Cost: verlet-predicted solving each problem three times, the last answer returned.
-solve_line='  return std::get<SolveFn<Real>>(entry.solve)(problem, options);'
-inject solvers/src/registry.cpp "$solve_line" \
-  "  for (int i = name == \"verlet-predicted\" ? 2 : 0; i > 0; --i) { (void)std::get<SolveFn<Real>>(entry.solve)(problem, options); } $solve_line"
+# Cost: verlet-predicted solving each batch three times, the last answers returned (quick.toml's
+# verlet-predicted records, one phase each, are solved in batches of one configuration and p:
+# run_plan, docs/performance.md "Batch mode").
+batch_line='    return entry.batch(problems, options);'
+inject solvers/src/registry.cpp "$batch_line" \
+  "    for (int i = name == \"verlet-predicted\" ? 2 : 0; i > 0; --i) { (void)entry.batch(problems, options); } $batch_line"
 if [[ $(git -C "$b" diff --numstat | tr '\n' ' ') != $'1\t1\tsolvers/src/odeint.cpp 1\t1\tsolvers/src/registry.cpp ' ]]; then
   echo "FAILED: the injected regressions are not one changed line in each of two files:" >&2
   git -C "$b" diff >&2
   exit 1
 fi
-echo "   B: $head with (RKF78's error checker; the registry's solve):"
+echo "   B: $head with (RKF78's error checker; the registry's solve_batch):"
 git -C "$b" diff -U0 | grep '^[-+] ' | sed 's/^/     /'
 build_started=$SECONDS
 # B is configured as A (the same compiler, build type and flags: their times are compared) and,

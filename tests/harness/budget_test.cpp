@@ -282,6 +282,193 @@ double e_error(const SolverConfig& config, double p, double e_target, int phases
   return worst;
 }
 
+// Every field of two records but their times (wall, CPU) and runs, which timing decides. A new
+// Record field fails the static_assert until it is compared here (or said to be a time).
+void expect_same_record_but_times(const Record& a, const Record& b) {
+  static_assert(sizeof(Record) == 448, "a Record field was added: compare it here");
+  const std::string at = "cell " + std::to_string(a.cell) + " config " + std::to_string(a.config);
+  EXPECT_EQ(a.cell, b.cell) << at;
+  EXPECT_EQ(a.config, b.config) << at;
+  EXPECT_EQ(a.outcome, b.outcome) << at;
+  EXPECT_EQ(a.failure, b.failure) << at;
+  EXPECT_EQ(a.steps, b.steps) << at;
+  EXPECT_EQ(a.rhs_evals, b.rhs_evals) << at;
+  EXPECT_EQ(a.alpha, b.alpha) << at;
+  EXPECT_EQ(a.alpha_digits, b.alpha_digits) << at;
+  EXPECT_EQ(a.phases, b.phases) << at;
+  EXPECT_EQ(a.dt, b.dt) << at;
+  EXPECT_EQ(a.value, b.value) << at;
+  EXPECT_EQ(a.reference, b.reference) << at;
+  EXPECT_EQ(a.error, b.error) << at;
+  EXPECT_EQ(a.abs_error, b.abs_error) << at;
+  EXPECT_EQ(a.rel_error, b.rel_error) << at;
+  EXPECT_EQ(a.spread, b.spread) << at;
+  EXPECT_EQ(a.worst_phase, b.worst_phase) << at;
+  EXPECT_EQ(a.skip_reason, b.skip_reason) << at;
+  EXPECT_EQ(a.note, b.note) << at;
+  EXPECT_EQ(a.replica_difference, b.replica_difference) << at;
+  EXPECT_EQ(a.cpu_seconds.has_value(), b.cpu_seconds.has_value()) << at;
+}
+
+// The records of a fixed-step configuration solved in batches across cells (run_plan's
+// batch_lanes: 16 contacts of one configuration, p and β) are those solved one at a time, bit for
+// bit but for times: over returning, critical and overdamped cells, units decades apart, β
+// stated, both ends, one, three and nine onset phases, four schemes beside configurations that
+// are never batched (taylor, quad), on one thread and on three. Each record's CPU time is its
+// share, positive.
+TEST(Records, BatchedCellsGiveTheRecordsOfTheUnbatchedPath) {
+  const Scene seed = parse_scene(R"(want = ["e", "delta_max", "t_peak", "tau", "energy"]
+[grid]
+p = [1.0, 1.5, 2.5]
+e = [0.9, 0.5, 0.1]
+alpha_eff = [1.0, 2.0]
+v0 = [0.1, 1.0, 10.0]
+m = [1.0, 1e-3]
+[[solver]]
+name = "dem-verlet"
+steps_per_contact = [13, 50]
+[[solver]]
+name = "verlet-predicted"
+steps_per_contact = 40
+[[solver]]
+name = "dem-leapfrog"
+steps_per_contact = 20
+onset_phases = 3
+end = ["overlap", "force"]
+[[solver]]
+name = "dem-symplectic-euler"
+steps_per_contact = 30
+onset_phases = 9
+[[solver]]
+name = "taylor"
+rtol = 1e-10
+[[solver]]
+name = "taylor"
+precision = "quad"
+[timing]
+repeats = 1
+)",
+                                 "cells.toml");
+  // β stated (the viscoelastic δ^½ at p = 1.5 and 2): a reference solve is the truth.
+  const Scene stated = parse_scene(R"(want = ["e", "delta_max", "tau"]
+[grid]
+p = [1.5, 2.0]
+damping_exponent = 0.5
+alpha_eff = [0.3, 2.0]
+v0 = [0.1, 10.0]
+m = [1.0, 1e-3]
+[[solver]]
+name = "dem-verlet"
+steps_per_contact = 50
+[[solver]]
+name = "verlet-predicted"
+steps_per_contact = 40
+)",
+                                   "stated.toml");
+  for (const Scene& s : {seed, stated}) {
+    const Plan plan = make_plan(s);
+    RunTotals alone_totals, batched_totals, threaded_totals;
+    const std::vector<Record> alone = run_plan(plan, 1, alone_totals, {}, 1);
+    const std::vector<Record> batched = run_plan(plan, 1, batched_totals, {}, 16);
+    const std::vector<Record> threaded = run_plan(plan, 3, threaded_totals, {}, 16);
+    ASSERT_EQ(alone.size(), plan.cells.size() * plan.configs.size());
+    ASSERT_EQ(batched.size(), alone.size());
+    ASSERT_EQ(threaded.size(), alone.size());
+    long exited = 0, overdamped = 0;
+    for (std::size_t i = 0; i < alone.size(); ++i) {
+      expect_same_record_but_times(alone[i], batched[i]);
+      expect_same_record_but_times(alone[i], threaded[i]);
+      for (const Record* r : {&batched[i], &threaded[i]}) {
+        if (r->cpu_seconds) {
+          EXPECT_GT(*r->cpu_seconds, 0);
+          EXPECT_LE(*r->cpu_seconds, *r->cpu_seconds_slowest);
+          EXPECT_GT(r->wall_seconds, 0);
+        }
+      }
+      ASSERT_TRUE(alone[i].outcome) << alone[i].failure;
+      exited += *alone[i].outcome == solvers::Outcome::exited ? 1 : 0;
+      overdamped += plan.points[plan.cells[i / plan.configs.size()].point].overdamped ? 1 : 0;
+    }
+    EXPECT_GT(exited, 0);
+    EXPECT_GT(overdamped, 0);
+    EXPECT_EQ(batched_totals.rhs_evals, alone_totals.rhs_evals);
+    EXPECT_EQ(batched_totals.solver_runs, alone_totals.solver_runs);
+    EXPECT_EQ(threaded_totals.solver_runs, alone_totals.solver_runs);
+  }
+}
+
+// A cell the solver refuses (a fixed step beyond its horizon: m = 1e-12 at p = 1 has a horizon of
+// 1e-3) makes solve_batch throw for its whole group; the group is then solved one record at a
+// time, so the refused records carry the solver's own message and their group-mates their values.
+TEST(Records, ACellTheSolverRefusesFailsAloneInItsGroup) {
+  Plan plan = make_plan(parse_scene(R"(want = ["e", "tau"]
+[grid]
+p = 1.0
+e = 0.9
+v0 = [0.5, 1.0, 2.0]
+m = [1.0, 1e-12]
+[[solver]]
+name = "dem-verlet"
+steps_per_contact = 100
+)",
+                                    "refused.toml"));
+  plan.configs[0].steps_per_contact.reset();
+  plan.configs[0].dt = 2e-3;
+  RunTotals alone_totals, batched_totals;
+  const std::vector<Record> alone = run_plan(plan, 1, alone_totals, {}, 1);
+  const std::vector<Record> batched = run_plan(plan, 1, batched_totals, {}, 16);
+  ASSERT_EQ(batched.size(), 6u); // in groups of two (four a thread): the third mixes both m
+  long refused = 0;
+  for (std::size_t i = 0; i < alone.size(); ++i) {
+    expect_same_record_but_times(alone[i], batched[i]);
+    const bool tiny = plan.cells[batched[i].cell].m < 1e-6;
+    EXPECT_EQ(batched[i].outcome.has_value(), !tiny) << i;
+    if (tiny) {
+      ++refused;
+      EXPECT_NE(batched[i].failure.find("dt must be in"), std::string::npos) << batched[i].failure;
+    } else {
+      EXPECT_EQ(batched[i].outcome, solvers::Outcome::exited);
+      EXPECT_TRUE(batched[i].failure.empty()) << batched[i].failure;
+    }
+  }
+  EXPECT_EQ(refused, 3);
+  EXPECT_EQ(batched_totals.solver_runs, alone_totals.solver_runs);
+}
+
+// Progress is told once per record, the last time (N, N), batched or not; a stop requested
+// before the run starts no record.
+TEST(Records, ProgressCountsEveryRecordOfABatchAndAStopStartsNone) {
+  const Plan plan = make_plan(parse_scene(R"(want = ["e"]
+[grid]
+p = [1.0, 2.0]
+e = [0.9, 0.5, 0.1]
+v0 = [0.5, 1.0, 2.0]
+[[solver]]
+name = "verlet-predicted"
+steps_per_contact = 30
+[[solver]]
+name = "taylor"
+)",
+                                          "progress.toml"));
+  std::vector<std::pair<std::size_t, std::size_t>> calls;
+  RunTotals totals;
+  const std::vector<Record> records =
+      run_plan(plan, 2, totals,
+               [&](std::size_t done, std::size_t total) { calls.emplace_back(done, total); });
+  ASSERT_EQ(calls.size(), records.size());
+  for (std::size_t i = 0; i < calls.size(); ++i) {
+    EXPECT_EQ(calls[i], std::make_pair(i + 1, records.size()));
+  }
+  stop_requested() = true;
+  const std::vector<Record> stopped = run_plan(plan, 2, totals);
+  stop_requested() = false;
+  for (const Record& record : stopped) {
+    EXPECT_FALSE(record.outcome);
+    EXPECT_EQ(record.runs, 0);
+  }
+  EXPECT_EQ(totals.solver_runs, 0);
+}
+
 TEST(Search, TheLoosestStepCountKeepsTheBoundOverTheOnsetPhasesAndOneFewerBreaksIt) {
   Scene scene = parse_scene(R"(want = ["e"]
 [grid]

@@ -15,6 +15,8 @@
 #include <limits>
 #include <memory>
 #include <mutex>
+#include <span>
+#include <tuple>
 
 #include <time.h>
 
@@ -185,106 +187,160 @@ run_phases(const Plan& plan, const SolverConfig& config, ExternalSolver* externa
   return runs;
 }
 
-// Whether a record's onset phases (in double) are solved as one batch (solvers::solve_batch):
-// pldamp's own fixed-step scheme with a batch path, more than one phase.
+// What a record is solved with: its problem, its options and its truth, built in place (the truth
+// holds references; and copying an Options<float128> is what trips GCC bug 80635, run_phases).
+// Named so that no other unit of a unity build has the name.
+template <SupportedReal Real>
+struct RecordSetup {
+  solvers::Problem<Real> problem;
+  solvers::Options<Real> options;
+  RecordTruth truth;
+
+  RecordSetup(const Plan& plan, Record& record, ExternalSolver* external)
+      : problem(problem_of(plan, record)), truth{plan, plan.cells[record.cell],
+                                                 plan.configs[record.config]} {
+    const Cell& cell = plan.cells[record.cell];
+    const Point& point = plan.points[cell.point];
+    const SolverConfig& config = plan.configs[record.config];
+    record.alpha = static_cast<double>(problem.alpha);
+    if constexpr (!std::is_same_v<Real, double>) {
+      record.alpha_digits = to_string_full(problem.alpha);
+    }
+    if (config.rtol) {
+      options.rtol = Real(*config.rtol);
+    } else if (external == nullptr) {
+      options.rtol = solvers::solver_named(config.name).template default_rtol<Real>();
+    }
+    if (config.atol) {
+      options.atol = Real(*config.atol);
+    }
+    options.want = plan.scene.want;
+    options.end = end_of(plan.scene, config);
+    options.max_steps = plan.scene.limits.max_steps;
+    options.max_seconds = plan.scene.limits.max_seconds;
+    options.stop = &stop_requested();
+    if (config.steps_per_contact) {
+      options.steps_per_contact = *config.steps_per_contact;
+    }
+    if (config.dt) {
+      options.fixed_step = Real(*config.dt);
+    }
+    if (external != nullptr) {
+      // A code whose dashpot is not the point's: the truth of its own β at α as it receives it.
+      const double code_beta = external->facts().beta(point.p);
+      if (code_beta != point.beta.value_or((point.p - 1) / 2)) {
+        const Exact delta_u = unit_overlap(point.p) * cell.scale(Dimension::length);
+        const Exact group = group_of(point.p, code_beta, Exact(problem.alpha), delta_u);
+        truth.own = &reference_solve(point.p, code_beta, group, options.end);
+        const solvers::Result<Exact>& overlap =
+            reference_solve(point.p, code_beta, group, solvers::End::overlap);
+        truth.returns = overlap.outcome != solvers::Outcome::no_exit;
+        truth.log_duration = overlap.tau && isfinite(*overlap.tau)
+                                 ? log(*overlap.tau)
+                                 : std::numeric_limits<Exact>::infinity();
+        record.note =
+            fmt::format("truth by reference solve: it damps as delta^{:g} delta'", code_beta);
+        if (solvers::failing(truth.own->outcome)) {
+          record.note = fmt::format("no truth: the reference solve for delta^{:g} delta' ended {}",
+                                    code_beta, solvers::outcome_name(truth.own->outcome));
+        }
+      }
+    }
+  }
+
+private:
+  static solvers::Problem<Real> problem_of(const Plan& plan, const Record& record) {
+    const Cell& cell = plan.cells[record.cell];
+    const Point& point = plan.points[cell.point];
+    solvers::Problem<Real> problem{Real(point.p), Real(cell.m), Real(cell.k), Real(cell.v0),
+                                   alpha_as_received<Real>(cell.alpha)};
+    if (point.beta) {
+      problem.damping_exponent = Real(*point.beta);
+    }
+    return problem;
+  }
+};
+
+// Whether a configuration's records (in double) are solved in batches (solvers::solve_batch):
+// pldamp's own fixed-step scheme with a batch path.
 bool batched(const SolverConfig& config, const ExternalSolver* external) {
-  return external == nullptr && config.onset_phases > 1 &&
+  return external == nullptr && config.precision == precision_name<double>() &&
          solvers::solver_named(config.name).batched;
 }
 
-// Every onset phase k/n in one solve_batch, each result bit for bit the phase's own solve: the
-// same record. Time is attributed per phase as the batch's divided among its lanes: each repeat's
-// CPU time over n (and its wall_seconds, solve_batch's share), so a record's cpu_seconds stays
-// the CPU time of one contact and a configuration's sum the CPU time of its records (docs/ci.md).
-std::vector<PhaseRun<double>> run_phases_batched(const SolverConfig& config,
-                                                 const solvers::Problem<double>& problem,
-                                                 const solvers::Options<double>& options,
-                                                 const Scene& scene, Record& record) {
+// The onset phases k/n of G records of one configuration, p and β (the cells of a group, or a
+// record alone) as one solve_batch, lane g·n + k each; every lane's result is bit for bit its own
+// solve (solvers::solve_batch), so each record is the one solved alone. Time is attributed per lane
+// as the batch's in proportion to the lane's steps (+1: a lane that ends before a step still
+// costs its set-up): each repeat's CPU time and its wall time, so a record's cpu_seconds stays
+// the CPU time of its contacts and a configuration's sum the CPU time its batches took
+// (docs/ci.md). For one record, whose phases' shares sum to the batch, that is the batch's time
+// over n. Repeats are made while a record's share is below repeat_below, as for a record alone.
+std::vector<std::vector<PhaseRun<double>>> run_cells_batched(const SolverConfig& config,
+                                                             std::span<RecordSetup<double>> setups,
+                                                             const Scene& scene,
+                                                             std::span<Record* const> records) {
   const auto n = static_cast<std::size_t>(config.onset_phases);
-  const std::vector<solvers::Problem<double>> problems(n, problem);
-  std::vector<solvers::Options<double>> lanes(n, options);
-  for (std::size_t phase = 0; phase < n; ++phase) {
-    lanes[phase].onset_phase = double(phase) / double(n);
+  const std::size_t group = setups.size();
+  std::vector<solvers::Problem<double>> problems;
+  std::vector<solvers::Options<double>> lanes;
+  problems.reserve(group * n);
+  lanes.reserve(group * n);
+  for (const RecordSetup<double>& setup : setups) {
+    for (std::size_t phase = 0; phase < n; ++phase) {
+      problems.push_back(setup.problem);
+      lanes.push_back(setup.options);
+      lanes.back().onset_phase = double(phase) / double(n);
+      // The lanes share the batch's clock (a lane's starts with the batch): each record keeps
+      // the allowance it has alone.
+      lanes.back().max_seconds *= double(group);
+    }
   }
-  std::vector<PhaseRun<double>> runs(n);
-  double batch_cpu = 0; // the last batch's CPU time: repeated while below repeat_below
-  for (int repeat = 0;
-       repeat < std::max(scene.repeats, 1) && (repeat == 0 || batch_cpu < scene.repeat_below);
+  std::vector<std::vector<PhaseRun<double>>> runs(group, std::vector<PhaseRun<double>>(n));
+  std::vector<double> weight(group * n, 1.0);
+  double weights = 0;
+  double batch_cpu = 0; // the last batch's CPU time: repeated while a record's share is short
+  for (int repeat = 0; repeat < std::max(scene.repeats, 1) &&
+                       (repeat == 0 || batch_cpu / double(group) < scene.repeat_below);
        ++repeat) {
     const double cpu_start = thread_cpu_seconds();
-    record.runs += static_cast<long>(n);
+    for (Record* record : records) {
+      record->runs += static_cast<long>(n);
+    }
     std::vector<solvers::Result<double>> results =
         solvers::solve_batch(config.name, problems, lanes);
     batch_cpu = thread_cpu_seconds() - cpu_start;
-    const double cpu_share = batch_cpu / double(n);
-    for (std::size_t phase = 0; phase < n; ++phase) {
-      runs[phase].cpu.add(cpu_share);
-      runs[phase].wall.add(results[phase].wall_seconds);
+    double batch_wall = 0;
+    for (const solvers::Result<double>& result : results) {
+      batch_wall += result.wall_seconds;
+    }
+    if (repeat == 0) { // the weights: the steps, which every repeat makes alike
+      weights = 0;
+      for (std::size_t lane = 0; lane < results.size(); ++lane) {
+        weight[lane] = double(results[lane].steps) + 1;
+        weights += weight[lane];
+      }
+    }
+    for (std::size_t lane = 0; lane < results.size(); ++lane) {
+      PhaseRun<double>& run = runs[lane / n][lane % n];
+      run.cpu.add(batch_cpu * weight[lane] / weights);
+      run.wall.add(batch_wall * weight[lane] / weights);
       if (repeat == 0) {
-        runs[phase].result = std::move(results[phase]);
+        run.result = std::move(results[lane]);
       }
     }
   }
   return runs;
 }
 
+// A record's values from its phases' runs: per observable the phase with the largest error, the
+// spread over the phases, the worst outcome, the mean steps and times.
 template <SupportedReal Real>
-void solve_record(const Plan& plan, Record& record, ExternalSolver* external) {
+void judge_record(const Plan& plan, Record& record, const RecordTruth& truth,
+                  const std::vector<PhaseRun<Real>>& phase_runs, bool external) {
   const Cell& cell = plan.cells[record.cell];
   const Point& point = plan.points[cell.point];
   const SolverConfig& config = plan.configs[record.config];
-  solvers::Problem<Real> problem{Real(point.p), Real(cell.m), Real(cell.k), Real(cell.v0),
-                                 alpha_as_received<Real>(cell.alpha)};
-  if (point.beta) {
-    problem.damping_exponent = Real(*point.beta);
-  }
-  record.alpha = static_cast<double>(problem.alpha);
-  if constexpr (!std::is_same_v<Real, double>) {
-    record.alpha_digits = to_string_full(problem.alpha);
-  }
-  solvers::Options<Real> options;
-  if (config.rtol) {
-    options.rtol = Real(*config.rtol);
-  } else if (external == nullptr) {
-    options.rtol = solvers::solver_named(config.name).template default_rtol<Real>();
-  }
-  if (config.atol) {
-    options.atol = Real(*config.atol);
-  }
-  options.want = plan.scene.want;
-  options.end = end_of(plan.scene, config);
-  options.max_steps = plan.scene.limits.max_steps;
-  options.max_seconds = plan.scene.limits.max_seconds;
-  options.stop = &stop_requested();
-  if (config.steps_per_contact) {
-    options.steps_per_contact = *config.steps_per_contact;
-  }
-  if (config.dt) {
-    options.fixed_step = Real(*config.dt);
-  }
-  RecordTruth truth{plan, cell, config};
-  if (external != nullptr) {
-    // A code whose dashpot is not the point's: the truth of its own β at α as it receives it.
-    const double code_beta = external->facts().beta(point.p);
-    if (code_beta != point.beta.value_or((point.p - 1) / 2)) {
-      const Exact delta_u = unit_overlap(point.p) * cell.scale(Dimension::length);
-      const Exact group = group_of(point.p, code_beta, Exact(problem.alpha), delta_u);
-      truth.own = &reference_solve(point.p, code_beta, group, options.end);
-      const solvers::Result<Exact>& overlap =
-          reference_solve(point.p, code_beta, group, solvers::End::overlap);
-      truth.returns = overlap.outcome != solvers::Outcome::no_exit;
-      truth.log_duration = overlap.tau && isfinite(*overlap.tau)
-                               ? log(*overlap.tau)
-                               : std::numeric_limits<Exact>::infinity();
-      record.note =
-          fmt::format("truth by reference solve: it damps as delta^{:g} delta'", code_beta);
-      if (solvers::failing(truth.own->outcome)) {
-        record.note = fmt::format("no truth: the reference solve for delta^{:g} delta' ended {}",
-                                  code_beta, solvers::outcome_name(truth.own->outcome));
-      }
-    }
-  }
-  // Every onset phase k/n; the record keeps, per observable, the phase with the largest error.
   const std::size_t observables = plan.observables.size();
   record.phases = config.onset_phases;
   record.value.assign(observables, std::nullopt);
@@ -294,15 +350,6 @@ void solve_record(const Plan& plan, Record& record, ExternalSolver* external) {
       highest(observables, -std::numeric_limits<double>::infinity());
   double steps = 0, rhs_evals = 0, fastest_seconds = 0, slowest_seconds = 0, fastest_cpu = 0,
          slowest_cpu = 0;
-  std::vector<PhaseRun<Real>> phase_runs;
-  if constexpr (std::is_same_v<Real, double>) {
-    if (batched(config, external)) {
-      phase_runs = run_phases_batched(config, problem, options, plan.scene, record);
-    }
-  }
-  if (phase_runs.empty()) {
-    phase_runs = run_phases(plan, config, external, problem, options, record);
-  }
   for (int phase = 0; phase < config.onset_phases; ++phase) {
     const solvers::Result<Real>& result = phase_runs[static_cast<std::size_t>(phase)].result;
     const RepeatTimes& times = phase_runs[static_cast<std::size_t>(phase)].wall;
@@ -358,7 +405,7 @@ void solve_record(const Plan& plan, Record& record, ExternalSolver* external) {
   record.rhs_evals = std::lround(rhs_evals / runs);
   record.wall_seconds = fastest_seconds / runs;
   record.wall_seconds_slowest = slowest_seconds / runs;
-  if (external == nullptr) { // an external program's work is done in its own process
+  if (!external) { // an external program's work is done in its own process
     record.cpu_seconds = fastest_cpu / runs;
     record.cpu_seconds_slowest = slowest_cpu / runs;
   }
@@ -370,6 +417,96 @@ void solve_record(const Plan& plan, Record& record, ExternalSolver* external) {
       }
     }
   }
+}
+
+// One record alone: its setup, its phases (one batch where its configuration has one and more than
+// one phase, one solve at a time otherwise), its values.
+template <SupportedReal Real>
+void solve_record(const Plan& plan, Record& record, ExternalSolver* external) {
+  RecordSetup<Real> setup(plan, record, external);
+  const SolverConfig& config = plan.configs[record.config];
+  std::vector<PhaseRun<Real>> phase_runs;
+  if constexpr (std::is_same_v<Real, double>) {
+    if (batched(config, external) && config.onset_phases > 1) {
+      Record* const one = &record;
+      phase_runs = std::move(run_cells_batched(config, {&setup, 1}, plan.scene, {&one, 1}).front());
+    }
+  }
+  if (phase_runs.empty()) {
+    phase_runs = run_phases(plan, config, external, setup.problem, setup.options, record);
+  }
+  judge_record(plan, record, setup.truth, phase_runs, external != nullptr);
+}
+
+// The work of a run in pieces, each a list of record indices: the records of a batched
+// configuration (batched()) in groups of up to batch_lanes lanes (G = batch_lanes / phases records)
+// of one configuration, p and β, which solve_batch steps together; any other record alone. Within
+// a group the lanes share one clock and run until the longest ends, so a configuration's records
+// are ordered by the steps they are expected to take: returning contacts by ln τ (over Δt when
+// the step is fixed, rather than a fraction of the contact), then the overdamped ones, which run
+// to the settled test or the horizon. G shrinks where there would be fewer than four groups a
+// thread. Which records share a group changes only times, never values (run_cells_batched).
+std::vector<std::vector<std::size_t>> group_records(const Plan& plan,
+                                                    const std::vector<Record>& records,
+                                                    const std::vector<ExternalSolver*>& externals,
+                                                    std::size_t batch_lanes, int jobs) {
+  struct Lane {
+    std::size_t record;
+    double p;
+    std::optional<double> beta;
+    double expected; // ln of the steps expected, up to a constant per configuration
+  };
+  std::vector<std::vector<Lane>> by_config(plan.configs.size());
+  std::vector<std::vector<std::size_t>> items;
+  std::size_t batched_records = 0;
+  for (std::size_t i = 0; i < records.size(); ++i) {
+    const SolverConfig& config = plan.configs[records[i].config];
+    const auto phases = static_cast<std::size_t>(config.onset_phases);
+    if (!batched(config, externals[records[i].config]) || 2 * phases > batch_lanes) {
+      items.push_back({i});
+      continue;
+    }
+    const Cell& cell = plan.cells[records[i].cell];
+    const Point& point = plan.points[cell.point];
+    double expected = point.overdamped ? std::numeric_limits<double>::infinity()
+                                       : static_cast<double>(point.log_duration);
+    if (config.dt) {
+      expected += std::log(static_cast<double>(cell.scale(Dimension::time)) / *config.dt);
+    }
+    if (std::isnan(expected)) { // no truth: last, with the contacts that may never return
+      expected = std::numeric_limits<double>::infinity();
+    }
+    by_config[records[i].config].push_back({i, point.p, point.beta, expected});
+    ++batched_records;
+  }
+  const std::size_t threads = static_cast<std::size_t>(std::max(jobs, 1));
+  for (std::vector<Lane>& lanes : by_config) {
+    if (lanes.empty()) {
+      continue;
+    }
+    std::stable_sort(lanes.begin(), lanes.end(), [](const Lane& a, const Lane& b) {
+      return std::tie(a.p, a.beta, a.expected) < std::tie(b.p, b.beta, b.expected);
+    });
+    const std::size_t phases =
+        static_cast<std::size_t>(plan.configs[records[lanes[0].record].config].onset_phases);
+    const std::size_t group = std::clamp<std::size_t>(
+        (batched_records + 4 * threads - 1) / (4 * threads), 1, batch_lanes / phases);
+    for (std::size_t first = 0; first < lanes.size();) {
+      std::vector<std::size_t> item{lanes[first].record};
+      std::size_t next = first + 1;
+      for (; next < lanes.size() && item.size() < group && lanes[next].p == lanes[first].p &&
+             lanes[next].beta == lanes[first].beta;
+           ++next) {
+        item.push_back(lanes[next].record);
+      }
+      items.push_back(std::move(item));
+      first = next;
+    }
+  }
+  // Roughly in plan order: by each item's first record.
+  std::sort(items.begin(), items.end(),
+            [](const auto& a, const auto& b) { return a.front() < b.front(); });
+  return items;
 }
 
 } // namespace
@@ -399,7 +536,7 @@ std::atomic<bool>& stop_requested() {
 }
 
 std::vector<Record> run_plan(const Plan& plan, int jobs, RunTotals& totals,
-                             const Progress& progress) {
+                             const Progress& progress, std::size_t batch_lanes) {
   const auto start = std::chrono::steady_clock::now();
   std::vector<Record> records;
   for (std::size_t cell = 0; cell < plan.cells.size(); ++cell) {
@@ -437,13 +574,9 @@ std::vector<Record> run_plan(const Plan& plan, int jobs, RunTotals& totals,
     externals[c]->facts().require_honoured(config);
     totals.external[c] = externals[c]->facts().describe();
   }
-  std::mutex report;
-  std::size_t done = 0;
-  for_each_index(records.size(), jobs, [&](std::size_t i) {
-    if (stop_requested()) {
-      return; // no new record
-    }
-    Record& record = records[i];
+  // A record alone, or a record of a group that threw (solve_batch throws for every lane when
+  // one would): its message is the one it has alone.
+  const auto solve_alone = [&](Record& record) {
     try {
       with_precision(plan.configs[record.config].precision, [&]<SupportedReal Real>() {
         solve_record<Real>(plan, record, externals[record.config]);
@@ -466,9 +599,50 @@ std::vector<Record> run_plan(const Plan& plan, int jobs, RunTotals& totals,
       record.reference = record.error = record.abs_error = record.rel_error = record.spread =
           record.value;
     }
+  };
+  const std::vector<std::vector<std::size_t>> items =
+      group_records(plan, records, externals, batch_lanes, jobs);
+  std::mutex report;
+  std::size_t done = 0;
+  for_each_index(items.size(), jobs, [&](std::size_t item) {
+    if (stop_requested()) {
+      return; // no new record
+    }
+    const std::vector<std::size_t>& members = items[item];
+    if (members.size() == 1) {
+      solve_alone(records[members[0]]);
+    } else {
+      std::vector<Record*> group;
+      for (const std::size_t i : members) {
+        group.push_back(&records[i]);
+      }
+      try {
+        std::vector<RecordSetup<double>> setups;
+        setups.reserve(group.size());
+        for (Record* record : group) {
+          setups.emplace_back(plan, *record, nullptr);
+        }
+        const SolverConfig& config = plan.configs[group[0]->config];
+        const std::vector<std::vector<PhaseRun<double>>> runs =
+            run_cells_batched(config, setups, plan.scene, group);
+        for (std::size_t g = 0; g < group.size(); ++g) {
+          judge_record(plan, *group[g], setups[g].truth, runs[g], false);
+        }
+      } catch (const std::exception&) {
+        for (Record* record : group) {
+          Record fresh;
+          fresh.cell = record->cell;
+          fresh.config = record->config;
+          *record = std::move(fresh);
+          solve_alone(*record);
+        }
+      }
+    }
     if (progress) {
       const std::lock_guard lock(report);
-      progress(++done, records.size());
+      for (std::size_t k = 0; k < members.size(); ++k) {
+        progress(++done, records.size());
+      }
     }
   });
   for (const Record& record : records) {

@@ -1,6 +1,7 @@
 // Running a plan: every (cell, configuration) solved once for its values, `repeats` times for its
-// wall time (the minimum), on `jobs` threads. Results land in plan order whatever the threads do,
-// so reports are deterministic (except wall times).
+// wall time (the minimum), on `jobs` threads; a fixed-step scheme's contacts in batches (its
+// onset phases, the cells of one configuration). Results land in plan order whatever the threads
+// and the batches do, so reports are deterministic (except times).
 #pragma once
 
 #include "truth/plan.hpp"
@@ -93,11 +94,19 @@ using Progress = std::function<void(std::size_t done, std::size_t total)>;
 // it first (cli/commands_run.cpp).
 std::atomic<bool>& stop_requested();
 
+// The lanes of one batch (solvers::solve_batch) when a fixed-step configuration's records are
+// solved together: 16 contacts (docs/performance.md, "Batch mode", the cells of a scene).
+inline constexpr std::size_t default_batch_lanes = 16;
+
 // Runs every record of the plan (an external solver runs each phase once, whatever the repeats:
-// its wall time is what it reports); `progress` (if set) is called from the workers, serialised.
+// its wall time is what it reports); `progress` (if set) is called from the workers, serialised,
+// once per record. The records of pldamp's fixed-step schemes in double are solved in batches of
+// up to `batch_lanes` contacts of one configuration, p and β (their onset phases, several cells):
+// the same records bit for bit as one at a time (batch_lanes = 1), but for their times.
 // Throws ProtocolError (run/external.hpp) before any record when an external solver cannot be
 // started or speaks another protocol.
 std::vector<Record> run_plan(const Plan& plan, int jobs, RunTotals& totals,
-                             const Progress& progress = {});
+                             const Progress& progress = {},
+                             std::size_t batch_lanes = default_batch_lanes);
 
 } // namespace pldamp::harness
