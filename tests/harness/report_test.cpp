@@ -151,6 +151,49 @@ TEST(WorkPrecision, TheReportsShowEachChosenObservablesOwnError) {
   EXPECT_THROW(work_panels(h.plan), InputError);
 }
 
+std::size_t plots_in(const std::string& html) {
+  std::size_t plots = 0;
+  for (std::size_t at = html.find("<svg"); at != std::string::npos;
+       at = html.find("<svg", at + 1)) {
+    ++plots;
+  }
+  return plots;
+}
+
+// report.html's plots are drawn side by side (a gnuplot process each, `jobs` at a time): the page
+// is the one whose plots are drawn one by one where it asks for them (one thread), byte for byte,
+// every plot in its place; the formats are written on
+// threads too, listed in the scene's order, and one that cannot be written (a folder in its
+// place) leaves the others written.
+TEST(Report, PlotsAndFormatsMadeOnThreadsGiveTheSamePagesInTheSameOrder) {
+  const HandMade h = hand_made();
+  Plan plan = h.plan;
+  const Budgets b = make_budgets(plan, h.records);
+  const RunTotals totals{400, 4, 1.0, {}};
+  const RunReport report{plan, h.records, b, totals, {}};
+  const std::string alone = report_html(report, "gnuplot", 1);
+  const std::size_t plots = plots_in(alone);
+  EXPECT_GE(plots, 2u); // work-precision: time and rhs evaluations
+  EXPECT_EQ(plots, plots_in(report_html(report, "gnuplot", 4)));
+  EXPECT_EQ(report_html(report, "gnuplot", 4), alone);
+  EXPECT_EQ(plots_in(report_html(report, "", 4)), 0u); // no gnuplot: tables only
+
+  plan.scene.formats = {ReportFormat::html, ReportFormat::md, ReportFormat::json,
+                        ReportFormat::csv};
+  const fs::path out = scratch() / "formats-on-threads";
+  fs::remove_all(out);
+  fs::create_directories(out / "report.md"); // cannot be replaced by a file
+  const WrittenReports files = write_reports({plan, h.records, b, totals, {}}, out.string(), 3);
+  EXPECT_EQ(files.written, (std::vector<std::string>{(out / "report.html").string(),
+                                                     (out / "report.json").string(),
+                                                     (out / "report.csv").string()}));
+  ASSERT_EQ(files.failures.size(), 1u);
+  EXPECT_EQ(files.failures[0].rfind("cannot write " + (out / "report.md").string(), 0), 0u)
+      << files.failures[0];
+  EXPECT_EQ(read(out / "report.html"), alone);
+  EXPECT_EQ(read(out / "report.json"), report_json_text({plan, h.records, b, totals, {}}));
+}
+
 TEST(Diff, AWorkPointMustBeItsRecordsLargestAndAReportBeforeThemStillReads) {
   const HandMade h = energy_worse_than_e();
   const Budgets b = make_budgets(h.plan, h.records);

@@ -280,7 +280,7 @@ int run_scene(const RunArgs& args, std::ostream& out, std::ostream& err) {
     err << "stopped by a signal: no report written, " << args.out << " left as it was\n";
     return *code;
   }
-  const WrittenReports files = write_reports(report, args.out);
+  const WrittenReports files = write_reports(report, args.out, static_cast<int>(jobs));
   out << scene.name << ": " << plan.cells.size() << " cells x " << plan.configs.size()
       << " solver configurations, " << totals.solver_runs << " solver runs, " << totals.rhs_evals
       << " rhs evaluations in " << totals.wall_seconds << " s; " << budgets.failed_records

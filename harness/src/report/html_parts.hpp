@@ -5,6 +5,7 @@
 #include "common/process.hpp"
 #include "report/sections.hpp"
 
+#include <map>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -16,16 +17,24 @@ std::string escape(std::string_view text);
 // A gnuplot single-quoted string: nothing inside is interpreted but '' for a quote.
 std::string gnuplot_string(std::string_view text);
 
-// gnuplot, started per plot; the SVG it writes on stdout, or "".
+// gnuplot, started per plot; the SVG it writes on stdout, or "". A page is built twice so that
+// its plots are drawn side by side (report_html): once noting them (record(), svg returns ""),
+// then after render(jobs) has drawn them all, `jobs` gnuplot processes at a time, from those.
 class Gnuplot {
 public:
   explicit Gnuplot(std::string program);
   bool available() const { return available_; }
   std::string svg(const std::string& script, int width, int height) const;
+  void record() { recording_ = true; }
+  void render(int jobs);
 
 private:
+  std::string draw(const std::string& full_script) const;
   std::string program_;
   bool available_ = false;
+  bool recording_ = false;
+  mutable std::vector<std::string> noted_;   // the scripts asked for while recording
+  std::map<std::string, std::string> drawn_; // script → SVG, render's
 };
 
 struct Style {

@@ -2,20 +2,22 @@
 #include "report/report.hpp"
 
 #include "common/files.hpp"
+#include "run/parallel.hpp"
 
 #include <filesystem>
 
 namespace pldamp::harness {
 
-WrittenReports write_reports(const RunReport& report, const std::string& folder) {
+WrittenReports write_reports(const RunReport& report, const std::string& folder, int jobs) {
   namespace fs = std::filesystem;
   require_writable_folder(folder);
-  WrittenReports out;
-  for (const ReportFormat format : report.plan.scene.formats) {
+  const std::vector<ReportFormat>& formats = report.plan.scene.formats;
+  std::vector<std::string> paths(formats.size()), failures(formats.size());
+  for_each_index(formats.size(), jobs, [&](std::size_t i) {
     const fs::path path =
-        fs::path(folder) / ("report." + std::string(name_of(report_formats, format)));
+        fs::path(folder) / ("report." + std::string(name_of(report_formats, formats[i])));
     try {
-      switch (format) {
+      switch (formats[i]) {
       case ReportFormat::json:
         write_file_atomically(path, report_json_text(report));
         break;
@@ -26,12 +28,20 @@ WrittenReports write_reports(const RunReport& report, const std::string& folder)
         write_file_atomically(path, report_markdown(report));
         break;
       case ReportFormat::html:
-        write_file_atomically(path, report_html(report, "gnuplot"));
+        write_file_atomically(path, report_html(report, "gnuplot", jobs));
         break;
       }
-      out.written.push_back(path.string());
+      paths[i] = path.string();
     } catch (const InputError& e) { // the other formats are still written
-      out.failures.push_back(e.what());
+      failures[i] = e.what();
+    }
+  });
+  WrittenReports out;
+  for (std::size_t i = 0; i < formats.size(); ++i) {
+    if (failures[i].empty()) {
+      out.written.push_back(paths[i]);
+    } else {
+      out.failures.push_back(failures[i]);
     }
   }
   return out;

@@ -38,8 +38,9 @@ nlohmann::ordered_json report_json(const RunReport& report);
 std::string report_json_text(const RunReport& report);
 std::string report_csv(const RunReport& report);
 std::string report_markdown(const RunReport& report);
-// `gnuplot` is the program to draw with; empty or missing: no plots.
-std::string report_html(const RunReport& report, const std::string& gnuplot);
+// `gnuplot` is the program to draw with; empty or missing: no plots. The plots are drawn on up to
+// `jobs` threads; the page does not depend on their number.
+std::string report_html(const RunReport& report, const std::string& gnuplot, int jobs = 1);
 
 struct WrittenReports {
   std::vector<std::string> written;  // the files now in place
@@ -48,6 +49,8 @@ struct WrittenReports {
 
 // Writes the scene's formats into `folder` (created if needed), each atomically
 // (common/files.hpp): a format that fails leaves its previous file and the others are written.
-WrittenReports write_reports(const RunReport& report, const std::string& folder);
+// The formats are made on up to `jobs` threads (report.json and report.html take a second or
+// more each for a nightly), the files listed in the scene's order whatever the threads do.
+WrittenReports write_reports(const RunReport& report, const std::string& folder, int jobs = 1);
 
 } // namespace pldamp::harness
