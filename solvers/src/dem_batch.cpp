@@ -90,6 +90,12 @@ public:
         compact_lanes(active_, arrays(), lane_, collisions_, slot_lane_);
       }
       if (active_ > 0) {
+        // The running lanes have all made steps_ steps; their budgets are looked at after steps
+        // 256, 512, ... (after_step_in_full), with the batch's time shared among them first.
+        if ((steps_ + 1) % 256 == 0) {
+          clock_.share(collisions_, active_);
+        }
+        ++steps_;
         completed = scheme_ == DemScheme::verlet ? verlet_step(results) : force_first_step(results);
       }
     }
@@ -283,12 +289,10 @@ private:
         // No force from here on: the body leaves with v_n. dem.cpp leaves its loop and, with the
         // exit pending, ends the contact at the state it holds; otherwise as the loop left it.
         if (lane_[i].peak_found && collisions_[i]->pending(EventKind::exit)) {
-          after_step(
-              i,
-              results[slot_lane_[i]]); // ended with the exit pending: records it, the lane is done
-        } else {
-          finish(i, Outcome::step_limit,
-                 results[slot_lane_[i]]); // dem.cpp's outcome is still its initial one
+          // Ended with the exit pending: records it, the lane is done.
+          after_step(i, results[slot_lane_[i]]);
+        } else { // dem.cpp's outcome is still its initial one
+          finish(i, Outcome::step_limit, results[slot_lane_[i]]);
         }
         ++completed;
         continue;
@@ -311,6 +315,8 @@ private:
 
   DemScheme scheme_;
   std::size_t n_, active_ = n_; // lanes, and lanes still running (the first slots)
+  long steps_ = 0;              // the steps every running lane has made
+  SharedClock clock_;
   LanePower power_;
   double p_ = 1;
   bool seed_ = true;

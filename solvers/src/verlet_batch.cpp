@@ -69,7 +69,14 @@ public:
   std::vector<Result<double>> run() {
     std::vector<Result<double>> results(n_);
     while (active_ > 0) {
-      if (step(results) > 0) {
+      // The running lanes have all made steps_ steps; their budgets are looked at before steps
+      // 0, 256, 512, ... (step), with the batch's time shared among them first.
+      if (steps_ % 256 == 0) {
+        clock_.share(collisions_, active_);
+      }
+      const std::size_t completed = step(results);
+      ++steps_;
+      if (completed > 0) {
         compact_lanes(active_, arrays(), lane_, collisions_, slot_lane_);
       }
     }
@@ -211,6 +218,8 @@ private:
   }
 
   std::size_t n_, active_ = n_; // lanes, and lanes still running (the first slots)
+  long steps_ = 0;              // the steps every running lane has made
+  SharedClock clock_;
   LanePower power_;
   double p_ = 1;
   bool seed_ = true;

@@ -109,6 +109,31 @@ TEST(Budget, TheWallClockEndsASolveAsTimeLimit) {
   EXPECT_GT(r.steps, 0);
 }
 
+// A lane of a batch is charged its share of the batch's time (SharedClock): eight lanes that
+// never end, each allowed 0.1 s, run together for about 0.8 s, not 0.1 s (each lane alone would
+// have had its 0.1 s), and all end time_limit within 1 % of each other's steps (their clocks
+// started as each lane was set up, a few µs apart), in each batched scheme.
+TEST(Budget, ABatchedLaneIsChargedItsShareOfTheBatchsTime) {
+  for (const char* name : {"dem-verlet", "verlet-predicted"}) {
+    Options<double> options;
+    options.fixed_step = 1e-9; // ~3e9 steps: far beyond any patience
+    options.max_steps = std::numeric_limits<long>::max();
+    options.max_seconds = 0.1;
+    const std::vector<Problem<double>> problems(8, problem_of(hertz));
+    const std::vector<Options<double>> lanes(8, options);
+    const auto start = std::chrono::steady_clock::now();
+    const std::vector<Result<double>> r = solve_batch(name, problems, lanes);
+    const double seconds =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    EXPECT_GT(seconds, 0.5) << name;  // 8 × 0.1 s, less the last interval's 256 steps
+    EXPECT_LT(seconds, 10.0) << name; // generous: the point is that it ends
+    for (const Result<double>& lane : r) {
+      EXPECT_EQ(lane.outcome, Outcome::time_limit) << name;
+      EXPECT_NEAR(double(lane.steps), double(r[0].steps), 0.01 * double(r[0].steps)) << name;
+    }
+  }
+}
+
 TEST(Budget, AStopRequestEndsEverySolverAsTimeLimit) {
   std::atomic<bool> stop{true};
   for (const SolverInfo& info : registry()) {

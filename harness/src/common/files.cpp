@@ -48,9 +48,14 @@ void write_file_atomically(const std::filesystem::path& path, std::string_view c
     ::unlink(temporary.c_str());
     throw InputError("cannot write " + path.string() + " (" + std::strerror(error) + ")");
   };
-  // The permissions a new file of this user gets (mkstemp's are 0600).
-  const mode_t mask = ::umask(0);
-  ::umask(mask);
+  // The permissions a new file of this user gets (mkstemp's are 0600). The umask can only be
+  // read by setting it, for the whole process: read once, under the lock of a function-local
+  // static, so that reports written on several threads (write_reports) cannot see each other's 0.
+  static const mode_t mask = [] {
+    const mode_t process_mask = ::umask(0);
+    ::umask(process_mask);
+    return process_mask;
+  }();
   if (::fchmod(file.get(), 0666 & ~mask) != 0) {
     fail(errno);
   }

@@ -291,9 +291,6 @@ std::vector<std::vector<PhaseRun<double>>> run_cells_batched(const SolverConfig&
       problems.push_back(setup.problem);
       lanes.push_back(setup.options);
       lanes.back().onset_phase = double(phase) / double(n);
-      // The lanes share the batch's clock (a lane's starts with the batch): each record keeps
-      // the allowance it has alone.
-      lanes.back().max_seconds *= double(group);
     }
   }
   std::vector<std::vector<PhaseRun<double>>> runs(group, std::vector<PhaseRun<double>>(n));
@@ -491,16 +488,24 @@ std::vector<std::vector<std::size_t>> group_records(const Plan& plan,
         static_cast<std::size_t>(plan.configs[records[lanes[0].record].config].onset_phases);
     const std::size_t group = std::clamp<std::size_t>(
         (batched_records + 4 * threads - 1) / (4 * threads), 1, batch_lanes / phases);
+    // Each run of one p and β in ceil(size / group) batches of sizes differing by one at most:
+    // none left alone by the remainder (alone, a record would take the scalar path).
     for (std::size_t first = 0; first < lanes.size();) {
-      std::vector<std::size_t> item{lanes[first].record};
-      std::size_t next = first + 1;
-      for (; next < lanes.size() && item.size() < group && lanes[next].p == lanes[first].p &&
-             lanes[next].beta == lanes[first].beta;
-           ++next) {
-        item.push_back(lanes[next].record);
+      std::size_t end = first + 1;
+      while (end < lanes.size() && lanes[end].p == lanes[first].p &&
+             lanes[end].beta == lanes[first].beta) {
+        ++end;
       }
-      items.push_back(std::move(item));
-      first = next;
+      const std::size_t size = end - first, batches = (size + group - 1) / group;
+      for (std::size_t b = 0, at = first; b < batches; ++b) {
+        const std::size_t take = size / batches + (b < size % batches ? 1 : 0);
+        std::vector<std::size_t> item;
+        for (std::size_t k = 0; k < take; ++k) {
+          item.push_back(lanes[at++].record);
+        }
+        items.push_back(std::move(item));
+      }
+      first = end;
     }
   }
   // Roughly in plan order: by each item's first record.
