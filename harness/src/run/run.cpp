@@ -275,7 +275,8 @@ bool batched(const SolverConfig& config, const ExternalSolver* external) {
 // costs its set-up): each repeat's CPU time and its wall time, so a record's cpu_seconds stays
 // the CPU time of its contacts and a configuration's sum the CPU time its batches took
 // (docs/ci.md). For one record, whose phases' shares sum to the batch, that is the batch's time
-// over n. Repeats are made while a record's share is below repeat_below, as for a record alone.
+// over n. Repeats are made while the records' mean share is below repeat_below, as for a record
+// alone (a batch's records are expected to take about the same steps: group_records).
 std::vector<std::vector<PhaseRun<double>>> run_cells_batched(const SolverConfig& config,
                                                              std::span<RecordSetup<double>> setups,
                                                              const Scene& scene,
