@@ -295,7 +295,7 @@ std::vector<std::vector<PhaseRun<double>>> run_cells_batched(const SolverConfig&
     }
   }
   std::vector<std::vector<PhaseRun<double>>> runs(group, std::vector<PhaseRun<double>>(n));
-  std::vector<double> weight(group * n, 1.0);
+  std::vector<double> weight; // per lane: its steps + 1, from the first repeat
   double weights = 0;
   double batch_cpu = 0; // the last batch's CPU time: repeated while a record's share is short
   for (int repeat = 0; repeat < std::max(scene.repeats, 1) &&
@@ -313,10 +313,9 @@ std::vector<std::vector<PhaseRun<double>>> run_cells_batched(const SolverConfig&
       batch_wall += result.wall_seconds;
     }
     if (repeat == 0) { // the weights: the steps, which every repeat makes alike
-      weights = 0;
-      for (std::size_t lane = 0; lane < results.size(); ++lane) {
-        weight[lane] = double(results[lane].steps) + 1;
-        weights += weight[lane];
+      for (const solvers::Result<double>& result : results) {
+        weight.push_back(double(result.steps) + 1);
+        weights += weight.back();
       }
     }
     for (std::size_t lane = 0; lane < results.size(); ++lane) {
@@ -438,12 +437,13 @@ void solve_record(const Plan& plan, Record& record, ExternalSolver* external) {
 
 // The work of a run in pieces, each a list of record indices: the records of a batched
 // configuration (batched()) in groups of up to batch_lanes lanes (G = batch_lanes / phases records)
-// of one configuration, p and β, which solve_batch steps together; any other record alone. Within
-// a group the lanes share one clock and run until the longest ends, so a configuration's records
-// are ordered by the steps they are expected to take: returning contacts by ln τ (over Δt when
-// the step is fixed, rather than a fraction of the contact), then the overdamped ones, which run
-// to the settled test or the horizon. G shrinks where there would be fewer than four groups a
-// thread. Which records share a group changes only times, never values (run_cells_batched).
+// of one configuration, p and β, which solve_batch steps together; any other record alone. A
+// lane that ends leaves its batch (compact_lanes), and the batch is cheapest per lane while its
+// lanes run together, so a configuration's records are ordered by the steps they are expected to
+// take: returning contacts by ln τ (over Δt when the step is fixed, rather than a fraction of the
+// contact), then the overdamped ones, which run to the settled test or the horizon. G shrinks
+// where there would be fewer than four groups a thread. Which records share a group changes only
+// times, never values (run_cells_batched).
 std::vector<std::vector<std::size_t>> group_records(const Plan& plan,
                                                     const std::vector<Record>& records,
                                                     const std::vector<ExternalSolver*>& externals,
