@@ -541,26 +541,20 @@ std::atomic<bool>& stop_requested() {
   return stop;
 }
 
-std::vector<Record> run_plan(const Plan& plan, int jobs, RunTotals& totals,
-                             const Progress& progress, std::size_t batch_lanes) {
-  const auto start = std::chrono::steady_clock::now();
-  std::vector<Record> records;
-  for (std::size_t cell = 0; cell < plan.cells.size(); ++cell) {
-    for (std::size_t config = 0; config < plan.configs.size(); ++config) {
-      Record record;
-      record.cell = cell;
-      record.config = config;
-      records.push_back(record);
-    }
-  }
+struct PlanRunner::Programs {
+  std::vector<std::unique_ptr<ExternalSolver>> owned;
+  std::vector<ExternalSolver*> of_config; // per configuration: its program, or none
+};
+
+PlanRunner::PlanRunner(const Plan& plan, int jobs, std::size_t batch_lanes)
+    : plan_(plan), jobs_(jobs), batch_lanes_(batch_lanes), programs_(std::make_unique<Programs>()) {
   // Every external program started and its handshake read before any record: one that cannot be
   // started or speaks another protocol stops the run here.
   // The configurations of one [[solver]] entry (one command and options: a sweep) share one
   // program, so that a code's start-up (a second for LAMMPS) is paid once per entry.
-  std::vector<std::unique_ptr<ExternalSolver>> programs;
-  std::vector<ExternalSolver*> externals(plan.configs.size(), nullptr);
-  totals = {};
-  totals.external.assign(plan.configs.size(), "");
+  std::vector<ExternalSolver*>& externals = programs_->of_config;
+  externals.assign(plan.configs.size(), nullptr);
+  external_.assign(plan.configs.size(), "");
   for (std::size_t c = 0; c < plan.configs.size(); ++c) {
     const SolverConfig& config = plan.configs[c];
     if (!config.external()) {
@@ -574,11 +568,30 @@ std::vector<Record> run_plan(const Plan& plan, int jobs, RunTotals& totals,
       }
     }
     if (externals[c] == nullptr) {
-      programs.push_back(std::make_unique<ExternalSolver>(config, plan.scene.limits.max_seconds));
-      externals[c] = programs.back().get();
+      programs_->owned.push_back(
+          std::make_unique<ExternalSolver>(config, plan.scene.limits.max_seconds));
+      externals[c] = programs_->owned.back().get();
     }
     externals[c]->facts().require_honoured(config);
-    totals.external[c] = externals[c]->facts().describe();
+    external_[c] = externals[c]->facts().describe();
+  }
+}
+
+PlanRunner::~PlanRunner() = default;
+
+std::vector<Record> PlanRunner::run_cells(std::span<const std::size_t> cells,
+                                          const Progress& progress) {
+  const Plan& plan = plan_;
+  const std::vector<ExternalSolver*>& externals = programs_->of_config;
+  std::vector<Record> records;
+  records.reserve(cells.size() * plan.configs.size());
+  for (const std::size_t cell : cells) {
+    for (std::size_t config = 0; config < plan.configs.size(); ++config) {
+      Record record;
+      record.cell = cell;
+      record.config = config;
+      records.push_back(record);
+    }
   }
   // A record alone, or a record of a group that threw (solve_batch throws for every lane when
   // one would): its message is the one it has alone.
@@ -607,10 +620,10 @@ std::vector<Record> run_plan(const Plan& plan, int jobs, RunTotals& totals,
     }
   };
   const std::vector<std::vector<std::size_t>> items =
-      group_records(plan, records, externals, batch_lanes, jobs);
+      group_records(plan, records, externals, batch_lanes_, jobs_);
   std::mutex report;
   std::size_t done = 0;
-  for_each_index(items.size(), jobs, [&](std::size_t item) {
+  for_each_index(items.size(), jobs_, [&](std::size_t item) {
     if (stop_requested()) {
       return; // no new record
     }
@@ -651,10 +664,28 @@ std::vector<Record> run_plan(const Plan& plan, int jobs, RunTotals& totals,
       }
     }
   });
+  return records;
+}
+
+void add_to_totals(const std::vector<Record>& records, RunTotals& totals) {
   for (const Record& record : records) {
     totals.rhs_evals += record.rhs_evals * record.phases;
     totals.solver_runs += record.runs;
   }
+}
+
+std::vector<Record> run_plan(const Plan& plan, int jobs, RunTotals& totals,
+                             const Progress& progress, std::size_t batch_lanes) {
+  const auto start = std::chrono::steady_clock::now();
+  totals = {};
+  PlanRunner runner(plan, jobs, batch_lanes);
+  totals.external = runner.external();
+  std::vector<std::size_t> cells(plan.cells.size());
+  for (std::size_t cell = 0; cell < cells.size(); ++cell) {
+    cells[cell] = cell;
+  }
+  std::vector<Record> records = runner.run_cells(cells, progress);
+  add_to_totals(records, totals);
   totals.wall_seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return records;

@@ -10,7 +10,9 @@
 #include <atomic>
 #include <functional>
 #include <limits>
+#include <memory>
 #include <optional>
+#include <span>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -108,5 +110,35 @@ inline constexpr std::size_t default_batch_lanes = 16;
 std::vector<Record> run_plan(const Plan& plan, int jobs, RunTotals& totals,
                              const Progress& progress = {},
                              std::size_t batch_lanes = default_batch_lanes);
+
+// run_plan in parts, for a process that solves only some of a plan's cells (a shard of a job
+// array, an MPI rank's share): the external programs are started once, then any cells' records
+// are solved, with the same values as run_plan gives them.
+class PlanRunner {
+public:
+  // Starts every external program and reads its handshake: ProtocolError (run/external.hpp)
+  // before any record when one cannot be started or speaks another protocol.
+  PlanRunner(const Plan& plan, int jobs, std::size_t batch_lanes = default_batch_lanes);
+  ~PlanRunner();
+  PlanRunner(const PlanRunner&) = delete;
+  PlanRunner& operator=(const PlanRunner&) = delete;
+
+  // The records of `cells`, each cell's configurations in order (run_plan's order for all cells);
+  // `progress` counts them.
+  std::vector<Record> run_cells(std::span<const std::size_t> cells, const Progress& progress = {});
+  // Per configuration: what its external program said of itself (RunTotals::external).
+  const std::vector<std::string>& external() const { return external_; }
+
+private:
+  struct Programs;
+  const Plan& plan_;
+  int jobs_;
+  std::size_t batch_lanes_;
+  std::unique_ptr<Programs> programs_;
+  std::vector<std::string> external_;
+};
+
+// Adds records' rhs evaluations and solver runs to `totals` (run_plan's sums).
+void add_to_totals(const std::vector<Record>& records, RunTotals& totals);
 
 } // namespace pldamp::harness
