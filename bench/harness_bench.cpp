@@ -9,12 +9,17 @@
 // - paper_claims/JOBS: data/scenes/paper.toml's 14 claims judged on their grids (solves
 //   included) on JOBS threads; 3.6 s on one thread at issue 31, target <= 1.5 s on all cores
 //
+// - records_as_bytes: a run's records to the bytes a shard file or an MPI message carries
+//   (run/shard.hpp) and back: bytes and time per record, what a rank's results cost to send
+//   (docs/scaling.md)
+//
 //   build/bench/harness_bench
 #include "judge/budget.hpp"
 #include "judge/claims.hpp"
 #include "report/report.hpp"
 #include "run/parallel.hpp"
 #include "run/run.hpp"
+#include "run/shard.hpp"
 #include "scene/scene.hpp"
 #include "truth/plan.hpp"
 
@@ -81,6 +86,24 @@ void budgets_and_reports(benchmark::State& state) {
                          benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
 }
 BENCHMARK(budgets_and_reports)->Unit(benchmark::kMillisecond);
+
+void records_as_bytes(benchmark::State& state) {
+  const Plan p = make_plan(load_scene(scene_path));
+  RunTotals totals;
+  const std::vector<Record> records = run_plan(p, 2, totals);
+  std::size_t bytes = 0;
+  for (auto _ : state) {
+    std::string message;
+    append_records(message, records);
+    bytes = message.size();
+    benchmark::DoNotOptimize(read_records(message, "bench"));
+  }
+  state.counters["bytes_per_record"] = double(bytes) / double(records.size());
+  state.counters["per_record"] =
+      benchmark::Counter(double(state.iterations()) * double(records.size()),
+                         benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
+}
+BENCHMARK(records_as_bytes)->Unit(benchmark::kMillisecond);
 
 void external_protocol(benchmark::State& state) {
   std::string v0s;

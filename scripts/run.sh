@@ -14,8 +14,10 @@ cd "$(dirname "$0")/.."
 # its libFuzzer (clang, libclang-rt-14-dev); the external-solver tests run the adapters (Python)
 # against the real LAMMPS, LIGGGHTS and YADE (python3, lammps, liggghts, yade). The Python module
 # (python/) is built with the rest: python3-dev, python3-numpy, pybind11-dev; its tests use pytest.
+# Open MPI (libopenmpi-dev, openmpi-bin): `mpirun -n N pldamp run` (docs/cluster.md).
 packages=(cmake make g++ ccache libboost-dev libsundials-dev libcli11-dev libfmt-dev nlohmann-json3-dev
-  libsimdjson-dev libgtest-dev libbenchmark-dev libtomlplusplus-dev gnuplot-nox clang-format python3-dev python3-numpy pybind11-dev)
+  libsimdjson-dev libgtest-dev libbenchmark-dev libtomlplusplus-dev gnuplot-nox clang-format python3-dev python3-numpy pybind11-dev
+  libopenmpi-dev openmpi-bin)
 test_packages=(chromium libpng-dev clang libclang-rt-14-dev python3 python3-pytest python3-matplotlib
   python3-venv python3-setuptools python3-wheel lammps liggghts yade)
 
@@ -96,8 +98,10 @@ test)
   # Without -DNDEBUG: this is the build whose tests run the code's assert()s (the internal
   # invariants of core, analytic, solvers and the harness; the Release build above drops them).
   # The analytic layer's typed numeric tests ran above; their code runs here through the others.
+  # Without MPI (Open MPI's own allocations would be leak reports): every test passes in a build
+  # without it, and the sharded runs (tests/harness/shard_test.cpp) run here.
   build build-sanitize -DPLDAMP_WERROR=ON -DPLDAMP_SANITIZE=ON -DPLDAMP_BUILD_BENCHMARKS=OFF \
-    -DPLDAMP_ANALYTIC_TESTS=OFF "$unity" \
+    -DPLDAMP_ANALYTIC_TESTS=OFF -DPLDAMP_MPI=OFF "$unity" \
     -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O1 -g1"
   # The adapters' tests drive LAMMPS, LIGGGHTS and YADE from Python (pldamp only for `solve`):
   # they ran above, and the protocol's C++ side runs here through tests/harness/external_test.cpp.
@@ -115,12 +119,12 @@ test)
     -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O1 -g1"
   tests/fuzz/run.sh build-fuzz 30
   echo "== the CLI by Clang without float128"
-  # The whole library and the CLI, warning-free under Clang and without float128
+  # The whole library and the CLI, warning-free under Clang, without MPI and without float128
   # (-DPLDAMP_WITH_QUAD=OFF, what a user without GCC's quadmath builds): -O0 and no sanitizers, as
   # a compile check it needs neither (under 3 minutes on 2 cores; the CLI under the fuzz build's
   # sanitizers took 7). Unit by unit: it checks that every unit includes what it uses, which the
   # unity builds above cannot. It answers in 50 digits and refuses quad with the documented line.
-  CC=clang CXX=clang++ BUILD_TARGET=pldamp build build-noquad -DPLDAMP_WITH_QUAD=OFF \
+  CC=clang CXX=clang++ BUILD_TARGET=pldamp build build-noquad -DPLDAMP_WITH_QUAD=OFF -DPLDAMP_MPI=OFF \
     -DPLDAMP_WERROR=ON -DPLDAMP_BUILD_TESTS=OFF -DPLDAMP_BUILD_BENCHMARKS=OFF -DPLDAMP_PYTHON=OFF \
     -DCMAKE_BUILD_TYPE=Debug -DCMAKE_CXX_FLAGS_DEBUG=-O0
   build-noquad/harness/pldamp observables --p 1.5 --e 0.5 --v0 1 --precision 50 --json

@@ -58,8 +58,8 @@ std::map<std::string, std::set<std::string>> synopsis() {
 
 TEST(CliDocs, TheReadmeSynopsisListsExactlyTheOptionsOfEachCommandsHelp) {
   const auto documented = synopsis();
-  const std::set<std::string> commands{"calibrate", "observables", "solve", "timestep",
-                                       "run",       "diff",        "check", "showcase"};
+  const std::set<std::string> commands{"calibrate", "observables", "solve", "timestep", "run",
+                                       "merge",     "diff",        "check", "showcase"};
   std::set<std::string> seen;
   for (const auto& [command, options] : documented) {
     seen.insert(command);

@@ -298,7 +298,8 @@ TEST(Cli, BadInputIsOneLineAndExitTwo) {
       {{"calibrate", "--p", "2", "--e", "0.5", "--end", "sideways"},
        "unknown contact end, expected overlap|force (got sideways)"},
       {{"launch"},
-       "unknown command, expected calibrate|observables|solve|timestep|run|diff|check|showcase "
+       "unknown command, expected "
+       "calibrate|observables|solve|timestep|run|merge|diff|check|showcase "
        "(got "
        "launch)"},
       {{"solve", "--solver", "ode45", "--p", "1.5", "--e", "0.5", "--v0", "1"},

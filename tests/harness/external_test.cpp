@@ -179,8 +179,9 @@ TEST(External, RunsLimitsAndThePlansSizeCountWhatAProgramIsGiven) {
   EXPECT_EQ(steps.err, "error: --max-steps has no effect: the scene runs none of pldamp's solvers "
                        "(an external program is given no step limit) (got 100)\n");
   EXPECT_EQ(run({"run", programs, "--out", out, "--max-seconds", "5", "--max-runs", "1"}).err,
-            "error: the plan has 8 solver runs, above the limit of 1: shrink the grid, or raise "
-            "the limit with --max-runs or [limits] max_runs (got " +
+            "error: the plan has 8 solver runs, above the limit of 1: shrink the grid, raise "
+            "the limit with --max-runs or [limits] max_runs, or share it with --shard or mpirun "
+            "(got " +
                 programs + ")\n");
   // Timing repeats apply to pldamp's own solvers: 8 cells x (3 repeats + the program once).
   const std::string mixed = write_file(

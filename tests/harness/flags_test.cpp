@@ -286,8 +286,8 @@ TEST(Flags, EveryCheckFlagChangesItsAnswer) {
       [](const Args& args) { return shown(run(args)); });
 }
 
-TEST(Flags, EveryRunFlagChangesItsReport) {
-  const std::string scene = write_file("flags-run.toml", R"(name = "flags"
+// A scene of two cells whose claim fails (--strict exits 1), for run's and merge's flags.
+const std::string scene_with_failing_claim = R"(name = "flags"
 want = ["e"]
 [grid]
 p = [1.5]
@@ -300,14 +300,21 @@ name = "taylor e within 1e-30"
 observable = "e"
 solver = "taylor"
 bound = 1e-30
-)");
-  const fs::path a = scratch() / "flags-run-a", b = scratch() / "flags-run-b";
-  auto report_of = [&](const Args& args) {
+)";
+
+// What a run into folder a shows, and whether it wrote folder b instead.
+std::function<std::string(const Args&)> report_in(const fs::path& a, const fs::path& b) {
+  return [a, b](const Args& args) {
     fs::remove_all(a);
     fs::remove_all(b);
     const CliRun r = run(args);
     return shown_report(r, a) + "|b:" + (fs::exists(b / "report.json") ? "report" : "none");
   };
+}
+
+TEST(Flags, EveryRunFlagChangesItsReport) {
+  const std::string scene = write_file("flags-run.toml", scene_with_failing_claim);
+  const fs::path a = scratch() / "flags-run-a", b = scratch() / "flags-run-b";
   const Args base{"run", scene, "--out", a.string()};
   check_rows("run",
              {{"--out", base, {"run", scene, "--out", b.string()}, ""},
@@ -316,8 +323,28 @@ bound = 1e-30
               {"--max-steps", base, with(base, {"--max-steps", "1"}), ""},
               {"--max-seconds", base, with(base, {"--max-seconds", "1e-9"}), ""},
               {"--max-runs", base, with(base, {"--max-runs", "1"}), ""},
+              {"--strict", base, with(base, {"--strict"}), ""},
+              {"--shard", base, with(base, {"--shard", "1/2"}), ""}},
+             report_in(a, b));
+}
+
+// merge's flags over one run in two shards.
+TEST(Flags, EveryMergeFlagChangesItsReport) {
+  const std::string scene = write_file("flags-merge.toml", scene_with_failing_claim);
+  std::vector<std::string> shards;
+  for (const char* k : {"1", "2"}) {
+    shards.push_back((scratch() / (std::string("flags-merge-shard-") + k)).string());
+    ASSERT_EQ(run({"run", scene, "--shard", std::string(k) + "/2", "--out", shards.back()}).code,
+              0);
+  }
+  const fs::path a = scratch() / "flags-merge-a", b = scratch() / "flags-merge-b";
+  const Args base{"merge", shards[0], shards[1], "--out", a.string()};
+  check_rows("merge",
+             {{"--out", base, {"merge", shards[0], shards[1], "--out", b.string()}, ""},
+              {"--jobs", base, with(base, {"--jobs", "1"}),
+               "threads share the claims and reports out; each is the same computation"},
               {"--strict", base, with(base, {"--strict"}), ""}},
-             report_of);
+             report_in(a, b));
 }
 
 TEST(Flags, EveryDiffFlagChangesItsFindings) {

@@ -105,7 +105,8 @@ std::string analytic_convention_names() {
 
 } // namespace
 
-int run_cli(int argc, const char* const* argv, std::ostream& out, std::ostream& err) {
+int run_cli(int argc, const char* const* argv, std::ostream& out, std::ostream& err,
+            Distribution* distribution) {
   CLI::App app{"pldamp: closed forms and validation harness for the power-law damped contact "
                "oscillator m d'' + alpha sqrt(mk) d^((p-1)/2) d' + k d^p = 0"};
   app.require_subcommand(1);
@@ -213,6 +214,20 @@ int run_cli(int argc, const char* const* argv, std::ostream& out, std::ostream& 
   run->add_flag("--strict", run_args.strict,
                 "exit 1 when a claim's verdict is not the one expected (a failing claim, or one "
                 "pinned with expect = \"fails\" that now holds)");
+  run->add_option("--shard", run_args.shard,
+                  "K/N: solve shard K of N of the grid's cells (a job array's task) into --out, "
+                  "for `pldamp merge`");
+
+  MergeArgs merge_args;
+  CLI::App* merge = app.add_subcommand(
+      "merge", "the report of a run made in shards (pldamp run SCENE --shard K/N --out DIR_K)");
+  merge->add_option("shards", merge_args.shards, "the shards' --out folders, all N of them")
+      ->required();
+  merge->add_option("--out", merge_args.out, "report folder (default: report)");
+  merge->add_option("--jobs", merge_args.jobs,
+                    "threads for the claims, searches and reports (default: the cores)");
+  merge->add_flag("--strict", merge_args.strict,
+                  "exit 1 when a claim's verdict is not the one expected (as run --strict)");
 
   DiffArgs diff_args;
   CLI::App* diff = app.add_subcommand(
@@ -265,9 +280,9 @@ int run_cli(int argc, const char* const* argv, std::ostream& out, std::ostream& 
         arguments.front() != "calibrate" && arguments.front() != "observables" &&
         arguments.front() != "solve" && arguments.front() != "showcase" &&
         arguments.front() != "run" && arguments.front() != "diff" && arguments.front() != "check" &&
-        arguments.front() != "timestep") {
+        arguments.front() != "timestep" && arguments.front() != "merge") {
       throw InputError("unknown command, expected "
-                       "calibrate|observables|solve|timestep|run|diff|check|showcase (got " +
+                       "calibrate|observables|solve|timestep|run|merge|diff|check|showcase (got " +
                        arguments.front() + ")");
     }
     try {
@@ -312,7 +327,9 @@ int run_cli(int argc, const char* const* argv, std::ostream& out, std::ostream& 
     } else if (showcase->parsed()) {
       run_showcase(showcase_precision, out);
     } else if (run->parsed()) {
-      return run_scene(run_args, out, err);
+      return run_scene(run_args, out, err, distribution);
+    } else if (merge->parsed()) {
+      return merge_shards(merge_args, out, err);
     } else if (diff->parsed()) {
       return run_diff(diff_args, out);
     } else if (check->parsed()) {

@@ -2,6 +2,7 @@
 #pragma once
 
 #include "judge/trajectory.hpp"
+#include "pldamp/harness/distribution.hpp"
 #include "scene/scene.hpp"
 
 #include <array>
@@ -83,6 +84,16 @@ struct RunArgs {
   // The scene's [limits], overridden.
   std::optional<std::string> max_steps, max_seconds, max_runs;
   bool strict = false; // exit 1 when a claim's verdict is not the one expected (a CI gate)
+  std::optional<std::string> shard; // "K/N": this run solves shard K of N (merged by merge_shards)
+};
+
+// `pldamp merge DIR_1 ... DIR_N --out DIR`: the shards of one run (run_scene with --shard), one
+// report, the serial run's but for times.
+struct MergeArgs {
+  std::vector<std::string> shards;
+  std::string out = "report";
+  std::optional<std::string> jobs;
+  bool strict = false;
 };
 
 // A scene's [[trajectory]] checked as `pldamp check` checks it (under the scene's end unless it
@@ -99,7 +110,11 @@ void run_solve(const SolveArgs& args, std::ostream& out);
 // Returns the exit code: 0; 1 under --strict when a claim's verdict is not the one expected
 // (a failing claim is otherwise a finding, not an error); or 128 + the signal that stopped the run
 // (no report written then).
-int run_scene(const RunArgs& args, std::ostream& out, std::ostream& err);
+// With a distribution of more than one rank (an MPI job), the ranks share the plan's cells and
+// rank 0 writes the report; the others print nothing unless they alone fail.
+int run_scene(const RunArgs& args, std::ostream& out, std::ostream& err,
+              Distribution* distribution = nullptr);
+int merge_shards(const MergeArgs& args, std::ostream& out, std::ostream& err);
 // `pldamp diff OLD NEW`: the thresholds as typed (each overrides the new report's [diff]).
 struct DiffArgs {
   std::string old_path, new_path;

@@ -7,14 +7,18 @@
 #include "judge/step_study.hpp"
 #include "report/report.hpp"
 #include "run/parallel.hpp"
+#include "run/shard.hpp"
 
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 
 #include <algorithm>
+#include <chrono>
 #include <csignal>
 #include <filesystem>
 #include <fstream>
 #include <iostream>
+#include <memory>
 #include <optional>
 #include <sstream>
 #include <type_traits>
@@ -152,8 +156,21 @@ double claim_runs(const Claim& claim) {
       claim.kind);
 }
 
+// The solves of a scene's claims judged on grids of their own (claim_runs) and of its searches and
+// time-step study: one process makes them, whoever shares the grid.
+double claim_and_search_runs(const Scene& scene) {
+  double runs = step_study_runs_estimate(scene); // the time-step study's searches
+  for (const Claim& claim : scene.claims) {
+    runs += claim_runs(claim);
+  }
+  for (const Search& search : scene.searches) {
+    runs += search_runs_estimate(search);
+  }
+  return runs;
+}
+
 // The solver runs a scene asks for: cells × (each configuration's onset phases) × repeats, claim
-// configurations included; and the claims judged on grids of their own (claim_runs).
+// configurations included; and claim_and_search_runs.
 double planned_runs(const Scene& scene) {
   // Per cell: each configuration at each onset phase, pldamp's own solvers once per timing repeat
   // (an external program answers once: run.cpp).
@@ -161,21 +178,14 @@ double planned_runs(const Scene& scene) {
   for (const SolverConfig& config : scene.configs) {
     per_cell += config.onset_phases * (config.external() ? 1 : scene.repeats);
   }
-  double claim_solves = 0;
   for (const Claim& claim : scene.claims) { // a configuration of its own, as make_plan adds it
     const BoundClaim* bound = claim.on_plan();
     const bool own = bound != nullptr && std::find(scene.configs.begin(), scene.configs.end(),
                                                    bound->config) == scene.configs.end();
     per_cell +=
         own ? bound->config.onset_phases * (bound->config.external() ? 1 : scene.repeats) : 0;
-    claim_solves += claim_runs(claim);
   }
-  double search_runs = 0;
-  for (const Search& search : scene.searches) {
-    search_runs += search_runs_estimate(search);
-  }
-  search_runs += step_study_runs_estimate(scene); // the time-step study's searches
-  return grid_cells(scene) * per_cell + claim_solves + search_runs;
+  return grid_cells(scene) * per_cell + claim_and_search_runs(scene);
 }
 
 // The report at `path`, opened to be read (common/report_schema.hpp checks it as it is read).
@@ -189,13 +199,11 @@ std::ifstream open_report(const std::string& path) {
 
 } // namespace
 
-int run_scene(const RunArgs& args, std::ostream& out, std::ostream& err) {
+namespace {
+
+// The scene of `pldamp run` with the command line's limits in place, checked.
+Scene scene_with_limits(const RunArgs& args) {
   Scene scene = load_scene(args.scene); // every scene error before any work
-  const long jobs =
-      args.jobs ? parse_integer("--jobs", *args.jobs) : static_cast<long>(all_cores());
-  if (jobs < 1 || jobs > 1024) {
-    throw InputError("--jobs must be in [1, 1024] (got " + std::to_string(jobs) + ")");
-  }
   auto limit = [](const char* flag, const std::optional<std::string>& text, long& into) {
     if (text) {
       into = parse_integer(flag, *text);
@@ -225,7 +233,64 @@ int run_scene(const RunArgs& args, std::ostream& out, std::ostream& err) {
     }
     scene.limits.max_seconds = seconds;
   }
-  // The plan's size, refused beyond the limit before anything is built, else printed first.
+  return scene;
+}
+
+// --jobs, or every core this process may use shared among the ranks on its node.
+int jobs_of(const std::optional<std::string>& text, int ranks_on_node) {
+  const long jobs = text
+                        ? parse_integer("--jobs", *text)
+                        : std::max(1L, static_cast<long>(all_cores() / std::max(ranks_on_node, 1)));
+  if (jobs < 1 || jobs > 1024) {
+    throw InputError("--jobs must be in [1, 1024] (got " + std::to_string(jobs) + ")");
+  }
+  return static_cast<int>(jobs);
+}
+
+// "K/N" of --shard: 1 ≤ K ≤ N ≤ 1e6.
+std::pair<std::size_t, std::size_t> parse_shard(const std::string& text) {
+  const std::size_t slash = text.find('/');
+  const auto bad = [&] {
+    return InputError("--shard must be K/N with 1 <= K <= N <= 1000000, this run shard K of N "
+                      "(got " +
+                      text + ")");
+  };
+  if (slash == std::string::npos) {
+    throw bad();
+  }
+  long k = 0, n = 0;
+  try {
+    k = parse_integer("--shard", text.substr(0, slash));
+    n = parse_integer("--shard", text.substr(slash + 1));
+  } catch (const InputError&) {
+    throw bad();
+  }
+  if (!(k >= 1 && k <= n && n <= static_cast<long>(max_shards))) {
+    throw bad();
+  }
+  return {static_cast<std::size_t>(k), static_cast<std::size_t>(n)};
+}
+
+// The plan's size, refused beyond the limit before anything is built. The grid's runs are shared
+// among `shares` processes (shards or ranks): the limit counts one process's, with the claims'
+// and searches' solves, which one process makes.
+void check_plan_size(const Scene& scene, const std::string& scene_path, double shares) {
+  const double runs = planned_runs(scene);
+  const double grid_runs = runs - claim_and_search_runs(scene);
+  const double per_process = grid_runs / shares + (runs - grid_runs);
+  if (per_process > double(scene.limits.max_runs)) {
+    throw InputError(fmt::format(
+        "the plan has {:.0f} solver runs{}, above the limit of {}: shrink the grid, raise the "
+        "limit with --max-runs or [limits] max_runs{} (got {})",
+        runs,
+        shares > 1 ? fmt::format(", {:.0f} for each of {:.0f} processes", per_process, shares) : "",
+        scene.limits.max_runs, shares > 1 ? "" : ", or share it with --shard or mpirun",
+        scene_path));
+  }
+}
+
+// The plan's size, printed first.
+void print_plan_size(const Scene& scene, std::ostream& out) {
   const double runs = planned_runs(scene);
   const double cells = grid_cells(scene);
   const double configs = double(scene.configs.size() + scene.claims.size());
@@ -234,13 +299,6 @@ int run_scene(const RunArgs& args, std::ostream& out, std::ostream& err) {
            (sizeof(Record) + 4 * sizeof(std::optional<double>) * observable_table().size()) +
        cells * sizeof(Cell)) /
       1e6;
-  if (runs > double(scene.limits.max_runs)) {
-    throw InputError(fmt::format("the plan has {:.0f} solver runs, above the limit of {}: shrink "
-                                 "the grid, or raise the limit with --max-runs or [limits] "
-                                 "max_runs (got {})",
-                                 runs, scene.limits.max_runs, args.scene));
-  }
-  require_writable_folder(args.out); // a folder that cannot be written fails before the work
   const auto grid_claims =
       std::count_if(scene.claims.begin(), scene.claims.end(), [](const Claim& c) {
         const BoundClaim* bound = std::get_if<BoundClaim>(&c.kind);
@@ -259,28 +317,25 @@ int run_scene(const RunArgs& args, std::ostream& out, std::ostream& err) {
                          : "",
                      megabytes)
       << std::flush;
-  const StopOnSignals signals;
-  const Plan plan = make_plan(scene);
-  const bool terminal = &err == &std::cerr && isatty(STDERR_FILENO) == 1;
-  RunTotals totals;
-  const std::vector<Record> records =
-      run_plan(plan, static_cast<int>(jobs), totals, Progress(ProgressLines(terminal)));
-  if (const std::optional<int> code = signals.exit_code()) {
-    err << "stopped by a signal: no report written, " << args.out << " left as it was\n";
-    return *code;
-  }
-  const Budgets budgets = make_budgets(plan, records, static_cast<int>(jobs));
-  const std::vector<Figure> figures = make_figures(scene, static_cast<int>(jobs));
+}
+
+// From the records on: budgets, claims, figures, trajectories, the reports and the summary.
+int report_records(const Plan& plan, const std::vector<Record>& records, const RunTotals& totals,
+                   int jobs, const std::string& folder, bool strict, const StopOnSignals& signals,
+                   std::ostream& out, std::ostream& err) {
+  const Scene& scene = plan.scene;
+  const Budgets budgets = make_budgets(plan, records, jobs);
+  const std::vector<Figure> figures = make_figures(scene, jobs);
   std::vector<TrajectoryCheck> trajectories;
   for (const TrajectorySpec& spec : scene.trajectories) {
     trajectories.push_back(check_trajectory(spec, scene.end));
   }
   const RunReport report{plan, records, budgets, totals, figures, &trajectories};
   if (const std::optional<int> code = signals.exit_code()) {
-    err << "stopped by a signal: no report written, " << args.out << " left as it was\n";
+    err << "stopped by a signal: no report written, " << folder << " left as it was\n";
     return *code;
   }
-  const WrittenReports files = write_reports(report, args.out, static_cast<int>(jobs));
+  const WrittenReports files = write_reports(report, folder, jobs);
   out << scene.name << ": " << plan.cells.size() << " cells x " << plan.configs.size()
       << " solver configurations, " << totals.solver_runs << " solver runs, " << totals.rhs_evals
       << " rhs evaluations in " << totals.wall_seconds << " s; " << budgets.failed_records
@@ -320,12 +375,246 @@ int run_scene(const RunArgs& args, std::ostream& out, std::ostream& err) {
     throw InputError(files.failures.front() +
                      (files.written.empty() ? "" : "; the other formats were written"));
   }
-  if (args.strict && unexpected > 0) {
+  if (strict && unexpected > 0) {
     err << "--strict: " << unexpected << " claim"
         << (unexpected == 1 ? "'s verdict is" : "s' verdicts are") << " not the one expected\n";
     return 1;
   }
   return 0;
+}
+
+// A shard's records into its folder, and one line saying so.
+int write_shard_run(const RunArgs& args, const Plan& plan, std::size_t index, std::size_t count,
+                    int jobs, const Progress& progress, const StopOnSignals& signals,
+                    std::ostream& out, std::ostream& err) {
+  const auto start = std::chrono::steady_clock::now();
+  Shard shard;
+  ShardHeader& h = shard.header;
+  PlanRunner runner(plan, jobs);
+  h.totals.external = runner.external();
+  const std::vector<std::size_t> cells = shard_cells(plan.cells.size(), index, count);
+  shard.records = runner.run_cells(cells, progress);
+  if (const std::optional<int> code = signals.exit_code()) {
+    err << "stopped by a signal: no shard written, " << args.out << " left as it was\n";
+    return *code;
+  }
+  add_to_totals(shard.records, h.totals);
+  h.totals.wall_seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  h.build = build_id();
+  h.scene_path = plan.scene.path;
+  h.scene_text = plan.scene.text;
+  h.max_steps = plan.scene.limits.max_steps;
+  h.max_runs = plan.scene.limits.max_runs;
+  h.max_seconds = plan.scene.limits.max_seconds;
+  h.index = index;
+  h.count = count;
+  h.cells = plan.cells.size();
+  h.configs = plan.configs.size();
+  write_shard(args.out, shard);
+  const auto failed = std::count_if(shard.records.begin(), shard.records.end(),
+                                    [](const Record& r) { return r.failed(); });
+  out << fmt::format("{}: shard {}/{}: {} of {} cells x {} solver configurations, {} solver runs "
+                     "in {:.3g} s; {} failed\nshard: {} (pldamp merge the {} shards' folders "
+                     "for the report)\n",
+                     plan.scene.name, index, count, cells.size(), plan.cells.size(),
+                     plan.configs.size(), h.totals.solver_runs, h.totals.wall_seconds, failed,
+                     (std::filesystem::path(args.out) / shard_file_name).string(), count);
+  return 0;
+}
+
+} // namespace
+
+int run_scene(const RunArgs& args, std::ostream& out, std::ostream& err,
+              Distribution* distribution) {
+  const bool distributed = distribution != nullptr && distribution->size() > 1;
+  const bool prints = !distributed || distribution->rank() == 0;
+  std::optional<std::pair<std::size_t, std::size_t>> shard;
+  if (args.shard) {
+    shard = parse_shard(*args.shard);
+    if (distributed) {
+      throw InputError("--shard is for job arrays without MPI: under mpirun the ranks share the "
+                       "cells themselves (got --shard " +
+                       *args.shard + ")");
+    }
+  }
+  // Everything that can refuse the run, on every rank, before any rank solves anything.
+  std::optional<Scene> scene;
+  std::optional<Plan> plan;
+  std::unique_ptr<PlanRunner> runner;
+  int jobs = 1;
+  std::string failure;
+  try {
+    jobs = jobs_of(args.jobs, distributed ? distribution->ranks_on_node() : 1);
+    scene = scene_with_limits(args);
+    const double shares = shard ? double(shard->second) : distributed ? distribution->size() : 1;
+    check_plan_size(*scene, args.scene, shares);
+    if (prints) {
+      // A folder that cannot be written fails before the work (a shard's too: it is written).
+      require_writable_folder(args.out);
+      print_plan_size(*scene, out);
+    }
+  } catch (const std::exception& e) {
+    failure = e.what();
+    if (!distributed) {
+      throw;
+    }
+  }
+  const StopOnSignals signals;
+  if (failure.empty()) {
+    try {
+      plan = make_plan(*scene);
+      if (!shard) {
+        runner = std::make_unique<PlanRunner>(*plan, jobs);
+      }
+    } catch (const std::exception& e) {
+      failure = e.what();
+      if (!distributed) {
+        throw;
+      }
+    }
+  }
+  if (distributed) {
+    std::string why;
+    if (!distribution->all_ready(failure, why)) {
+      if (!why.empty()) {
+        throw InputError(why);
+      }
+      return 2;
+    }
+  }
+  const bool terminal = &err == &std::cerr && isatty(STDERR_FILENO) == 1;
+  const Progress progress{ProgressLines(terminal)};
+  if (shard) {
+    return write_shard_run(args, *plan, shard->first, shard->second, jobs, progress, signals, out,
+                           err);
+  }
+  // The external programs were started with the runner, before every rank agreed to go on.
+  const auto start = std::chrono::steady_clock::now();
+  std::vector<Record> records;
+  bool stopped_elsewhere = false;
+  if (distributed) {
+    records = distribution->run(*plan, *runner, progress, stopped_elsewhere);
+    if (distribution->rank() != 0) {
+      return signals.exit_code().value_or(0);
+    }
+  } else {
+    records = runner->run_cells(shard_cells(plan->cells.size(), 1, 1), progress);
+  }
+  if (stopped_elsewhere && !signals.exit_code()) {
+    err << "stopped by a signal on another rank: no report written, " << args.out
+        << " left as it was\n";
+    return 128 + SIGINT;
+  }
+  RunTotals totals;
+  totals.external = runner->external();
+  add_to_totals(records, totals);
+  totals.wall_seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  if (const std::optional<int> code = signals.exit_code()) {
+    err << "stopped by a signal: no report written, " << args.out << " left as it was\n";
+    return *code;
+  }
+  // Under MPI the other ranks are done by now and wait in MPI_Finalize without using their cores:
+  // rank 0 judges and reports on the threads of every rank on its node (with 2 ranks of one
+  // thread on 2 cores, the nightly's claims, step study and reports on 1 thread took 8 s more).
+  const int tail_jobs =
+      distributed ? std::min(1024, jobs * std::max(distribution->ranks_on_node(), 1)) : jobs;
+  return report_records(*plan, records, totals, tail_jobs, args.out, args.strict, signals, out,
+                        err);
+}
+
+int merge_shards(const MergeArgs& args, std::ostream& out, std::ostream& err) {
+  const int jobs = jobs_of(args.jobs, 1);
+  std::vector<Shard> shards;
+  for (const std::string& folder : args.shards) {
+    shards.push_back(read_shard(folder));
+  }
+  // One run's shards, every one once: what was run, how it was split, by which build.
+  const ShardHeader& first = shards.front().header;
+  std::vector<const std::string*> holder(first.count, nullptr);
+  for (std::size_t i = 0; i < shards.size(); ++i) {
+    const ShardHeader& h = shards[i].header;
+    const std::string& folder = args.shards[i];
+    if (h.build != build_id()) {
+      throw InputError(fmt::format("{} was written by pldamp {}, this is pldamp {}: merge with the "
+                                   "build that ran the shards (got {})",
+                                   folder, h.build, build_id(), folder));
+    }
+    if (h.scene_text != first.scene_text || h.scene_path != first.scene_path ||
+        h.max_steps != first.max_steps || h.max_runs != first.max_runs ||
+        !(h.max_seconds == first.max_seconds)) {
+      throw InputError(fmt::format("{} and {} are shards of different runs (another scene, "
+                                   "another scene text or other limits) (got {})",
+                                   args.shards[0], folder, folder));
+    }
+    if (h.count != first.count) {
+      throw InputError(fmt::format("{} is shard {}/{} and {} is shard {}/{}: one run's shards "
+                                   "share their N (got {})",
+                                   args.shards[0], first.index, first.count, folder, h.index,
+                                   h.count, folder));
+    }
+    if (holder[h.index - 1] != nullptr) {
+      throw InputError(fmt::format("shard {}/{} is given twice: {} and {} (got {})", h.index,
+                                   h.count, *holder[h.index - 1], folder, folder));
+    }
+    holder[h.index - 1] = &folder;
+  }
+  std::vector<std::size_t> missing;
+  for (std::size_t k = 0; k < holder.size(); ++k) {
+    if (holder[k] == nullptr) {
+      missing.push_back(k + 1);
+    }
+  }
+  if (!missing.empty()) {
+    const std::size_t shown = std::min<std::size_t>(missing.size(), 10);
+    throw InputError(fmt::format(
+        "the shard set is incomplete: {} of {} given, missing shard{} {}{} (got {} folders)",
+        shards.size(), first.count, missing.size() == 1 ? "" : "s",
+        fmt::join(missing.begin(), missing.begin() + static_cast<std::ptrdiff_t>(shown), ", "),
+        missing.size() > shown ? ", ..." : "", shards.size()));
+  }
+  Scene scene = parse_scene(first.scene_text, first.scene_path);
+  scene.limits.max_steps = first.max_steps;
+  scene.limits.max_runs = first.max_runs;
+  scene.limits.max_seconds = first.max_seconds;
+  require_writable_folder(args.out);
+  const StopOnSignals signals;
+  const Plan plan = make_plan(scene);
+  if (plan.cells.size() != first.cells || plan.configs.size() != first.configs) {
+    throw InputError(fmt::format("the shards' scene plans {} cells x {} configurations here, "
+                                 "{} x {} where they ran (got {})",
+                                 plan.cells.size(), plan.configs.size(), first.cells, first.configs,
+                                 args.shards[0]));
+  }
+  // Every record in its place: shard K holds its cells' records (shard_cells), each whole.
+  std::vector<Record> records(plan.cells.size() * plan.configs.size());
+  std::vector<char> filled(records.size(), 0);
+  RunTotals totals;
+  totals.external = first.totals.external;
+  for (std::size_t i = 0; i < shards.size(); ++i) {
+    const ShardHeader& h = shards[i].header;
+    const std::vector<std::size_t> cells = shard_cells(plan.cells.size(), h.index, h.count);
+    if (shards[i].records.size() != cells.size() * plan.configs.size()) {
+      throw InputError(fmt::format("{} holds {} records, shard {}/{} of this plan has {}: it is "
+                                   "incomplete (got {})",
+                                   args.shards[i], shards[i].records.size(), h.index, h.count,
+                                   cells.size() * plan.configs.size(), args.shards[i]));
+    }
+    for (Record& record : shards[i].records) {
+      const std::size_t at = record.cell * plan.configs.size() + record.config;
+      if (record.cell >= plan.cells.size() || record.config >= plan.configs.size() ||
+          record.cell % h.count != h.index - 1 || filled[at] != 0) {
+        throw InputError(fmt::format("{} holds a record of another shard (cell {}) (got {})",
+                                     args.shards[i], record.cell, args.shards[i]));
+      }
+      filled[at] = 1;
+      records[at] = std::move(record);
+    }
+    totals.wall_seconds += h.totals.wall_seconds;
+  }
+  add_to_totals(records, totals);
+  return report_records(plan, records, totals, jobs, args.out, args.strict, signals, out, err);
 }
 
 int run_diff(const DiffArgs& args, std::ostream& out) {

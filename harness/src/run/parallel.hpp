@@ -11,10 +11,17 @@
 #include <thread>
 #include <vector>
 
+#include <sched.h>
+
 namespace pldamp::harness {
 
-// The threads a run uses unless told (--jobs): every core.
+// The threads a run uses unless told (--jobs): every core this process may run on (its CPU
+// affinity: mpirun binds a rank to its cores, Slurm a task to its allocation).
 inline int all_cores() {
+  cpu_set_t allowed;
+  if (sched_getaffinity(0, sizeof allowed, &allowed) == 0 && CPU_COUNT(&allowed) > 0) {
+    return CPU_COUNT(&allowed);
+  }
   return static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
 }
 

@@ -241,6 +241,7 @@ Scene parse_scene(std::string_view text, const std::string& path) {
   reader.only(root, {scene_keys::top_level}, "the scene");
   Scene scene;
   scene.path = path;
+  scene.text = text;
   scene.name = root.get("name") ? reader.string(*root.get("name"), "name") : path;
   if (const toml::node* end = root.get("end")) {
     scene.end = reader.choice_of(*end, reader.string(*end, "end"), contact_ends, "contact end");

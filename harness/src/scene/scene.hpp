@@ -334,6 +334,7 @@ struct MaterialContact {
 
 struct Scene {
   std::string path, name;
+  std::string text; // the file as read (a shard carries it: `pldamp merge` plans it again)
   solvers::End end = solvers::End::overlap;
   unsigned want = solvers::want_all;
   // With contacts: p = {1.5}, and v0, m, k each contact's values in order (what scene_scales

@@ -7,6 +7,11 @@
 
 namespace pldamp::harness {
 
-int run_cli(int argc, const char* const* argv, std::ostream& out, std::ostream& err);
+class Distribution;
+
+// `distribution`: the MPI job the program runs in (distribution.hpp), if any; `pldamp run` shares
+// its cells among the ranks.
+int run_cli(int argc, const char* const* argv, std::ostream& out, std::ostream& err,
+            Distribution* distribution = nullptr);
 
 } // namespace pldamp::harness

@@ -1,0 +1,38 @@
+// A run shared among the processes of one job (MPI ranks): the `pldamp` program built with MPI
+// (PLDAMP_MPI, harness/src/mpi/) gives run_cli one of these when mpirun or srun started it, and
+// `pldamp run` then solves the plan's cells on every rank and writes the report on rank 0. The
+// library itself never calls MPI: without one, or with one of size 1, a run is the serial run.
+#pragma once
+
+#include <functional>
+#include <string>
+#include <vector>
+
+namespace pldamp::harness {
+
+struct Plan;
+struct Record;
+class PlanRunner;
+
+class Distribution {
+public:
+  virtual ~Distribution() = default;
+  virtual int rank() const = 0;
+  virtual int size() const = 0;
+  // The processes sharing this node (for --jobs' default: the node's cores among them).
+  virtual int ranks_on_node() const = 0;
+  // Called by every rank once its preparation (scene, plan, external programs) ended, with what
+  // went wrong if anything did: true when every rank is ready. Otherwise false, and `why` is what
+  // this rank should say (empty when another rank says it).
+  virtual bool all_ready(const std::string& failure, std::string& why) = 0;
+  // Solves every record of the plan, each rank a share of its cells handed out as ranks ask for
+  // more (one cell's cost differs ×10⁴ between a closed form and a float128 truth), on the rank's
+  // own threads (`runner`). Rank 0 gets every record, in plan order, and calls `progress`; the
+  // other ranks get none. A stop request (a signal on any rank) ends the handing out: rank 0 then
+  // gets what was solved, with `stopped` set.
+  virtual std::vector<Record> run(const Plan& plan, PlanRunner& runner,
+                                  const std::function<void(std::size_t, std::size_t)>& progress,
+                                  bool& stopped) = 0;
+};
+
+} // namespace pldamp::harness

@@ -1,0 +1,290 @@
+#include "run/shard.hpp"
+
+#include "build_id.hpp"
+#include "common/files.hpp"
+#include "common/input.hpp"
+
+#include <bit>
+#include <cstdint>
+#include <cstring>
+#include <fstream>
+#include <iterator>
+#include <optional>
+#include <type_traits>
+
+namespace pldamp::harness {
+namespace {
+
+// The bytes are the host's: shards are merged where they ran (one cluster), and a file from a
+// machine of the other byte order is refused by its marker rather than misread.
+static_assert(std::endian::native == std::endian::little ||
+              std::endian::native == std::endian::big);
+constexpr std::string_view shard_magic = "pldamp shard\n";
+constexpr std::uint32_t shard_format = 1;
+constexpr std::uint32_t byte_order_marker = 0x01020304;
+
+class ByteWriter {
+public:
+  explicit ByteWriter(std::string& bytes) : bytes_(bytes) {}
+  template <class T>
+  requires std::is_arithmetic_v<T>
+  void put(T value) {
+    char raw[sizeof(T)];
+    std::memcpy(raw, &value, sizeof(T));
+    bytes_.append(raw, sizeof(T));
+  }
+  void put(std::string_view text) {
+    put<std::uint64_t>(text.size());
+    bytes_.append(text);
+  }
+  void put(const std::optional<double>& value) {
+    put<std::uint8_t>(value ? 1 : 0);
+    if (value) {
+      put(*value);
+    }
+  }
+  void put(const std::vector<std::optional<double>>& values) {
+    put<std::uint64_t>(values.size());
+    for (const std::optional<double>& value : values) {
+      put(value);
+    }
+  }
+
+private:
+  std::string& bytes_;
+};
+
+class ByteReader {
+public:
+  ByteReader(std::string_view bytes, const std::string& source) : bytes_(bytes), source_(source) {}
+  template <class T>
+  requires std::is_arithmetic_v<T> T get() {
+    T value;
+    std::memcpy(&value, take(sizeof(T)).data(), sizeof(T));
+    return value;
+  }
+  std::string string() { return std::string(take(size())); }
+  std::optional<double> optional() {
+    const auto flag = get<std::uint8_t>();
+    if (flag > 1) {
+      corrupt();
+    }
+    return flag == 1 ? std::optional<double>(get<double>()) : std::nullopt;
+  }
+  std::vector<std::optional<double>> optionals() {
+    std::vector<std::optional<double>> values(size());
+    for (std::optional<double>& value : values) {
+      value = optional();
+    }
+    return values;
+  }
+  // A count, no larger than the bytes left could hold (a corrupt count allocates nothing).
+  std::size_t size() {
+    const auto count = get<std::uint64_t>();
+    if (count > bytes_.size() - at_) {
+      corrupt();
+    }
+    return static_cast<std::size_t>(count);
+  }
+  bool at_end() const { return at_ == bytes_.size(); }
+  [[noreturn]] void corrupt() const {
+    throw InputError(source_ + " is truncated or corrupt: it is not a file pldamp wrote");
+  }
+
+private:
+  std::string_view take(std::size_t n) {
+    if (n > bytes_.size() - at_) {
+      corrupt();
+    }
+    const std::string_view part = bytes_.substr(at_, n);
+    at_ += n;
+    return part;
+  }
+  std::string_view bytes_;
+  std::size_t at_ = 0;
+  const std::string& source_;
+};
+
+// Every field of a Record, in declaration order: a field added to Record changes its size and
+// stops the build here until it is written and read too.
+static_assert(sizeof(Record) == 448, "a new Record field: write and read it below");
+
+void put_record(ByteWriter& out, const Record& r) {
+  out.put<std::uint64_t>(r.cell);
+  out.put<std::uint64_t>(r.config);
+  out.put<std::int8_t>(r.outcome ? static_cast<std::int8_t>(*r.outcome) : std::int8_t(-1));
+  out.put(r.failure);
+  out.put<std::int64_t>(r.steps);
+  out.put<std::int64_t>(r.rhs_evals);
+  out.put(r.wall_seconds);
+  out.put(r.wall_seconds_slowest);
+  out.put(r.cpu_seconds);
+  out.put(r.cpu_seconds_slowest);
+  out.put(r.alpha);
+  out.put(r.alpha_digits);
+  out.put<std::int32_t>(r.phases);
+  out.put<std::int64_t>(r.runs);
+  out.put(r.dt);
+  for (const auto* values :
+       {&r.value, &r.reference, &r.error, &r.abs_error, &r.rel_error, &r.spread, &r.worst_phase}) {
+    out.put(*values);
+  }
+  out.put(r.skip_reason);
+  out.put(r.note);
+  out.put(r.replica_difference);
+}
+
+Record get_record(ByteReader& in) {
+  Record r;
+  r.cell = in.get<std::uint64_t>();
+  r.config = in.get<std::uint64_t>();
+  const auto outcome = in.get<std::int8_t>();
+  if (outcome < -1 || outcome > static_cast<std::int8_t>(solvers::Outcome::unstable)) {
+    in.corrupt();
+  }
+  if (outcome >= 0) {
+    r.outcome = static_cast<solvers::Outcome>(outcome);
+  }
+  r.failure = in.string();
+  r.steps = in.get<std::int64_t>();
+  r.rhs_evals = in.get<std::int64_t>();
+  r.wall_seconds = in.get<double>();
+  r.wall_seconds_slowest = in.get<double>();
+  r.cpu_seconds = in.optional();
+  r.cpu_seconds_slowest = in.optional();
+  r.alpha = in.get<double>();
+  r.alpha_digits = in.string();
+  r.phases = in.get<std::int32_t>();
+  r.runs = in.get<std::int64_t>();
+  r.dt = in.optional();
+  for (auto* values :
+       {&r.value, &r.reference, &r.error, &r.abs_error, &r.rel_error, &r.spread, &r.worst_phase}) {
+    *values = in.optionals();
+  }
+  r.skip_reason = in.string();
+  r.note = in.string();
+  r.replica_difference = in.optionals();
+  return r;
+}
+
+void put_records(ByteWriter& out, const std::vector<Record>& records) {
+  out.put<std::uint64_t>(records.size());
+  for (const Record& record : records) {
+    put_record(out, record);
+  }
+}
+
+std::vector<Record> get_records(ByteReader& in) {
+  std::vector<Record> records(in.size());
+  for (Record& record : records) {
+    record = get_record(in);
+  }
+  return records;
+}
+
+} // namespace
+
+std::string_view build_id() {
+  return PLDAMP_BUILD_ID;
+}
+
+void append_records(std::string& bytes, const std::vector<Record>& records) {
+  ByteWriter out(bytes);
+  put_records(out, records);
+}
+
+std::vector<Record> read_records(std::string_view bytes, const std::string& source) {
+  ByteReader in(bytes, source);
+  std::vector<Record> records = get_records(in);
+  if (!in.at_end()) {
+    in.corrupt();
+  }
+  return records;
+}
+
+std::vector<std::size_t> shard_cells(std::size_t cells, std::size_t index, std::size_t count) {
+  std::vector<std::size_t> mine;
+  for (std::size_t cell = index - 1; cell < cells; cell += count) {
+    mine.push_back(cell);
+  }
+  return mine;
+}
+
+void write_shard(const std::filesystem::path& folder, const Shard& shard) {
+  const ShardHeader& h = shard.header;
+  std::string bytes(shard_magic);
+  ByteWriter out(bytes);
+  out.put(shard_format);
+  out.put(byte_order_marker);
+  out.put(h.build);
+  out.put(h.scene_path);
+  out.put(h.scene_text);
+  out.put<std::int64_t>(h.max_steps);
+  out.put<std::int64_t>(h.max_runs);
+  out.put(h.max_seconds);
+  out.put<std::uint64_t>(h.index);
+  out.put<std::uint64_t>(h.count);
+  out.put<std::uint64_t>(h.cells);
+  out.put<std::uint64_t>(h.configs);
+  out.put<std::int64_t>(h.totals.rhs_evals);
+  out.put<std::int64_t>(h.totals.solver_runs);
+  out.put(h.totals.wall_seconds);
+  out.put<std::uint64_t>(h.totals.external.size());
+  for (const std::string& said : h.totals.external) {
+    out.put(said);
+  }
+  put_records(out, shard.records);
+  write_file_atomically(folder / shard_file_name, bytes);
+}
+
+Shard read_shard(const std::filesystem::path& folder) {
+  const std::string source = (folder / shard_file_name).string();
+  std::error_code error;
+  if (!std::filesystem::is_regular_file(folder / shard_file_name, error)) {
+    throw InputError("not a shard: " + source +
+                     " does not exist (a shard is the --out folder of `pldamp run SCENE --shard "
+                     "K/N`)");
+  }
+  std::ifstream in(folder / shard_file_name, std::ios::binary);
+  const std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  if (!in.good() && !in.eof()) {
+    throw InputError("cannot read " + source);
+  }
+  if (!bytes.starts_with(shard_magic)) {
+    throw InputError(source + " is not a shard file pldamp wrote");
+  }
+  ByteReader read(std::string_view(bytes).substr(shard_magic.size()), source);
+  const auto format = read.get<std::uint32_t>();
+  const auto marker = read.get<std::uint32_t>();
+  if (format != shard_format || marker != byte_order_marker) {
+    throw InputError(source + " was written by another pldamp version (shard format " +
+                     std::to_string(format) + ", this pldamp reads " +
+                     std::to_string(shard_format) + ") or on a machine of another byte order");
+  }
+  Shard shard;
+  ShardHeader& h = shard.header;
+  h.build = read.string();
+  h.scene_path = read.string();
+  h.scene_text = read.string();
+  h.max_steps = read.get<std::int64_t>();
+  h.max_runs = read.get<std::int64_t>();
+  h.max_seconds = read.get<double>();
+  h.index = read.get<std::uint64_t>();
+  h.count = read.get<std::uint64_t>();
+  h.cells = read.get<std::uint64_t>();
+  h.configs = read.get<std::uint64_t>();
+  h.totals.rhs_evals = read.get<std::int64_t>();
+  h.totals.solver_runs = read.get<std::int64_t>();
+  h.totals.wall_seconds = read.get<double>();
+  h.totals.external.resize(read.size());
+  for (std::string& said : h.totals.external) {
+    said = read.string();
+  }
+  shard.records = get_records(read);
+  if (!read.at_end() || h.index < 1 || h.index > h.count || h.count > max_shards) {
+    read.corrupt();
+  }
+  return shard;
+}
+
+} // namespace pldamp::harness

@@ -1,0 +1,58 @@
+// A run's records as bytes, bit for bit (every double, every message): the body of a shard file
+// (`pldamp run SCENE --shard K/N`, merged by `pldamp merge`) and of the messages an MPI rank sends
+// to the rank that writes the report. A report made from them is the serial run's, times aside.
+#pragma once
+
+#include "run/run.hpp"
+
+#include <cstddef>
+#include <filesystem>
+#include <string>
+#include <string_view>
+#include <vector>
+
+namespace pldamp::harness {
+
+// What pldamp build made a file: its version and the commit it was built from (a shard set is
+// merged only by the build that ran it: another build may compute other values).
+std::string_view build_id();
+
+// Appends `records` to `bytes`; read_records reads them back (InputError naming `source` when the
+// bytes end early or hold what no writer writes).
+void append_records(std::string& bytes, const std::vector<Record>& records);
+std::vector<Record> read_records(std::string_view bytes, const std::string& source);
+
+// The cells of shard `index` of `count` (1 ≤ index ≤ count): every count-th cell from index − 1,
+// so that each shard holds every p, damping and scale of the grid in about equal shares.
+std::vector<std::size_t> shard_cells(std::size_t cells, std::size_t index, std::size_t count);
+
+// The most shards a run is split into (--shard K/N: N ≤ max_shards).
+inline constexpr std::size_t max_shards = 1000000;
+
+// Where a shard's run writes its records, in its --out folder.
+inline constexpr const char* shard_file_name = "shard.pldamp";
+
+// What a shard file says of itself besides its records: the scene exactly as read (its path and
+// text; a merge plans it again from the text) and the limits the run applied, which shard of how
+// many it is, and what its run measured.
+struct ShardHeader {
+  std::string build; // build_id() of the writer
+  std::string scene_path, scene_text;
+  long max_steps = 0, max_runs = 0;
+  double max_seconds = 0;
+  std::size_t index = 0, count = 0;   // shard index of count, from 1
+  std::size_t cells = 0, configs = 0; // of the whole plan
+  RunTotals totals;                   // of this shard's records (external: the handshakes)
+};
+
+struct Shard {
+  ShardHeader header;
+  std::vector<Record> records;
+};
+
+// Writes FOLDER/shard.pldamp (to a temporary name, renamed into place).
+void write_shard(const std::filesystem::path& folder, const Shard& shard);
+// Reads FOLDER/shard.pldamp; InputError with one line when it cannot be read or is not one.
+Shard read_shard(const std::filesystem::path& folder);
+
+} // namespace pldamp::harness

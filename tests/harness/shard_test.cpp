@@ -1,0 +1,336 @@
+// A run in shards (`pldamp run SCENE --shard K/N`, `pldamp merge`): records read back bit for bit,
+// the merged report the serial one but for times, and every shard set that is not one run's
+// refused with one line.
+#include "fixtures.hpp"
+
+#include "run/shard.hpp"
+
+#include <fmt/format.h>
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include <bit>
+#include <cmath>
+#include <cstdint>
+#include <fstream>
+#include <limits>
+
+namespace pldamp::harness {
+namespace {
+
+using namespace testing;
+
+// Bit for bit: −0 is not +0, and a NaN keeps its payload.
+bool same_bits(const std::optional<double>& a, const std::optional<double>& b) {
+  return a.has_value() == b.has_value() &&
+         (!a || std::bit_cast<std::uint64_t>(*a) == std::bit_cast<std::uint64_t>(*b));
+}
+bool same_bits(const std::vector<std::optional<double>>& a,
+               const std::vector<std::optional<double>>& b) {
+  return a.size() == b.size() && std::equal(a.begin(), a.end(), b.begin(),
+                                            [](auto& x, auto& y) { return same_bits(x, y); });
+}
+
+void expect_identical(const Record& a, const Record& b) {
+  static_assert(sizeof(Record) == 448, "a Record field was added: compare it here");
+  EXPECT_EQ(a.cell, b.cell);
+  EXPECT_EQ(a.config, b.config);
+  EXPECT_EQ(a.outcome, b.outcome);
+  EXPECT_EQ(a.failure, b.failure);
+  EXPECT_EQ(a.steps, b.steps);
+  EXPECT_EQ(a.rhs_evals, b.rhs_evals);
+  EXPECT_TRUE(same_bits(a.wall_seconds, b.wall_seconds));
+  EXPECT_TRUE(same_bits(a.wall_seconds_slowest, b.wall_seconds_slowest));
+  EXPECT_TRUE(same_bits(a.cpu_seconds, b.cpu_seconds));
+  EXPECT_TRUE(same_bits(a.cpu_seconds_slowest, b.cpu_seconds_slowest));
+  EXPECT_TRUE(same_bits(a.alpha, b.alpha));
+  EXPECT_EQ(a.alpha_digits, b.alpha_digits);
+  EXPECT_EQ(a.phases, b.phases);
+  EXPECT_EQ(a.runs, b.runs);
+  EXPECT_TRUE(same_bits(a.dt, b.dt));
+  for (const auto member :
+       {&Record::value, &Record::reference, &Record::error, &Record::abs_error, &Record::rel_error,
+        &Record::spread, &Record::worst_phase, &Record::replica_difference}) {
+    EXPECT_TRUE(same_bits(a.*member, b.*member));
+  }
+  EXPECT_EQ(a.skip_reason, b.skip_reason);
+  EXPECT_EQ(a.note, b.note);
+}
+
+// Records with every kind of field: values that JSON could not carry (±∞, NaN, −0, subnormals),
+// empty and multi-line messages, absent optionals, each outcome and none.
+std::vector<Record> awkward_records() {
+  std::vector<Record> records;
+  const double inf = std::numeric_limits<double>::infinity();
+  const std::vector<std::optional<double>> values{0.0,
+                                                  -0.0,
+                                                  inf,
+                                                  -inf,
+                                                  std::numeric_limits<double>::quiet_NaN(),
+                                                  std::numeric_limits<double>::denorm_min(),
+                                                  std::nullopt,
+                                                  0.1,
+                                                  -1e308};
+  for (int outcome = -1; outcome <= static_cast<int>(solvers::Outcome::unstable); ++outcome) {
+    Record r;
+    r.cell = static_cast<std::size_t>(outcome + 7) * 1000003;
+    r.config = static_cast<std::size_t>(outcome + 1);
+    if (outcome >= 0) {
+      r.outcome = static_cast<solvers::Outcome>(outcome);
+    }
+    r.failure = outcome == -1 ? "the solver threw:\nline two, ünïcödé" : "";
+    r.steps = -1 - outcome;
+    r.rhs_evals = std::numeric_limits<long>::max() - 1 - outcome; // no overflow at -1
+    r.wall_seconds = 1e-7 * outcome;
+    r.wall_seconds_slowest = inf;
+    r.cpu_seconds = outcome % 2 == 0 ? std::optional<double>(3e-9) : std::nullopt;
+    r.alpha = 0.1 + outcome;
+    r.alpha_digits = outcome == 2 ? "0.12345678901234567890123456789012345" : "";
+    r.phases = outcome + 2;
+    r.runs = 3 * outcome;
+    r.dt = outcome == 1 ? std::optional<double>(-0.0) : std::nullopt;
+    r.value = r.reference = r.error = r.abs_error = values;
+    r.rel_error = {std::nullopt};
+    r.worst_phase = {0.5, std::nullopt};
+    r.skip_reason = outcome == 3 ? "skipped: its code has no force end" : "";
+    r.note = std::string(300, 'n');
+    r.replica_difference = outcome == 4 ? values : std::vector<std::optional<double>>{};
+    records.push_back(r);
+  }
+  return records;
+}
+
+TEST(Shards, RecordsReadBackBitForBit) {
+  const std::vector<Record> records = awkward_records();
+  std::string bytes;
+  append_records(bytes, records);
+  const std::vector<Record> back = read_records(bytes, "test");
+  ASSERT_EQ(back.size(), records.size());
+  for (std::size_t i = 0; i < records.size(); ++i) {
+    expect_identical(records[i], back[i]);
+  }
+  // A real run's records too (every configuration kind of a scene, times included).
+  const Scene scene = parse_scene(R"(want = ["e", "delta_max", "tau"]
+[grid]
+p = [1.5, 3.0]
+e = [0.5]
+alpha_eff = [2.0]
+v0 = [1.0]
+[[solver]]
+name = "cvode-bdf"
+rtol = 1e-8
+[[solver]]
+name = "taylor"
+precision = "quad"
+[[solver]]
+name = "dem-verlet"
+steps_per_contact = 40
+onset_phases = 3
+)",
+                                  "shards.toml");
+  const Plan plan = make_plan(scene);
+  RunTotals totals;
+  const std::vector<Record> solved = run_plan(plan, 2, totals);
+  std::string solved_bytes;
+  append_records(solved_bytes, solved);
+  const std::vector<Record> solved_back = read_records(solved_bytes, "test");
+  ASSERT_EQ(solved_back.size(), solved.size());
+  for (std::size_t i = 0; i < solved.size(); ++i) {
+    expect_identical(solved[i], solved_back[i]);
+  }
+}
+
+// Every truncation, and bytes that were never records, give one InputError, never a crash or a
+// wrong record.
+TEST(Shards, TruncatedOrForeignBytesAreRefused) {
+  std::string bytes;
+  append_records(bytes, awkward_records());
+  for (std::size_t length = 0; length < bytes.size(); ++length) {
+    EXPECT_THROW(read_records(std::string_view(bytes).substr(0, length), "test"), InputError)
+        << length;
+  }
+  EXPECT_THROW(read_records(bytes + "x", "test"), InputError);
+  // A count of 2^62 records in 8 bytes: refused before anything is allocated.
+  std::string huge(8, '\0');
+  huge[7] = 0x40;
+  EXPECT_THROW(read_records(huge, "test"), InputError);
+}
+
+TEST(Shards, CellsAreSplitOnceEachInEveryShareOfTheGrid) {
+  for (const std::size_t cells : {1u, 7u, 45u, 100u}) {
+    for (const std::size_t count : {1u, 2u, 3u, 8u, 200u}) {
+      std::vector<int> seen(cells, 0);
+      for (std::size_t k = 1; k <= count; ++k) {
+        const std::vector<std::size_t> mine = shard_cells(cells, k, count);
+        EXPECT_LE(mine.size(), cells / count + 1);
+        EXPECT_GE(mine.size(), cells / count);
+        for (const std::size_t cell : mine) {
+          ++seen.at(cell);
+        }
+      }
+      EXPECT_EQ(std::count(seen.begin(), seen.end(), 1), static_cast<long>(cells));
+    }
+  }
+}
+
+// report.json without what timing decides: times, and the runs the repeats made.
+nlohmann::json without_times(const nlohmann::json& j) {
+  if (j.is_object()) {
+    nlohmann::json out = nlohmann::json::object();
+    for (const auto& [key, value] : j.items()) {
+      if (key.find("second") == std::string::npos && key != "runs" && key != "solver_runs" &&
+          key != "x_analytic" && key != "generated") {
+        out[key] = without_times(value);
+      }
+    }
+    return out;
+  }
+  if (j.is_array()) {
+    nlohmann::json out = nlohmann::json::array();
+    for (const nlohmann::json& item : j) {
+      out.push_back(without_times(item));
+    }
+    return out;
+  }
+  return j;
+}
+
+nlohmann::json report_at(const fs::path& folder) {
+  std::ifstream in(folder / "report.json");
+  return nlohmann::json::parse(in);
+}
+
+// A scene with a claim, every kind of configuration (adaptive, quad, batched fixed-step with
+// onset phases) and overdamped cells, in two shards and in five (more shards than a p's cells).
+const std::string sharded_scene = R"(name = "sharded"
+want = ["e", "delta_max", "tau"]
+[grid]
+p = [1.0, 1.5, 2.5]
+e = [0.9, 0.3]
+alpha_eff = [2.0]
+v0 = [0.5, 2.0]
+[[solver]]
+name = "cvode-bdf"
+rtol = [1e-6, 1e-10]
+[[solver]]
+name = "taylor"
+precision = "quad"
+[[solver]]
+name = "verlet-predicted"
+steps_per_contact = [50, 200]
+onset_phases = 3
+[[claim]]
+name = "dp5 e"
+observable = "e"
+solver = "cvode-bdf"
+rtol = 1e-10
+bound = 1e-5
+[report]
+formats = ["json", "csv"]
+)";
+
+TEST(Shards, MergedShardsGiveTheSerialReport) {
+  const std::string scene = write_file("sharded.toml", sharded_scene);
+  const fs::path base = scratch() / "sharded";
+  fs::remove_all(base);
+  const CliRun serial = run({"run", scene, "--out", (base / "serial").string(), "--jobs", "2"});
+  ASSERT_EQ(serial.code, 0) << serial.err;
+  const nlohmann::json expected = without_times(report_at(base / "serial"));
+  for (const int count : {2, 5}) {
+    std::vector<std::string> merge{"merge"};
+    for (int k = count; k >= 1; --k) { // any order
+      const std::string folder = (base / fmt::format("{}-of-{}", k, count)).string();
+      const CliRun shard = run({"run", scene, "--shard", fmt::format("{}/{}", k, count), "--out",
+                                folder, "--jobs", "1"});
+      ASSERT_EQ(shard.code, 0) << shard.err;
+      EXPECT_NE(shard.out.find(fmt::format("shard {}/{}", k, count)), std::string::npos);
+      EXPECT_FALSE(fs::exists(fs::path(folder) / "report.json")); // the merge writes the report
+      merge.push_back(folder);
+    }
+    const fs::path merged = base / fmt::format("merged-{}", count);
+    merge.insert(merge.end(), {"--out", merged.string(), "--jobs", "2"});
+    const CliRun merging = run(merge);
+    ASSERT_EQ(merging.code, 0) << merging.err;
+    EXPECT_NE(merging.out.find("claim dp5 e: holds"), std::string::npos) << merging.out;
+    EXPECT_EQ(without_times(report_at(merged)), expected) << count << " shards";
+    const CliRun diff = run(
+        {"diff", (base / "serial" / "report.json").string(), (merged / "report.json").string()});
+    EXPECT_EQ(diff.code, 0) << diff.out;
+    EXPECT_NE(diff.out.find("0 regressions, 0 changes"), std::string::npos) << diff.out;
+  }
+}
+
+TEST(Shards, ASetThatIsNotOneRunsShardsIsRefusedWithOneLine) {
+  const std::string scene = write_file("refused.toml", sharded_scene);
+  const std::string other = write_file("other.toml", valid_scene);
+  const fs::path base = scratch() / "refused";
+  fs::remove_all(base);
+  const auto shard = [&](const std::string& file, const std::string& which,
+                         const std::string& name) {
+    const std::string folder = (base / name).string();
+    const CliRun ran = run({"run", file, "--shard", which, "--out", folder, "--jobs", "1"});
+    EXPECT_EQ(ran.code, 0) << ran.err;
+    return folder;
+  };
+  const std::string one = shard(scene, "1/3", "one"), two = shard(scene, "2/3", "two"),
+                    three = shard(scene, "3/3", "three"), half = shard(scene, "1/2", "half"),
+                    foreign = shard(other, "3/3", "foreign"), limited = (base / "limited").string();
+  ASSERT_EQ(run({"run", scene, "--shard", "3/3", "--max-steps", "50", "--out", limited}).code, 0);
+  const std::string out = (base / "merged").string();
+  const auto refused = [&](std::vector<std::string> args, const std::string& says) {
+    args.insert(args.begin(), "merge");
+    args.insert(args.end(), {"--out", out});
+    const CliRun ran = run(args);
+    EXPECT_EQ(ran.code, 2) << says;
+    EXPECT_NE(ran.err.find(says), std::string::npos) << ran.err;
+    EXPECT_EQ(std::count(ran.err.begin(), ran.err.end(), '\n'), 1) << ran.err;
+    EXPECT_FALSE(fs::exists(fs::path(out) / "report.json"));
+  };
+  refused({one, two}, "incomplete: 2 of 3 given, missing shard 3");
+  refused({one, two, two, three}, "shard 2/3 is given twice");
+  refused({one, two, half}, "share their N");
+  refused({one, two, foreign}, "different runs");
+  refused({one, two, limited}, "different runs");
+  refused({one, two, (base / "nowhere").string()}, "not a shard");
+  // Another build's shard, and a torn one.
+  Shard changed = read_shard(three);
+  changed.header.build = "0.0.1+0123456789ab";
+  fs::create_directories(base / "old");
+  write_shard(base / "old", changed);
+  refused({one, two, (base / "old").string()}, "was written by pldamp 0.0.1+0123456789ab");
+  fs::create_directories(base / "torn");
+  {
+    std::ifstream in(fs::path(three) / shard_file_name, std::ios::binary);
+    const std::string bytes((std::istreambuf_iterator<char>(in)), {});
+    std::ofstream(base / "torn" / shard_file_name, std::ios::binary)
+        << bytes.substr(0, bytes.size() / 2);
+  }
+  refused({one, two, (base / "torn").string()}, "truncated or corrupt");
+  // And the command line's own errors.
+  for (const char* bad : {"0/3", "4/3", "3", "1/0", "a/b", "1/1000001"}) {
+    const CliRun ran = run({"run", scene, "--shard", bad, "--out", out});
+    EXPECT_EQ(ran.code, 2) << bad;
+    EXPECT_NE(ran.err.find("--shard must be K/N"), std::string::npos) << ran.err;
+  }
+  // The complete set still merges.
+  EXPECT_EQ(run({"merge", three, one, two, "--out", out}).code, 0);
+}
+
+// The plan guard counts what one process runs: a grid too large for one is accepted in shards,
+// each a share of it.
+TEST(Shards, ThePlanGuardCountsOneShardsRuns) {
+  // Without the claim and the fixed-step scheme: the claim's solves (on a denser grid of its
+  // own) and the time-step study's one process makes.
+  const std::string grid = sharded_scene.substr(0, sharded_scene.find("[[solver]]"));
+  const std::string scene = write_file(
+      "guarded.toml", grid + "[[solver]]\nname = \"cvode-bdf\"\nrtol = [1e-6, 1e-8, 1e-10]\n");
+  const std::string out = (scratch() / "guarded").string();
+  const CliRun whole = run({"run", scene, "--max-runs", "40", "--out", out}); // 54 runs
+  EXPECT_EQ(whole.code, 2);
+  EXPECT_NE(whole.err.find("or share it with --shard or mpirun"), std::string::npos) << whole.err;
+  const CliRun share = run({"run", scene, "--max-runs", "40", "--shard", "1/2", "--out", out});
+  EXPECT_EQ(share.code, 0) << share.err;
+}
+
+} // namespace
+} // namespace pldamp::harness
