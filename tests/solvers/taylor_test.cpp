@@ -243,6 +243,35 @@ TEST(TaylorPrecisions, LongDoubleAndFiftyDigitsReachTheirEpsilon) {
   }
 }
 
+// An undamped contact returns with e = 1 at τ = the undamped duration: at p = 1 (an entire
+// solution, whose radius estimate is unbounded) one 50-digit step once went past the peak and over
+// two zeros of δ (τ = 3π); with a stated β the two-variable series lost 5 digits in quad (an
+// energy balance off by 1.8e-29, called unstable). Every precision, the seed's β and a stated one.
+template <class Real>
+void expect_undamped_return(const Real& tolerance) {
+  for (const double p : {1.0, 1.5, 3.0}) {
+    for (const std::optional<double> beta : {std::optional<double>(), std::optional<double>(0.5)}) {
+      Problem<Real> problem{Real(p), Real(1), Real(1), Real(1), Real(0)};
+      if (beta) {
+        problem.damping_exponent = Real(*beta);
+      }
+      const Result<Real> r = solve("taylor", problem, reference_options<Real>());
+      const auto contact = analytic::Contact<Real>::from_alpha(Real(p), Real(0), Real(1));
+      const Real tau0 = *analytic::observables(contact, analytic::want_tau).tau;
+      ASSERT_EQ(r.outcome, Outcome::exited) << p << " " << r.invariant;
+      EXPECT_LT(relative_error(*r.e, Real(1)), tolerance) << p;
+      EXPECT_LT(relative_error(*r.tau, tau0), tolerance) << p;
+    }
+  }
+}
+
+TEST(TaylorPrecisions, AnUndampedContactReturnsWholeInEveryPrecision) {
+  expect_undamped_return<double>(1e-14);
+  expect_undamped_return<long double>(1e-17);
+  expect_undamped_return<pldamp::testing::Exact>(1e-31);
+  expect_undamped_return<bin50>(1e-45);
+}
+
 TEST(Taylor, HonoursTheHorizonLikeEverySolver) {
   // p = 10, e = 1e-4 creeps back at τ ≈ 2130 δ_u/v0, after the default horizon (1000): the exit
   // series sees the return, but the contact is given up at the horizon, as by every solver.
