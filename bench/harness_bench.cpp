@@ -14,10 +14,10 @@
 //   (docs/scaling.md)
 //
 //   build/bench/harness_bench
+#include "common/parallel.hpp"
 #include "judge/budget.hpp"
 #include "judge/claims.hpp"
 #include "report/report.hpp"
-#include "run/parallel.hpp"
 #include "run/run.hpp"
 #include "run/shard.hpp"
 #include "scene/scene.hpp"

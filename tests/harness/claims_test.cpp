@@ -1,10 +1,10 @@
 // The claim kinds judged on grids of their own (judge/claims.hpp), each with a claim that holds
 // and one that fails, their measured values against independent computations, the denser grid,
 // and `run --strict` with expect = "fails".
+#include "common/parallel.hpp"
 #include "fake_solver.hpp"
 #include "judge/claims.hpp"
 #include "judge/solve.hpp"
-#include "run/parallel.hpp"
 
 #include "pldamp/analytic/observables.hpp"
 #include "pldamp/analytic/seed.hpp"
@@ -460,8 +460,8 @@ p = [3.0]
 }
 
 // The claims' cells, the searches' groups and the step study's points run on --jobs threads
-// (run/parallel.hpp): every result lands in its own slot and is judged in order, so the report is
-// the same on one thread as on three, apart from the timings.
+// (common/parallel.hpp): every result lands in its own slot and is judged in order, so the report
+// is the same on one thread as on three, apart from the timings.
 TEST(Claims, TheReportDoesNotDependOnTheThreads) {
   const std::string scene = write_file("jobs.toml", R"(name = "jobs"
 want = ["e", "tau"]

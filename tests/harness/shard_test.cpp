@@ -3,6 +3,7 @@
 // refused with one line.
 #include "fixtures.hpp"
 
+#include "pldamp/harness/distribution.hpp"
 #include "run/shard.hpp"
 
 #include <fmt/format.h>
@@ -14,6 +15,7 @@
 #include <cstdint>
 #include <fstream>
 #include <limits>
+#include <sstream>
 
 namespace pldamp::harness {
 namespace {
@@ -306,14 +308,61 @@ TEST(Shards, ASetThatIsNotOneRunsShardsIsRefusedWithOneLine) {
         << bytes.substr(0, bytes.size() / 2);
   }
   refused({one, two, (base / "torn").string()}, "truncated or corrupt");
+  // One bit flipped in a record's value: the checksum refuses it (it would be merged otherwise).
+  fs::create_directories(base / "flipped");
+  {
+    std::ifstream in(fs::path(three) / shard_file_name, std::ios::binary);
+    std::string bytes((std::istreambuf_iterator<char>(in)), {});
+    bytes[bytes.size() / 2] ^= 0x10;
+    std::ofstream(base / "flipped" / shard_file_name, std::ios::binary) << bytes;
+  }
+  refused({one, two, (base / "flipped").string()}, "checksum does not match");
+  // The report into a shard's folder.
+  {
+    const CliRun ran = run({"merge", one, two, three, "--out", two});
+    EXPECT_EQ(ran.code, 2);
+    EXPECT_NE(ran.err.find("--out must not be one of the shards' folders"), std::string::npos)
+        << ran.err;
+    EXPECT_FALSE(fs::exists(fs::path(two) / "report.json"));
+  }
   // And the command line's own errors.
   for (const char* bad : {"0/3", "4/3", "3", "1/0", "a/b", "1/1000001"}) {
     const CliRun ran = run({"run", scene, "--shard", bad, "--out", out});
     EXPECT_EQ(ran.code, 2) << bad;
     EXPECT_NE(ran.err.find("--shard must be K/N"), std::string::npos) << ran.err;
   }
-  // The complete set still merges.
+  // The complete set still merges; so does a shard run again with the scene's path typed
+  // another way (a failed task rerun by hand), which is the same scene.
   EXPECT_EQ(run({"merge", three, one, two, "--out", out}).code, 0);
+  const std::string again = (base / "again").string();
+  const fs::path relative = fs::relative(scene, fs::current_path());
+  ASSERT_EQ(run({"run", "./" + relative.string(), "--shard", "3/3", "--out", again}).code, 0);
+  EXPECT_EQ(run({"merge", one, two, again, "--out", out}).code, 0);
+}
+
+// Under mpirun the ranks share the cells: --shard is refused there, even on one rank.
+TEST(Shards, AShardIsRefusedUnderMpi) {
+  struct OneRank final : Distribution {
+    int rank() const override { return 0; }
+    int size() const override { return 1; }
+    int ranks_on_node() const override { return 1; }
+    bool all_ready(const std::string&, std::string&) override { return true; }
+    std::vector<Record> run(const Plan&, PlanRunner&,
+                            const std::function<void(std::size_t, std::size_t)>&, bool&) override {
+      return {};
+    }
+  } one_rank;
+  const std::string scene = write_file("mpi-shard.toml", sharded_scene);
+  const std::vector<std::string> args{
+      "pldamp", "run", scene, "--shard", "1/2", "--out", (scratch() / "mpi-shard").string()};
+  std::vector<const char*> argv;
+  for (const std::string& a : args) {
+    argv.push_back(a.c_str());
+  }
+  std::ostringstream out, err;
+  EXPECT_EQ(run_cli(static_cast<int>(argv.size()), argv.data(), out, err, &one_rank), 2);
+  EXPECT_NE(err.str().find("--shard is for job arrays without MPI"), std::string::npos)
+      << err.str();
 }
 
 // The plan guard counts what one process runs: a grid too large for one is accepted in shards,

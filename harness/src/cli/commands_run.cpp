@@ -1,12 +1,12 @@
 // `pldamp run SCENE.toml [--out DIR] [--jobs N]` and `pldamp diff OLD.json NEW.json [--verbose]`.
 #include "cli/commands.hpp"
 #include "common/files.hpp"
+#include "common/parallel.hpp"
 #include "common/report_schema.hpp"
 #include "judge/claims.hpp"
 #include "judge/diff.hpp"
 #include "judge/step_study.hpp"
 #include "report/report.hpp"
-#include "run/parallel.hpp"
 #include "run/shard.hpp"
 
 #include <fmt/format.h>
@@ -21,6 +21,7 @@
 #include <memory>
 #include <optional>
 #include <sstream>
+#include <thread>
 #include <type_traits>
 #include <unistd.h>
 #include <variant>
@@ -236,11 +237,17 @@ Scene scene_with_limits(const RunArgs& args) {
   return scene;
 }
 
-// --jobs, or every core this process may use shared among the ranks on its node.
+// --jobs, or every core this process may use: the cores it is bound to (mpirun binds each of a few
+// ranks to a core, Slurm a task to its --cpus-per-task), or, unbound, the machine's cores shared
+// among the ranks on its node.
 int jobs_of(const std::optional<std::string>& text, int ranks_on_node) {
-  const long jobs = text
-                        ? parse_integer("--jobs", *text)
-                        : std::max(1L, static_cast<long>(all_cores() / std::max(ranks_on_node, 1)));
+  long jobs = all_cores();
+  if (!text && jobs >= static_cast<long>(std::thread::hardware_concurrency())) {
+    jobs = std::max(1L, jobs / std::max(ranks_on_node, 1));
+  }
+  if (text) {
+    jobs = parse_integer("--jobs", *text);
+  }
   if (jobs < 1 || jobs > 1024) {
     throw InputError("--jobs must be in [1, 1024] (got " + std::to_string(jobs) + ")");
   }
@@ -251,8 +258,8 @@ int jobs_of(const std::optional<std::string>& text, int ranks_on_node) {
 std::pair<std::size_t, std::size_t> parse_shard(const std::string& text) {
   const std::size_t slash = text.find('/');
   const auto bad = [&] {
-    return InputError("--shard must be K/N with 1 <= K <= N <= 1000000, this run shard K of N "
-                      "(got " +
+    return InputError("--shard must be K/N, this run being shard K of N, with 1 <= K <= N <= "
+                      "1000000 (got " +
                       text + ")");
   };
   if (slash == std::string::npos) {
@@ -283,7 +290,11 @@ void check_plan_size(const Scene& scene, const std::string& scene_path, double s
         "the plan has {:.0f} solver runs{}, above the limit of {}: shrink the grid, raise the "
         "limit with --max-runs or [limits] max_runs{} (got {})",
         runs,
-        shares > 1 ? fmt::format(", {:.0f} for each of {:.0f} processes", per_process, shares) : "",
+        shares > 1 ? fmt::format(", {:.0f} in one of {:.0f} processes (a share of the grid's "
+                                 "{:.0f} and the {:.0f} of the claims and searches, which one "
+                                 "process makes)",
+                                 per_process, shares, grid_runs, runs - grid_runs)
+                   : "",
         scene.limits.max_runs, shares > 1 ? "" : ", or share it with --shard or mpirun",
         scene_path));
   }
@@ -412,14 +423,18 @@ int write_shard_run(const RunArgs& args, const Plan& plan, std::size_t index, st
   h.cells = plan.cells.size();
   h.configs = plan.configs.size();
   write_shard(args.out, shard);
+  if (std::filesystem::exists(std::filesystem::path(args.out) / "report.json")) {
+    err << "note: " << args.out << " also holds an earlier run's report.json; this shard's "
+        << "records are " << shard_file_name << ", the report is merge's\n";
+  }
   const auto failed = std::count_if(shard.records.begin(), shard.records.end(),
                                     [](const Record& r) { return r.failed(); });
   out << fmt::format("{}: shard {}/{}: {} of {} cells x {} solver configurations, {} solver runs "
-                     "in {:.3g} s; {} failed\nshard: {} (pldamp merge the {} shards' folders "
-                     "for the report)\n",
+                     "in {:.3g} s; {} failed\nshard: {} (pldamp merge {} for the report)\n",
                      plan.scene.name, index, count, cells.size(), plan.cells.size(),
                      plan.configs.size(), h.totals.solver_runs, h.totals.wall_seconds, failed,
-                     (std::filesystem::path(args.out) / shard_file_name).string(), count);
+                     (std::filesystem::path(args.out) / shard_file_name).string(),
+                     count == 1 ? "this folder" : fmt::format("the {} shards' folders", count));
   return 0;
 }
 
@@ -432,7 +447,7 @@ int run_scene(const RunArgs& args, std::ostream& out, std::ostream& err,
   std::optional<std::pair<std::size_t, std::size_t>> shard;
   if (args.shard) {
     shard = parse_shard(*args.shard);
-    if (distributed) {
+    if (distribution != nullptr) {
       throw InputError("--shard is for job arrays without MPI: under mpirun the ranks share the "
                        "cells themselves (got --shard " +
                        *args.shard + ")");
@@ -463,7 +478,7 @@ int run_scene(const RunArgs& args, std::ostream& out, std::ostream& err,
   const StopOnSignals signals;
   if (failure.empty()) {
     try {
-      plan = make_plan(*scene);
+      plan = make_plan(*scene, jobs);
       if (!shard) {
         runner = std::make_unique<PlanRunner>(*plan, jobs);
       }
@@ -526,6 +541,15 @@ int run_scene(const RunArgs& args, std::ostream& out, std::ostream& err,
 
 int merge_shards(const MergeArgs& args, std::ostream& out, std::ostream& err) {
   const int jobs = jobs_of(args.jobs, 1);
+  for (const std::string& folder : args.shards) {
+    std::error_code error;
+    if (std::filesystem::weakly_canonical(args.out, error) ==
+        std::filesystem::weakly_canonical(folder, error)) {
+      throw InputError("--out must not be one of the shards' folders: a shard's folder holds its "
+                       "records only (got " +
+                       args.out + ")");
+    }
+  }
   std::vector<Shard> shards;
   for (const std::string& folder : args.shards) {
     shards.push_back(read_shard(folder));
@@ -541,9 +565,10 @@ int merge_shards(const MergeArgs& args, std::ostream& out, std::ostream& err) {
                                    "build that ran the shards (got {})",
                                    folder, h.build, build_id(), folder));
     }
-    if (h.scene_text != first.scene_text || h.scene_path != first.scene_path ||
-        h.max_steps != first.max_steps || h.max_runs != first.max_runs ||
-        !(h.max_seconds == first.max_seconds)) {
+    // The scene's text, not its path: one file typed as ./map.toml or /abs/map.toml, or a copy
+    // beside the rerun of a failed task, is the same scene.
+    if (h.scene_text != first.scene_text || h.max_steps != first.max_steps ||
+        h.max_runs != first.max_runs || !(h.max_seconds == first.max_seconds)) {
       throw InputError(fmt::format("{} and {} are shards of different runs (another scene, "
                                    "another scene text or other limits) (got {})",
                                    args.shards[0], folder, folder));
@@ -555,8 +580,8 @@ int merge_shards(const MergeArgs& args, std::ostream& out, std::ostream& err) {
                                    h.count, folder));
     }
     if (holder[h.index - 1] != nullptr) {
-      throw InputError(fmt::format("shard {}/{} is given twice: {} and {} (got {})", h.index,
-                                   h.count, *holder[h.index - 1], folder, folder));
+      throw InputError(fmt::format("shard {}/{} is given twice (got {} and {})", h.index, h.count,
+                                   *holder[h.index - 1], folder));
     }
     holder[h.index - 1] = &folder;
   }
@@ -580,7 +605,7 @@ int merge_shards(const MergeArgs& args, std::ostream& out, std::ostream& err) {
   scene.limits.max_seconds = first.max_seconds;
   require_writable_folder(args.out);
   const StopOnSignals signals;
-  const Plan plan = make_plan(scene);
+  const Plan plan = make_plan(scene, jobs);
   if (plan.cells.size() != first.cells || plan.configs.size() != first.configs) {
     throw InputError(fmt::format("the shards' scene plans {} cells x {} configurations here, "
                                  "{} x {} where they ran (got {})",

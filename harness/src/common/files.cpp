@@ -41,6 +41,14 @@ void Descriptor::reset(int fd) {
   fd_ = fd;
 }
 
+std::uint64_t fnv1a(std::string_view bytes) {
+  std::uint64_t hash = 14695981039346656037ULL;
+  for (const char c : bytes) {
+    hash = (hash ^ static_cast<unsigned char>(c)) * 1099511628211ULL;
+  }
+  return hash;
+}
+
 void write_file_atomically(const std::filesystem::path& path, std::string_view content) {
   Descriptor file;
   const std::string temporary = create_temporary(path, file, "cannot write " + path.string());

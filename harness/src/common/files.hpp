@@ -3,6 +3,7 @@
 // planted symlink is followed), is flushed to the disk, and is renamed into place.
 #pragma once
 
+#include <cstdint>
 #include <filesystem>
 #include <string>
 #include <string_view>
@@ -23,6 +24,10 @@ public:
 private:
   int fd_;
 };
+
+// 64-bit FNV-1a of bytes: a name for what a scene computes (report.json's fingerprint), a check
+// against a torn or altered shard file; not a security measure.
+std::uint64_t fnv1a(std::string_view bytes);
 
 // Throws InputError "cannot write PATH (reason)"; the temporary is removed on failure.
 void write_file_atomically(const std::filesystem::path& path, std::string_view content);

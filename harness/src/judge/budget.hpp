@@ -1,9 +1,9 @@
 // Error budgets, work-precision points and claim verdicts from a run's records.
 #pragma once
 
+#include "common/parallel.hpp"
 #include "judge/search.hpp"
 #include "judge/step_study.hpp"
-#include "run/parallel.hpp"
 #include "run/run.hpp"
 
 #include <optional>
@@ -144,7 +144,7 @@ struct Budgets {
 };
 
 // The claims, searches and step study solve on `jobs` threads (--jobs); nothing in the budgets
-// depends on their number (run/parallel.hpp).
+// depends on their number (common/parallel.hpp).
 Budgets make_budgets(const Plan& plan, const std::vector<Record>& records, int jobs = all_cores());
 
 // The index of the `quantile` of `values` by nearest rank (the ⌈q·n⌉-th smallest; NaN counts as

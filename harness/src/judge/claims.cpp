@@ -1,7 +1,7 @@
 #include "judge/claims.hpp"
 
+#include "common/parallel.hpp"
 #include "judge/solve.hpp"
-#include "run/parallel.hpp"
 #include "truth/plan.hpp"
 
 #include "pldamp/analytic/instances.hpp" // instantiated once: this unit compiled in 25 s, now 9
@@ -195,7 +195,7 @@ Judgement judge(const Scene& scene, const RelationClaim& claim, const ClaimGrid&
   // equal_within, relative: the range of formula / quantity, which says how a formula is wrong.
   Smallest lowest_ratio;
   Largest highest_ratio;
-  // The sides on the threads, then judged in the grid's order (run/parallel.hpp).
+  // The sides on the threads, then judged in the grid's order (common/parallel.hpp).
   const std::vector<Sides> sides = map_indices<Sides>(cells.size(), jobs, [&](std::size_t i) {
     Sides s;
     try {
@@ -306,7 +306,7 @@ Judgement judge(const Scene& scene, const AsymptoticClaim& claim, const ClaimGri
   const auto z_at = [&](std::size_t i) {
     return from * std::pow(to / from, double(i) / (claim.points - 1));
   };
-  // Every (p, α_eff) on the threads, then each p judged in order (run/parallel.hpp); a p whose
+  // Every (p, α_eff) on the threads, then each p judged in order (common/parallel.hpp); a p whose
   // point fails is judged no further, as before its later points were computed.
   const std::vector<Gap> gaps =
       map_indices<Gap>(grid.p.size() * points, jobs, [&](std::size_t index) {
@@ -411,7 +411,7 @@ Judgement judge(const Scene& scene, const RecoveredParameterClaim& claim, const 
   Largest worst;
   const std::vector<ClaimCell> cells = cells_of(grid);
   j.cells = static_cast<long>(cells.size());
-  // The bisections on the threads, then judged in the grid's order (run/parallel.hpp).
+  // The bisections on the threads, then judged in the grid's order (common/parallel.hpp).
   const std::vector<CellValue> off = map_indices<CellValue>(cells.size(), jobs, [&](std::size_t i) {
     const ClaimCell& cell = cells[i];
     CellValue d;
@@ -483,7 +483,7 @@ Judgement judge(const Scene& scene, const StabilityClaim& claim, const ClaimGrid
   long unstable_at_bound = 0;
   const std::vector<ClaimCell> cells = cells_of(grid);
   j.cells = static_cast<long>(cells.size());
-  // The scans on the threads, then judged in the grid's order (run/parallel.hpp).
+  // The scans on the threads, then judged in the grid's order (common/parallel.hpp).
   const std::vector<StableAtBound> found = map_indices<StableAtBound>(
       cells.size(), jobs, [&](std::size_t i) { return stable_at_bound(scene, claim, cells[i]); });
   for (std::size_t i = 0; i < cells.size(); ++i) {

@@ -1,7 +1,7 @@
 #include "judge/figures.hpp"
 
+#include "common/parallel.hpp"
 #include "judge/solve.hpp"
-#include "run/parallel.hpp"
 #include "truth/reference_solve.hpp"
 
 #include "pldamp/analytic.hpp"
@@ -375,7 +375,7 @@ Figure make_figure(const FigureSpec& spec, const Limits& limits) {
 } // namespace
 
 std::vector<Figure> make_figures(const Scene& scene, int jobs) {
-  // The figures on the threads, each in its slot (run/parallel.hpp).
+  // The figures on the threads, each in its slot (common/parallel.hpp).
   return map_indices<Figure>(scene.figures.size(), jobs, [&](std::size_t i) {
     const FigureSpec& spec = scene.figures[i];
     Figure figure;

@@ -1,8 +1,8 @@
 #include "judge/search.hpp"
 
+#include "common/parallel.hpp"
 #include "judge/budget.hpp"
 #include "judge/claims.hpp"
-#include "run/parallel.hpp"
 #include "run/run.hpp"
 
 #include <fmt/format.h>
@@ -425,7 +425,7 @@ SearchResult run_search(const Scene& scene, const Search& search, int jobs) {
   result.observable = search.observable;
   result.measure = search_measure(search);
   result.bound = search.bound;
-  // The groups on the threads, each trial's cells on the threads left over (run/parallel.hpp);
+  // The groups on the threads, each trial's cells on the threads left over (common/parallel.hpp);
   // a group not begun when a stop was asked for ends the list.
   const std::vector<std::pair<std::string, Scene>> groups = search_groups_of(scene, search);
   const int per_group =

@@ -93,7 +93,7 @@ std::vector<std::pair<std::string, Scene>> search_groups_of(const Scene& scene,
                                                             const Search& search);
 
 // Runs a search: its groups on `jobs` threads, the answers in the groups' order whatever their
-// number (run/parallel.hpp).
+// number (common/parallel.hpp).
 SearchResult run_search(const Scene& scene, const Search& search, int jobs);
 
 // What a search's measured value is: "the largest relative error of e over the group's cells".

@@ -1,7 +1,7 @@
 #include "judge/step_study.hpp"
 
+#include "common/parallel.hpp"
 #include "judge/search.hpp"
-#include "run/parallel.hpp"
 
 #include "pldamp/analytic.hpp"
 #include "pldamp/solvers/registry.hpp"
@@ -274,7 +274,7 @@ StepStudy make_step_study(const Plan& plan, const std::vector<Record>& records, 
     by_steps_of.push_back(std::move(by_steps));
   }
   // The steps needed at every point of every sweep, on the threads, then gathered in order
-  // (run/parallel.hpp): each point's searches are independent of the others'.
+  // (common/parallel.hpp): each point's searches are independent of the others'.
   const std::size_t points = plan.points.size();
   const std::vector<PointSteps> found =
       map_indices<PointSteps>(study.sweeps.size() * points, jobs, [&](std::size_t i) -> PointSteps {

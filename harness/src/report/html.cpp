@@ -12,7 +12,7 @@
 // printed in each cell.
 #include "report/html_parts.hpp"
 
-#include "run/parallel.hpp"
+#include "common/parallel.hpp"
 
 #include <fmt/format.h>
 

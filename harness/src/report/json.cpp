@@ -1,6 +1,8 @@
 // report.json, one function per section (common/report_schema.hpp gives its layout and every key).
 #include "report/sections.hpp"
 
+#include "common/files.hpp"
+
 #include <fmt/format.h>
 
 #include <cstdint>
@@ -15,13 +17,9 @@ namespace word = schema::word;
 
 namespace {
 
-// 64-bit FNV-1a of a text, in hex: a name for what a scene computes, not a security measure.
+// fnv1a of a text, in hex: a name for what a scene computes.
 std::string fingerprint(std::string_view text) {
-  std::uint64_t hash = 14695981039346656037ULL;
-  for (const char c : text) {
-    hash = (hash ^ static_cast<unsigned char>(c)) * 1099511628211ULL;
-  }
-  return fmt::format("{:016x}", hash);
+  return fmt::format("{:016x}", fnv1a(text));
 }
 
 ordered_json config_json(const SolverConfig& config) {

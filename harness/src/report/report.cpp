@@ -2,7 +2,7 @@
 #include "report/report.hpp"
 
 #include "common/files.hpp"
-#include "run/parallel.hpp"
+#include "common/parallel.hpp"
 
 #include <filesystem>
 

@@ -1,7 +1,7 @@
 #include "run/run.hpp"
 
+#include "common/parallel.hpp"
 #include "run/external.hpp"
-#include "run/parallel.hpp"
 #include "truth/reference_solve.hpp"
 
 #include "pldamp/solvers/registry.hpp"

@@ -20,7 +20,7 @@ namespace {
 static_assert(std::endian::native == std::endian::little ||
               std::endian::native == std::endian::big);
 constexpr std::string_view shard_magic = "pldamp shard\n";
-constexpr std::uint32_t shard_format = 1;
+constexpr std::uint32_t shard_format = 2; // 2: a checksum at the end
 constexpr std::uint32_t byte_order_marker = 0x01020304;
 
 class ByteWriter {
@@ -234,6 +234,7 @@ void write_shard(const std::filesystem::path& folder, const Shard& shard) {
     out.put(said);
   }
   put_records(out, shard.records);
+  out.put(fnv1a(bytes)); // of everything before it: a flipped bit is refused, not merged
   write_file_atomically(folder / shard_file_name, bytes);
 }
 
@@ -242,7 +243,7 @@ Shard read_shard(const std::filesystem::path& folder) {
   std::error_code error;
   if (!std::filesystem::is_regular_file(folder / shard_file_name, error)) {
     throw InputError("not a shard: " + source +
-                     " does not exist (a shard is the --out folder of `pldamp run SCENE --shard "
+                     " is no file (a shard is the --out folder of `pldamp run SCENE --shard "
                      "K/N`)");
   }
   std::ifstream in(folder / shard_file_name, std::ios::binary);
@@ -250,10 +251,18 @@ Shard read_shard(const std::filesystem::path& folder) {
   if (!in.good() && !in.eof()) {
     throw InputError("cannot read " + source);
   }
-  if (!bytes.starts_with(shard_magic)) {
+  if (!bytes.starts_with(shard_magic) ||
+      bytes.size() < shard_magic.size() + sizeof(std::uint64_t)) {
     throw InputError(source + " is not a shard file pldamp wrote");
   }
-  ByteReader read(std::string_view(bytes).substr(shard_magic.size()), source);
+  const std::string_view body(bytes.data(), bytes.size() - sizeof(std::uint64_t));
+  std::uint64_t stored = 0;
+  std::memcpy(&stored, bytes.data() + body.size(), sizeof stored);
+  if (stored != fnv1a(body)) {
+    throw InputError(source + " is truncated or corrupt (its checksum does not match): run its "
+                              "shard again");
+  }
+  ByteReader read(body.substr(shard_magic.size()), source);
   const auto format = read.get<std::uint32_t>();
   const auto marker = read.get<std::uint32_t>();
   if (format != shard_format || marker != byte_order_marker) {

@@ -2,6 +2,8 @@
 
 #include "truth/reference_solve.hpp"
 
+#include "common/parallel.hpp"
+
 #include "pldamp/analytic.hpp"
 
 #include <fmt/format.h>
@@ -180,7 +182,7 @@ Contact<Exact> seed_contact(const Exact& p, Damping::Kind kind, const Exact& val
   return Contact<Exact>::from_alpha_eff(p, value, Exact(1));
 }
 
-Plan make_plan(const Scene& scene) {
+Plan make_plan(const Scene& scene, int jobs) {
   Plan plan;
   plan.scene = scene;
   plan.observables = observables_of(scene.want);
@@ -205,50 +207,61 @@ Plan make_plan(const Scene& scene) {
   if (exponents.empty()) {
     exponents.push_back(std::nullopt);
   }
+  struct PointOf {
+    double p;
+    std::optional<double> beta;
+    Damping damping;
+  };
+  std::vector<PointOf> wanted;
   for (const double p : scene.p) {
     for (const std::optional<double>& beta : exponents) {
       for (const Damping& damping : scene.damping) {
-        if (beta && *beta != (p - 1) / 2) {
-          plan.points.push_back(solved_point(plan, precisions, p, *beta, damping));
-          continue;
-        }
-        Point point{p, damping, 0, 0, false, 0, {}, {}, 0, beta, false, {}, {}};
-        const Contact<Exact> calibrated =
-            seed_contact(Exact(p), damping.kind, Exact(damping.value), end);
-        // α given: the one typed, not its round trip through α_eff
-        point.alpha =
-            damping.kind == Damping::Kind::alpha ? Exact(damping.value) : calibrated.alpha();
-        point.alpha_eff = static_cast<double>(calibrated.alpha_eff());
-        point.overdamped = calibrated.alpha_eff() >= 1;
-        point.log_duration = *analytic::observables(calibrated, analytic::want_tau).log_tau;
-        // The closed forms at α as each precision receives it; the double one also judges the
-        // analytic layer in double.
-        const double alpha = static_cast<double>(point.alpha);
-        std::optional<analytic::Observables<Exact>> at_double_alpha;
-        for (const std::string& precision : precisions) {
-          const Exact rounded = rounded_alpha(point.alpha, precision);
-          const analytic::Observables<Exact> closed = closed_forms(
-              rounded == point.alpha ? calibrated
-                                     : Contact<Exact>::from_alpha(Exact(p), rounded, Exact(1)),
-              plan);
-          for (const solvers::End config_end : plan.ends) {
-            point.reference[{precision, config_end}] = values_of(closed, plan, config_end);
-          }
-          if (rounded == Exact(alpha)) {
-            at_double_alpha = closed;
-          }
-        }
-        if (!at_double_alpha) {
-          at_double_alpha =
-              closed_forms(Contact<Exact>::from_alpha(Exact(p), Exact(alpha), Exact(1)), plan);
-        }
-        // The analytic layer's own budget and cost: the same point in double against Exact.
-        point.analytic = check_in_double(plan, p, alpha, *at_double_alpha);
-        point.analytic_seconds = time_in_double(plan, p, alpha);
-        plan.points.push_back(std::move(point));
+        wanted.push_back({p, beta, damping});
       }
     }
   }
+  // Each point alone (its truths, its closed forms in double), on `jobs` threads, in plan order:
+  // a viscoelastic map's float128 reference solves are most of its plan.
+  const auto point_at = [&](std::size_t i) -> Point {
+    const auto& [p, beta, damping] = wanted[i];
+    if (beta && *beta != (p - 1) / 2) {
+      return solved_point(plan, precisions, p, *beta, damping);
+    }
+    Point point{p, damping, 0, 0, false, 0, {}, {}, 0, beta, false, {}, {}};
+    const Contact<Exact> calibrated =
+        seed_contact(Exact(p), damping.kind, Exact(damping.value), end);
+    // α given: the one typed, not its round trip through α_eff
+    point.alpha = damping.kind == Damping::Kind::alpha ? Exact(damping.value) : calibrated.alpha();
+    point.alpha_eff = static_cast<double>(calibrated.alpha_eff());
+    point.overdamped = calibrated.alpha_eff() >= 1;
+    point.log_duration = *analytic::observables(calibrated, analytic::want_tau).log_tau;
+    // The closed forms at α as each precision receives it; the double one also judges the
+    // analytic layer in double.
+    const double alpha = static_cast<double>(point.alpha);
+    std::optional<analytic::Observables<Exact>> at_double_alpha;
+    for (const std::string& precision : precisions) {
+      const Exact rounded = rounded_alpha(point.alpha, precision);
+      const analytic::Observables<Exact> closed = closed_forms(
+          rounded == point.alpha ? calibrated
+                                 : Contact<Exact>::from_alpha(Exact(p), rounded, Exact(1)),
+          plan);
+      for (const solvers::End config_end : plan.ends) {
+        point.reference[{precision, config_end}] = values_of(closed, plan, config_end);
+      }
+      if (rounded == Exact(alpha)) {
+        at_double_alpha = closed;
+      }
+    }
+    if (!at_double_alpha) {
+      at_double_alpha =
+          closed_forms(Contact<Exact>::from_alpha(Exact(p), Exact(alpha), Exact(1)), plan);
+    }
+    // The analytic layer's own budget and cost: the same point in double against Exact.
+    point.analytic = check_in_double(plan, p, alpha, *at_double_alpha);
+    point.analytic_seconds = time_in_double(plan, p, alpha);
+    return point;
+  };
+  plan.points = map_indices<Point>(wanted.size(), jobs, point_at);
   for (std::size_t i = 0; i < plan.points.size(); ++i) {
     const Point& point = plan.points[i];
     for (const auto [v0, m, k] : scene_scales(scene)) {

@@ -96,8 +96,9 @@ struct Plan {
   std::vector<solvers::End> ends;    // the contact ends the configurations run under
 };
 
-// Expands the scene and computes the references (Exact work, once per point).
-Plan make_plan(const Scene& scene);
+// Expands the scene and computes the references (Exact work, once per point), the points on
+// `jobs` threads: the same plan for any jobs.
+Plan make_plan(const Scene& scene, int jobs = 1);
 
 // The Exact reference of an observable (its index in Plan::observables) at a cell, for a
 // configuration (α as its precision receives it, its contact end).

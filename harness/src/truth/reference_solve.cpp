@@ -40,10 +40,12 @@ std::optional<Exact> exact_group_for_e(const Exact& p, const Exact& beta, const 
   if (e >= 1) {
     return Exact(0);
   }
-  Exact low(0), high = Exact(1) / 8;
+  // Undamped, e = 1 exactly (the energy is conserved): no solve at the bracket's low end.
+  Exact low(0), e_low(1), high = Exact(1) / 8;
   Exact e_high = restitution_at(p, beta, high, end);
   for (int i = 0; i < 40 && e_high > e; ++i) {
     low = high;
+    e_low = e_high;
     high *= 2;
     e_high = restitution_at(p, beta, high, end);
   }
@@ -53,7 +55,7 @@ std::optional<Exact> exact_group_for_e(const Exact& p, const Exact& beta, const 
   std::uintmax_t iterations = 100;
   const auto [lo, hi] = boost::math::tools::toms748_solve(
       [&](const Exact& group) { return Exact(restitution_at(p, beta, group, end) - e); }, low, high,
-      Exact(restitution_at(p, beta, low, end) - e), Exact(e_high - e),
+      Exact(e_low - e), Exact(e_high - e),
       boost::math::tools::eps_tolerance<Exact>(std::numeric_limits<Exact>::digits - 4), iterations);
   return (lo + hi) / 2;
 }
