@@ -204,13 +204,16 @@ int run_cli(int argc, const char* const* argv, std::ostream& out, std::ostream& 
   run->add_option("scene", run_args.scene, "scene file (TOML), e.g. data/scenes/nightly.toml")
       ->required();
   run->add_option("--out", run_args.out, "report folder (default: report)");
-  run->add_option("--jobs", run_args.jobs, "parallel solver runs (default: the cores)");
+  run->add_option("--jobs", run_args.jobs,
+                  "parallel solver runs (default: the cores this process may use; under mpirun, "
+                  "a rank's own cores, or the node's shared among its ranks)");
   run->add_option("--max-steps", run_args.max_steps,
-                  "each solve's step limit (default: the scene's [limits], else 1e6)");
+                  "each solve's step limit (default: the scene's [limits], else 1000000)");
   run->add_option("--max-seconds", run_args.max_seconds,
                   "each solve's wall-clock limit (default: the scene's [limits], else 30)");
   run->add_option("--max-runs", run_args.max_runs,
-                  "refuse a plan of more solver runs (default: the scene's [limits], else 1e6)");
+                  "refuse a plan of more solver runs, a process's share under --shard or mpirun "
+                  "(default: the scene's [limits], else 1000000)");
   run->add_flag("--strict", run_args.strict,
                 "exit 1 when a claim's verdict is not the one expected (a failing claim, or one "
                 "pinned with expect = \"fails\" that now holds)");
