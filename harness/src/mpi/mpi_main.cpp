@@ -64,7 +64,7 @@ public:
       why = rank_ == 0 ? failure : "";
     } else if (rank_ == 0) {
       why = "rank " + std::to_string(not_ready - ready_on.begin()) +
-            " could not start the run (its error is printed above)";
+            " could not start the run (that rank prints why)";
     } else if (!failure.empty()) {
       speaks_ = true;
       why = "rank " + std::to_string(rank_) + ": " + failure;
