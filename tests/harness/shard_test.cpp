@@ -340,6 +340,28 @@ TEST(Shards, ASetThatIsNotOneRunsShardsIsRefusedWithOneLine) {
   EXPECT_EQ(run({"merge", one, two, again, "--out", out}).code, 0);
 }
 
+// When a rank cannot start (MPI's all_ready): what fails on rank 0 is said once, by rank 0;
+// what fails on other ranks only, by each of them, and rank 0 names the first.
+TEST(Distribution, WhoSaysWhyARunCannotStart) {
+  const std::string failure = "cannot read scene.toml";
+  const NotReady everywhere = not_ready_message(0, {false, false, false}, failure);
+  EXPECT_EQ(everywhere.why, failure);
+  EXPECT_TRUE(everywhere.speaks);
+  const NotReady echoed = not_ready_message(2, {false, false, false}, failure);
+  EXPECT_EQ(echoed.why, "");
+  EXPECT_FALSE(echoed.speaks);
+  EXPECT_EQ(not_ready_message(1, {false, true, true}, "").why, ""); // ready itself: silent
+  // Ranks 2 and 3 lack a file.
+  const std::vector<bool> ready{true, true, false, false};
+  EXPECT_EQ(not_ready_message(0, ready, "").why,
+            "rank 2 could not start the run (that rank prints why)");
+  EXPECT_FALSE(not_ready_message(0, ready, "").speaks);
+  const NotReady own = not_ready_message(3, ready, failure);
+  EXPECT_EQ(own.why, "rank 3: cannot read scene.toml");
+  EXPECT_TRUE(own.speaks);
+  EXPECT_EQ(not_ready_message(1, ready, "").why, "");
+}
+
 // Under mpirun the ranks share the cells: --shard is refused there, even on one rank.
 TEST(Shards, AShardIsRefusedUnderMpi) {
   struct OneRank final : Distribution {

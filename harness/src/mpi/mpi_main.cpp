@@ -53,22 +53,14 @@ public:
     int ready = failure.empty() ? 1 : 0;
     std::vector<int> ready_on(static_cast<std::size_t>(size_));
     MPI_Allgather(&ready, 1, MPI_INT, ready_on.data(), 1, MPI_INT, MPI_COMM_WORLD);
-    const auto not_ready = std::find(ready_on.begin(), ready_on.end(), 0);
-    if (not_ready == ready_on.end()) {
+    if (std::find(ready_on.begin(), ready_on.end(), 0) == ready_on.end()) {
       speaks_ = true; // from here on a failure is this rank's own
       return true;
     }
-    // What fails everywhere (the scene, its plan) rank 0 says once; what fails on one rank only (a
-    // file or program that node lacks) that rank says, and rank 0 says who.
-    if (ready_on[0] == 0) {
-      why = rank_ == 0 ? failure : "";
-    } else if (rank_ == 0) {
-      why = "rank " + std::to_string(not_ready - ready_on.begin()) +
-            " could not start the run (that rank prints why)";
-    } else if (!failure.empty()) {
-      speaks_ = true;
-      why = "rank " + std::to_string(rank_) + ": " + failure;
-    }
+    const NotReady said =
+        not_ready_message(rank_, std::vector<bool>(ready_on.begin(), ready_on.end()), failure);
+    why = said.why;
+    speaks_ = said.speaks;
     return false;
   }
 

@@ -35,4 +35,15 @@ public:
                                   bool& stopped) = 0;
 };
 
+// What rank `rank` says when not every rank is ready (Distribution::all_ready; `ready[r]`: whether
+// rank r is). What fails on rank 0 fails everywhere (the scene, its plan): rank 0 says it once and
+// the others nothing. What fails on other ranks only (a file or program their node lacks): each
+// says its own, prefixed "rank R: ", and rank 0 names the first. `speaks`: whether this rank's own
+// failure is the message (so that the program prints it).
+struct NotReady {
+  std::string why;
+  bool speaks = false;
+};
+NotReady not_ready_message(int rank, const std::vector<bool>& ready, const std::string& failure);
+
 } // namespace pldamp::harness
