@@ -9,6 +9,8 @@
 #include "common/observables.hpp"
 #include "fixtures.hpp"
 
+#include <fmt/format.h>
+
 #include <gtest/gtest.h>
 
 #include <filesystem>
@@ -16,6 +18,7 @@
 #include <iterator>
 #include <limits>
 #include <map>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -164,6 +167,40 @@ TEST(Files, AFileIsReplacedWholeAndNoTemporaryStays) {
         << e.what();
   }
   EXPECT_EQ(others(folder, "report.md"), std::vector<std::string>{"report.html"});
+}
+
+// A content made in pieces: small ones gathered past the writer's 1 MiB buffer, one larger than
+// it written through; a producer that throws halfway leaves the old file whole and no temporary.
+TEST(Files, AContentMadeInPiecesIsWrittenWholeOrNotAtAll) {
+  const fs::path folder = testing::scratch() / "pieces";
+  fs::remove_all(folder);
+  fs::create_directories(folder);
+  const fs::path file = folder / "report.json";
+  std::string expected;
+  const auto produce = [&expected](const TextSink& put) {
+    expected.clear();
+    for (int i = 0; i < 30000; ++i) { // 30000 × 53 bytes: 1.5 MiB
+      const std::string piece = fmt::format("{:052d}\n", i);
+      expected += piece;
+      put(piece);
+    }
+    const std::string large(3 << 20, 'x');
+    expected += large;
+    put(large);
+    put("end\n");
+    expected += "end\n";
+  };
+  write_file_atomically(file, produce);
+  EXPECT_EQ(contents(file), expected);
+  EXPECT_EQ(gather_text(produce), expected);
+  EXPECT_THROW(write_file_atomically(file,
+                                     [](const TextSink& put) {
+                                       put(std::string(2 << 20, 'y'));
+                                       throw std::runtime_error("the producer failed");
+                                     }),
+               std::runtime_error);
+  EXPECT_EQ(contents(file), expected);
+  EXPECT_EQ(others(folder, "report.json"), std::vector<std::string>{});
 }
 
 TEST(Files, AFolderThatCannotHoldAFileIsRefusedBeforeTheWork) {

@@ -13,6 +13,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <sstream>
 
 namespace pldamp::harness {
@@ -242,6 +243,20 @@ TEST(ReportJson, EachRecordOnALineOfItsOwnAndNoAbsError) {
     }
   }
   EXPECT_EQ(record_lines, h.records.size());
+  // Written as made, a record a piece: in JSON each its own piece, in CSV each row (and the
+  // header) a piece of one line.
+  std::size_t record_pieces = 0;
+  write_report_json(report, [&](std::string_view piece) {
+    record_pieces += piece.starts_with("{\"key\":") ? 1 : 0;
+  });
+  EXPECT_EQ(record_pieces, h.records.size());
+  std::string csv;
+  write_report_csv(report, [&](std::string_view piece) {
+    EXPECT_EQ(std::count(piece.begin(), piece.end(), '\n'), 1) << piece;
+    csv += piece;
+  });
+  EXPECT_EQ(csv, report_csv(report));
+  EXPECT_EQ(std::ranges::count(csv, '\n'), 1 + static_cast<long>(h.records.size()));
 }
 
 TEST(Diff, AReportStreamedIsReadAsAWholeOneAndAnotherSchemaIsOneLine) {

@@ -50,10 +50,14 @@ std::uint64_t fnv1a(std::string_view bytes) {
 }
 
 void write_file_atomically(const std::filesystem::path& path, std::string_view content) {
+  write_file_atomically(path, [content](const TextSink& put) { put(content); });
+}
+
+void write_file_atomically(const std::filesystem::path& path,
+                           const std::function<void(const TextSink&)>& produce) {
   Descriptor file;
   const std::string temporary = create_temporary(path, file, "cannot write " + path.string());
-  auto fail = [&](int error) {
-    ::unlink(temporary.c_str());
+  const auto fail = [&](int error) {
     throw InputError("cannot write " + path.string() + " (" + std::strerror(error) + ")");
   };
   // The permissions a new file of this user gets (mkstemp's are 0600). The umask can only be
@@ -64,30 +68,57 @@ void write_file_atomically(const std::filesystem::path& path, std::string_view c
     ::umask(process_mask);
     return process_mask;
   }();
-  if (::fchmod(file.get(), 0666 & ~mask) != 0) {
-    fail(errno);
-  }
-  for (std::size_t done = 0; done < content.size();) {
-    const ssize_t n = ::write(file.get(), content.data() + done, content.size() - done);
-    if (n < 0) {
-      if (errno == EINTR) {
-        continue;
+  const auto write_all = [&](std::string_view bytes) {
+    for (std::size_t done = 0; done < bytes.size();) {
+      const ssize_t n = ::write(file.get(), bytes.data() + done, bytes.size() - done);
+      if (n < 0) {
+        if (errno == EINTR) {
+          continue;
+        }
+        fail(errno);
       }
+      done += static_cast<std::size_t>(n);
+    }
+  };
+  try {
+    if (::fchmod(file.get(), 0666 & ~mask) != 0) {
       fail(errno);
     }
-    done += static_cast<std::size_t>(n);
+    constexpr std::size_t buffer_bytes = std::size_t{1} << 20;
+    std::string buffer;
+    produce([&](std::string_view piece) {
+      if (buffer.size() + piece.size() > buffer_bytes) {
+        write_all(buffer);
+        buffer.clear();
+      }
+      if (piece.size() > buffer_bytes) {
+        write_all(piece);
+      } else {
+        buffer.append(piece);
+      }
+    });
+    write_all(buffer);
+    if (::fsync(file.get()) != 0) {
+      fail(errno);
+    }
+    const int descriptor = file.get();
+    file.release();
+    if (::close(descriptor) != 0) {
+      fail(errno);
+    }
+    if (::rename(temporary.c_str(), path.c_str()) != 0) {
+      fail(errno);
+    }
+  } catch (...) { // a failed write, or `produce`'s own exception: no temporary is left behind
+    ::unlink(temporary.c_str());
+    throw;
   }
-  if (::fsync(file.get()) != 0) {
-    fail(errno);
-  }
-  const int descriptor = file.get();
-  file.release();
-  if (::close(descriptor) != 0) {
-    fail(errno);
-  }
-  if (::rename(temporary.c_str(), path.c_str()) != 0) {
-    fail(errno);
-  }
+}
+
+std::string gather_text(const std::function<void(const TextSink&)>& produce) {
+  std::string text;
+  produce([&text](std::string_view piece) { text.append(piece); });
+  return text;
 }
 
 void require_writable_folder(const std::filesystem::path& folder) {

@@ -5,6 +5,7 @@
 
 #include <cstdint>
 #include <filesystem>
+#include <functional>
 #include <string>
 #include <string_view>
 
@@ -31,6 +32,16 @@ std::uint64_t fnv1a(std::string_view bytes);
 
 // Throws InputError "cannot write PATH (reason)"; the temporary is removed on failure.
 void write_file_atomically(const std::filesystem::path& path, std::string_view content);
+
+// Where a text made piece by piece goes, each piece as soon as it is made.
+using TextSink = std::function<void(std::string_view)>;
+// The same, of a content `produce` hands to its sink in pieces, written as they come (through a
+// buffer of 1 MiB): a report of 10^6 records is never held whole. An exception from `produce`
+// removes the temporary and goes on.
+void write_file_atomically(const std::filesystem::path& path,
+                           const std::function<void(const TextSink&)>& produce);
+// A content made in pieces, gathered into one string.
+std::string gather_text(const std::function<void(const TextSink&)>& produce);
 
 // Creates `folder` if needed and checks that a file can be created in it (and removes that
 // file): a read-only mount or a folder of another user fails here, before any work. Throws

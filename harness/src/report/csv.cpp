@@ -27,7 +27,7 @@ std::string csv_field(std::string_view text) {
 
 } // namespace
 
-std::string report_csv(const RunReport& report) {
+void write_report_csv(const RunReport& report, const TextSink& put) {
   const Plan& plan = report.plan;
   constexpr std::array columns{key::solver,
                                key::precision,
@@ -46,13 +46,14 @@ std::string report_csv(const RunReport& report) {
                                key::rhs_evals,
                                key::wall_seconds,
                                key::wall_seconds_slowest};
-  std::string out = fmt::format("{}", fmt::join(columns, ","));
+  std::string header = fmt::format("{}", fmt::join(columns, ","));
   for (const Observable* observable : plan.observables) {
     const std::string_view name = observable->key;
-    out += fmt::format(",{0},{0}_{1},{0}_{2},{0}_{3},{0}_{4}", name, key::reference, key::error,
-                       key::abs_error, key::rel_error);
+    header += fmt::format(",{0},{0}_{1},{0}_{2},{0}_{3},{0}_{4}", name, key::reference, key::error,
+                          key::abs_error, key::rel_error);
   }
-  out += "\n";
+  header += "\n";
+  put(header);
   // Numbers in the shortest form that reads back to the same double (0.05, not
   // 0.050000000000000003); an empty field is a value absent.
   const auto number = [](const std::optional<double>& x) {
@@ -62,20 +63,25 @@ std::string report_csv(const RunReport& report) {
     const SolverConfig& config = plan.configs[record.config];
     const Cell& c = plan.cells[record.cell];
     const Point& point = plan.points[c.point];
-    out += fmt::format("{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{}", csv_field(config.name),
-                       config.precision, number(config.rtol), number(config.atol),
-                       config.steps_per_contact ? std::to_string(*config.steps_per_contact) : "",
-                       point.p, csv_field(point.damping.label()), point.alpha_eff, record.alpha,
-                       c.v0, c.m, c.k, record.outcome_name(), record.steps, record.rhs_evals,
-                       record.wall_seconds, record.wall_seconds_slowest);
+    std::string row =
+        fmt::format("{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{}", csv_field(config.name),
+                    config.precision, number(config.rtol), number(config.atol),
+                    config.steps_per_contact ? std::to_string(*config.steps_per_contact) : "",
+                    point.p, csv_field(point.damping.label()), point.alpha_eff, record.alpha, c.v0,
+                    c.m, c.k, record.outcome_name(), record.steps, record.rhs_evals,
+                    record.wall_seconds, record.wall_seconds_slowest);
     for (std::size_t o = 0; o < plan.observables.size(); ++o) {
-      out += fmt::format(",{},{},{},{},{}", number(record.value[o]), number(record.reference[o]),
+      row += fmt::format(",{},{},{},{},{}", number(record.value[o]), number(record.reference[o]),
                          number(record.error[o]), number(record.abs_error[o]),
                          number(record.rel_error[o]));
     }
-    out += "\n";
+    row += "\n";
+    put(row);
   }
-  return out;
+}
+
+std::string report_csv(const RunReport& report) {
+  return gather_text([&report](const TextSink& put) { write_report_csv(report, put); });
 }
 
 } // namespace pldamp::harness

@@ -262,9 +262,9 @@ ordered_json figure_json(const Figure& figure) {
   return out;
 }
 
-} // namespace
-
-ordered_json report_json(const RunReport& report) {
+// Every section; the records' an empty array when `with_records` is false (the writer streams
+// them in its place).
+ordered_json report_sections(const RunReport& report, bool with_records) {
   const Plan& plan = report.plan;
   const Budgets& budgets = report.budgets;
   ordered_json out;
@@ -289,7 +289,7 @@ ordered_json report_json(const RunReport& report) {
     out[key::searches].push_back(search_json(search));
   }
   out[key::budgets] = budgets_json(report);
-  out[key::records] = records_json(report);
+  out[key::records] = with_records ? records_json(report) : ordered_json::array();
   ordered_json figures = ordered_json::array();
   for (const Figure& figure : report.figures) {
     figures.push_back(figure_json(figure));
@@ -298,28 +298,45 @@ ordered_json report_json(const RunReport& report) {
   return out;
 }
 
-std::string report_json_text(const RunReport& report) {
-  const ordered_json json = report_json(report);
-  std::string text = "{";
+} // namespace
+
+ordered_json report_json(const RunReport& report) {
+  return report_sections(report, true);
+}
+
+void write_report_json(const RunReport& report, const TextSink& put) {
+  const ordered_json json = report_sections(report, false);
+  bool first_section = true;
+  put("{");
   for (const auto& [name, value] : json.items()) {
-    text += (text.size() == 1 ? "\n " : ",\n ") + ordered_json(name).dump() + ": ";
-    if (name == key::records) {
-      text += "[";
-      for (const ordered_json& record : value) {
-        text += (&record == &value.front() ? "\n  " : ",\n  ") + record.dump();
+    put(first_section ? "\n " : ",\n ");
+    first_section = false;
+    put(ordered_json(name).dump());
+    put(": ");
+    if (name == key::records) { // one line each, made and written one at a time
+      put("[");
+      for (const Record& record : report.records) {
+        put(&record == &report.records.front() ? "\n  " : ",\n  ");
+        put(record_json(report.plan, record).dump());
       }
-      text += value.empty() ? "]" : "\n ]";
+      put(report.records.empty() ? "]" : "\n ]");
       continue;
     }
     // Indented one level deeper: a JSON text holds no raw line break but between its values.
+    std::string text;
     for (const char c : value.dump(1)) {
       text += c;
       if (c == '\n') {
         text += ' ';
       }
     }
+    put(text);
   }
-  return text + "\n}\n";
+  put("\n}\n");
+}
+
+std::string report_json_text(const RunReport& report) {
+  return gather_text([&report](const TextSink& put) { write_report_json(report, put); });
 }
 
 } // namespace pldamp::harness

@@ -174,70 +174,73 @@ schema::RecordId record_id(const Plan& plan, const Record& record) {
           .k = cell.k};
 }
 
+ordered_json record_json(const Plan& plan, const Record& record) {
+  const schema::RecordId id = record_id(plan, record);
+  const Point& point = plan.points[plan.cells[record.cell].point];
+  ordered_json r{{key::key, schema::record_key(id)},
+                 {key::config, id.config},
+                 {key::precision, plan.configs[record.config].precision},
+                 {key::p, id.p},
+                 {key::damping, id.damping},
+                 {key::alpha_eff, point.alpha_eff},
+                 {key::alpha, record.alpha},
+                 {key::v0, id.v0},
+                 {key::m, id.m},
+                 {key::k, id.k},
+                 {key::outcome, record.outcome_name()},
+                 {key::failed, record.failed()},
+                 {key::steps, record.steps},
+                 {key::rhs_evals, record.rhs_evals},
+                 {key::wall_seconds, timing(record.wall_seconds)},
+                 {key::wall_seconds_slowest, timing(record.wall_seconds_slowest)}};
+  if (record.cpu_seconds && record.cpu_seconds_slowest) {
+    r[key::cpu_seconds] = timing(*record.cpu_seconds);
+    r[key::cpu_seconds_slowest] = timing(*record.cpu_seconds_slowest);
+  }
+  if (!record.alpha_digits.empty()) {
+    r[key::alpha_digits] = record.alpha_digits; // α in the configuration's wider precision
+  }
+  if (const MaterialContact* contact = contact_of(plan.scene, id.m, id.k)) {
+    r[key::contact] = contact->name;
+  }
+  if (record.dt) {
+    r[key::dt] = *record.dt;
+  }
+  // No abs_error: it is |error| exactly (both rounded once from the same Exact difference).
+  const std::pair<const char*, const std::vector<std::optional<double>>*> columns[] = {
+      {key::value, &record.value},
+      {key::reference, &record.reference},
+      {key::error, &record.error},
+      {key::rel_error, &record.rel_error},
+      {key::phase_spread, &record.spread}};
+  for (const auto& [field, column] : columns) {
+    if (column == &record.spread && record.phases == 1) {
+      continue; // one phase: no spread
+    }
+    r[field] = per_observable(plan, *column);
+  }
+  if (record.phases > 1) {
+    r[key::phases] = record.phases;
+  }
+  if (!record.failure.empty()) {
+    r[key::failure] = record.failure;
+  }
+  if (record.skipped()) {
+    r[key::skipped] = record.skip_reason;
+  }
+  if (!record.note.empty()) {
+    r[key::note] = record.note;
+  }
+  if (!record.replica_difference.empty()) {
+    r[key::replica_difference] = per_observable(plan, record.replica_difference);
+  }
+  return r;
+}
+
 ordered_json records_json(const RunReport& report) {
-  const Plan& plan = report.plan;
   ordered_json records = ordered_json::array();
   for (const Record& record : report.records) {
-    const schema::RecordId id = record_id(plan, record);
-    const Point& point = plan.points[plan.cells[record.cell].point];
-    ordered_json r{{key::key, schema::record_key(id)},
-                   {key::config, id.config},
-                   {key::precision, plan.configs[record.config].precision},
-                   {key::p, id.p},
-                   {key::damping, id.damping},
-                   {key::alpha_eff, point.alpha_eff},
-                   {key::alpha, record.alpha},
-                   {key::v0, id.v0},
-                   {key::m, id.m},
-                   {key::k, id.k},
-                   {key::outcome, record.outcome_name()},
-                   {key::failed, record.failed()},
-                   {key::steps, record.steps},
-                   {key::rhs_evals, record.rhs_evals},
-                   {key::wall_seconds, timing(record.wall_seconds)},
-                   {key::wall_seconds_slowest, timing(record.wall_seconds_slowest)}};
-    if (record.cpu_seconds && record.cpu_seconds_slowest) {
-      r[key::cpu_seconds] = timing(*record.cpu_seconds);
-      r[key::cpu_seconds_slowest] = timing(*record.cpu_seconds_slowest);
-    }
-    if (!record.alpha_digits.empty()) {
-      r[key::alpha_digits] = record.alpha_digits; // α in the configuration's wider precision
-    }
-    if (const MaterialContact* contact = contact_of(plan.scene, id.m, id.k)) {
-      r[key::contact] = contact->name;
-    }
-    if (record.dt) {
-      r[key::dt] = *record.dt;
-    }
-    // No abs_error: it is |error| exactly (both rounded once from the same Exact difference).
-    const std::pair<const char*, const std::vector<std::optional<double>>*> columns[] = {
-        {key::value, &record.value},
-        {key::reference, &record.reference},
-        {key::error, &record.error},
-        {key::rel_error, &record.rel_error},
-        {key::phase_spread, &record.spread}};
-    for (const auto& [field, column] : columns) {
-      if (column == &record.spread && record.phases == 1) {
-        continue; // one phase: no spread
-      }
-      r[field] = per_observable(plan, *column);
-    }
-    if (record.phases > 1) {
-      r[key::phases] = record.phases;
-    }
-    if (!record.failure.empty()) {
-      r[key::failure] = record.failure;
-    }
-    if (record.skipped()) {
-      r[key::skipped] = record.skip_reason;
-    }
-    if (!record.note.empty()) {
-      r[key::note] = record.note;
-    }
-    if (!record.replica_difference.empty()) {
-      r[key::replica_difference] = per_observable(plan, record.replica_difference);
-    }
-    records.push_back(r);
+    records.push_back(record_json(report.plan, record));
   }
   return records;
 }

@@ -19,10 +19,12 @@ WrittenReports write_reports(const RunReport& report, const std::string& folder,
     try {
       switch (formats[i]) {
       case ReportFormat::json:
-        write_file_atomically(path, report_json_text(report));
+        write_file_atomically(path,
+                              [&report](const TextSink& put) { write_report_json(report, put); });
         break;
       case ReportFormat::csv:
-        write_file_atomically(path, report_csv(report));
+        write_file_atomically(path,
+                              [&report](const TextSink& put) { write_report_csv(report, put); });
         break;
       case ReportFormat::md:
         write_file_atomically(path, report_markdown(report));

@@ -22,6 +22,7 @@ namespace pldamp::harness {
 // (work_precision.cpp).
 nlohmann::ordered_json budgets_json(const RunReport& report);
 nlohmann::ordered_json records_json(const RunReport& report);
+nlohmann::ordered_json record_json(const Plan& plan, const Record& record); // one of them
 nlohmann::ordered_json work_precision_json(const RunReport& report);
 
 // A record's identity (schema.hpp): its configuration's label and its cell.
