@@ -5,17 +5,21 @@
 
 #include "pldamp/harness/distribution.hpp"
 #include "run/shard.hpp"
+#include "truth/point_bytes.hpp"
 
 #include <fmt/format.h>
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include <atomic>
+#include <barrier>
 #include <bit>
 #include <cmath>
 #include <cstdint>
 #include <fstream>
 #include <limits>
 #include <sstream>
+#include <thread>
 
 namespace pldamp::harness {
 namespace {
@@ -362,6 +366,218 @@ TEST(Distribution, WhoSaysWhyARunCannotStart) {
   EXPECT_EQ(not_ready_message(1, ready, "").why, "");
 }
 
+// Exact values as bytes: bit for bit in every precision, ±0, ±∞, NaN, the extremes of each
+// type's range and values with every significand bit in use.
+template <class Real>
+void expect_reals_read_back() {
+  using std::ldexp;
+  using L = std::numeric_limits<Real>;
+  std::vector<Real> values{Real(0),           -Real(0),         L::infinity(), -L::infinity(),
+                           L::quiet_NaN(),    L::max(),         -L::max(),     L::min(),
+                           L::denorm_min(),   -L::denorm_min(), L::epsilon(),  Real(1) / Real(3),
+                           -Real(2) / Real(7)};
+  for (int e : {-1000, -60, -1, 0, 1, 53, 113, 900}) {
+    values.push_back(ldexp(Real(1) - L::epsilon() / 2, e)); // every significand bit set
+    values.push_back(-ldexp(Real(5) / Real(11), e));
+  }
+  std::string bytes;
+  ByteWriter out(bytes);
+  for (const Real& x : values) {
+    put_real(out, x);
+  }
+  ByteReader in(bytes, "test");
+  for (const Real& x : values) {
+    const Real back = get_real<Real>(in);
+    using std::isnan;
+    if (isnan(x)) {
+      EXPECT_TRUE(isnan(back));
+    } else {
+      EXPECT_TRUE(back == x && boost::math::signbit(back) == boost::math::signbit(x))
+          << x << " read back as " << back;
+    }
+  }
+  EXPECT_TRUE(in.at_end());
+}
+
+TEST(Points, ExactValuesReadBackBitForBitInEveryPrecision) {
+  expect_reals_read_back<double>();
+  expect_reals_read_back<long double>();
+  expect_reals_read_back<Exact>();
+  expect_reals_read_back<boost::multiprecision::cpp_bin_float_50>(); // Exact without float128
+}
+
+bool same_exact(const Exact& a, const Exact& b) {
+  using std::isnan;
+  return (isnan(a) && isnan(b)) || (a == b && boost::math::signbit(a) == boost::math::signbit(b));
+}
+
+// A plan's points as the ranks exchange them: seed points (one overdamped) and a point beyond the
+// seed (its truth a reference solve), every field as it was.
+TEST(Points, APlansPointsReadBackBitForBit) {
+  Scene scene = parse_scene(sharded_scene, "points.toml");
+  Plan plan = make_plan(scene);
+  scene.damping_exponent = {0.5};
+  scene.p = {1.5};
+  scene.damping.resize(1);
+  const Plan beyond = make_plan(scene);
+  ASSERT_TRUE(beyond.points.at(0).solved);
+  plan.points.push_back(beyond.points[0]);
+  std::string bytes;
+  append_points(bytes, plan.points);
+  const std::vector<Point> back = read_points(bytes, "test");
+  ASSERT_EQ(back.size(), plan.points.size());
+  for (std::size_t i = 0; i < back.size(); ++i) {
+    const Point &a = plan.points[i], &b = back[i];
+    EXPECT_TRUE(same_bits(a.p, b.p));
+    EXPECT_EQ(a.damping.kind, b.damping.kind);
+    EXPECT_TRUE(same_bits(a.damping.value, b.damping.value));
+    EXPECT_TRUE(same_bits(a.alpha_eff, b.alpha_eff));
+    EXPECT_TRUE(same_exact(a.alpha, b.alpha));
+    EXPECT_EQ(a.overdamped, b.overdamped);
+    EXPECT_TRUE(same_exact(a.log_duration, b.log_duration));
+    ASSERT_EQ(a.reference.size(), b.reference.size());
+    for (const auto& [at, values] : a.reference) {
+      const auto& other = b.reference.at(at);
+      ASSERT_EQ(values.size(), other.size());
+      for (std::size_t o = 0; o < values.size(); ++o) {
+        EXPECT_EQ(values[o].has_value(), other[o].has_value());
+        EXPECT_TRUE(!values[o] || same_exact(*values[o], *other[o])) << i << " " << o;
+      }
+    }
+    ASSERT_EQ(a.analytic.size(), b.analytic.size());
+    for (std::size_t o = 0; o < a.analytic.size(); ++o) {
+      EXPECT_TRUE(same_bits(a.analytic[o].value, b.analytic[o].value));
+      EXPECT_TRUE(same_bits(a.analytic[o].error, b.analytic[o].error));
+      EXPECT_EQ(a.analytic[o].representable, b.analytic[o].representable);
+      EXPECT_TRUE(same_bits(a.analytic[o].log_error, b.analytic[o].log_error));
+    }
+    EXPECT_TRUE(same_bits(a.analytic_seconds, b.analytic_seconds));
+    EXPECT_TRUE(same_bits(a.beta, b.beta));
+    EXPECT_EQ(a.solved, b.solved);
+    EXPECT_TRUE(same_bits(a.truth_error, b.truth_error));
+    EXPECT_EQ(a.no_truth, b.no_truth);
+    EXPECT_TRUE(same_exact(a.group, b.group));
+  }
+  for (std::size_t length = 0; length < bytes.size(); length += 7) {
+    EXPECT_THROW(read_points(std::string_view(bytes).substr(0, length), "test"), InputError);
+  }
+  EXPECT_THROW(read_points(bytes + "x", "test"), InputError);
+}
+
+// Ranks as threads of one process, exchanging through memory as MPI ranks do through messages.
+struct ThreadRanks {
+  explicit ThreadRanks(int ranks)
+      : size(ranks), sync(ranks), slots(static_cast<std::size_t>(ranks)) {}
+  int size;
+  std::barrier<> sync;
+  std::vector<std::string> slots;
+};
+
+class ThreadRank final : public Distribution {
+public:
+  ThreadRank(ThreadRanks& ranks, int rank) : ranks_(ranks), rank_(rank) {}
+  int rank() const override { return rank_; }
+  int size() const override { return ranks_.size; }
+  int ranks_on_node() const override { return ranks_.size; }
+  bool all_ready(const std::string& failure, std::string&) override { return failure.empty(); }
+  std::vector<std::string> all_gather(const std::string& mine) override {
+    ranks_.slots[static_cast<std::size_t>(rank_)] = mine;
+    ranks_.sync.arrive_and_wait();
+    std::vector<std::string> all = ranks_.slots;
+    ranks_.sync.arrive_and_wait();
+    return all;
+  }
+  std::vector<Record> run(const Plan&, PlanRunner&,
+                          const std::function<void(std::size_t, std::size_t)>&, bool&) override {
+    return {};
+  }
+
+private:
+  ThreadRanks& ranks_;
+  int rank_;
+};
+
+// The bytes of a plan's points, their times (the closed forms' cost, measured) set aside.
+std::string points_without_times(std::vector<Point> points) {
+  for (Point& point : points) {
+    point.analytic_seconds = 0;
+  }
+  std::string bytes;
+  append_points(bytes, points);
+  return bytes;
+}
+
+// Under MPI each point's truth is computed once in the run, by one rank, and every rank then holds
+// the serial plan's points; a point that fails fails every rank's plan with the serial error.
+TEST(Distribution, EachPointIsComputedOnceAndEveryRankHoldsTheSerialPlan) {
+  Scene scene = parse_scene(sharded_scene, "points.toml");
+  const Plan serial = make_plan(scene, 2);
+  constexpr int size = 3;
+  ThreadRanks ranks(size);
+  std::vector<std::atomic<int>> computed(serial.points.size());
+  std::vector<Plan> plans(size);
+  std::vector<std::thread> threads;
+  for (int r = 0; r < size; ++r) {
+    threads.emplace_back([&, r] {
+      ThreadRank rank(ranks, r);
+      plans[static_cast<std::size_t>(r)] = make_plan(
+          scene, 1, [&](std::size_t count, const std::function<Point(std::size_t)>& point_at) {
+            return points_on_ranks(
+                rank, count,
+                [&](std::size_t i) {
+                  ++computed.at(i);
+                  return point_at(i);
+                },
+                2);
+          });
+    });
+  }
+  for (std::thread& thread : threads) {
+    thread.join();
+  }
+  for (std::size_t i = 0; i < computed.size(); ++i) {
+    EXPECT_EQ(computed[i], 1) << "point " << i;
+  }
+  std::string first;
+  append_points(first, plans[0].points);
+  for (const Plan& plan : plans) {
+    std::string bytes;
+    append_points(bytes, plan.points);
+    EXPECT_EQ(bytes, first); // times included: one rank measured each
+    EXPECT_EQ(points_without_times(plan.points), points_without_times(serial.points));
+    EXPECT_EQ(plan.cells.size(), serial.cells.size());
+  }
+
+  // Points 4 and 5 fail on ranks 1 and 2: every rank throws point 4's error, as a serial plan.
+  std::vector<std::string> errors(size);
+  threads.clear();
+  for (int r = 0; r < size; ++r) {
+    threads.emplace_back([&, r] {
+      ThreadRank rank(ranks, r);
+      try {
+        points_on_ranks(
+            rank, 9,
+            [](std::size_t i) -> Point {
+              if (i == 4) {
+                throw InputError("point 4 has no truth");
+              }
+              if (i == 5) {
+                throw std::runtime_error("point 5 failed inside");
+              }
+              return Point{};
+            },
+            1);
+      } catch (const InputError& e) {
+        errors[static_cast<std::size_t>(r)] = e.what();
+      }
+    });
+  }
+  for (std::thread& thread : threads) {
+    thread.join();
+  }
+  EXPECT_EQ(errors, std::vector<std::string>(size, "point 4 has no truth"));
+}
+
 // Under mpirun the ranks share the cells: --shard is refused there, even on one rank.
 TEST(Shards, AShardIsRefusedUnderMpi) {
   struct OneRank final : Distribution {
@@ -369,6 +585,7 @@ TEST(Shards, AShardIsRefusedUnderMpi) {
     int size() const override { return 1; }
     int ranks_on_node() const override { return 1; }
     bool all_ready(const std::string&, std::string&) override { return true; }
+    std::vector<std::string> all_gather(const std::string& mine) override { return {mine}; }
     std::vector<Record> run(const Plan&, PlanRunner&,
                             const std::function<void(std::size_t, std::size_t)>&, bool&) override {
       return {};

@@ -475,28 +475,41 @@ int run_scene(const RunArgs& args, std::ostream& out, std::ostream& err,
       throw;
     }
   }
-  const StopOnSignals signals;
-  if (failure.empty()) {
-    try {
-      plan = make_plan(*scene, jobs);
-      if (!shard) {
-        runner = std::make_unique<PlanRunner>(*plan, jobs);
-      }
-    } catch (const std::exception& e) {
-      failure = e.what();
-      if (!distributed) {
-        throw;
-      }
-    }
-  }
-  if (distributed) {
+  // Under MPI, twice: before the plan, whose points the ranks compute together (a collective),
+  // and after it, once the external programs were started.
+  const auto every_rank_ready = [&] {
     std::string why;
-    if (!distribution->all_ready(failure, why)) {
+    if (distributed && !distribution->all_ready(failure, why)) {
       if (!why.empty()) {
         throw InputError(why);
       }
-      return 2;
+      return false;
     }
+    return true;
+  };
+  if (!every_rank_ready()) {
+    return 2;
+  }
+  const StopOnSignals signals;
+  try {
+    PointMap map_points;
+    if (distributed) {
+      map_points = [&](std::size_t count, const std::function<Point(std::size_t)>& point_at) {
+        return points_on_ranks(*distribution, count, point_at, jobs);
+      };
+    }
+    plan = make_plan(*scene, jobs, map_points);
+    if (!shard) {
+      runner = std::make_unique<PlanRunner>(*plan, jobs);
+    }
+  } catch (const std::exception& e) {
+    failure = e.what();
+    if (!distributed) {
+      throw;
+    }
+  }
+  if (!every_rank_ready()) {
+    return 2;
   }
   const bool terminal = &err == &std::cerr && isatty(STDERR_FILENO) == 1;
   const Progress progress{ProgressLines(terminal)};

@@ -64,6 +64,32 @@ public:
     return false;
   }
 
+  std::vector<std::string> all_gather(const std::string& mine) override {
+    // The sizes first, which every rank checks alike: no rank leaves the collective alone.
+    const auto size = static_cast<std::int64_t>(mine.size());
+    std::vector<std::int64_t> sizes(static_cast<std::size_t>(size_));
+    MPI_Allgather(&size, 1, MPI_INT64_T, sizes.data(), 1, MPI_INT64_T, MPI_COMM_WORLD);
+    std::vector<int> counts, offsets;
+    std::int64_t total = 0;
+    for (const std::int64_t bytes : sizes) {
+      if (total + bytes > INT_MAX) {
+        throw std::length_error("the ranks' shares of the plan exceed one MPI message (2 GiB)");
+      }
+      counts.push_back(static_cast<int>(bytes));
+      offsets.push_back(static_cast<int>(total));
+      total += bytes;
+    }
+    std::string all(static_cast<std::size_t>(total), '\0');
+    MPI_Allgatherv(mine.data(), static_cast<int>(size), MPI_BYTE, all.data(), counts.data(),
+                   offsets.data(), MPI_BYTE, MPI_COMM_WORLD);
+    std::vector<std::string> shares;
+    for (std::size_t r = 0; r < counts.size(); ++r) {
+      shares.push_back(
+          all.substr(static_cast<std::size_t>(offsets[r]), static_cast<std::size_t>(counts[r])));
+    }
+    return shares;
+  }
+
   std::vector<Record> run(const Plan& plan, PlanRunner& runner,
                           const std::function<void(std::size_t, std::size_t)>& progress,
                           bool& stopped) override {

@@ -1,6 +1,7 @@
 #include "run/shard.hpp"
 
 #include "build_id.hpp"
+#include "common/bytes.hpp"
 #include "common/files.hpp"
 #include "common/input.hpp"
 
@@ -22,88 +23,6 @@ static_assert(std::endian::native == std::endian::little ||
 constexpr std::string_view shard_magic = "pldamp shard\n";
 constexpr std::uint32_t shard_format = 2; // 2: a checksum at the end
 constexpr std::uint32_t byte_order_marker = 0x01020304;
-
-class ByteWriter {
-public:
-  explicit ByteWriter(std::string& bytes) : bytes_(bytes) {}
-  template <class T>
-  requires std::is_arithmetic_v<T>
-  void put(T value) {
-    char raw[sizeof(T)];
-    std::memcpy(raw, &value, sizeof(T));
-    bytes_.append(raw, sizeof(T));
-  }
-  void put(std::string_view text) {
-    put<std::uint64_t>(text.size());
-    bytes_.append(text);
-  }
-  void put(const std::optional<double>& value) {
-    put<std::uint8_t>(value ? 1 : 0);
-    if (value) {
-      put(*value);
-    }
-  }
-  void put(const std::vector<std::optional<double>>& values) {
-    put<std::uint64_t>(values.size());
-    for (const std::optional<double>& value : values) {
-      put(value);
-    }
-  }
-
-private:
-  std::string& bytes_;
-};
-
-class ByteReader {
-public:
-  ByteReader(std::string_view bytes, const std::string& source) : bytes_(bytes), source_(source) {}
-  template <class T>
-  requires std::is_arithmetic_v<T> T get() {
-    T value;
-    std::memcpy(&value, take(sizeof(T)).data(), sizeof(T));
-    return value;
-  }
-  std::string string() { return std::string(take(size())); }
-  std::optional<double> optional() {
-    const auto flag = get<std::uint8_t>();
-    if (flag > 1) {
-      corrupt();
-    }
-    return flag == 1 ? std::optional<double>(get<double>()) : std::nullopt;
-  }
-  std::vector<std::optional<double>> optionals() {
-    std::vector<std::optional<double>> values(size());
-    for (std::optional<double>& value : values) {
-      value = optional();
-    }
-    return values;
-  }
-  // A count, no larger than the bytes left could hold (a corrupt count allocates nothing).
-  std::size_t size() {
-    const auto count = get<std::uint64_t>();
-    if (count > bytes_.size() - at_) {
-      corrupt();
-    }
-    return static_cast<std::size_t>(count);
-  }
-  bool at_end() const { return at_ == bytes_.size(); }
-  [[noreturn]] void corrupt() const {
-    throw InputError(source_ + " is truncated or corrupt: it is not a file pldamp wrote");
-  }
-
-private:
-  std::string_view take(std::size_t n) {
-    if (n > bytes_.size() - at_) {
-      corrupt();
-    }
-    const std::string_view part = bytes_.substr(at_, n);
-    at_ += n;
-    return part;
-  }
-  std::string_view bytes_;
-  std::size_t at_ = 0;
-  const std::string& source_;
-};
 
 // Every field of a Record, in declaration order: a field added to Record changes its size and
 // stops the build here until it is written and read too.

@@ -2,6 +2,7 @@
 
 #include "truth/reference_solve.hpp"
 
+#include "common/input.hpp"
 #include "common/parallel.hpp"
 
 #include "pldamp/analytic.hpp"
@@ -182,7 +183,7 @@ Contact<Exact> seed_contact(const Exact& p, Damping::Kind kind, const Exact& val
   return Contact<Exact>::from_alpha_eff(p, value, Exact(1));
 }
 
-Plan make_plan(const Scene& scene, int jobs) {
+Plan make_plan(const Scene& scene, int jobs, const PointMap& map_points) {
   Plan plan;
   plan.scene = scene;
   plan.observables = observables_of(scene.want);
@@ -261,10 +262,20 @@ Plan make_plan(const Scene& scene, int jobs) {
     point.analytic_seconds = time_in_double(plan, p, alpha);
     return point;
   };
-  plan.points = map_indices<Point>(wanted.size(), jobs, point_at);
-  for (std::size_t i = 0; i < plan.points.size(); ++i) {
+  plan.points = map_points ? map_points(wanted.size(), point_at)
+                           : map_indices<Point>(wanted.size(), jobs, point_at);
+  if (plan.points.size() != wanted.size()) {
+    throw InternalError("a point map returned " + std::to_string(plan.points.size()) + " of " +
+                        std::to_string(wanted.size()) + " points");
+  }
+  // Each point's cells (their Exact scales: 7 s on one thread for a 2·10^6-cell map), on `jobs`
+  // threads, in plan order.
+  const std::vector<CellScale> scales_wanted = scene_scales(scene);
+  plan.cells.resize(plan.points.size() * scales_wanted.size());
+  for_each_index(plan.points.size(), jobs, [&](std::size_t i) {
     const Point& point = plan.points[i];
-    for (const auto [v0, m, k] : scene_scales(scene)) {
+    for (std::size_t j = 0; j < scales_wanted.size(); ++j) {
+      const auto [v0, m, k] = scales_wanted[j];
       const std::array<Exact, 5> scales =
           cell_scales(Exact(point.p), Exact(v0), Exact(m), Exact(k));
       // MATH.md §12.1: the same α_eff at this cell's δ_u = unit δ_u × length.
@@ -272,9 +283,9 @@ Plan make_plan(const Scene& scene, int jobs) {
           point.solved ? alpha_of(point.p, *point.beta, point.group,
                                   unit_overlap(point.p) * scales[std::size_t(Dimension::length)])
                        : point.alpha;
-      plan.cells.push_back({i, v0, m, k, alpha, scales});
+      plan.cells[i * scales_wanted.size() + j] = {i, v0, m, k, alpha, scales};
     }
-  }
+  });
   return plan;
 }
 

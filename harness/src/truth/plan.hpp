@@ -19,6 +19,7 @@
 #include "pldamp/core/real_types.hpp"
 
 #include <array>
+#include <functional>
 #include <limits>
 #include <map>
 #include <optional>
@@ -96,9 +97,15 @@ struct Plan {
   std::vector<solvers::End> ends;    // the contact ends the configurations run under
 };
 
+// How make_plan computes its `count` points, point_at(i) each, returned in index order: by
+// default on make_plan's `jobs` threads; a run on MPI ranks computes a share on each rank and
+// exchanges them (points_on_ranks, pldamp/harness/distribution.hpp), every truth once in the run.
+using PointMap = std::function<std::vector<Point>(
+    std::size_t count, const std::function<Point(std::size_t)>& point_at)>;
+
 // Expands the scene and computes the references (Exact work, once per point), the points on
-// `jobs` threads: the same plan for any jobs.
-Plan make_plan(const Scene& scene, int jobs = 1);
+// `jobs` threads or by `map_points`: the same plan for any jobs and any map.
+Plan make_plan(const Scene& scene, int jobs = 1, const PointMap& map_points = {});
 
 // The Exact reference of an observable (its index in Plan::observables) at a cell, for a
 // configuration (α as its precision receives it, its contact end).

@@ -11,6 +11,7 @@
 namespace pldamp::harness {
 
 struct Plan;
+struct Point;
 struct Record;
 class PlanRunner;
 
@@ -25,6 +26,8 @@ public:
   // went wrong if anything did: true when every rank is ready. Otherwise false, and `why` is what
   // this rank should say (empty when another rank says it).
   virtual bool all_ready(const std::string& failure, std::string& why) = 0;
+  // Every rank's `mine`, in rank order, on every rank (a collective: every rank calls it).
+  virtual std::vector<std::string> all_gather(const std::string& mine) = 0;
   // Solves every record of the plan, each rank a share of its cells handed out as ranks ask for
   // more (one cell's cost differs ×10⁴ between a closed form and a float128 truth), on the rank's
   // own threads (`runner`). Rank 0 gets every record, in plan order, and calls `progress`; the
@@ -34,6 +37,14 @@ public:
                                   const std::function<void(std::size_t, std::size_t)>& progress,
                                   bool& stopped) = 0;
 };
+
+// make_plan's points (PointMap, truth/plan.hpp) computed once in the run: rank r computes points
+// r, r + N, r + 2N, ... of the `count` (point_at(i), on `jobs` threads) and the ranks exchange
+// them as bytes, bit for bit, so that every rank holds the serial plan's points. A point that
+// fails fails the plan on every rank alike, with the error the serial plan would throw (the
+// lowest failing index's). A collective: every rank calls it.
+std::vector<Point> points_on_ranks(Distribution& distribution, std::size_t count,
+                                   const std::function<Point(std::size_t)>& point_at, int jobs);
 
 // What rank `rank` says when not every rank is ready (Distribution::all_ready; `ready[r]`: whether
 // rank r is). What fails on rank 0 fails everywhere (the scene, its plan): rank 0 says it once and
