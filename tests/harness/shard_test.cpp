@@ -4,6 +4,7 @@
 #include "fixtures.hpp"
 
 #include "pldamp/harness/distribution.hpp"
+#include "run/record_store.hpp"
 #include "run/shard.hpp"
 #include "truth/point_bytes.hpp"
 
@@ -144,6 +145,45 @@ onset_phases = 3
   for (std::size_t i = 0; i < solved.size(); ++i) {
     expect_identical(solved[i], solved_back[i]);
   }
+}
+
+// The records where one process gathers them (rank 0, merge): stored in any order, past the
+// writer's buffer, read back in plan order bit for bit; each stored once, read once sealed; the
+// file is gone from the folder from the start.
+TEST(Shards, AStoreGivesBackItsRecordsInPlanOrderAndLeavesNoFile) {
+  const std::vector<Record> awkward = awkward_records();
+  std::vector<Record> records;
+  for (std::size_t i = 0; i < 6000; ++i) { // about 4 MB: four times the store's buffer
+    records.push_back(awkward[i % awkward.size()]);
+    records.back().cell = i;
+  }
+  const fs::path folder = scratch() / "store";
+  fs::remove_all(folder);
+  fs::create_directories(folder);
+  RecordStore store(records.size(), folder);
+  EXPECT_TRUE(fs::is_empty(folder));
+  for (std::size_t i = 0; i < records.size(); ++i) {
+    const std::size_t at = (i * 7919) % records.size(); // a permutation: 7919 is prime
+    if (i % 2 == 0) {
+      store.put(at, records[at]);
+    } else {
+      std::string bytes;
+      append_record(bytes, records[at]);
+      store.put_bytes(at, bytes);
+    }
+  }
+  EXPECT_EQ(store.stored(), records.size());
+  EXPECT_THROW(store.put(5, records[5]), std::logic_error);
+  EXPECT_THROW(store.at(0), std::logic_error); // not sealed yet
+  store.seal();
+  std::size_t i = 0;
+  for (const Record& record : RecordRange(store)) {
+    expect_identical(record, records[i++]);
+  }
+  EXPECT_EQ(i, records.size());
+  EXPECT_THROW(store.put(0, records[0]), std::logic_error); // sealed
+  EXPECT_TRUE(fs::is_empty(folder));
+  EXPECT_THROW(RecordStore(1, scratch() / "no" / "such" / "folder"), InputError);
 }
 
 // Every truncation, and bytes that were never records, give one InputError, never a crash or a
@@ -487,10 +527,8 @@ public:
     ranks_.sync.arrive_and_wait();
     return all;
   }
-  std::vector<Record> run(const Plan&, PlanRunner&,
-                          const std::function<void(std::size_t, std::size_t)>&, bool&) override {
-    return {};
-  }
+  void run(const Plan&, PlanRunner&, RecordStore*,
+           const std::function<void(std::size_t, std::size_t)>&, bool&) override {}
 
 private:
   ThreadRanks& ranks_;
@@ -586,10 +624,8 @@ TEST(Shards, AShardIsRefusedUnderMpi) {
     int ranks_on_node() const override { return 1; }
     bool all_ready(const std::string&, std::string&) override { return true; }
     std::vector<std::string> all_gather(const std::string& mine) override { return {mine}; }
-    std::vector<Record> run(const Plan&, PlanRunner&,
-                            const std::function<void(std::size_t, std::size_t)>&, bool&) override {
-      return {};
-    }
+    void run(const Plan&, PlanRunner&, RecordStore*,
+             const std::function<void(std::size_t, std::size_t)>&, bool&) override {}
   } one_rank;
   const std::string scene = write_file("mpi-shard.toml", sharded_scene);
   const std::vector<std::string> args{

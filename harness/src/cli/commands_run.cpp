@@ -7,6 +7,7 @@
 #include "judge/diff.hpp"
 #include "judge/step_study.hpp"
 #include "report/report.hpp"
+#include "run/record_store.hpp"
 #include "run/shard.hpp"
 
 #include <fmt/format.h>
@@ -331,8 +332,8 @@ void print_plan_size(const Scene& scene, std::ostream& out) {
 }
 
 // From the records on: budgets, claims, figures, trajectories, the reports and the summary.
-int report_records(const Plan& plan, const std::vector<Record>& records, const RunTotals& totals,
-                   int jobs, const std::string& folder, bool strict, const StopOnSignals& signals,
+int report_records(const Plan& plan, RecordRange records, const RunTotals& totals, int jobs,
+                   const std::string& folder, bool strict, const StopOnSignals& signals,
                    std::ostream& out, std::ostream& err) {
   const Scene& scene = plan.scene;
   const Budgets budgets = make_budgets(plan, records, jobs);
@@ -457,6 +458,7 @@ int run_scene(const RunArgs& args, std::ostream& out, std::ostream& err,
   std::optional<Scene> scene;
   std::optional<Plan> plan;
   std::unique_ptr<PlanRunner> runner;
+  std::unique_ptr<RecordStore> store;
   int jobs = 1;
   std::string failure;
   try {
@@ -502,6 +504,9 @@ int run_scene(const RunArgs& args, std::ostream& out, std::ostream& err,
     if (!shard) {
       runner = std::make_unique<PlanRunner>(*plan, jobs);
     }
+    if (distributed && distribution->rank() == 0) { // where every rank's records land
+      store = std::make_unique<RecordStore>(plan->cells.size() * plan->configs.size(), args.out);
+    }
   } catch (const std::exception& e) {
     failure = e.what();
     if (!distributed) {
@@ -522,7 +527,7 @@ int run_scene(const RunArgs& args, std::ostream& out, std::ostream& err,
   std::vector<Record> records;
   bool stopped_elsewhere = false;
   if (distributed) {
-    records = distribution->run(*plan, *runner, progress, stopped_elsewhere);
+    distribution->run(*plan, *runner, store.get(), progress, stopped_elsewhere);
     if (distribution->rank() != 0) {
       return signals.exit_code().value_or(0);
     }
@@ -534,9 +539,13 @@ int run_scene(const RunArgs& args, std::ostream& out, std::ostream& err,
         << " left as it was\n";
     return 128 + SIGINT;
   }
+  if (store) {
+    store->seal();
+  }
+  const RecordRange all = store ? RecordRange(*store) : RecordRange(records);
   RunTotals totals;
   totals.external = runner->external();
-  add_to_totals(records, totals);
+  add_to_totals(all, totals);
   totals.wall_seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   if (const std::optional<int> code = signals.exit_code()) {
@@ -548,8 +557,7 @@ int run_scene(const RunArgs& args, std::ostream& out, std::ostream& err,
   // thread on 2 cores, the nightly's claims, step study and reports on 1 thread took 8 s more).
   const int tail_jobs =
       distributed ? std::min(1024, jobs * std::max(distribution->ranks_on_node(), 1)) : jobs;
-  return report_records(*plan, records, totals, tail_jobs, args.out, args.strict, signals, out,
-                        err);
+  return report_records(*plan, all, totals, tail_jobs, args.out, args.strict, signals, out, err);
 }
 
 int merge_shards(const MergeArgs& args, std::ostream& out, std::ostream& err) {
@@ -563,15 +571,17 @@ int merge_shards(const MergeArgs& args, std::ostream& out, std::ostream& err) {
                        args.out + ")");
     }
   }
-  std::vector<Shard> shards;
+  // The headers first (each file's checksum checked): a set that is not one run's is refused
+  // before any record is read. The records then go to the store one shard at a time.
+  std::vector<ShardHeader> shards;
   for (const std::string& folder : args.shards) {
-    shards.push_back(read_shard(folder));
+    shards.push_back(read_shard_records(folder, {}));
   }
   // One run's shards, every one once: what was run, how it was split, by which build.
-  const ShardHeader& first = shards.front().header;
+  const ShardHeader& first = shards.front();
   std::vector<const std::string*> holder(first.count, nullptr);
   for (std::size_t i = 0; i < shards.size(); ++i) {
-    const ShardHeader& h = shards[i].header;
+    const ShardHeader& h = shards[i];
     const std::string& folder = args.shards[i];
     if (h.build != build_id()) {
       throw InputError(fmt::format("{} was written by pldamp {}, this is pldamp {}: merge with the "
@@ -626,32 +636,32 @@ int merge_shards(const MergeArgs& args, std::ostream& out, std::ostream& err) {
                                  args.shards[0]));
   }
   // Every record in its place: shard K holds its cells' records (shard_cells), each whole.
-  std::vector<Record> records(plan.cells.size() * plan.configs.size());
-  std::vector<char> filled(records.size(), 0);
+  RecordStore records(plan.cells.size() * plan.configs.size(), args.out);
   RunTotals totals;
   totals.external = first.totals.external;
   for (std::size_t i = 0; i < shards.size(); ++i) {
-    const ShardHeader& h = shards[i].header;
+    const ShardHeader& h = shards[i];
     const std::vector<std::size_t> cells = shard_cells(plan.cells.size(), h.index, h.count);
-    if (shards[i].records.size() != cells.size() * plan.configs.size()) {
-      throw InputError(fmt::format("{} holds {} records, shard {}/{} of this plan has {}: it is "
-                                   "incomplete (got {})",
-                                   args.shards[i], shards[i].records.size(), h.index, h.count,
-                                   cells.size() * plan.configs.size(), args.shards[i]));
-    }
-    for (Record& record : shards[i].records) {
+    std::size_t held = 0;
+    read_shard_records(args.shards[i], [&](Record&& record, std::string_view bytes) {
       const std::size_t at = record.cell * plan.configs.size() + record.config;
       if (record.cell >= plan.cells.size() || record.config >= plan.configs.size() ||
-          record.cell % h.count != h.index - 1 || filled[at] != 0) {
+          record.cell % h.count != h.index - 1 || records.has(at)) {
         throw InputError(fmt::format("{} holds a record of another shard (cell {}) (got {})",
                                      args.shards[i], record.cell, args.shards[i]));
       }
-      filled[at] = 1;
-      records[at] = std::move(record);
+      records.put_bytes(at, bytes);
+      ++held;
+    });
+    if (held != cells.size() * plan.configs.size()) {
+      throw InputError(fmt::format("{} holds {} records, shard {}/{} of this plan has {}: it is "
+                                   "incomplete (got {})",
+                                   args.shards[i], held, h.index, h.count,
+                                   cells.size() * plan.configs.size(), args.shards[i]));
     }
-    std::vector<Record>().swap(shards[i].records); // their shells: 448 B a record
     totals.wall_seconds += h.totals.wall_seconds;
   }
+  records.seal();
   add_to_totals(records, totals);
   return report_records(plan, records, totals, jobs, args.out, args.strict, signals, out, err);
 }

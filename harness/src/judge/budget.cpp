@@ -89,8 +89,7 @@ std::string why_no_value(const Plan& plan, const Record& record, std::size_t obs
 
 // A bound on a configuration's error over a plan's records: every record of it is a cell of the
 // claim, judged on its error, or without a value (failed, skipped, not measured, no truth).
-Judgement judge_records(const Plan& plan, const std::vector<Record>& records,
-                        const BoundClaim& claim) {
+Judgement judge_records(const Plan& plan, RecordRange records, const BoundClaim& claim) {
   Judgement j;
   j.grid = grid_text(scene_grid(plan.scene));
   const auto config = static_cast<std::size_t>(
@@ -146,8 +145,7 @@ Judgement judge_own_grid(const Scene& scene, const BoundClaim& claim, const Clai
   return j;
 }
 
-Verdict judge_bound(const Plan& plan, const std::vector<Record>& records, const Claim& claim,
-                    int jobs) {
+Verdict judge_bound(const Plan& plan, RecordRange records, const Claim& claim, int jobs) {
   Verdict verdict = verdict_of(claim);
   const ClaimGrid of_scene = scene_grid(plan.scene);
   const ConventionClaim* convention = std::get_if<ConventionClaim>(&claim.kind);
@@ -317,7 +315,7 @@ bool last_of_its_solver(const Plan& plan, std::size_t config) {
   return next == plan.configs.size() || plan.configs[next].line() != plan.configs[config].line();
 }
 
-Budgets make_budgets(const Plan& plan, const std::vector<Record>& records, int jobs) {
+Budgets make_budgets(const Plan& plan, RecordRange records, int jobs) {
   Budgets budgets;
   const std::size_t configs = plan.configs.size(), observables = plan.observables.size();
   budgets.worst.assign(configs, std::vector<Worst>(observables));

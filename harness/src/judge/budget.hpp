@@ -4,6 +4,7 @@
 #include "common/parallel.hpp"
 #include "judge/search.hpp"
 #include "judge/step_study.hpp"
+#include "run/record_store.hpp"
 #include "run/run.hpp"
 
 #include <optional>
@@ -145,7 +146,7 @@ struct Budgets {
 
 // The claims, searches and step study solve on `jobs` threads (--jobs); nothing in the budgets
 // depends on their number (common/parallel.hpp).
-Budgets make_budgets(const Plan& plan, const std::vector<Record>& records, int jobs = all_cores());
+Budgets make_budgets(const Plan& plan, RecordRange records, int jobs = all_cores());
 
 // The index of the `quantile` of `values` by nearest rank (the ⌈q·n⌉-th smallest; NaN counts as
 // the largest; q = 1: the largest). `values` must not be empty.

@@ -10,6 +10,7 @@
 #include <cmath>
 #include <map>
 #include <numbers>
+#include <set>
 
 namespace pldamp::harness {
 namespace {
@@ -184,7 +185,7 @@ PointSteps steps_needed(const Plan& plan, const StepSweep& sweep,
 
 } // namespace
 
-StepStudy make_step_study(const Plan& plan, const std::vector<Record>& records, int jobs) {
+StepStudy make_step_study(const Plan& plan, RecordRange records, int jobs) {
   StepStudy study;
   const std::optional<std::size_t> tau = index_of(plan, "tau"), e = index_of(plan, "e");
   if (!tau || !e) {
@@ -206,10 +207,23 @@ StepStudy make_step_study(const Plan& plan, const std::vector<Record>& records, 
     return static_cast<std::size_t>(std::find(plan.scene.p.begin(), plan.scene.p.end(), p) -
                                     plan.scene.p.begin());
   };
-  // Records by (configuration, cell).
-  std::map<std::pair<std::size_t, std::size_t>, const Record*> by_config_cell;
+  // What the sweeps read of their configurations' records, by (configuration, cell): records are
+  // read one at a time (a merge's are decoded as they are read, run/record_store.hpp).
+  struct SweptRecord {
+    bool skipped, noted;
+    std::optional<double> dt;
+    std::vector<std::optional<double>> rel_error, spread;
+  };
+  std::set<std::size_t> swept;
+  for (const StepSweep& sweep : study.sweeps) {
+    swept.insert(sweep.configs.begin(), sweep.configs.end());
+  }
+  std::map<std::pair<std::size_t, std::size_t>, SweptRecord> by_config_cell;
   for (const Record& record : records) {
-    by_config_cell[{record.config, record.cell}] = &record;
+    if (swept.contains(record.config)) {
+      by_config_cell[{record.config, record.cell}] = {record.skipped(), !record.note.empty(),
+                                                      record.dt, record.rel_error, record.spread};
+    }
   }
   // by_steps_of[sweep][point][k]: the worst error in e over the point's cells at configuration k
   // (an external program's answer is read off it).
@@ -228,15 +242,15 @@ StepStudy make_step_study(const Plan& plan, const std::vector<Record>& records, 
         const auto found = by_config_cell.find({sweep.configs[k], cell_index});
         const std::optional<Exact> truth =
             reference_at(plan, cell, *tau, plan.configs[sweep.configs[k]]);
-        const Record* record = found == by_config_cell.end() ? nullptr : found->second;
+        const SweptRecord* record = found == by_config_cell.end() ? nullptr : &found->second;
         const std::optional<double> e_error =
-            record && !record->skipped() ? record->rel_error[*e] : std::nullopt;
+            record && !record->skipped ? record->rel_error[*e] : std::nullopt;
         by_steps[cell.point][k] = std::max(by_steps[cell.point][k],
                                            e_error && !std::isnan(*e_error) ? *e_error : INFINITY);
         if (!record || !record->dt || !truth || !isfinite(*truth)) {
           continue; // no return (overdamped): no contact duration to divide by
         }
-        if (record->skipped() || !record->note.empty()) {
+        if (record->skipped || record->noted) {
           continue; // not run, or no truth to measure its error against
         }
         for (std::size_t o = 0; o < observables; ++o) {

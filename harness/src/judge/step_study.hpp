@@ -16,6 +16,7 @@
 // `from_sweep`).
 #pragma once
 
+#include "run/record_store.hpp"
 #include "run/run.hpp"
 
 #include <array>
@@ -66,7 +67,7 @@ struct StepStudy {
 
 // Empty (no sweeps) when the plan has no fixed-step sweep or does not compare e and τ. The
 // searches run on `jobs` threads.
-StepStudy make_step_study(const Plan& plan, const std::vector<Record>& records, int jobs);
+StepStudy make_step_study(const Plan& plan, RecordRange records, int jobs);
 
 // The solver runs the study's searches are estimated to cost (the plan's size).
 double step_study_runs_estimate(const Scene& scene);

@@ -11,6 +11,7 @@
 
 #include "pldamp/harness/cli.hpp"
 #include "pldamp/harness/distribution.hpp"
+#include "run/record_store.hpp"
 #include "run/run.hpp"
 #include "run/shard.hpp"
 
@@ -90,9 +91,8 @@ public:
     return shares;
   }
 
-  std::vector<Record> run(const Plan& plan, PlanRunner& runner,
-                          const std::function<void(std::size_t, std::size_t)>& progress,
-                          bool& stopped) override {
+  void run(const Plan& plan, PlanRunner& runner, RecordStore* all,
+           const std::function<void(std::size_t, std::size_t)>& progress, bool& stopped) override {
     running_ = true;
     const std::size_t cells = plan.cells.size();
     // Chunks of 16 cells or more where the grid allows, so that a fixed-step configuration's
@@ -109,11 +109,15 @@ public:
       }
       return mine;
     };
-    std::vector<Record> records =
-        rank_ == 0 ? hand_out(plan, runner, chunks, chunk_cells, progress, stopped)
-                   : ask_for_work(runner, chunk_cells);
+    if (rank_ == 0) {
+      if (all == nullptr || all->size() != cells * plan.configs.size()) {
+        throw std::logic_error("rank 0 has no store for the plan's records");
+      }
+      hand_out(plan, runner, *all, chunks, chunk_cells, progress, stopped);
+    } else {
+      ask_for_work(runner, chunk_cells);
+    }
     running_ = false;
-    return records;
   }
 
   // Whether this rank should print its error (rank 0 says what fails on every rank), and whether
@@ -123,11 +127,10 @@ public:
 
 private:
   template <class ChunkCells>
-  std::vector<Record>
-  hand_out(const Plan& plan, PlanRunner& runner, std::size_t chunks, ChunkCells&& chunk_cells,
-           const std::function<void(std::size_t, std::size_t)>& progress, bool& stopped) {
+  void hand_out(const Plan& plan, PlanRunner& runner, RecordStore& all, std::size_t chunks,
+                ChunkCells&& chunk_cells,
+                const std::function<void(std::size_t, std::size_t)>& progress, bool& stopped) {
     const std::size_t configs = plan.configs.size();
-    std::vector<Record> all(plan.cells.size() * configs);
     std::size_t placed = 0;
     std::mutex lock;
     std::size_t next_chunk = 0;
@@ -138,21 +141,33 @@ private:
       }
       return next_chunk++;
     };
-    const auto place = [&](std::vector<Record>& records) {
+    // A record into its place in plan order, as its bytes (those a rank sent, or its own
+    // encoded): a record outside the plan or placed twice is a rank that misbehaved.
+    const auto place = [&](const Record& record, std::string_view bytes) {
+      const std::size_t at = record.cell * configs + record.config;
+      if (record.cell >= plan.cells.size() || record.config >= configs || all.has(at)) {
+        throw std::runtime_error("a rank sent a record outside the plan or twice (cell " +
+                                 std::to_string(record.cell) + ")");
+      }
+      if (bytes.empty()) {
+        all.put(at, record);
+      } else {
+        all.put_bytes(at, bytes);
+      }
       const std::lock_guard guard(lock);
-      for (Record& record : records) {
-        all.at(record.cell * configs + record.config) = std::move(record);
-        if (progress) {
-          progress(++placed, all.size());
-        }
+      if (progress) {
+        progress(++placed, all.size());
+      } else {
+        ++placed;
       }
     };
     std::exception_ptr thrown;
     std::thread own([&] {
       try {
         while (const std::optional<std::size_t> chunk = take()) {
-          std::vector<Record> records = runner.run_cells(chunk_cells(*chunk));
-          place(records);
+          for (const Record& record : runner.run_cells(chunk_cells(*chunk))) {
+            place(record, {});
+          }
         }
       } catch (...) {
         thrown = std::current_exception();
@@ -174,7 +189,6 @@ private:
       throw std::logic_error("the ranks returned " + std::to_string(placed) + " of " +
                              std::to_string(all.size()) + " records");
     }
-    return all;
   }
 
   // Rank 0's main thread: each request's records placed, the next chunk (or −1) sent back, until
@@ -203,10 +217,9 @@ private:
         a_rank_stopped_ = true;
         stop_requested() = true;
       }
-      std::vector<Record> records =
-          read_records(std::string_view(message).substr(1),
-                       "rank " + std::to_string(status.MPI_SOURCE) + "'s records");
-      place(records);
+      for_each_record_bytes(std::string_view(message).substr(1),
+                            "rank " + std::to_string(status.MPI_SOURCE) + "'s records",
+                            [&](Record&& record, std::string_view held) { place(record, held); });
       const std::int64_t chunk = [&]() -> std::int64_t {
         const std::optional<std::size_t> next = take();
         return next ? static_cast<std::int64_t>(*next) : -1;
@@ -217,7 +230,7 @@ private:
   }
 
   template <class ChunkCells>
-  std::vector<Record> ask_for_work(PlanRunner& runner, ChunkCells&& chunk_cells) {
+  void ask_for_work(PlanRunner& runner, ChunkCells&& chunk_cells) {
     std::vector<Record> solved;
     for (;;) {
       std::string message(1, stop_requested() ? 1 : 0);
@@ -230,7 +243,7 @@ private:
       std::int64_t chunk = -1;
       MPI_Recv(&chunk, 1, MPI_INT64_T, 0, tag_chunk, MPI_COMM_WORLD, MPI_STATUS_IGNORE);
       if (chunk < 0) {
-        return {};
+        return;
       }
       solved = stop_requested() ? std::vector<Record>{}
                                 : runner.run_cells(chunk_cells(static_cast<std::size_t>(chunk)));

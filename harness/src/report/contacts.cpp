@@ -86,9 +86,28 @@ MapTable contact_truth_table(const RunReport& report) {
     }
     table.header.push_back(lines[l] + (sweep.empty() ? "" : " (" + sweep + ")"));
   }
-  std::map<std::pair<std::size_t, std::size_t>, const Record*> by_cell; // (cell, config)
+  // Each contact cell's record as its table shows it, by (cell, configuration): records are read
+  // one at a time (a merge's are decoded as they are read, run/record_store.hpp).
+  std::map<std::pair<std::size_t, std::size_t>, std::string> by_cell;
   for (const Record& record : report.records) {
-    by_cell[{record.cell, record.config}] = &record;
+    const Cell& cell = plan.cells[record.cell];
+    if (contact_of(plan.scene, cell.m, cell.k) == nullptr) {
+      continue;
+    }
+    std::string& text = by_cell[{record.cell, record.config}];
+    if (record.skipped()) {
+      text = "skipped";
+    } else if (record.failed()) {
+      text = record.outcome_name();
+    } else {
+      std::optional<double> worst;
+      for (const std::size_t o : columns) {
+        if (record.rel_error[o] && (!worst || *record.rel_error[o] > *worst)) {
+          worst = record.rel_error[o];
+        }
+      }
+      text = short_number(worst);
+    }
   }
   const SolverConfig scene_end{}; // the truth under the scene's end
   for (std::size_t c = 0; c < plan.cells.size(); ++c) {
@@ -108,24 +127,7 @@ MapTable contact_truth_table(const RunReport& report) {
       for (const std::size_t k : configs) {
         text += text.empty() ? "" : " / ";
         const auto found = by_cell.find({c, k});
-        if (found == by_cell.end()) {
-          text += "–";
-          continue;
-        }
-        const Record& record = *found->second;
-        if (record.skipped()) {
-          text += "skipped";
-        } else if (record.failed()) {
-          text += record.outcome_name();
-        } else {
-          std::optional<double> worst;
-          for (const std::size_t o : columns) {
-            if (record.rel_error[o] && (!worst || *record.rel_error[o] > *worst)) {
-              worst = record.rel_error[o];
-            }
-          }
-          text += short_number(worst);
-        }
+        text += found == by_cell.end() ? "–" : found->second;
       }
       row.push_back(text);
     }

@@ -315,8 +315,10 @@ void write_report_json(const RunReport& report, const TextSink& put) {
     put(": ");
     if (name == key::records) { // one line each, made and written one at a time
       put("[");
+      bool first_record = true;
       for (const Record& record : report.records) {
-        put(&record == &report.records.front() ? "\n  " : ",\n  ");
+        put(first_record ? "\n  " : ",\n  ");
+        first_record = false;
         put(record_json(report.plan, record).dump());
       }
       put(report.records.empty() ? "]" : "\n ]");

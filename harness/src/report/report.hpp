@@ -12,6 +12,7 @@
 #include "judge/budget.hpp"
 #include "judge/figures.hpp"
 #include "judge/trajectory.hpp"
+#include "run/record_store.hpp"
 
 #include <nlohmann/json.hpp>
 
@@ -22,7 +23,7 @@ namespace pldamp::harness {
 
 struct RunReport {
   const Plan& plan;
-  const std::vector<Record>& records;
+  RecordRange records;
   const Budgets& budgets;
   const RunTotals& totals;
   const std::vector<Figure>& figures;

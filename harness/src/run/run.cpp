@@ -1,5 +1,7 @@
 #include "run/run.hpp"
 
+#include "run/record_store.hpp"
+
 #include "common/parallel.hpp"
 #include "run/external.hpp"
 #include "truth/reference_solve.hpp"
@@ -665,13 +667,6 @@ std::vector<Record> PlanRunner::run_cells(std::span<const std::size_t> cells,
     }
   });
   return records;
-}
-
-void add_to_totals(const std::vector<Record>& records, RunTotals& totals) {
-  for (const Record& record : records) {
-    totals.rhs_evals += record.rhs_evals * record.phases;
-    totals.solver_runs += record.runs;
-  }
 }
 
 std::vector<Record> run_plan(const Plan& plan, int jobs, RunTotals& totals,

@@ -138,7 +138,4 @@ private:
   std::vector<std::string> external_;
 };
 
-// Adds records' rhs evaluations and solver runs to `totals` (run_plan's sums).
-void add_to_totals(const std::vector<Record>& records, RunTotals& totals);
-
 } // namespace pldamp::harness

@@ -121,6 +121,29 @@ std::vector<Record> read_records(std::string_view bytes, const std::string& sour
   return records;
 }
 
+void append_record(std::string& bytes, const Record& record) {
+  ByteWriter out(bytes);
+  put_record(out, record);
+}
+
+Record read_record(std::string_view bytes, const std::string& source) {
+  ByteReader in(bytes, source);
+  return get_record(in);
+}
+
+void for_each_record_bytes(std::string_view bytes, const std::string& source,
+                           const RecordVisitor& visit) {
+  ByteReader in(bytes, source);
+  for (std::size_t n = in.size(); n > 0; --n) {
+    const std::string_view from = in.rest();
+    Record record = get_record(in);
+    visit(std::move(record), from.substr(0, from.size() - in.rest().size()));
+  }
+  if (!in.at_end()) {
+    in.corrupt();
+  }
+}
+
 std::vector<std::size_t> shard_cells(std::size_t cells, std::size_t index, std::size_t count) {
   std::vector<std::size_t> mine;
   for (std::size_t cell = index - 1; cell < cells; cell += count) {
@@ -157,7 +180,7 @@ void write_shard(const std::filesystem::path& folder, const Shard& shard) {
   write_file_atomically(folder / shard_file_name, bytes);
 }
 
-Shard read_shard(const std::filesystem::path& folder) {
+ShardHeader read_shard_records(const std::filesystem::path& folder, const RecordVisitor& visit) {
   const std::string source = (folder / shard_file_name).string();
   std::error_code error;
   if (!std::filesystem::is_regular_file(folder / shard_file_name, error)) {
@@ -189,8 +212,7 @@ Shard read_shard(const std::filesystem::path& folder) {
                      std::to_string(format) + ", this pldamp reads " +
                      std::to_string(shard_format) + ") or on a machine of another byte order");
   }
-  Shard shard;
-  ShardHeader& h = shard.header;
+  ShardHeader h;
   h.build = read.string();
   h.scene_path = read.string();
   h.scene_text = read.string();
@@ -208,10 +230,20 @@ Shard read_shard(const std::filesystem::path& folder) {
   for (std::string& said : h.totals.external) {
     said = read.string();
   }
-  shard.records = get_records(read);
-  if (!read.at_end() || h.index < 1 || h.index > h.count || h.count > max_shards) {
+  if (h.index < 1 || h.index > h.count || h.count > max_shards) {
     read.corrupt();
   }
+  if (visit) {
+    for_each_record_bytes(read.rest(), source, visit);
+  }
+  return h;
+}
+
+Shard read_shard(const std::filesystem::path& folder) {
+  Shard shard;
+  shard.header = read_shard_records(folder, [&](Record&& record, std::string_view) {
+    shard.records.push_back(std::move(record));
+  });
   return shard;
 }
 

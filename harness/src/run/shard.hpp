@@ -7,6 +7,7 @@
 
 #include <cstddef>
 #include <filesystem>
+#include <functional>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -21,6 +22,14 @@ std::string_view build_id();
 // bytes end early or hold what no writer writes).
 void append_records(std::string& bytes, const std::vector<Record>& records);
 std::vector<Record> read_records(std::string_view bytes, const std::string& source);
+
+// One record's bytes appended to `bytes`; read_record reads the record `bytes` begin with.
+void append_record(std::string& bytes, const Record& record);
+Record read_record(std::string_view bytes, const std::string& source);
+// Each record of bytes append_records wrote, in order, with the bytes that hold it.
+using RecordVisitor = std::function<void(Record&&, std::string_view bytes)>;
+void for_each_record_bytes(std::string_view bytes, const std::string& source,
+                           const RecordVisitor& visit);
 
 // The cells of shard `index` of `count` (1 ≤ index ≤ count): every count-th cell from index − 1,
 // so that each shard holds every p, damping and scale of the grid in about equal shares.
@@ -54,5 +63,8 @@ struct Shard {
 void write_shard(const std::filesystem::path& folder, const Shard& shard);
 // Reads FOLDER/shard.pldamp; InputError with one line when it cannot be read or is not one.
 Shard read_shard(const std::filesystem::path& folder);
+// The same, its records handed to `visit` one at a time with their bytes (none without a visitor:
+// the header alone, the whole file's checksum checked).
+ShardHeader read_shard_records(const std::filesystem::path& folder, const RecordVisitor& visit);
 
 } // namespace pldamp::harness

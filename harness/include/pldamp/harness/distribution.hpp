@@ -14,6 +14,7 @@ struct Plan;
 struct Point;
 struct Record;
 class PlanRunner;
+class RecordStore;
 
 class Distribution {
 public:
@@ -30,12 +31,12 @@ public:
   virtual std::vector<std::string> all_gather(const std::string& mine) = 0;
   // Solves every record of the plan, each rank a share of its cells handed out as ranks ask for
   // more (one cell's cost differs ×10⁴ between a closed form and a float128 truth), on the rank's
-  // own threads (`runner`). Rank 0 gets every record, in plan order, and calls `progress`; the
-  // other ranks get none. A stop request (a signal on any rank) ends the handing out: rank 0 then
-  // gets what was solved, with `stopped` set.
-  virtual std::vector<Record> run(const Plan& plan, PlanRunner& runner,
-                                  const std::function<void(std::size_t, std::size_t)>& progress,
-                                  bool& stopped) = 0;
+  // own threads (`runner`). Rank 0 stores every record in `all` (its own, not sealed; the other
+  // ranks pass none) and calls `progress`. A stop request (a signal on any rank) ends the handing
+  // out: rank 0 then holds what was solved, with `stopped` set.
+  virtual void run(const Plan& plan, PlanRunner& runner, RecordStore* all,
+                   const std::function<void(std::size_t, std::size_t)>& progress,
+                   bool& stopped) = 0;
 };
 
 // make_plan's points (PointMap, truth/plan.hpp) computed once in the run: rank r computes points
