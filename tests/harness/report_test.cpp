@@ -7,6 +7,7 @@
 #include "common/report_schema.hpp"
 #include "judge/diff.hpp"
 #include "report/report.hpp"
+#include "report/sections.hpp"
 
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
@@ -243,20 +244,45 @@ TEST(ReportJson, EachRecordOnALineOfItsOwnAndNoAbsError) {
     }
   }
   EXPECT_EQ(record_lines, h.records.size());
-  // Written as made, a record a piece: in JSON each its own piece, in CSV each row (and the
-  // header) a piece of one line.
-  std::size_t record_pieces = 0;
-  write_report_json(report, [&](std::string_view piece) {
-    record_pieces += piece.starts_with("{\"key\":") ? 1 : 0;
-  });
-  EXPECT_EQ(record_pieces, h.records.size());
-  std::string csv;
-  write_report_csv(report, [&](std::string_view piece) {
-    EXPECT_EQ(std::count(piece.begin(), piece.end(), '\n'), 1) << piece;
-    csv += piece;
-  });
-  EXPECT_EQ(csv, report_csv(report));
-  EXPECT_EQ(std::ranges::count(csv, '\n'), 1 + static_cast<long>(h.records.size()));
+  // Written as made: with records enough for several pieces, none holds more than its block of
+  // records, and the text on 3 threads is the text on one, in JSON as in CSV.
+  std::vector<Record> many;
+  while (many.size() < 3 * record_lines_per_piece + 17) {
+    many.insert(many.end(), h.records.begin(), h.records.end());
+  }
+  const RunReport large{h.plan, many, b, RunTotals{400, 4, 1.0, {}}, {}};
+  const auto count = [](std::string_view piece, std::string_view marker) {
+    std::size_t n = 0;
+    for (std::size_t at = piece.find(marker); at != std::string_view::npos;
+         at = piece.find(marker, at + 1)) {
+      ++n;
+    }
+    return n;
+  };
+  // What marks a record in each format: its key in JSON, its line in CSV.
+  using Writer = void (*)(const RunReport&, const TextSink&, int);
+  for (const auto& [write, marker] :
+       {std::pair<Writer, std::string_view>{write_report_json, "{\"key\":"},
+        std::pair<Writer, std::string_view>{write_report_csv, "\n"}}) {
+    std::string serial, threaded;
+    write(
+        large, [&](std::string_view piece) { serial += piece; }, 1);
+    std::size_t pieces = 0;
+    write(
+        large,
+        [&](std::string_view piece) {
+          ++pieces;
+          threaded += piece;
+          EXPECT_LE(count(piece, marker), record_lines_per_piece + 1);
+        },
+        3);
+    EXPECT_EQ(threaded, serial);
+    EXPECT_GT(pieces, 3u);
+  }
+  const std::string large_text =
+      gather_text([&](const TextSink& put) { write_report_json(large, put, 3); });
+  EXPECT_EQ(nlohmann::json::parse(large_text)["records"].size(), many.size());
+  EXPECT_EQ(std::ranges::count(report_csv(large), '\n'), 1 + static_cast<long>(many.size()));
 }
 
 TEST(Diff, AReportStreamedIsReadAsAWholeOneAndAnotherSchemaIsOneLine) {

@@ -27,7 +27,7 @@ std::string csv_field(std::string_view text) {
 
 } // namespace
 
-void write_report_csv(const RunReport& report, const TextSink& put) {
+void write_report_csv(const RunReport& report, const TextSink& put, int jobs) {
   const Plan& plan = report.plan;
   constexpr std::array columns{key::solver,
                                key::precision,
@@ -59,7 +59,7 @@ void write_report_csv(const RunReport& report, const TextSink& put) {
   const auto number = [](const std::optional<double>& x) {
     return x ? fmt::format("{}", *x) : std::string();
   };
-  for (const Record& record : report.records) {
+  put_record_lines(report.records, jobs, put, [&](const Record& record, std::size_t) {
     const SolverConfig& config = plan.configs[record.config];
     const Cell& c = plan.cells[record.cell];
     const Point& point = plan.points[c.point];
@@ -75,9 +75,8 @@ void write_report_csv(const RunReport& report, const TextSink& put) {
                          number(record.error[o]), number(record.abs_error[o]),
                          number(record.rel_error[o]));
     }
-    row += "\n";
-    put(row);
-  }
+    return row + "\n";
+  });
 }
 
 std::string report_csv(const RunReport& report) {

@@ -304,7 +304,7 @@ ordered_json report_json(const RunReport& report) {
   return report_sections(report, true);
 }
 
-void write_report_json(const RunReport& report, const TextSink& put) {
+void write_report_json(const RunReport& report, const TextSink& put, int jobs) {
   const ordered_json json = report_sections(report, false);
   bool first_section = true;
   put("{");
@@ -315,12 +315,9 @@ void write_report_json(const RunReport& report, const TextSink& put) {
     put(": ");
     if (name == key::records) { // one line each, made and written one at a time
       put("[");
-      bool first_record = true;
-      for (const Record& record : report.records) {
-        put(first_record ? "\n  " : ",\n  ");
-        first_record = false;
-        put(record_json(report.plan, record).dump());
-      }
+      put_record_lines(report.records, jobs, put, [&](const Record& record, std::size_t i) {
+        return (i == 0 ? "\n  " : ",\n  ") + record_json(report.plan, record).dump();
+      });
       put(report.records.empty() ? "]" : "\n ]");
       continue;
     }

@@ -41,8 +41,9 @@ std::string report_json_text(const RunReport& report);
 std::string report_csv(const RunReport& report);
 // The same two texts handed to `put` in pieces as they are made, a record at a time: what
 // write_reports writes (a merge of 4·10^5 records held 2.6 GB building report.json whole).
-void write_report_json(const RunReport& report, const TextSink& put);
-void write_report_csv(const RunReport& report, const TextSink& put);
+// The records' text is made on `jobs` threads (put_record_lines): the same text for any jobs.
+void write_report_json(const RunReport& report, const TextSink& put, int jobs = 1);
+void write_report_csv(const RunReport& report, const TextSink& put, int jobs = 1);
 std::string report_markdown(const RunReport& report);
 // `gnuplot` is the program to draw with; empty or missing: no plots. The plots are drawn on up to
 // `jobs` threads; the page does not depend on their number.

@@ -25,6 +25,13 @@ nlohmann::ordered_json records_json(const RunReport& report);
 nlohmann::ordered_json record_json(const Plan& plan, const Record& record); // one of them
 nlohmann::ordered_json work_precision_json(const RunReport& report);
 
+// Each record's text (`line(record, index)`), made on `jobs` threads a block of records each and
+// handed to `put` in plan order, a block a piece: report.json's and report.csv's records, which
+// were most of a 10^6-record merge's time on one thread.
+void put_record_lines(RecordRange records, int jobs, const TextSink& put,
+                      const std::function<std::string(const Record&, std::size_t)>& line);
+inline constexpr std::size_t record_lines_per_piece = 512;
+
 // A record's identity (schema.hpp): its configuration's label and its cell.
 schema::RecordId record_id(const Plan& plan, const Record& record);
 

@@ -102,7 +102,7 @@ const Record& RecordRange::iterator::operator*() const {
     return (*range_->vector_)[index_];
   }
   if (!decoded_ || decoded_index_ != index_) {
-    decoded_ = range_->store_->at(index_);
+    range_->at(index_, decoded_);
     decoded_index_ = index_;
   }
   return *decoded_;

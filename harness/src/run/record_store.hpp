@@ -62,6 +62,14 @@ public:
   RecordRange(const RecordStore& store) : store_(&store) {}              // NOLINT
   std::size_t size() const { return vector_ != nullptr ? vector_->size() : store_->size(); }
   bool empty() const { return size() == 0; }
+  // Record `index`: the vector's, or the store's decoded into `holder` (from any thread).
+  const Record& at(std::size_t index, std::optional<Record>& holder) const {
+    if (vector_ != nullptr) {
+      return vector_->at(index);
+    }
+    holder = store_->at(index);
+    return *holder;
+  }
 
   class iterator {
   public:

@@ -188,9 +188,14 @@ ShardHeader read_shard_records(const std::filesystem::path& folder, const Record
                      " is no file (a shard is the --out folder of `pldamp run SCENE --shard "
                      "K/N`)");
   }
-  std::ifstream in(folder / shard_file_name, std::ios::binary);
-  const std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-  if (!in.good() && !in.eof()) {
+  std::ifstream in(folder / shard_file_name, std::ios::binary | std::ios::ate);
+  std::string bytes;
+  if (in) { // its size first, then one read (a character at a time took 6 % of a merge)
+    bytes.resize(static_cast<std::size_t>(in.tellg()));
+    in.seekg(0);
+    in.read(bytes.data(), static_cast<std::streamsize>(bytes.size()));
+  }
+  if (!in) {
     throw InputError("cannot read " + source);
   }
   if (!bytes.starts_with(shard_magic) ||
