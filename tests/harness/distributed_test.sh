@@ -17,6 +17,9 @@ mpi=("$mpiexec" "${root[@]}" --oversubscribe)
 export OMPI_MCA_btl_vader_single_copy_mechanism=none
 
 same_as_serial() { # same_as_serial DIR WHAT
+  # The report files only: the records' file rank 0 and merge keep is unlinked as it is made.
+  [[ $(ls -A "$1" | sort | tr '\n' ' ') == "report.csv report.html report.json report.md " ]] ||
+    { ls -la "$1" >&2; echo "$2: the folder holds more than the reports" >&2; exit 1; }
   python3 "$here/compare_reports.py" "$work/serial/report.json" "$1/report.json" ||
     { echo "$2: the report differs from the serial one" >&2; exit 1; }
   # Times are not compared: 3 ranks share 2 cores in CI (--time-floor: no time is judged).
@@ -68,7 +71,7 @@ ended_cleanly() { # ended_cleanly WHAT: mpirun ends within 60 s, non-zero, and n
   fi
   wait "$run" || status=$?
   ((status != 0)) || { echo "$1: exit status 0" >&2; exit 1; }
-  [[ ! -e $work/$1/report.json ]] || { echo "$1: a report was written" >&2; exit 1; }
+  [[ -z $(ls -A "$work/$1") ]] || { ls -la "$work/$1" >&2; echo "$1: a file was left" >&2; exit 1; }
   echo "$1: exit status $status, no report"
 }
 
