@@ -46,17 +46,42 @@ done
 same_as_serial "$work/merged" "3 shards merged"
 echo "3 shards merged: the serial report"
 
-# A long run (the dem scene, ~15 s on 3 ranks), ended early. Waits for the ranks to be solving.
+# A grid that takes a while (3 360 Taylor contacts in 50 digits: about 10 s on 3 ranks sharing 2
+# cores), ended early: once rank 0 has records (its first progress line), while the ranks solve.
+long=$work/long.toml
+cat >"$long" <<'SCENE'
+name = "long"
+want = ["e", "delta_max", "tau"]
+[grid]
+p = [1.5, 2.5]
+e = [0.1, 0.2, 0.3, 0.4, 0.5, 0.6, 0.7, 0.8, 0.9, 0.95]
+v0 = [0.1, 0.2, 0.3, 0.4, 0.5, 0.6, 0.7, 0.8, 0.9, 1.0, 1.5, 2.0, 2.5, 3.0, 3.5,
+      4.0, 4.5, 5.0, 5.5, 6.0, 6.5, 7.0, 7.5, 8.0, 8.5, 9.0, 9.5, 10.0, 11.0, 12.0,
+      13.0, 14.0, 15.0, 16.0, 17.0, 18.0, 19.0, 20.0, 21.0, 22.0, 23.0, 24.0, 25.0, 26.0, 27.0,
+      28.0, 29.0, 30.0, 31.0, 32.0, 33.0, 34.0, 35.0, 36.0, 37.0, 38.0, 39.0, 40.0, 41.0, 42.0,
+      43.0, 44.0, 45.0, 46.0, 47.0, 48.0, 49.0, 50.0, 51.0, 52.0, 53.0, 54.0, 55.0, 56.0, 57.0,
+      58.0, 59.0, 60.0, 61.0, 62.0, 63.0, 64.0, 65.0, 66.0, 67.0, 68.0, 69.0, 70.0, 71.0, 72.0,
+      73.0, 74.0, 75.0, 76.0, 77.0, 78.0, 79.0, 80.0, 81.0, 82.0, 83.0, 84.0, 85.0, 86.0, 87.0,
+      88.0, 89.0, 90.0, 91.0, 92.0, 93.0, 94.0, 95.0, 96.0, 97.0, 98.0, 99.0, 100.0, 101.0, 102.0,
+      103.0, 104.0, 105.0, 106.0, 107.0, 108.0, 109.0, 110.0, 111.0, 112.0, 113.0, 114.0, 115.0,
+      116.0, 117.0, 118.0, 119.0, 120.0, 121.0, 122.0, 123.0, 124.0, 125.0, 126.0, 127.0, 128.0,
+      129.0, 130.0, 131.0, 132.0, 133.0, 134.0, 135.0, 136.0, 137.0, 138.0, 139.0, 140.0, 141.0,
+      142.0, 143.0, 144.0, 145.0, 146.0, 147.0, 148.0, 149.0, 150.0]
+[[solver]]
+name = "taylor"
+precision = "50"
+[report]
+formats = ["json"]
+SCENE
 interrupted() { # interrupted WHAT: starts the run in the background; $run is mpirun's pid
   rm -rf "$work/$1"
-  "${mpi[@]}" -n 3 "$pldamp" run "$scenes/dem.toml" --out "$work/$1" --jobs 1 \
+  "${mpi[@]}" -n 3 "$pldamp" run "$long" --out "$work/$1" --jobs 1 \
     >"$work/$1.out" 2>"$work/$1.err" &
   run=$!
-  for _ in $(seq 100); do
-    grep -q 'solver runs' "$work/$1.out" 2>/dev/null && break
+  for _ in $(seq 300); do # until rank 0 has records (its first progress line)
+    grep -q 'records, about' "$work/$1.err" 2>/dev/null && break
     sleep 0.1
   done
-  sleep 1
 }
 ended_cleanly() { # ended_cleanly WHAT: mpirun ends within 60 s, non-zero, and no report exists
   local status=0
@@ -78,7 +103,7 @@ ended_cleanly() { # ended_cleanly WHAT: mpirun ends within 60 s, non-zero, and n
 interrupted killed
 # The rank-1 process: the pldamp whose environment says OMPI_COMM_WORLD_RANK=1.
 victim=""
-for pid in $(pgrep -f "pldamp run $scenes/dem.toml" || true); do
+for pid in $(pgrep -f "pldamp run $long" || true); do
   if tr '\0' '\n' <"/proc/$pid/environ" 2>/dev/null | grep -qx 'OMPI_COMM_WORLD_RANK=1'; then
     victim=$pid
   fi
@@ -92,3 +117,6 @@ kill -INT "$run"
 # mpirun passes the signal on as SIGTERM to every rank, which stops as a serial run does. (Rank 0's
 # "stopped by a signal" line is often lost: mpirun stops forwarding output as it ends the job.)
 ended_cleanly interrupted
+# ... but no rank may take the stop for a failure (rank 0 once read the records it never got).
+! grep -q 'error: internal' "$work/interrupted.err" ||
+  { cat "$work/interrupted.err" >&2; echo "interrupted: an internal error" >&2; exit 1; }

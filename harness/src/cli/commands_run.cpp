@@ -534,7 +534,12 @@ int run_scene(const RunArgs& args, std::ostream& out, std::ostream& err,
   } else {
     records = runner->run_cells(shard_cells(plan->cells.size(), 1, 1), progress);
   }
-  if (stopped_elsewhere && !signals.exit_code()) {
+  // Stopped: some records were never solved (a store lacks them), so nothing reads them.
+  if (const std::optional<int> code = signals.exit_code()) {
+    err << "stopped by a signal: no report written, " << args.out << " left as it was\n";
+    return *code;
+  }
+  if (stopped_elsewhere) {
     err << "stopped by a signal on another rank: no report written, " << args.out
         << " left as it was\n";
     return 128 + SIGINT;
@@ -548,10 +553,6 @@ int run_scene(const RunArgs& args, std::ostream& out, std::ostream& err,
   add_to_totals(all, totals);
   totals.wall_seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  if (const std::optional<int> code = signals.exit_code()) {
-    err << "stopped by a signal: no report written, " << args.out << " left as it was\n";
-    return *code;
-  }
   // Under MPI the other ranks are done by now and wait in MPI_Finalize without using their cores:
   // rank 0 judges and reports on the threads of every rank on its node (with 2 ranks of one
   // thread on 2 cores, the nightly's claims, step study and reports on 1 thread took 8 s more).
