@@ -177,7 +177,9 @@ TEST(Files, AContentMadeInPiecesIsWrittenWholeOrNotAtAll) {
   fs::create_directories(folder);
   const fs::path file = folder / "report.json";
   std::string expected;
-  const auto produce = [&expected](const TextSink& put) {
+  std::vector<std::string> seen_while_writing;
+  const auto produce = [&](const TextSink& put) {
+    seen_while_writing = others(folder, "report.json");
     expected.clear();
     for (int i = 0; i < 30000; ++i) { // 30000 × 53 bytes: 1.5 MiB
       const std::string piece = fmt::format("{:052d}\n", i);
@@ -192,6 +194,9 @@ TEST(Files, AContentMadeInPiecesIsWrittenWholeOrNotAtAll) {
   };
   write_file_atomically(file, produce);
   EXPECT_EQ(contents(file), expected);
+  // Unnamed while written (O_TMPFILE, which this filesystem has): a process killed then leaves no
+  // temporary behind.
+  EXPECT_EQ(seen_while_writing, std::vector<std::string>{});
   EXPECT_EQ(gather_text(produce), expected);
   EXPECT_THROW(write_file_atomically(file,
                                      [](const TextSink& put) {

@@ -32,6 +32,23 @@ std::string create_temporary(const std::filesystem::path& path, Descriptor& file
   return std::string(buffer.data());
 }
 
+// Gives the unnamed file `fd` (O_TMPFILE) a fresh temporary name beside `path` (linkat through
+// /proc/self/fd, which needs no privilege; a name taken meanwhile is tried again).
+std::string link_temporary(const std::filesystem::path& path, int fd) {
+  const std::string proc = "/proc/self/fd/" + std::to_string(fd);
+  for (int attempt = 0;; ++attempt) {
+    Descriptor probe;
+    std::string name = create_temporary(path, probe, "cannot write " + path.string());
+    ::unlink(name.c_str()); // a unique name, free again: linkat does not replace
+    if (::linkat(AT_FDCWD, proc.c_str(), AT_FDCWD, name.c_str(), AT_SYMLINK_FOLLOW) == 0) {
+      return name;
+    }
+    if (errno != EEXIST || attempt == 100) {
+      throw InputError("cannot write " + path.string() + " (" + std::strerror(errno) + ")");
+    }
+  }
+}
+
 } // namespace
 
 void Descriptor::reset(int fd) {
@@ -55,8 +72,18 @@ void write_file_atomically(const std::filesystem::path& path, std::string_view c
 
 void write_file_atomically(const std::filesystem::path& path,
                            const std::function<void(const TextSink&)>& produce) {
-  Descriptor file;
-  const std::string temporary = create_temporary(path, file, "cannot write " + path.string());
+  // Where the filesystem allows it (O_TMPFILE: ext4, xfs, btrfs, tmpfs), the file has no name
+  // while it is written, so a process killed meanwhile leaves nothing behind; it is linked to a
+  // temporary name and renamed into place when whole. Elsewhere, a temporary name from the start.
+  const std::filesystem::path folder = path.has_parent_path() ? path.parent_path() : ".";
+  Descriptor file(::access("/proc/self/fd", F_OK) == 0
+                      ? ::open(folder.c_str(), O_TMPFILE | O_WRONLY | O_CLOEXEC, 0600)
+                      : -1);
+  const bool unnamed = file.get() >= 0;
+  std::string temporary;
+  if (!unnamed) {
+    temporary = create_temporary(path, file, "cannot write " + path.string());
+  }
   const auto fail = [&](int error) {
     throw InputError("cannot write " + path.string() + " (" + std::strerror(error) + ")");
   };
@@ -101,6 +128,9 @@ void write_file_atomically(const std::filesystem::path& path,
     if (::fsync(file.get()) != 0) {
       fail(errno);
     }
+    if (unnamed) { // a name beside the target, then the target's: the rename below
+      temporary = link_temporary(path, file.get());
+    }
     const int descriptor = file.get();
     file.release();
     if (::close(descriptor) != 0) {
@@ -110,7 +140,9 @@ void write_file_atomically(const std::filesystem::path& path,
       fail(errno);
     }
   } catch (...) { // a failed write, or `produce`'s own exception: no temporary is left behind
-    ::unlink(temporary.c_str());
+    if (!temporary.empty()) {
+      ::unlink(temporary.c_str());
+    }
     throw;
   }
 }
