@@ -38,6 +38,19 @@ same_as_serial() { # same_as_serial DIR WHAT
 same_as_serial "$work/mpi" "mpirun -n 3"
 echo "mpirun -n 3: the serial report"
 
+# A rank that reads another scene (a node whose copy of the file differs: here one v0 changed,
+# through mpirun's per-rank commands) is refused before any work, with exit code 2 and no report.
+sed 's/^v0 = \[0.1, /v0 = [0.2, /' "$scenes/quick.toml" >"$work/quick-v0.toml"
+! cmp -s "$scenes/quick.toml" "$work/quick-v0.toml" || { echo "quick.toml's v0 moved" >&2; exit 1; }
+status=0
+"${mpi[@]}" -n 1 "$pldamp" run "$scenes/quick.toml" --out "$work/mixed" --jobs 1 : \
+  -n 1 "$pldamp" run "$work/quick-v0.toml" --out "$work/mixed" --jobs 1 >/dev/null \
+  2>"$work/mixed.err" || status=$?
+((status == 2)) && grep -q '^error: rank 1: this rank read another scene' "$work/mixed.err" &&
+  [[ -z $(ls -A "$work/mixed") ]] ||
+  { cat "$work/mixed.err" >&2; echo "another scene on rank 1: not refused (exit $status)" >&2; exit 1; }
+echo "another scene on rank 1: refused"
+
 for k in 1 2 3; do
   "$pldamp" run "$scenes/quick.toml" --shard "$k/3" --out "$work/shard-$k" --jobs 1 >/dev/null
 done

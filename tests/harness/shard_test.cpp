@@ -384,26 +384,23 @@ TEST(Shards, ASetThatIsNotOneRunsShardsIsRefusedWithOneLine) {
   EXPECT_EQ(run({"merge", one, two, again, "--out", out}).code, 0);
 }
 
-// When a rank cannot start (MPI's all_ready): what fails on rank 0 is said once, by rank 0;
-// what fails on other ranks only, by each of them, and rank 0 names the first.
+// When a rank cannot start (MPI's all_ready): rank 0 says why, once, for every rank; what fails
+// on rank 0 as it is, what fails on other ranks only as the first such rank's, with how many more.
 TEST(Distribution, WhoSaysWhyARunCannotStart) {
   const std::string failure = "cannot read scene.toml";
-  const NotReady everywhere = not_ready_message(0, {false, false, false}, failure);
-  EXPECT_EQ(everywhere.why, failure);
-  EXPECT_TRUE(everywhere.speaks);
-  const NotReady echoed = not_ready_message(2, {false, false, false}, failure);
-  EXPECT_EQ(echoed.why, "");
-  EXPECT_FALSE(echoed.speaks);
-  EXPECT_EQ(not_ready_message(1, {false, true, true}, "").why, ""); // ready itself: silent
-  // Ranks 2 and 3 lack a file.
-  const std::vector<bool> ready{true, true, false, false};
-  EXPECT_EQ(not_ready_message(0, ready, "").why,
-            "rank 2 could not start the run (that rank prints why)");
-  EXPECT_FALSE(not_ready_message(0, ready, "").speaks);
-  const NotReady own = not_ready_message(3, ready, failure);
-  EXPECT_EQ(own.why, "rank 3: cannot read scene.toml");
-  EXPECT_TRUE(own.speaks);
-  EXPECT_EQ(not_ready_message(1, ready, "").why, "");
+  const std::vector<std::string> everywhere(3, failure);
+  EXPECT_EQ(not_ready_message(0, everywhere).why, failure);
+  EXPECT_TRUE(not_ready_message(0, everywhere).speaks);
+  EXPECT_EQ(not_ready_message(2, everywhere).why, ""); // said by rank 0
+  EXPECT_FALSE(not_ready_message(2, everywhere).speaks);
+  // Ranks 2 and 3 lack a file: rank 0 says rank 2's failure, and that one more failed.
+  const std::vector<std::string> two{"", "", failure, "another copy of the scene"};
+  EXPECT_EQ(not_ready_message(0, two).why,
+            "rank 2: cannot read scene.toml (and 1 more rank could not start)");
+  EXPECT_FALSE(not_ready_message(0, two).speaks);
+  EXPECT_EQ(not_ready_message(3, two).why, "");
+  EXPECT_EQ(not_ready_message(0, {"", failure}).why, "rank 1: cannot read scene.toml");
+  EXPECT_EQ(not_ready_message(0, {"", "", ""}).why, ""); // every rank ready
 }
 
 // Exact values as bytes: bit for bit in every precision, ±0, ±∞, NaN, the extremes of each

@@ -472,9 +472,24 @@ int run_scene(const RunArgs& args, std::ostream& out, std::ostream& err,
       print_plan_size(*scene, out);
     }
   } catch (const std::exception& e) {
-    failure = e.what();
+    failure = *e.what() != '\0' ? e.what() : "an error without a message"; // empty: ready
     if (!distributed) {
       throw;
+    }
+  }
+  // Every rank must run rank 0's scene: a node whose copy of the file at the same path differs
+  // (or another --max-steps given to some ranks) would put other cells' answers in the report.
+  if (distributed) {
+    const std::string mine =
+        failure.empty()
+            ? fmt::format("{:016x}",
+                          fnv1a(fmt::format("{}\n{} {} {}", scene->text, scene->limits.max_steps,
+                                            scene->limits.max_runs, scene->limits.max_seconds)))
+            : "";
+    const std::vector<std::string> read = distribution->all_gather(mine);
+    if (!mine.empty() && !read.at(0).empty() && mine != read[0]) {
+      failure = "this rank read another scene or other limits than rank 0 (" + args.scene +
+                " differs between the nodes, or the ranks were given other flags)";
     }
   }
   // Under MPI, twice: before the plan, whose points the ranks compute together (a collective),
@@ -508,7 +523,7 @@ int run_scene(const RunArgs& args, std::ostream& out, std::ostream& err,
       store = std::make_unique<RecordStore>(plan->cells.size() * plan->configs.size(), args.out);
     }
   } catch (const std::exception& e) {
-    failure = e.what();
+    failure = *e.what() != '\0' ? e.what() : "an error without a message"; // empty: ready
     if (!distributed) {
       throw;
     }

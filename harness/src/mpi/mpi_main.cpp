@@ -51,15 +51,12 @@ public:
   int ranks_on_node() const override { return node_ranks_; }
 
   bool all_ready(const std::string& failure, std::string& why) override {
-    int ready = failure.empty() ? 1 : 0;
-    std::vector<int> ready_on(static_cast<std::size_t>(size_));
-    MPI_Allgather(&ready, 1, MPI_INT, ready_on.data(), 1, MPI_INT, MPI_COMM_WORLD);
-    if (std::find(ready_on.begin(), ready_on.end(), 0) == ready_on.end()) {
+    const std::vector<std::string> failures = all_gather(failure);
+    if (std::all_of(failures.begin(), failures.end(), [](auto& f) { return f.empty(); })) {
       speaks_ = true; // from here on a failure is this rank's own
       return true;
     }
-    const NotReady said =
-        not_ready_message(rank_, std::vector<bool>(ready_on.begin(), ready_on.end()), failure);
+    const NotReady said = not_ready_message(rank_, failures);
     why = said.why;
     speaks_ = said.speaks;
     return false;

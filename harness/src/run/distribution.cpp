@@ -13,18 +13,24 @@
 
 namespace pldamp::harness {
 
-NotReady not_ready_message(int rank, const std::vector<bool>& ready, const std::string& failure) {
-  const auto first_failed = std::find(ready.begin(), ready.end(), false);
-  if (!ready.at(0)) {
-    return {rank == 0 ? failure : "", rank == 0};
+NotReady not_ready_message(int rank, const std::vector<std::string>& failures) {
+  if (rank != 0) {
+    return {};
   }
-  if (rank == 0) {
-    return {"rank " + std::to_string(first_failed - ready.begin()) +
-                " could not start the run (that rank prints why)",
-            false};
+  if (!failures.at(0).empty()) {
+    return {failures[0], true};
   }
-  return failure.empty() ? NotReady{}
-                         : NotReady{"rank " + std::to_string(rank) + ": " + failure, true};
+  const auto failed = [](const std::string& f) { return !f.empty(); };
+  const auto first = std::find_if(failures.begin(), failures.end(), failed);
+  if (first == failures.end()) {
+    return {};
+  }
+  const auto more = std::count_if(first + 1, failures.end(), failed);
+  return {"rank " + std::to_string(first - failures.begin()) + ": " + *first +
+              (more == 0 ? ""
+                         : " (and " + std::to_string(more) + " more rank" + (more == 1 ? "" : "s") +
+                               " could not start)"),
+          false};
 }
 
 std::vector<Point> points_on_ranks(Distribution& distribution, std::size_t count,

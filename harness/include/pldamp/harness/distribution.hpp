@@ -47,15 +47,17 @@ public:
 std::vector<Point> points_on_ranks(Distribution& distribution, std::size_t count,
                                    const std::function<Point(std::size_t)>& point_at, int jobs);
 
-// What rank `rank` says when not every rank is ready (Distribution::all_ready; `ready[r]`: whether
-// rank r is). What fails on rank 0 fails everywhere (the scene, its plan): rank 0 says it once and
-// the others nothing. What fails on other ranks only (a file or program their node lacks): each
-// says its own, prefixed "rank R: ", and rank 0 names the first. `speaks`: whether this rank's own
-// failure is the message (so that the program prints it).
+// What rank `rank` says when not every rank is ready (Distribution::all_ready; `failures[r]`: what
+// failed on rank r, empty where nothing did). Rank 0 says it, once, for every rank (mpirun may
+// drop the last lines of a rank that is not 0 as it ends the job): what fails on rank 0 fails
+// everywhere (the scene, its plan) and is said as it is; what fails on other ranks only (a file
+// or program their node lacks, another copy of the scene) is the first such rank's, prefixed
+// "rank R: ", with how many more failed. The other ranks say nothing. `speaks`: whether this
+// rank's own failure is the message.
 struct NotReady {
   std::string why;
   bool speaks = false;
 };
-NotReady not_ready_message(int rank, const std::vector<bool>& ready, const std::string& failure);
+NotReady not_ready_message(int rank, const std::vector<std::string>& failures);
 
 } // namespace pldamp::harness
