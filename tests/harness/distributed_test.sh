@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # quick.toml run three ways beyond the serial run: on 3 MPI ranks (mpirun --oversubscribe), and in
-# 3 shards merged. Each report must be the serial one record by record, times aside
-# (compare_reports.py), and `pldamp diff` must find no change. Then a rank killed mid-run (kill -9)
+# 3 shards merged; paper.toml's claims and search on 3 ranks. Each report must be the serial one
+# record by record, times aside (compare_reports.py), and `pldamp diff` must find no change. Then a rank killed mid-run (kill -9)
 # and a SIGINT to mpirun: a non-zero exit, no report, no hang.
 #   tests/harness/distributed_test.sh PLDAMP MPIEXEC SCENE_DIR
 set -euo pipefail
@@ -16,14 +16,15 @@ mpi=("$mpiexec" "${root[@]}" --oversubscribe)
 # message (a chunk's records) in one go; its copy through a buffer works everywhere.
 export OMPI_MCA_btl_vader_single_copy_mechanism=none
 
-same_as_serial() { # same_as_serial DIR WHAT
+same_as_serial() { # same_as_serial DIR WHAT [SERIAL_DIR]
+  local serial=${3:-$work/serial}
   # The report files only: the records' file rank 0 and merge keep is unlinked as it is made.
   [[ $(ls -A "$1" | sort | tr '\n' ' ') == "report.csv report.html report.json report.md " ]] ||
     { ls -la "$1" >&2; echo "$2: the folder holds more than the reports" >&2; exit 1; }
-  python3 "$here/compare_reports.py" "$work/serial/report.json" "$1/report.json" ||
+  python3 "$here/compare_reports.py" "$serial/report.json" "$1/report.json" ||
     { echo "$2: the report differs from the serial one" >&2; exit 1; }
   # Times are not compared: 3 ranks share 2 cores in CI (--time-floor: no time is judged).
-  "$pldamp" diff --time-floor 86400 "$work/serial/report.json" "$1/report.json" >"$work/diff.txt" ||
+  "$pldamp" diff --time-floor 86400 "$serial/report.json" "$1/report.json" >"$work/diff.txt" ||
     { cat "$work/diff.txt" >&2; echo "$2: pldamp diff found a regression" >&2; exit 1; }
   grep -q '^0 regressions, 0 changes' "$work/diff.txt" ||
     { cat "$work/diff.txt" >&2; echo "$2: pldamp diff found changes" >&2; exit 1; }
@@ -37,6 +38,13 @@ same_as_serial() { # same_as_serial DIR WHAT
   { cat "$work/mpi.out" >&2; echo "mpirun -n 3: expected rank 0's lines only" >&2; exit 1; }
 same_as_serial "$work/mpi" "mpirun -n 3"
 echo "mpirun -n 3: the serial report"
+
+# The seed's claims, of every kind, on grids of their own and ten times denser, and its search
+# (a group per p): the ranks judge them together, each piece once (run/workers.hpp).
+"$pldamp" run "$scenes/paper.toml" --out "$work/paper-serial" --jobs 1 >/dev/null
+"${mpi[@]}" -n 3 "$pldamp" run "$scenes/paper.toml" --out "$work/paper-mpi" --jobs 1 >/dev/null
+same_as_serial "$work/paper-mpi" "paper.toml on 3 ranks" "$work/paper-serial"
+echo "paper.toml on 3 ranks: the serial report"
 
 # A rank that reads another scene (a node whose copy of the file differs: here one v0 changed,
 # through mpirun's per-rank commands) is refused before any work, with exit code 2 and no report.

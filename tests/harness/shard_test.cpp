@@ -4,6 +4,7 @@
 #include "fixtures.hpp"
 
 #include "pldamp/harness/distribution.hpp"
+#include "report/report.hpp"
 #include "run/record_store.hpp"
 #include "run/shard.hpp"
 #include "truth/point_bytes.hpp"
@@ -532,6 +533,22 @@ private:
   int rank_;
 };
 
+// body(rank) on `size` ranks, each a thread.
+template <class Body>
+void on_thread_ranks(int size, Body&& body) {
+  ThreadRanks ranks(size);
+  std::vector<std::thread> threads;
+  for (int r = 0; r < size; ++r) {
+    threads.emplace_back([&, r] {
+      ThreadRank rank(ranks, r);
+      body(rank);
+    });
+  }
+  for (std::thread& thread : threads) {
+    thread.join();
+  }
+}
+
 // The bytes of a plan's points, their times (the closed forms' cost, measured) set aside.
 std::string points_without_times(std::vector<Point> points) {
   for (Point& point : points) {
@@ -548,28 +565,20 @@ TEST(Distribution, EachPointIsComputedOnceAndEveryRankHoldsTheSerialPlan) {
   Scene scene = parse_scene(sharded_scene, "points.toml");
   const Plan serial = make_plan(scene, 2);
   constexpr int size = 3;
-  ThreadRanks ranks(size);
   std::vector<std::atomic<int>> computed(serial.points.size());
   std::vector<Plan> plans(size);
-  std::vector<std::thread> threads;
-  for (int r = 0; r < size; ++r) {
-    threads.emplace_back([&, r] {
-      ThreadRank rank(ranks, r);
-      plans[static_cast<std::size_t>(r)] = make_plan(
-          scene, 1, [&](std::size_t count, const std::function<Point(std::size_t)>& point_at) {
-            return points_on_ranks(
-                rank, count,
-                [&](std::size_t i) {
-                  ++computed.at(i);
-                  return point_at(i);
-                },
-                2);
-          });
-    });
-  }
-  for (std::thread& thread : threads) {
-    thread.join();
-  }
+  on_thread_ranks(size, [&](ThreadRank& rank) {
+    plans[static_cast<std::size_t>(rank.rank())] = make_plan(
+        scene, 1, [&](std::size_t count, const std::function<Point(std::size_t)>& point_at) {
+          return points_on_ranks(
+              rank, count,
+              [&](std::size_t i) {
+                ++computed.at(i);
+                return point_at(i);
+              },
+              2);
+        });
+  });
   for (std::size_t i = 0; i < computed.size(); ++i) {
     EXPECT_EQ(computed[i], 1) << "point " << i;
   }
@@ -585,32 +594,190 @@ TEST(Distribution, EachPointIsComputedOnceAndEveryRankHoldsTheSerialPlan) {
 
   // Points 4 and 5 fail on ranks 1 and 2: every rank throws point 4's error, as a serial plan.
   std::vector<std::string> errors(size);
-  threads.clear();
-  for (int r = 0; r < size; ++r) {
-    threads.emplace_back([&, r] {
-      ThreadRank rank(ranks, r);
-      try {
-        points_on_ranks(
-            rank, 9,
-            [](std::size_t i) -> Point {
-              if (i == 4) {
-                throw InputError("point 4 has no truth");
-              }
-              if (i == 5) {
-                throw std::runtime_error("point 5 failed inside");
-              }
-              return Point{};
-            },
-            1);
-      } catch (const InputError& e) {
-        errors[static_cast<std::size_t>(r)] = e.what();
-      }
-    });
-  }
-  for (std::thread& thread : threads) {
-    thread.join();
-  }
+  on_thread_ranks(size, [&](ThreadRank& rank) {
+    try {
+      points_on_ranks(
+          rank, 9,
+          [](std::size_t i) -> Point {
+            if (i == 4) {
+              throw InputError("point 4 has no truth");
+            }
+            if (i == 5) {
+              throw std::runtime_error("point 5 failed inside");
+            }
+            return Point{};
+          },
+          1);
+    } catch (const InputError& e) {
+      errors[static_cast<std::size_t>(rank.rank())] = e.what();
+    }
+  });
   EXPECT_EQ(errors, std::vector<std::string>(size, "point 4 has no truth"));
+}
+
+// A map shared among ranks computes each piece once in the run, and every rank holds every
+// result in index order, as the serial map's: for fewer pieces than ranks, none, and a count the
+// ranks do not divide. A piece that fails throws the lowest failing index's error, of its kind,
+// on every rank alike (an internal one as InternalError: the command line's exit code 3).
+TEST(Distribution, ASharedMapComputesEachPieceOnceAndEveryRankHoldsEveryResult) {
+  constexpr int size = 3;
+  const auto piece = [](std::size_t i) {
+    return i % 4 == 3 ? std::nullopt : std::optional<std::string>(std::string(i, 'x'));
+  };
+  for (const std::size_t count : {0, 2, 10}) {
+    std::vector<std::atomic<int>> computed(count);
+    std::vector<std::vector<std::optional<std::string>>> held(size);
+    on_thread_ranks(size, [&](ThreadRank& rank) {
+      held[static_cast<std::size_t>(rank.rank())] =
+          map_shared<std::optional<std::string>>(count, Workers(2, &rank), [&](std::size_t i) {
+            ++computed.at(i);
+            return piece(i);
+          });
+    });
+    const std::vector<std::optional<std::string>> serial =
+        map_shared<std::optional<std::string>>(count, 2, piece);
+    ASSERT_EQ(serial.size(), count);
+    for (std::size_t i = 0; i < count; ++i) {
+      EXPECT_EQ(computed[i], 1) << "piece " << i << " of " << count;
+    }
+    for (const auto& results : held) {
+      EXPECT_EQ(results, serial) << count << " pieces";
+    }
+  }
+  const std::vector<std::pair<std::size_t, std::string>> failures{
+      {7, "piece 7: bad input"}, {5, "piece 5 failed inside"}, {9, "piece 9 failed"}};
+  std::vector<std::string> said(size);
+  on_thread_ranks(size, [&](ThreadRank& rank) {
+    try {
+      map_shared<bool>(10, Workers(1, &rank), [&](std::size_t i) {
+        if (i == 7) {
+          throw InputError(failures[0].second);
+        }
+        if (i == 5 || i == 9) {
+          throw std::runtime_error(i == 5 ? failures[1].second : failures[2].second);
+        }
+        return true;
+      });
+    } catch (const InternalError& e) {
+      said[static_cast<std::size_t>(rank.rank())] = e.what();
+    }
+  });
+  EXPECT_EQ(said, std::vector<std::string>(size, "piece 5 failed inside"));
+}
+
+// Claims of every kind judged on grids of their own (a bound's with a denser grid), a search with
+// a group per p (as many as the test's ranks) and one with a group of all cells, and a time-step
+// study.
+const std::string shared_judging_scene = R"(name = "judged"
+want = ["e", "tau"]
+[grid]
+p = [1.0, 1.5, 2.0]
+e = [0.5]
+v0 = [1.0]
+[[solver]]
+name = "verlet-predicted"
+steps_per_contact = [50, 200]
+[[claim]]
+name = "bound on a grid of its own"
+observable = "e"
+solver = "cvode-bdf"
+rtol = 1e-8
+bound = 1e-4
+p = [1.0, 3.0]
+e = [0.3, 0.9]
+v0 = 1.0
+denser = true
+[[claim]]
+name = "relation"
+kind = "relation"
+of = "truth"
+quantity = "tau_ratio"
+formula = "seed_tau_ratio_curve"
+relation = "lower_bound"
+p = [1.0, 2.0]
+alpha_eff = [0.1, 0.5]
+v0 = 1.0
+denser = true
+[[claim]]
+name = "asymptotic"
+kind = "asymptotic"
+expect = "fails"
+of = "truth"
+quantity = "tau_ratio"
+formula = "seed_tau_ratio_curve"
+order = 3
+range = [1e-4, 1e-2]
+points = 4
+p = [1.0, 2.0]
+v0 = 1.0
+[[claim]]
+name = "recovered"
+kind = "recovered_parameter"
+solver = "arkode-dp5"
+rtol = 1e-8
+bound = 1e-3
+p = [1.5]
+e = [0.5, 0.9]
+v0 = 1.0
+[[claim]]
+name = "stability"
+kind = "stability"
+expect = "fails"
+solver = "dem-verlet"
+formula = "seed_dt_crit"
+p = [1.0, 2.0]
+e = [0.5]
+v0 = [1.0]
+[[search]]
+name = "by p"
+solver = "verlet-predicted"
+parameter = "steps_per_contact"
+range = [10, 1000]
+observable = "e"
+bound = 1e-3
+group_by = "p"
+[[search]]
+name = "all cells"
+solver = "arkode-dp5"
+parameter = "rtol"
+range = [1e-10, 1e-3]
+observable = "e"
+bound = 1e-6
+group_by = "all"
+[report]
+formats = ["json"]
+)";
+
+// Under MPI the ranks judge the claims of every kind on grids of their own, the searches (more
+// groups than ranks, and one group whose trials they share) and the time-step study together,
+// only rank 0 with the records: rank 0's budgets are the serial ones.
+TEST(Distribution, TheRanksJudgeTheClaimsSearchesAndStepStudyAsOneProcess) {
+  const Scene scene = parse_scene(shared_judging_scene, "judged.toml");
+  const Plan plan = make_plan(scene, 2);
+  RunTotals totals;
+  const std::vector<Record> records = run_plan(plan, 2, totals);
+  const auto report_of = [&](const Budgets& budgets) {
+    const std::vector<Figure> figures;
+    return without_times(report_json(RunReport{plan, records, budgets, totals, figures}));
+  };
+  const nlohmann::json serial = report_of(make_budgets(plan, records, 2));
+  ASSERT_EQ(serial["claims"].size(), 5u);
+  ASSERT_EQ(serial["searches"].size(), 2u);
+  constexpr int size = 3;
+  std::vector<std::optional<Budgets>> budgets(size);
+  on_thread_ranks(size, [&](ThreadRank& rank) {
+    const std::vector<Record> none;
+    budgets[static_cast<std::size_t>(rank.rank())] =
+        make_budgets(plan, rank.rank() == 0 ? records : none, Workers(1, &rank));
+  });
+  const nlohmann::json of_rank_0 = report_of(*budgets[0]);
+  for (const auto& [section, part] : serial.items()) {
+    EXPECT_EQ(of_rank_0[section], part) << section;
+  }
+  for (const std::optional<Budgets>& of_rank : budgets) { // what every rank decided alike
+    EXPECT_EQ(of_rank->searches.size(), 2u);
+    EXPECT_EQ(of_rank->steps.sweeps.size(), 1u);
+  }
 }
 
 // Under mpirun the ranks share the cells: --shard is refused there, even on one rank.

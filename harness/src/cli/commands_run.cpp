@@ -280,22 +280,26 @@ std::pair<std::size_t, std::size_t> parse_shard(const std::string& text) {
 }
 
 // The plan's size, refused beyond the limit before anything is built. The grid's runs are shared
-// among `shares` processes (shards or ranks): the limit counts one process's, with the claims'
-// and searches' solves, which one process makes.
-void check_plan_size(const Scene& scene, const std::string& scene_path, double shares) {
+// among `shares` processes (shards or ranks), and among MPI ranks (`judging_shared`) the claims'
+// and searches' solves too (run/workers.hpp), which a shard set's merge makes in one process:
+// the limit counts one process's.
+void check_plan_size(const Scene& scene, const std::string& scene_path, double shares,
+                     bool judging_shared) {
   const double runs = planned_runs(scene);
-  const double grid_runs = runs - claim_and_search_runs(scene);
-  const double per_process = grid_runs / shares + (runs - grid_runs);
+  const double judging = claim_and_search_runs(scene);
+  const double grid_runs = runs - judging;
+  const double per_process = grid_runs / shares + (judging_shared ? judging / shares : judging);
   if (per_process > double(scene.limits.max_runs)) {
     throw InputError(fmt::format(
         "the plan has {:.0f} solver runs{}, above the limit of {}: shrink the grid, raise the "
         "limit with --max-runs or [limits] max_runs{} (got {})",
         runs,
-        shares > 1 ? fmt::format(", {:.0f} in one of {:.0f} processes (a share of the grid's "
-                                 "{:.0f} and the {:.0f} of the claims and searches, which one "
-                                 "process makes)",
-                                 per_process, shares, grid_runs, runs - grid_runs)
-                   : "",
+        shares <= 1      ? ""
+        : judging_shared ? fmt::format(", {:.0f} in each of {:.0f} ranks", per_process, shares)
+                         : fmt::format(", {:.0f} in one of {:.0f} processes (a share of the grid's "
+                                       "{:.0f} and the {:.0f} of the claims and searches, which "
+                                       "one process makes)",
+                                       per_process, shares, grid_runs, judging),
         scene.limits.max_runs, shares > 1 ? "" : ", or share it with --shard or mpirun",
         scene_path));
   }
@@ -332,11 +336,16 @@ void print_plan_size(const Scene& scene, std::ostream& out) {
 }
 
 // From the records on: budgets, claims, figures, trajectories, the reports and the summary.
-int report_records(const Plan& plan, RecordRange records, const RunTotals& totals, int jobs,
-                   const std::string& folder, bool strict, const StopOnSignals& signals,
-                   std::ostream& out, std::ostream& err) {
+// Under MPI (`workers` shared) every rank judges the claims, searches and step study with rank 0
+// (make_budgets, run/workers.hpp); rank 0 alone then goes on, on `jobs` threads.
+int report_records(const Plan& plan, RecordRange records, const RunTotals& totals,
+                   const Workers& workers, int jobs, const std::string& folder, bool strict,
+                   const StopOnSignals& signals, std::ostream& out, std::ostream& err) {
   const Scene& scene = plan.scene;
-  const Budgets budgets = make_budgets(plan, records, jobs);
+  const Budgets budgets = make_budgets(plan, records, workers);
+  if (workers.shared()) {
+    workers.ranks->shared_work_done(false);
+  }
   const std::vector<Figure> figures = make_figures(scene, jobs);
   std::vector<TrajectoryCheck> trajectories;
   for (const TrajectorySpec& spec : scene.trajectories) {
@@ -346,6 +355,11 @@ int report_records(const Plan& plan, RecordRange records, const RunTotals& total
   if (const std::optional<int> code = signals.exit_code()) {
     err << "stopped by a signal: no report written, " << folder << " left as it was\n";
     return *code;
+  }
+  if (stop_requested()) { // under MPI: a signal on another rank, in the shared work
+    err << "stopped by a signal on another rank: no report written, " << folder
+        << " left as it was\n";
+    return 128 + SIGINT;
   }
   const WrittenReports files = write_reports(report, folder, jobs);
   out << scene.name << ": " << plan.cells.size() << " cells x " << plan.configs.size()
@@ -465,7 +479,7 @@ int run_scene(const RunArgs& args, std::ostream& out, std::ostream& err,
     jobs = jobs_of(args.jobs, distributed ? distribution->ranks_on_node() : 1);
     scene = scene_with_limits(args);
     const double shares = shard ? double(shard->second) : distributed ? distribution->size() : 1;
-    check_plan_size(*scene, args.scene, shares);
+    check_plan_size(*scene, args.scene, shares, distributed && !shard);
     if (prints) {
       // A folder that cannot be written fails before the work (a shard's too: it is written).
       require_writable_folder(args.out);
@@ -543,7 +557,21 @@ int run_scene(const RunArgs& args, std::ostream& out, std::ostream& err,
   bool stopped_elsewhere = false;
   if (distributed) {
     distribution->run(*plan, *runner, store.get(), progress, stopped_elsewhere);
+    // Whether any rank was stopped, on every rank: then none goes on to the shared judging.
+    const std::vector<std::string> stops =
+        distribution->all_gather(stop_requested() || stopped_elsewhere ? "1" : "");
+    const bool stopped =
+        std::any_of(stops.begin(), stops.end(), [](auto& s) { return !s.empty(); });
+    stopped_elsewhere = stopped && !signals.exit_code();
+    if (stopped) {
+      distribution->shared_work_done(false);
+    }
     if (distribution->rank() != 0) {
+      if (!stopped) { // the claims, searches and step study with rank 0, which holds the records
+        const std::vector<Record> none;
+        make_budgets(*plan, none, Workers(jobs, distribution));
+        distribution->shared_work_done(false);
+      }
       return signals.exit_code().value_or(0);
     }
   } else {
@@ -568,12 +596,13 @@ int run_scene(const RunArgs& args, std::ostream& out, std::ostream& err,
   add_to_totals(all, totals);
   totals.wall_seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  // Under MPI the other ranks are done by now and wait in MPI_Finalize without using their cores:
-  // rank 0 judges and reports on the threads of every rank on its node (with 2 ranks of one
-  // thread on 2 cores, the nightly's claims, step study and reports on 1 thread took 8 s more).
+  // Under MPI the ranks judge the claims, searches and step study together, then wait in
+  // MPI_Finalize without using their cores: rank 0 makes the figures and the reports on the
+  // threads of every rank on its node.
   const int tail_jobs =
       distributed ? std::min(1024, jobs * std::max(distribution->ranks_on_node(), 1)) : jobs;
-  return report_records(*plan, all, totals, tail_jobs, args.out, args.strict, signals, out, err);
+  return report_records(*plan, all, totals, Workers(jobs, distributed ? distribution : nullptr),
+                        tail_jobs, args.out, args.strict, signals, out, err);
 }
 
 int merge_shards(const MergeArgs& args, std::ostream& out, std::ostream& err) {
@@ -679,7 +708,8 @@ int merge_shards(const MergeArgs& args, std::ostream& out, std::ostream& err) {
   }
   records.seal();
   add_to_totals(records, totals);
-  return report_records(plan, records, totals, jobs, args.out, args.strict, signals, out, err);
+  return report_records(plan, records, totals, jobs, jobs, args.out, args.strict, signals, out,
+                        err);
 }
 
 int run_diff(const DiffArgs& args, std::ostream& out) {

@@ -128,7 +128,7 @@ Judgement judge_records(const Plan& plan, RecordRange records, const BoundClaim&
 // A bound claim on a grid of its own: its configuration alone solved over the grid's cells (a
 // plan of its own, as a search's), then judged on those records.
 Judgement judge_own_grid(const Scene& scene, const BoundClaim& claim, const ClaimGrid& grid,
-                         int jobs) {
+                         const Workers& workers) {
   Scene cells = with_cells(scene, grid);
   cells.damping = grid.damping;
   cells.configs = {claim.config};
@@ -139,13 +139,14 @@ Judgement judge_own_grid(const Scene& scene, const BoundClaim& claim, const Clai
   cells.repeats = 1;
   const Plan plan = make_plan(cells);
   RunTotals totals;
-  const std::vector<Record> records = run_plan(plan, jobs, totals);
+  const std::vector<Record> records = run_plan(plan, workers, totals);
   Judgement j = judge_records(plan, records, claim);
   j.grid = grid_text(grid);
   return j;
 }
 
-Verdict judge_bound(const Plan& plan, RecordRange records, const Claim& claim, int jobs) {
+Verdict judge_bound(const Plan& plan, RecordRange records, const Claim& claim,
+                    const Workers& workers) {
   Verdict verdict = verdict_of(claim);
   const ClaimGrid of_scene = scene_grid(plan.scene);
   const ConventionClaim* convention = std::get_if<ConventionClaim>(&claim.kind);
@@ -155,7 +156,7 @@ Verdict judge_bound(const Plan& plan, RecordRange records, const Claim& claim, i
   const auto judge_over = [&](const ClaimGrid& cells, bool the_plans) {
     return convention  ? judge_convention(*convention, cells)
            : the_plans ? judge_records(plan, records, *bound)
-                       : judge_own_grid(plan.scene, *bound, cells, jobs);
+                       : judge_own_grid(plan.scene, *bound, cells, workers);
   };
   static_cast<Judgement&>(verdict) = judge_over(grid, !own_grid);
   if (verdict.measured > 0 && std::isfinite(verdict.measured)) {
@@ -315,7 +316,7 @@ bool last_of_its_solver(const Plan& plan, std::size_t config) {
   return next == plan.configs.size() || plan.configs[next].line() != plan.configs[config].line();
 }
 
-Budgets make_budgets(const Plan& plan, RecordRange records, int jobs) {
+Budgets make_budgets(const Plan& plan, RecordRange records, const Workers& workers) {
   Budgets budgets;
   const std::size_t configs = plan.configs.size(), observables = plan.observables.size();
   budgets.worst.assign(configs, std::vector<Worst>(observables));
@@ -400,13 +401,13 @@ Budgets make_budgets(const Plan& plan, RecordRange records, int jobs) {
   }
   for (const Claim& claim : plan.scene.claims) {
     budgets.claims.push_back(claim.claim_kind() == ClaimKind::bound
-                                 ? judge_bound(plan, records, claim, jobs)
-                                 : judge_on_grid(plan.scene, claim, jobs));
+                                 ? judge_bound(plan, records, claim, workers)
+                                 : judge_on_grid(plan.scene, claim, workers));
   }
   for (const Search& search : plan.scene.searches) {
-    budgets.searches.push_back(run_search(plan.scene, search, jobs));
+    budgets.searches.push_back(run_search(plan.scene, search, workers));
   }
-  budgets.steps = make_step_study(plan, records, jobs);
+  budgets.steps = make_step_study(plan, records, workers);
   return budgets;
 }
 

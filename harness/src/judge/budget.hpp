@@ -144,9 +144,11 @@ struct Budgets {
   long failed_records = 0;
 };
 
-// The claims, searches and step study solve on `jobs` threads (--jobs); nothing in the budgets
-// depends on their number (common/parallel.hpp).
-Budgets make_budgets(const Plan& plan, RecordRange records, int jobs = all_cores());
+// The claims, searches and step study solve on the workers' threads (--jobs), and under MPI on
+// every rank (run/workers.hpp): every rank calls it, rank 0 with the run's records, the others
+// with none (their budgets are not the run's). Nothing in rank 0's budgets depends on the number
+// of threads or ranks (common/parallel.hpp).
+Budgets make_budgets(const Plan& plan, RecordRange records, const Workers& workers = all_cores());
 
 // The index of the `quantile` of `values` by nearest rank (the ⌈q·n⌉-th smallest; NaN counts as
 // the largest; q = 1: the largest). `values` must not be empty.

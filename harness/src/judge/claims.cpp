@@ -1,8 +1,9 @@
 #include "judge/claims.hpp"
 
-#include "common/parallel.hpp"
 #include "judge/solve.hpp"
+#include "run/workers.hpp"
 #include "truth/plan.hpp"
+#include "truth/point_bytes.hpp"
 
 #include "pldamp/analytic/instances.hpp" // instantiated once: this unit compiled in 25 s, now 9
 #include "pldamp/analytic/observables.hpp"
@@ -179,8 +180,20 @@ struct Sides {
   std::optional<std::string> failure;
 };
 
+// A piece of a map shared among MPI ranks (run/workers.hpp), exact.
+void put_piece(ByteWriter& out, const Sides& s) {
+  put_real(out, s.a);
+  put_real(out, s.f);
+  Encoding<std::optional<std::string>>::put(out, s.failure);
+}
+void get_piece(ByteReader& in, Sides& s) {
+  s.a = get_real<Exact>(in);
+  s.f = get_real<Exact>(in);
+  s.failure = Encoding<std::optional<std::string>>::get(in);
+}
+
 Judgement judge(const Scene& scene, const RelationClaim& claim, const ClaimGrid& grid,
-                std::vector<MeasuredOrder>&, int jobs) {
+                std::vector<MeasuredOrder>&, const Workers& workers) {
   Judgement j;
   j.grid = grid_text(grid);
   const std::vector<ClaimCell> cells = cells_of(grid);
@@ -196,7 +209,7 @@ Judgement judge(const Scene& scene, const RelationClaim& claim, const ClaimGrid&
   Smallest lowest_ratio;
   Largest highest_ratio;
   // The sides on the threads, then judged in the grid's order (common/parallel.hpp).
-  const std::vector<Sides> sides = map_indices<Sides>(cells.size(), jobs, [&](std::size_t i) {
+  const std::vector<Sides> sides = map_shared<Sides>(cells.size(), workers, [&](std::size_t i) {
     Sides s;
     try {
       const Contact<Exact> c = truth_contact(cells[i]);
@@ -287,8 +300,21 @@ struct Gap {
   std::optional<std::string> failure;
 };
 
+void put_piece(ByteWriter& out, const Gap& g) {
+  out.put(g.difference);
+  out.put(g.accuracy);
+  out.put(g.f);
+  Encoding<std::optional<std::string>>::put(out, g.failure);
+}
+void get_piece(ByteReader& in, Gap& g) {
+  g.difference = in.get<double>();
+  g.accuracy = in.get<double>();
+  g.f = in.get<double>();
+  g.failure = Encoding<std::optional<std::string>>::get(in);
+}
+
 Judgement judge(const Scene& scene, const AsymptoticClaim& claim, const ClaimGrid& grid,
-                std::vector<MeasuredOrder>& orders, int jobs) {
+                std::vector<MeasuredOrder>& orders, const Workers& workers) {
   Judgement j;
   // Not a structured binding: Clang 14 (the fuzz build) lets no lambda capture one (z_at).
   const double from = claim.range[0], to = claim.range[1];
@@ -309,7 +335,7 @@ Judgement judge(const Scene& scene, const AsymptoticClaim& claim, const ClaimGri
   // Every (p, α_eff) on the threads, then each p judged in order (common/parallel.hpp); a p whose
   // point fails is judged no further, as before its later points were computed.
   const std::vector<Gap> gaps =
-      map_indices<Gap>(grid.p.size() * points, jobs, [&](std::size_t index) {
+      map_shared<Gap>(grid.p.size() * points, workers, [&](std::size_t index) {
         Gap gap;
         try {
           const ClaimCell cell{grid.p[index / points],
@@ -404,27 +430,37 @@ struct CellValue {
   std::optional<std::string> failure;
 };
 
+void put_piece(ByteWriter& out, const CellValue& c) {
+  out.put(c.value);
+  Encoding<std::optional<std::string>>::put(out, c.failure);
+}
+void get_piece(ByteReader& in, CellValue& c) {
+  c.value = in.get<double>();
+  c.failure = Encoding<std::optional<std::string>>::get(in);
+}
+
 Judgement judge(const Scene& scene, const RecoveredParameterClaim& claim, const ClaimGrid& grid,
-                std::vector<MeasuredOrder>&, int jobs) {
+                std::vector<MeasuredOrder>&, const Workers& workers) {
   Judgement j;
   j.grid = grid_text(grid);
   Largest worst;
   const std::vector<ClaimCell> cells = cells_of(grid);
   j.cells = static_cast<long>(cells.size());
   // The bisections on the threads, then judged in the grid's order (common/parallel.hpp).
-  const std::vector<CellValue> off = map_indices<CellValue>(cells.size(), jobs, [&](std::size_t i) {
-    const ClaimCell& cell = cells[i];
-    CellValue d;
-    try {
-      const double found = alpha_by_bisection(claim.config, {cell.p, 0, cell.v0, cell.m, cell.k},
-                                              cell.damping.value, scene.limits);
-      const Exact formula = seed::alpha_of_e(Exact(cell.p), Exact(cell.damping.value));
-      d.value = static_cast<double>(abs(Exact(found) / formula - 1));
-    } catch (const std::exception& e) {
-      d.failure = e.what();
-    }
-    return d;
-  });
+  const std::vector<CellValue> off =
+      map_shared<CellValue>(cells.size(), workers, [&](std::size_t i) {
+        const ClaimCell& cell = cells[i];
+        CellValue d;
+        try {
+          const double found = alpha_by_bisection(
+              claim.config, {cell.p, 0, cell.v0, cell.m, cell.k}, cell.damping.value, scene.limits);
+          const Exact formula = seed::alpha_of_e(Exact(cell.p), Exact(cell.damping.value));
+          d.value = static_cast<double>(abs(Exact(found) / formula - 1));
+        } catch (const std::exception& e) {
+          d.failure = e.what();
+        }
+        return d;
+      });
   for (std::size_t i = 0; i < cells.size(); ++i) {
     const std::string where = cell_text(grid, cells[i]);
     if (off[i].failure) {
@@ -445,6 +481,17 @@ struct StableAtBound {
   std::optional<double> e_off;
   std::optional<std::string> failure;
 };
+
+void put_piece(ByteWriter& out, const StableAtBound& s) {
+  out.put(s.ratio);
+  out.put(s.e_off);
+  Encoding<std::optional<std::string>>::put(out, s.failure);
+}
+void get_piece(ByteReader& in, StableAtBound& s) {
+  s.ratio = in.get<double>();
+  s.e_off = in.optional();
+  s.failure = Encoding<std::optional<std::string>>::get(in);
+}
 
 StableAtBound stable_at_bound(const Scene& scene, const StabilityClaim& claim,
                               const ClaimCell& cell) {
@@ -475,7 +522,7 @@ StableAtBound stable_at_bound(const Scene& scene, const StabilityClaim& claim,
 }
 
 Judgement judge(const Scene& scene, const StabilityClaim& claim, const ClaimGrid& grid,
-                std::vector<MeasuredOrder>&, int jobs) {
+                std::vector<MeasuredOrder>&, const Workers& workers) {
   Judgement j;
   j.grid = grid_text(grid);
   Smallest smallest;
@@ -484,8 +531,10 @@ Judgement judge(const Scene& scene, const StabilityClaim& claim, const ClaimGrid
   const std::vector<ClaimCell> cells = cells_of(grid);
   j.cells = static_cast<long>(cells.size());
   // The scans on the threads, then judged in the grid's order (common/parallel.hpp).
-  const std::vector<StableAtBound> found = map_indices<StableAtBound>(
-      cells.size(), jobs, [&](std::size_t i) { return stable_at_bound(scene, claim, cells[i]); });
+  const std::vector<StableAtBound> found =
+      map_shared<StableAtBound>(cells.size(), workers, [&](std::size_t i) {
+        return stable_at_bound(scene, claim, cells[i]);
+      });
   for (std::size_t i = 0; i < cells.size(); ++i) {
     const std::string where = cell_text(grid, cells[i]);
     if (found[i].failure) {
@@ -590,14 +639,14 @@ Described describe(const StabilityClaim& claim) {
 
 // A claim of the kinds judged on a grid of their own, over `grid`.
 Judgement judge_kind(const Scene& scene, const Claim& claim, const ClaimGrid& grid,
-                     std::vector<MeasuredOrder>& orders, int jobs) {
+                     std::vector<MeasuredOrder>& orders, const Workers& workers) {
   return std::visit(
       [&](const auto& stated) -> Judgement {
         if constexpr (std::decay_t<decltype(stated)>::claim_kind == ClaimKind::bound) {
           throw std::logic_error(
               "a bound claim is judged from the plan's records (judge/budget.cpp)");
         } else {
-          return judge(scene, stated, grid, orders, jobs);
+          return judge(scene, stated, grid, orders, workers);
         }
       },
       claim.kind);
@@ -625,12 +674,12 @@ Verdict verdict_of(const Claim& claim) {
   return v;
 }
 
-Verdict judge_on_grid(const Scene& scene, const Claim& claim, int jobs) {
+Verdict judge_on_grid(const Scene& scene, const Claim& claim, const Workers& workers) {
   Verdict verdict = verdict_of(claim);
-  static_cast<Judgement&>(verdict) = judge_kind(scene, claim, claim.grid, verdict.orders, jobs);
+  static_cast<Judgement&>(verdict) = judge_kind(scene, claim, claim.grid, verdict.orders, workers);
   if (claim.denser) {
     std::vector<MeasuredOrder> orders;
-    verdict.denser = judge_kind(scene, claim, denser_grid(claim.grid), orders, jobs);
+    verdict.denser = judge_kind(scene, claim, denser_grid(claim.grid), orders, workers);
   }
   return verdict;
 }

@@ -38,8 +38,8 @@ namespace pldamp::harness {
 Verdict verdict_of(const Claim& claim);
 
 // Judges a claim of the kinds relation, asymptotic, recovered_parameter or stability over its
-// grid, and over the denser grid when the claim asks for it; its cells on `jobs` threads, the
-// verdict the same whatever their number (common/parallel.hpp).
-Verdict judge_on_grid(const Scene& scene, const Claim& claim, int jobs = 1);
+// grid, and over the denser grid when the claim asks for it; its cells on the workers' threads
+// and ranks, the verdict the same whatever their number (common/parallel.hpp, run/workers.hpp).
+Verdict judge_on_grid(const Scene& scene, const Claim& claim, const Workers& workers = 1);
 
 } // namespace pldamp::harness

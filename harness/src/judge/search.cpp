@@ -154,8 +154,9 @@ std::vector<double> search_scan(const Search& search) {
   return values;
 }
 
-GroupTrials::GroupTrials(std::string name, const Scene& group_scene, const Search& search, int jobs)
-    : name_(std::move(name)), plan_(make_plan(group_scene)), search_(search), jobs_(jobs) {}
+GroupTrials::GroupTrials(std::string name, const Scene& group_scene, const Search& search,
+                         const Workers& workers)
+    : name_(std::move(name)), plan_(make_plan(group_scene)), search_(search), workers_(workers) {}
 
 const GroupTrials::Trial& GroupTrials::trial(double value, int phases) {
   const auto key = std::make_pair(value, phases);
@@ -166,7 +167,7 @@ const GroupTrials::Trial& GroupTrials::trial(double value, int phases) {
   set_parameter(config, search_.parameter, value);
   config.onset_phases = phases;
   RunTotals totals;
-  const std::vector<Record> records = run_plan(plan_, jobs_, totals);
+  const std::vector<Record> records = run_plan(plan_, workers_, totals);
   solver_runs_ += totals.solver_runs;
   // The observables judged: the search's, then any more (`pldamp timestep`); a cell's error is
   // the largest over them, and its onset phase that observable's worst.
@@ -415,7 +416,47 @@ double search_runs_estimate(const Search& search) {
   return cells * phases * (values + (fixed_step(search) ? 2 * 2 + 4 + 1 : 0));
 }
 
-SearchResult run_search(const Scene& scene, const Search& search, int jobs) {
+// A group's answer as a piece of a map shared among MPI ranks (run/workers.hpp), every field.
+static_assert(sizeof(SearchGroup) == 192, "a new SearchGroup field: write and read it below");
+void put_piece(ByteWriter& out, const std::optional<SearchGroup>& answer) {
+  Encoding<bool>::put(out, answer.has_value());
+  if (!answer) {
+    return;
+  }
+  const SearchGroup& g = *answer;
+  out.put(g.group);
+  for (const std::optional<double>* value :
+       {&g.loosest, &g.failing, &g.measured, &g.worst_onset_phase}) {
+    out.put(*value);
+  }
+  out.put(g.worst);
+  for (const int count :
+       {g.trials, g.scanned, g.onset_phases, g.phases_checked, g.band_refinements}) {
+    out.put<std::int32_t>(count);
+  }
+  out.put<std::int64_t>(g.solver_runs);
+  out.put(g.note);
+}
+void get_piece(ByteReader& in, std::optional<SearchGroup>& answer) {
+  if (!Encoding<bool>::get(in)) {
+    answer.reset();
+    return;
+  }
+  SearchGroup& g = answer.emplace();
+  g.group = in.string();
+  for (std::optional<double>* value : {&g.loosest, &g.failing, &g.measured, &g.worst_onset_phase}) {
+    *value = in.optional();
+  }
+  g.worst = in.string();
+  for (int* count :
+       {&g.trials, &g.scanned, &g.onset_phases, &g.phases_checked, &g.band_refinements}) {
+    *count = in.get<std::int32_t>();
+  }
+  g.solver_runs = in.get<std::int64_t>();
+  g.note = in.string();
+}
+
+SearchResult run_search(const Scene& scene, const Search& search, const Workers& workers) {
   SearchResult result;
   result.name = search.name;
   result.where = search.where;
@@ -425,19 +466,28 @@ SearchResult run_search(const Scene& scene, const Search& search, int jobs) {
   result.observable = search.observable;
   result.measure = search_measure(search);
   result.bound = search.bound;
-  // The groups on the threads, each trial's cells on the threads left over (common/parallel.hpp);
-  // a group not begun when a stop was asked for ends the list.
+  // The groups on the threads (and the ranks), each trial's cells on the threads left over
+  // (common/parallel.hpp); a group not begun when a stop was asked for ends the list. With fewer
+  // groups than ranks, the groups one after the other, each trial's cells shared among the ranks
+  // (whose trials, the same on every rank, then follow one another alike).
   const std::vector<std::pair<std::string, Scene>> groups = search_groups_of(scene, search);
-  const int per_group =
-      std::max(1, jobs / static_cast<int>(std::max<std::size_t>(groups.size(), 1)));
-  const std::vector<std::optional<SearchGroup>> answers = map_indices<std::optional<SearchGroup>>(
-      groups.size(), jobs, [&](std::size_t g) -> std::optional<SearchGroup> {
-        if (stop_requested()) {
-          return std::nullopt;
-        }
-        GroupTrials trials(groups[g].first, groups[g].second, search, per_group);
-        return trials.answer();
-      });
+  std::vector<std::optional<SearchGroup>> answers;
+  if (workers.shared() && groups.size() < static_cast<std::size_t>(workers.ranks->size())) {
+    for (const auto& [name, group_scene] : groups) {
+      answers.push_back(GroupTrials(name, group_scene, search, workers).answer());
+    }
+  } else {
+    const int per_group =
+        std::max(1, workers.jobs / static_cast<int>(std::max<std::size_t>(groups.size(), 1)));
+    answers = map_shared<std::optional<SearchGroup>>(
+        groups.size(), workers, [&](std::size_t g) -> std::optional<SearchGroup> {
+          if (stop_requested()) {
+            return std::nullopt;
+          }
+          GroupTrials trials(groups[g].first, groups[g].second, search, per_group);
+          return trials.answer();
+        });
+  }
   for (const std::optional<SearchGroup>& answer : answers) {
     if (!answer) {
       break;

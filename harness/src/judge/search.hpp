@@ -25,6 +25,7 @@
 // failed, or a cell without a value of the observable, fails the trial with the reason.
 #pragma once
 
+#include "run/workers.hpp"
 #include "scene/scene.hpp"
 #include "truth/plan.hpp"
 
@@ -64,7 +65,8 @@ struct SearchResult {
 // observable (the time-step study's 1 %, 0.1 %, 0.01 %) share their solves.
 class GroupTrials {
 public:
-  GroupTrials(std::string name, const Scene& group_scene, const Search& search, int jobs);
+  GroupTrials(std::string name, const Scene& group_scene, const Search& search,
+              const Workers& workers);
 
   // The loosest value keeping `bound` (the search's own when none is given).
   SearchGroup answer(std::optional<double> bound = std::nullopt);
@@ -82,7 +84,7 @@ private:
   std::string name_;
   Plan plan_; // the group's cells and the search's configuration, its references computed once
   const Search& search_;
-  int jobs_;
+  Workers workers_; // each trial's cells: threads, and ranks when shared
   std::map<std::pair<double, int>, Trial> trials_;
   long solver_runs_ = 0;
 };
@@ -92,9 +94,9 @@ private:
 std::vector<std::pair<std::string, Scene>> search_groups_of(const Scene& scene,
                                                             const Search& search);
 
-// Runs a search: its groups on `jobs` threads, the answers in the groups' order whatever their
-// number (common/parallel.hpp).
-SearchResult run_search(const Scene& scene, const Search& search, int jobs);
+// Runs a search: its groups on the workers' threads, shared among their ranks (run/workers.hpp),
+// the answers in the groups' order whatever their number (common/parallel.hpp).
+SearchResult run_search(const Scene& scene, const Search& search, const Workers& workers);
 
 // What a search's measured value is: "the largest relative error of e over the group's cells".
 std::string search_measure(const Search& search);

@@ -136,6 +136,31 @@ struct PointSteps {
   long solver_runs = 0;
 };
 
+// A point's answer as a piece of a map shared among MPI ranks (run/workers.hpp), every field.
+static_assert(sizeof(StepsNeeded) == 48, "a new StepsNeeded field: write and read it below");
+void put_piece(ByteWriter& out, const PointSteps& point) {
+  for (const StepsNeeded& each : point.needed) {
+    out.put(each.steps);
+    out.put(each.tau_over_dt);
+    for (const bool flag : {each.within_sweep, each.from_sweep, each.returns}) {
+      Encoding<bool>::put(out, flag);
+    }
+  }
+  out.put<std::int32_t>(point.onset_phases);
+  out.put<std::int64_t>(point.solver_runs);
+}
+void get_piece(ByteReader& in, PointSteps& point) {
+  for (StepsNeeded& each : point.needed) {
+    each.steps = in.optional();
+    each.tau_over_dt = in.optional();
+    for (bool* flag : {&each.within_sweep, &each.from_sweep, &each.returns}) {
+      *flag = Encoding<bool>::get(in);
+    }
+  }
+  point.onset_phases = in.get<std::int32_t>();
+  point.solver_runs = in.get<std::int64_t>();
+}
+
 PointSteps steps_needed(const Plan& plan, const StepSweep& sweep,
                         const std::vector<double>& by_steps, std::size_t tau, const Point& point) {
   PointSteps out;
@@ -185,7 +210,7 @@ PointSteps steps_needed(const Plan& plan, const StepSweep& sweep,
 
 } // namespace
 
-StepStudy make_step_study(const Plan& plan, RecordRange records, int jobs) {
+StepStudy make_step_study(const Plan& plan, RecordRange records, const Workers& workers) {
   StepStudy study;
   const std::optional<std::size_t> tau = index_of(plan, "tau"), e = index_of(plan, "e");
   if (!tau || !e) {
@@ -287,17 +312,32 @@ StepStudy make_step_study(const Plan& plan, RecordRange records, int jobs) {
     }
     by_steps_of.push_back(std::move(by_steps));
   }
-  // The steps needed at every point of every sweep, on the threads, then gathered in order
-  // (common/parallel.hpp): each point's searches are independent of the others'.
+  // The steps needed at every point of every sweep. An external program's are read off its
+  // sweep's records (no solve; under MPI, rank 0 holds the records and alone reads them). pldamp's
+  // own sweeps' points are searched on the threads and the ranks, then gathered in order
+  // (common/parallel.hpp, run/workers.hpp): each point's searches are independent of the others'.
   const std::size_t points = plan.points.size();
-  const std::vector<PointSteps> found =
-      map_indices<PointSteps>(study.sweeps.size() * points, jobs, [&](std::size_t i) -> PointSteps {
-        if (stop_requested()) {
-          return {};
-        }
-        const std::size_t s = i / points, pi = i % points;
-        return steps_needed(plan, study.sweeps[s], by_steps_of[s][pi], *tau, plan.points[pi]);
-      });
+  const auto needed_at = [&](std::size_t i) -> PointSteps {
+    if (stop_requested()) {
+      return {};
+    }
+    const std::size_t s = i / points, pi = i % points;
+    return steps_needed(plan, study.sweeps[s], by_steps_of[s][pi], *tau, plan.points[pi]);
+  };
+  std::vector<PointSteps> found(study.sweeps.size() * points);
+  std::vector<std::size_t> searched;
+  for (std::size_t i = 0; i < found.size(); ++i) {
+    if (plan.configs[study.sweeps[i / points].configs.front()].external()) {
+      found[i] = needed_at(i);
+    } else {
+      searched.push_back(i);
+    }
+  }
+  const std::vector<PointSteps> searches = map_shared<PointSteps>(
+      searched.size(), workers, [&](std::size_t k) { return needed_at(searched[k]); });
+  for (std::size_t k = 0; k < searched.size(); ++k) {
+    found[searched[k]] = searches[k];
+  }
   for (std::size_t s = 0; s < study.sweeps.size(); ++s) {
     StepSweep& sweep = study.sweeps[s];
     sweep.by_point.assign(points, {});

@@ -66,8 +66,10 @@ struct StepStudy {
 };
 
 // Empty (no sweeps) when the plan has no fixed-step sweep or does not compare e and τ. The
-// searches run on `jobs` threads.
-StepStudy make_step_study(const Plan& plan, RecordRange records, int jobs);
+// searches run on the workers' threads, shared among their ranks (run/workers.hpp). Under MPI
+// every rank calls it, rank 0 with the run's records: the others' study, made without them, is
+// not the run's (the sweeps' points, an external program's answers) and is not reported.
+StepStudy make_step_study(const Plan& plan, RecordRange records, const Workers& workers);
 
 // The solver runs the study's searches are estimated to cost (the plan's size).
 double step_study_runs_estimate(const Scene& scene);

@@ -114,11 +114,15 @@ public:
     } else {
       ask_for_work(runner, chunk_cells);
     }
+  }
+
+  void shared_work_done(bool failed_alike) override {
     running_ = false;
+    speaks_ = speaks_ && !failed_alike;
   }
 
   // Whether this rank should print its error (rank 0 says what fails on every rank), and whether
-  // it failed amid the run, where the other ranks wait for it: MPI_Abort then.
+  // it failed amid the shared work, where the other ranks wait for it: MPI_Abort then.
   bool speaks() const { return rank_ == 0 || speaks_; }
   bool failed_while_running() const { return running_; }
 

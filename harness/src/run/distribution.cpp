@@ -3,6 +3,8 @@
 
 #include "common/input.hpp"
 #include "common/parallel.hpp"
+#include "run/run.hpp"
+#include "run/workers.hpp"
 #include "scene/scene.hpp"
 #include "truth/point_bytes.hpp"
 
@@ -33,71 +35,60 @@ NotReady not_ready_message(int rank, const std::vector<std::string>& failures) {
           false};
 }
 
-std::vector<Point> points_on_ranks(Distribution& distribution, std::size_t count,
-                                   const std::function<Point(std::size_t)>& point_at, int jobs) {
-  const auto rank = static_cast<std::size_t>(distribution.rank());
-  const auto ranks = static_cast<std::size_t>(distribution.size());
-  // What a failed point threw, as the command line tells them apart (cli.cpp).
+std::vector<std::string> exchange_pieces(Distribution& ranks, const std::string& results,
+                                         std::size_t failed_at, std::exception_ptr failure) {
+  // What a failed piece threw, as the command line tells them apart (cli.cpp).
   enum : std::uint8_t { none, scene_error, input_error, internal_error };
-  std::vector<Point> mine((count + ranks - 1 - std::min(rank, count)) / ranks);
-  std::vector<std::exception_ptr> thrown(mine.size());
-  for_each_index(mine.size(), jobs, [&](std::size_t i) {
-    try {
-      mine[i] = point_at(rank + i * ranks);
-    } catch (...) {
-      thrown[i] = std::current_exception();
-    }
-  });
-  std::uint8_t failed = none;
-  std::uint64_t failed_at = 0;
+  std::uint8_t kind = none;
   std::string why;
-  if (const auto first =
-          std::find_if(thrown.begin(), thrown.end(),
-                       [](const std::exception_ptr& e) { return static_cast<bool>(e); });
-      first != thrown.end()) {
-    failed_at = rank + static_cast<std::size_t>(first - thrown.begin()) * ranks;
+  if (failure) {
     try {
-      std::rethrow_exception(*first);
+      std::rethrow_exception(failure);
     } catch (const SceneError& e) {
-      failed = scene_error;
+      kind = scene_error;
       why = e.what();
     } catch (const std::invalid_argument& e) {
-      failed = input_error;
+      kind = input_error;
       why = e.what();
     } catch (const std::exception& e) {
-      failed = internal_error;
+      kind = internal_error;
       why = e.what();
     } catch (...) {
-      failed = internal_error;
+      kind = internal_error;
       why = "an unknown exception";
     }
   }
   std::string bytes;
   ByteWriter out(bytes);
-  out.put(failed);
-  out.put(failed_at);
+  out.put<std::uint8_t>(stop_requested() ? 1 : 0);
+  out.put(kind);
+  out.put<std::uint64_t>(failed_at);
   out.put(why);
-  append_points(bytes, failed == none ? std::span<const Point>(mine) : std::span<const Point>());
-  const std::vector<std::string> shares = distribution.all_gather(bytes);
-  std::vector<Point> points(count);
+  bytes += results;
+  std::vector<std::string> shares = ranks.all_gather(bytes);
   std::uint64_t first_failure = std::numeric_limits<std::uint64_t>::max();
   std::uint8_t first_kind = none;
   std::string first_why;
   for (std::size_t r = 0; r < shares.size(); ++r) {
-    const std::string source = "rank " + std::to_string(r) + "'s points";
-    ByteReader in(shares[r], source);
-    const auto kind = in.get<std::uint8_t>();
+    ByteReader in(shares[r], "rank " + std::to_string(r) + "'s results");
+    if (in.get<std::uint8_t>() != 0) {
+      stop_requested() = true;
+    }
+    const auto said_kind = in.get<std::uint8_t>();
     const auto at = in.get<std::uint64_t>();
     std::string said = in.string();
-    if (kind != none && at < first_failure) {
+    if (said_kind > internal_error) {
+      in.corrupt();
+    }
+    if (said_kind != none && at < first_failure) {
       first_failure = at;
-      first_kind = kind;
+      first_kind = said_kind;
       first_why = std::move(said);
     }
-    std::vector<Point> share = read_points(in.rest(), source);
-    for (std::size_t i = 0; i < share.size(); ++i) {
-      points.at(r + i * ranks) = std::move(share[i]);
-    }
+    shares[r].erase(0, shares[r].size() - in.rest().size());
+  }
+  if (first_kind != none) {
+    ranks.shared_work_done(true); // every rank throws it: none waits for another
   }
   switch (first_kind) {
   case scene_error:
@@ -107,8 +98,21 @@ std::vector<Point> points_on_ranks(Distribution& distribution, std::size_t count
   case internal_error:
     throw InternalError(first_why);
   default:
-    return points;
+    return shares;
   }
+}
+
+// A point as a piece of a shared map (run/workers.hpp).
+void put_piece(ByteWriter& out, const Point& point) {
+  put_point(out, point);
+}
+void get_piece(ByteReader& in, Point& point) {
+  point = get_point(in);
+}
+
+std::vector<Point> points_on_ranks(Distribution& distribution, std::size_t count,
+                                   const std::function<Point(std::size_t)>& point_at, int jobs) {
+  return map_shared<Point>(count, Workers(jobs, &distribution), point_at);
 }
 
 } // namespace pldamp::harness

@@ -4,6 +4,7 @@
 
 #include "common/parallel.hpp"
 #include "run/external.hpp"
+#include "run/shard.hpp"
 #include "truth/reference_solve.hpp"
 
 #include "pldamp/solvers/registry.hpp"
@@ -669,17 +670,38 @@ std::vector<Record> PlanRunner::run_cells(std::span<const std::size_t> cells,
   return records;
 }
 
-std::vector<Record> run_plan(const Plan& plan, int jobs, RunTotals& totals,
+// A rank's records as a piece of a shared map (run/workers.hpp).
+void put_piece(ByteWriter& out, const std::vector<Record>& records) {
+  put_records(out, records);
+}
+void get_piece(ByteReader& in, std::vector<Record>& records) {
+  records = get_records(in);
+}
+
+std::vector<Record> run_plan(const Plan& plan, const Workers& workers, RunTotals& totals,
                              const Progress& progress, std::size_t batch_lanes) {
   const auto start = std::chrono::steady_clock::now();
   totals = {};
-  PlanRunner runner(plan, jobs, batch_lanes);
+  PlanRunner runner(plan, workers.jobs, batch_lanes);
   totals.external = runner.external();
-  std::vector<std::size_t> cells(plan.cells.size());
-  for (std::size_t cell = 0; cell < cells.size(); ++cell) {
-    cells[cell] = cell;
+  const std::size_t ranks = workers.shared() ? static_cast<std::size_t>(workers.ranks->size()) : 1;
+  // One piece a rank, its cells strided as a shard's (each rank gets every p, damping and scale),
+  // solved on its threads; the records then in plan order.
+  std::vector<std::vector<Record>> shares =
+      map_shared<std::vector<Record>>(ranks, workers, [&](std::size_t rank) {
+        return runner.run_cells(shard_cells(plan.cells.size(), rank + 1, ranks), progress);
+      });
+  std::vector<Record> records;
+  if (ranks == 1) {
+    records = std::move(shares.front());
+  } else {
+    records.resize(plan.cells.size() * plan.configs.size());
+    for (std::vector<Record>& share : shares) {
+      for (Record& record : share) {
+        records.at(record.cell * plan.configs.size() + record.config) = std::move(record);
+      }
+    }
   }
-  std::vector<Record> records = runner.run_cells(cells, progress);
   add_to_totals(records, totals);
   totals.wall_seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();

@@ -4,6 +4,7 @@
 // and the batches do, so reports are deterministic (except times).
 #pragma once
 
+#include "run/workers.hpp"
 #include "truth/plan.hpp"
 
 #include <algorithm>
@@ -107,7 +108,9 @@ inline constexpr std::size_t default_batch_lanes = 16;
 // the same records bit for bit as one at a time (batch_lanes = 1), but for their times.
 // Throws ProtocolError (run/external.hpp) before any record when an external solver cannot be
 // started or speaks another protocol.
-std::vector<Record> run_plan(const Plan& plan, int jobs, RunTotals& totals,
+// Shared among MPI ranks when `workers` are (run/workers.hpp): rank r solves every N-th cell from
+// r, and every rank returns every record.
+std::vector<Record> run_plan(const Plan& plan, const Workers& workers, RunTotals& totals,
                              const Progress& progress = {},
                              std::size_t batch_lanes = default_batch_lanes);
 

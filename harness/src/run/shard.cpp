@@ -86,6 +86,8 @@ Record get_record(ByteReader& in) {
   return r;
 }
 
+} // namespace
+
 void put_records(ByteWriter& out, const std::vector<Record>& records) {
   out.put<std::uint64_t>(records.size());
   for (const Record& record : records) {
@@ -100,8 +102,6 @@ std::vector<Record> get_records(ByteReader& in) {
   }
   return records;
 }
-
-} // namespace
 
 std::string_view build_id() {
   return PLDAMP_BUILD_ID;

@@ -3,6 +3,7 @@
 // to the rank that writes the report. A report made from them is the serial run's, times aside.
 #pragma once
 
+#include "common/bytes.hpp"
 #include "run/run.hpp"
 
 #include <cstddef>
@@ -22,6 +23,10 @@ std::string_view build_id();
 // bytes end early or hold what no writer writes).
 void append_records(std::string& bytes, const std::vector<Record>& records);
 std::vector<Record> read_records(std::string_view bytes, const std::string& source);
+
+// The same through a writer and a reader: a count, then each record.
+void put_records(ByteWriter& out, const std::vector<Record>& records);
+std::vector<Record> get_records(ByteReader& in);
 
 // One record's bytes appended to `bytes`; read_record reads the record `bytes` begin with.
 void append_record(std::string& bytes, const Record& record);

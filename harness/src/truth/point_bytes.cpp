@@ -27,6 +27,16 @@ std::vector<std::optional<Exact>> get_exacts(ByteReader& in) {
   return values;
 }
 
+bool get_flag(ByteReader& in) {
+  const auto flag = in.get<std::uint8_t>();
+  if (flag > 1) {
+    in.corrupt();
+  }
+  return flag == 1;
+}
+
+} // namespace
+
 // Every field of a Point, in declaration order: a field added to Point changes its size and stops
 // the build here until it is written and read too.
 // (Exact: float128, or 50 digits in a build without it.)
@@ -60,14 +70,6 @@ void put_point(ByteWriter& out, const Point& point) {
   out.put(point.truth_error);
   out.put(point.no_truth);
   put_real(out, point.group);
-}
-
-bool get_flag(ByteReader& in) {
-  const auto flag = in.get<std::uint8_t>();
-  if (flag > 1) {
-    in.corrupt();
-  }
-  return flag == 1;
 }
 
 Point get_point(ByteReader& in) {
@@ -105,8 +107,6 @@ Point get_point(ByteReader& in) {
   point.group = get_real<Exact>(in);
   return point;
 }
-
-} // namespace
 
 void append_points(std::string& bytes, std::span<const Point> points) {
   ByteWriter out(bytes);

@@ -70,6 +70,10 @@ Real get_real(ByteReader& in) {
   return sign * ldexp(significand, exponent - digits);
 }
 
+// One point's bytes, and the point read back from them.
+void put_point(ByteWriter& out, const Point& point);
+Point get_point(ByteReader& in);
+
 // Appends `points` to `bytes`; read_points reads them back (InputError naming `source` when the
 // bytes end early or hold what no writer writes).
 void append_points(std::string& bytes, std::span<const Point> points);

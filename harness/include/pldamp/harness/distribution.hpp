@@ -37,6 +37,12 @@ public:
   virtual void run(const Plan& plan, PlanRunner& runner, RecordStore* all,
                    const std::function<void(std::size_t, std::size_t)>& progress,
                    bool& stopped) = 0;
+  // Called by every rank together when the work the ranks share is over: the cells (run), then
+  // the claims, searches and time-step study (make_budgets, run/workers.hpp); or when a piece of
+  // that work failed, thrown on every rank alike (`failed_alike`: rank 0 alone says why). Until
+  // then a rank that fails alone would leave the others waiting for it: it ends them all
+  // (mpi_main.cpp). After it, a failure (rank 0's report) ends its rank alone.
+  virtual void shared_work_done(bool failed_alike) { (void)failed_alike; }
 };
 
 // make_plan's points (PointMap, truth/plan.hpp) computed once in the run: rank r computes points
