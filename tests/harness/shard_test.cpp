@@ -20,6 +20,7 @@
 #include <cstdint>
 #include <fstream>
 #include <limits>
+#include <numeric>
 #include <sstream>
 #include <thread>
 
@@ -275,6 +276,48 @@ bound = 1e-5
 [report]
 formats = ["json", "csv"]
 )";
+
+// A record's bytes without what timing decides (its times, the runs its repeats made).
+std::string bytes_without_times(Record record) {
+  record.wall_seconds = record.wall_seconds_slowest = 0;
+  record.cpu_seconds = record.cpu_seconds_slowest = std::nullopt;
+  record.runs = 0;
+  std::string bytes;
+  append_record(bytes, record);
+  return bytes;
+}
+
+// The records a run solves into a store, a batch of cells at a time (a shard's, a serial run's),
+// are run_plan's in plan order whatever the batches, times aside; progress counts every record.
+TEST(Shards, RecordsSolvedIntoAStoreInBatchesAreThePlansRecords) {
+  const Plan plan = make_plan(parse_scene(sharded_scene, "batches.toml"), 2);
+  RunTotals totals;
+  const std::vector<Record> expected = run_plan(plan, 2, totals);
+  std::vector<std::size_t> cells(plan.cells.size());
+  std::iota(cells.begin(), cells.end(), std::size_t{0});
+  ASSERT_GT(cells.size(), 16u); // more than one batch of 16 cells
+  const fs::path folder = scratch() / "batches";
+  fs::create_directories(folder);
+  PlanRunner runner(plan, 1);
+  for (const std::size_t batch_records : {std::size_t{1}, std::size_t{1} << 20}) {
+    RecordStore store(expected.size(), folder);
+    std::size_t last = 0;
+    solve_into(
+        plan, runner, cells, store, 1,
+        [&](std::size_t done, std::size_t total) {
+          EXPECT_EQ(total, expected.size());
+          EXPECT_EQ(done, last + 1);
+          last = done;
+        },
+        batch_records);
+    EXPECT_EQ(last, expected.size());
+    store.seal();
+    for (std::size_t i = 0; i < expected.size(); ++i) {
+      EXPECT_EQ(bytes_without_times(store.at(i)), bytes_without_times(expected[i]))
+          << "record " << i << ", batches of " << batch_records << " records";
+    }
+  }
+}
 
 TEST(Shards, MergedShardsGiveTheSerialReport) {
   const std::string scene = write_file("sharded.toml", sharded_scene);

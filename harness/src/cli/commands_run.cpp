@@ -414,17 +414,18 @@ int write_shard_run(const RunArgs& args, const Plan& plan, std::size_t index, st
                     int jobs, const Progress& progress, const StopOnSignals& signals,
                     std::ostream& out, std::ostream& err) {
   const auto start = std::chrono::steady_clock::now();
-  Shard shard;
-  ShardHeader& h = shard.header;
+  ShardHeader h;
   PlanRunner runner(plan, jobs);
   h.totals.external = runner.external();
   const std::vector<std::size_t> cells = shard_cells(plan.cells.size(), index, count);
-  shard.records = runner.run_cells(cells, progress);
+  RecordStore records(cells.size() * plan.configs.size(), args.out);
+  solve_into(plan, runner, cells, records, jobs, progress);
   if (const std::optional<int> code = signals.exit_code()) {
     err << "stopped by a signal: no shard written, " << args.out << " left as it was\n";
     return *code;
   }
-  add_to_totals(shard.records, h.totals);
+  records.seal();
+  add_to_totals(records, h.totals);
   h.totals.wall_seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   h.build = build_id();
@@ -437,13 +438,15 @@ int write_shard_run(const RunArgs& args, const Plan& plan, std::size_t index, st
   h.count = count;
   h.cells = plan.cells.size();
   h.configs = plan.configs.size();
-  write_shard(args.out, shard);
+  write_shard(args.out, h, records);
   if (std::filesystem::exists(std::filesystem::path(args.out) / "report.json")) {
     err << "note: " << args.out << " also holds an earlier run's report.json; this shard's "
         << "records are " << shard_file_name << ", the report is merge's\n";
   }
-  const auto failed = std::count_if(shard.records.begin(), shard.records.end(),
-                                    [](const Record& r) { return r.failed(); });
+  long failed = 0;
+  for (const Record& record : RecordRange(records)) {
+    failed += record.failed() ? 1 : 0;
+  }
   out << fmt::format("{}: shard {}/{}: {} of {} cells x {} solver configurations, {} solver runs "
                      "in {:.3g} s; {} failed\nshard: {} (pldamp merge {} for the report)\n",
                      plan.scene.name, index, count, cells.size(), plan.cells.size(),
@@ -533,7 +536,7 @@ int run_scene(const RunArgs& args, std::ostream& out, std::ostream& err,
     if (!shard) {
       runner = std::make_unique<PlanRunner>(*plan, jobs);
     }
-    if (distributed && distribution->rank() == 0) { // where every rank's records land
+    if (!shard && (!distributed || distribution->rank() == 0)) { // where the records land
       store = std::make_unique<RecordStore>(plan->cells.size() * plan->configs.size(), args.out);
     }
   } catch (const std::exception& e) {
@@ -553,7 +556,6 @@ int run_scene(const RunArgs& args, std::ostream& out, std::ostream& err,
   }
   // The external programs were started with the runner, before every rank agreed to go on.
   const auto start = std::chrono::steady_clock::now();
-  std::vector<Record> records;
   bool stopped_elsewhere = false;
   if (distributed) {
     distribution->run(*plan, *runner, store.get(), progress, stopped_elsewhere);
@@ -575,7 +577,7 @@ int run_scene(const RunArgs& args, std::ostream& out, std::ostream& err,
       return signals.exit_code().value_or(0);
     }
   } else {
-    records = runner->run_cells(shard_cells(plan->cells.size(), 1, 1), progress);
+    solve_into(*plan, *runner, shard_cells(plan->cells.size(), 1, 1), *store, jobs, progress);
   }
   // Stopped: some records were never solved (a store lacks them), so nothing reads them.
   if (const std::optional<int> code = signals.exit_code()) {
@@ -587,13 +589,10 @@ int run_scene(const RunArgs& args, std::ostream& out, std::ostream& err,
         << " left as it was\n";
     return 128 + SIGINT;
   }
-  if (store) {
-    store->seal();
-  }
-  const RecordRange all = store ? RecordRange(*store) : RecordRange(records);
+  store->seal();
   RunTotals totals;
   totals.external = runner->external();
-  add_to_totals(all, totals);
+  add_to_totals(*store, totals);
   totals.wall_seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   // Under MPI the ranks judge the claims, searches and step study together, then wait in
@@ -601,7 +600,7 @@ int run_scene(const RunArgs& args, std::ostream& out, std::ostream& err,
   // threads of every rank on its node.
   const int tail_jobs =
       distributed ? std::min(1024, jobs * std::max(distribution->ranks_on_node(), 1)) : jobs;
-  return report_records(*plan, all, totals, Workers(jobs, distributed ? distribution : nullptr),
+  return report_records(*plan, *store, totals, Workers(jobs, distributed ? distribution : nullptr),
                         tail_jobs, args.out, args.strict, signals, out, err);
 }
 

@@ -27,8 +27,10 @@ private:
 };
 
 // 64-bit FNV-1a of bytes: a name for what a scene computes (report.json's fingerprint), a check
-// against a torn or altered shard file; not a security measure.
-std::uint64_t fnv1a(std::string_view bytes);
+// against a torn or altered shard file; not a security measure. Of bytes in pieces: each piece's
+// with the hash so far, fnv1a(b, fnv1a(a)) == fnv1a(a + b).
+inline constexpr std::uint64_t fnv1a_basis = 14695981039346656037ULL;
+std::uint64_t fnv1a(std::string_view bytes, std::uint64_t hash = fnv1a_basis);
 
 // Throws InputError "cannot write PATH (reason)"; the temporary is removed on failure.
 void write_file_atomically(const std::filesystem::path& path, std::string_view content);

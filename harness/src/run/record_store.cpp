@@ -3,6 +3,7 @@
 #include "common/input.hpp"
 #include "run/shard.hpp"
 
+#include <algorithm>
 #include <cerrno>
 #include <cstring>
 #include <fcntl.h>
@@ -112,6 +113,33 @@ void add_to_totals(RecordRange records, RunTotals& totals) {
   for (const Record& record : records) {
     totals.rhs_evals += record.rhs_evals * record.phases;
     totals.solver_runs += record.runs;
+  }
+}
+
+void solve_into(const Plan& plan, PlanRunner& runner, std::span<const std::size_t> cells,
+                RecordStore& store, int jobs, const Progress& progress, std::size_t batch_records) {
+  const std::size_t configs = plan.configs.size();
+  // Batches of many cells still fill the threads and the fixed-step schemes' SIMD batches
+  // (run.cpp, group_records); only their times depend on where one batch ends.
+  const std::size_t per_batch =
+      std::max<std::size_t>({1, 16 * static_cast<std::size_t>(std::max(jobs, 1)),
+                             batch_records / std::max<std::size_t>(configs, 1)});
+  const std::size_t total = cells.size() * configs;
+  for (std::size_t first = 0; first < cells.size() && !stop_requested(); first += per_batch) {
+    const std::span<const std::size_t> batch =
+        cells.subspan(first, std::min(per_batch, cells.size() - first));
+    const std::size_t before = first * configs;
+    Progress counted;
+    if (progress) {
+      counted = [&](std::size_t done, std::size_t) { progress(before + done, total); };
+    }
+    const std::vector<Record> records = runner.run_cells(batch, counted);
+    if (stop_requested()) {
+      return; // some of the batch's records were never solved
+    }
+    for (std::size_t i = 0; i < records.size(); ++i) {
+      store.put(before + i, records[i]);
+    }
   }
 }
 

@@ -15,6 +15,7 @@
 #include <iterator>
 #include <mutex>
 #include <optional>
+#include <span>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -105,5 +106,15 @@ private:
 
 // Adds records' rhs evaluations and solver runs to `totals` (run_plan's sums).
 void add_to_totals(RecordRange records, RunTotals& totals);
+
+// Solves `cells` of the plan (PlanRunner::run_cells) into `store`, about `batch_records` records
+// at a time (16 cells a thread at least), each batch's records decoded only until they are stored
+// as bytes: a process that solves 10^6 records holds their bytes in the store's file, not 1.4 GB
+// of records. Record k of cells[i] lands at i × configurations + k, the same whatever the batches
+// (only times differ); `progress` counts over all of them. No new batch once a stop was requested
+// (the store then lacks the records not solved).
+void solve_into(const Plan& plan, PlanRunner& runner, std::span<const std::size_t> cells,
+                RecordStore& store, int jobs, const Progress& progress,
+                std::size_t batch_records = 32768);
 
 } // namespace pldamp::harness

@@ -152,32 +152,52 @@ std::vector<std::size_t> shard_cells(std::size_t cells, std::size_t index, std::
   return mine;
 }
 
+void write_shard(const std::filesystem::path& folder, const ShardHeader& h, RecordRange records) {
+  write_file_atomically(folder / shard_file_name, [&](const TextSink& put) {
+    // A checksum of everything before it, made as the pieces go (a flipped bit is refused, not
+    // merged); the records encoded one at a time, a MiB of them a piece.
+    std::uint64_t hash = fnv1a_basis;
+    std::string bytes(shard_magic);
+    const auto hand_over = [&] {
+      hash = fnv1a(bytes, hash);
+      put(bytes);
+      bytes.clear();
+    };
+    ByteWriter out(bytes);
+    out.put(shard_format);
+    out.put(byte_order_marker);
+    out.put(h.build);
+    out.put(h.scene_path);
+    out.put(h.scene_text);
+    out.put<std::int64_t>(h.max_steps);
+    out.put<std::int64_t>(h.max_runs);
+    out.put(h.max_seconds);
+    out.put<std::uint64_t>(h.index);
+    out.put<std::uint64_t>(h.count);
+    out.put<std::uint64_t>(h.cells);
+    out.put<std::uint64_t>(h.configs);
+    out.put<std::int64_t>(h.totals.rhs_evals);
+    out.put<std::int64_t>(h.totals.solver_runs);
+    out.put(h.totals.wall_seconds);
+    out.put<std::uint64_t>(h.totals.external.size());
+    for (const std::string& said : h.totals.external) {
+      out.put(said);
+    }
+    out.put<std::uint64_t>(records.size()); // put_records' layout
+    for (const Record& record : records) {
+      append_record(bytes, record);
+      if (bytes.size() >= (std::size_t{1} << 20)) {
+        hand_over();
+      }
+    }
+    hand_over();
+    out.put(hash);
+    put(bytes);
+  });
+}
+
 void write_shard(const std::filesystem::path& folder, const Shard& shard) {
-  const ShardHeader& h = shard.header;
-  std::string bytes(shard_magic);
-  ByteWriter out(bytes);
-  out.put(shard_format);
-  out.put(byte_order_marker);
-  out.put(h.build);
-  out.put(h.scene_path);
-  out.put(h.scene_text);
-  out.put<std::int64_t>(h.max_steps);
-  out.put<std::int64_t>(h.max_runs);
-  out.put(h.max_seconds);
-  out.put<std::uint64_t>(h.index);
-  out.put<std::uint64_t>(h.count);
-  out.put<std::uint64_t>(h.cells);
-  out.put<std::uint64_t>(h.configs);
-  out.put<std::int64_t>(h.totals.rhs_evals);
-  out.put<std::int64_t>(h.totals.solver_runs);
-  out.put(h.totals.wall_seconds);
-  out.put<std::uint64_t>(h.totals.external.size());
-  for (const std::string& said : h.totals.external) {
-    out.put(said);
-  }
-  put_records(out, shard.records);
-  out.put(fnv1a(bytes)); // of everything before it: a flipped bit is refused, not merged
-  write_file_atomically(folder / shard_file_name, bytes);
+  write_shard(folder, shard.header, shard.records);
 }
 
 ShardHeader read_shard_records(const std::filesystem::path& folder, const RecordVisitor& visit) {

@@ -4,6 +4,7 @@
 #pragma once
 
 #include "common/bytes.hpp"
+#include "run/record_store.hpp"
 #include "run/run.hpp"
 
 #include <cstddef>
@@ -64,7 +65,10 @@ struct Shard {
   std::vector<Record> records;
 };
 
-// Writes FOLDER/shard.pldamp (to a temporary name, renamed into place).
+// Writes FOLDER/shard.pldamp (to a temporary name, renamed into place), its records as they are
+// read (a vector's, or a store's: run/record_store.hpp).
+void write_shard(const std::filesystem::path& folder, const ShardHeader& header,
+                 RecordRange records);
 void write_shard(const std::filesystem::path& folder, const Shard& shard);
 // Reads FOLDER/shard.pldamp; InputError with one line when it cannot be read or is not one.
 Shard read_shard(const std::filesystem::path& folder);
