@@ -159,7 +159,8 @@ double claim_runs(const Claim& claim) {
 }
 
 // The solves of a scene's claims judged on grids of their own (claim_runs) and of its searches and
-// time-step study: one process makes them, whoever shares the grid.
+// time-step study, estimated: one process makes them in a shard set (merge), the ranks share them
+// under MPI.
 double claim_and_search_runs(const Scene& scene) {
   double runs = step_study_runs_estimate(scene); // the time-step study's searches
   for (const Claim& claim : scene.claims) {
@@ -288,18 +289,22 @@ void check_plan_size(const Scene& scene, const std::string& scene_path, double s
   const double runs = planned_runs(scene);
   const double judging = claim_and_search_runs(scene);
   const double grid_runs = runs - judging;
-  const double per_process = grid_runs / shares + (judging_shared ? judging / shares : judging);
+  // The largest share of the grid: a shard of N holds ceil(cells / N) cells.
+  const double cells = grid_cells(scene);
+  const double grid_share = cells > 0 ? grid_runs * std::ceil(cells / shares) / cells : 0;
+  const double per_process = grid_share + (judging_shared ? judging / shares : judging);
   if (per_process > double(scene.limits.max_runs)) {
     throw InputError(fmt::format(
         "the plan has {:.0f} solver runs{}, above the limit of {}: shrink the grid, raise the "
         "limit with --max-runs or [limits] max_runs{} (got {})",
         runs,
-        shares <= 1      ? ""
-        : judging_shared ? fmt::format(", {:.0f} in each of {:.0f} ranks", per_process, shares)
-                         : fmt::format(", {:.0f} in one of {:.0f} processes (a share of the grid's "
-                                       "{:.0f} and the {:.0f} of the claims and searches, which "
-                                       "one process makes)",
-                                       per_process, shares, grid_runs, judging),
+        shares <= 1 ? ""
+        : judging_shared
+            ? fmt::format(", {:.0f} in the largest share of {:.0f} ranks", per_process, shares)
+            : fmt::format(", {:.0f} in one of {:.0f} processes (a share of the grid's {:.0f} and "
+                          "the {:.0f} of the claims, searches and time-step study, estimated, "
+                          "which one process makes)",
+                          per_process, shares, grid_runs, judging),
         scene.limits.max_runs, shares > 1 ? "" : ", or share it with --shard or mpirun",
         scene_path));
   }
@@ -321,15 +326,22 @@ void print_plan_size(const Scene& scene, std::ostream& out) {
         const ConventionClaim* convention = std::get_if<ConventionClaim>(&c.kind);
         return bound ? bound->own_grid || c.denser : !convention || convention->own_grid;
       });
-  // With repeats, an upper bound: a run of repeat_below or more is not repeated.
+  // With repeats, an upper bound: a run of repeat_below or more is not repeated. Not with a
+  // search or a time-step study, whose solves are estimated (a fixed-step search's onset phases
+  // grow where its answer does not settle).
+  const bool searches = !scene.searches.empty() || step_study_runs_estimate(scene) > 0;
   out << fmt::format("{}: {:.0f} cells x {:.0f} solver configurations{}: {}{:.0f} solver runs "
                      "(onset phases, repeats{} included), about {:.3g} MB of records\n",
                      scene.name, cells, double(scene.configs.size()),
                      grid_claims > 0 ? fmt::format(", {} claims on grids of their own", grid_claims)
                                      : "",
-                     scene.repeats > 1 ? "at most " : "", runs,
-                     grid_claims > 0 || !scene.searches.empty()
-                         ? " and the claims' and searches' solves, estimated"
+                     searches            ? "about "
+                     : scene.repeats > 1 ? "at most "
+                                         : "",
+                     runs,
+                     grid_claims > 0 || searches
+                         ? " and the solves of the claims on grids of their own, the searches and "
+                           "the time-step study, estimated"
                          : "",
                      megabytes)
       << std::flush;

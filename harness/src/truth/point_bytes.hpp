@@ -18,9 +18,10 @@
 
 namespace pldamp::harness {
 
-// A binary floating-point value of any precision, exactly: its class and sign, then (finite and
-// non-zero) its exponent and its significand as an integer in 64-bit pieces, all formed and read
-// back by exact operations (frexp, ldexp, and sums of integers the type represents exactly).
+// A binary floating-point value of any precision, exactly: its class and sign (a NaN's too, not
+// its payload), then (finite and non-zero) its exponent and its significand as an integer in 64-bit
+// pieces, all formed and read back by exact operations (frexp, ldexp, and sums of integers the type
+// represents exactly).
 template <class Real>
 void put_real(ByteWriter& out, const Real& x) {
   using std::frexp, std::ldexp, std::floor, std::isnan, std::isinf;
@@ -58,8 +59,9 @@ Real get_real(ByteReader& in) {
   if (kind == 2) {
     return sign * std::numeric_limits<Real>::infinity();
   }
-  if (kind == 3) {
-    return std::numeric_limits<Real>::quiet_NaN();
+  if (kind == 3) { // its sign kept: a report prints a NaN's ("-nan"), the payload not
+    return negative == 1 ? -std::numeric_limits<Real>::quiet_NaN()
+                         : std::numeric_limits<Real>::quiet_NaN();
   }
   constexpr int digits = std::numeric_limits<Real>::digits;
   const auto exponent = in.get<std::int32_t>();
