@@ -59,6 +59,20 @@ status=0
   { cat "$work/mixed.err" >&2; echo "another scene on rank 1: not refused (exit $status)" >&2; exit 1; }
 echo "another scene on rank 1: refused"
 
+# A scene's error reads as in a serial run (FILE:LINE: what), said once, exit code 2.
+printf 'name = "broken"\n[grid]\np = [0.5]\ne = [0.5]\nv0 = [1.0]\n[[solver]]\nname = "cvode-bdf"\n' \
+  >"$work/broken.toml"
+status=0
+"$pldamp" run "$work/broken.toml" --out "$work/broken" 2>"$work/broken-serial.err" || status=$?
+((status == 2)) && grep -qx "$work/broken.toml:3: p must be in \[1, 1000\] (got 0.5)" \
+  "$work/broken-serial.err" || { cat "$work/broken-serial.err" >&2; echo "serial: not refused" >&2; exit 1; }
+status=0
+"${mpi[@]}" -n 2 "$pldamp" run "$work/broken.toml" --out "$work/broken" --jobs 1 \
+  2>"$work/broken-mpi.err" || status=$?
+((status == 2)) && [[ $(grep -cxF -f "$work/broken-serial.err" "$work/broken-mpi.err") -eq 1 ]] ||
+  { cat "$work/broken-mpi.err" >&2; echo "a scene's error under mpirun: not the serial line once" >&2; exit 1; }
+echo "a scene's error under mpirun: the serial line, once"
+
 for k in 1 2 3; do
   "$pldamp" run "$scenes/quick.toml" --shard "$k/3" --out "$work/shard-$k" --jobs 1 >/dev/null
 done

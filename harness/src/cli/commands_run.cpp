@@ -490,6 +490,7 @@ int run_scene(const RunArgs& args, std::ostream& out, std::ostream& err,
   std::unique_ptr<RecordStore> store;
   int jobs = 1;
   std::string failure;
+  std::exception_ptr thrown; // this rank's failure, of its kind (a scene's error prints as serial)
   try {
     jobs = jobs_of(args.jobs, distributed ? distribution->ranks_on_node() : 1);
     scene = scene_with_limits(args);
@@ -502,6 +503,7 @@ int run_scene(const RunArgs& args, std::ostream& out, std::ostream& err,
     }
   } catch (const std::exception& e) {
     failure = *e.what() != '\0' ? e.what() : "an error without a message"; // empty: ready
+    thrown = std::current_exception();
     if (!distributed) {
       throw;
     }
@@ -526,6 +528,9 @@ int run_scene(const RunArgs& args, std::ostream& out, std::ostream& err,
   const auto every_rank_ready = [&] {
     std::string why;
     if (distributed && !distribution->all_ready(failure, why)) {
+      if (thrown && why == failure) { // this rank's own, said as a serial run says it
+        std::rethrow_exception(thrown);
+      }
       if (!why.empty()) {
         throw InputError(why);
       }
@@ -553,6 +558,7 @@ int run_scene(const RunArgs& args, std::ostream& out, std::ostream& err,
     }
   } catch (const std::exception& e) {
     failure = *e.what() != '\0' ? e.what() : "an error without a message"; // empty: ready
+    thrown = std::current_exception();
     if (!distributed) {
       throw;
     }
