@@ -120,6 +120,25 @@ TEST(Answer, StringsAreEscapedAndNumbersKeepTheirPrecision) {
   EXPECT_THROW(exact_number(std::numeric_limits<double>::quiet_NaN()), InternalError);
 }
 
+// A text shown in one line: control characters and bytes that are not UTF-8 escaped (a UTF-16
+// file's cells printed raw bytes; a NUL cut an error line), well-formed UTF-8 kept as it is; cut
+// to a limit, never inside a character.
+TEST(Text, OneLineEscapesWhatIsNotPrintableUtf8) {
+  using namespace std::string_literals;
+  EXPECT_EQ(one_line("a\tb\nc\x7f"), "a\\tb\\nc\\x7f");
+  EXPECT_EQ(one_line("t\0,\0d"s), "t\\x00,\\x00d");
+  EXPECT_EQ(one_line("\xff\xfet\0"s), "\\xff\\xfet\\x00"); // UTF-16's byte order mark
+  EXPECT_EQ(one_line("\u00e9\u20ac\U0001f600"), "\u00e9\u20ac\U0001f600");
+  // Overlong, surrogate, beyond U+10FFFF, a lead byte cut short.
+  EXPECT_EQ(one_line("\xc0\xaf|\xed\xa0\x80|\xf4\x90\x80\x80|\xe2\x82"),
+            "\\xc0\\xaf|\\xed\\xa0\\x80|\\xf4\\x90\\x80\\x80|\\xe2\\x82");
+  EXPECT_EQ(one_line("short", 10), "short");
+  EXPECT_EQ(one_line("0123456789abc", 10), "0123456...");
+  EXPECT_EQ(one_line("012345\u00e9\u00e9x", 10), "012345...");      // é is bytes 6-7: cut before
+  EXPECT_EQ(one_line("01234\u00e9\u00e9xy", 10), "01234\u00e9..."); // a whole é fits
+  EXPECT_EQ(one_line(std::string(1000000, '\n'), 10).size(), 10u);  // a long text read in part
+}
+
 TEST(Names, OneTableGivesNamesValuesAndTheList) {
   enum class Colour { red, green };
   constexpr NameTable<Colour, 2> colours{{{Colour::red, "red"}, {Colour::green, "green"}}};

@@ -72,6 +72,79 @@ TEST(ExternalChecks, AnImpossibleAnswerIsUnstableWithItsReason) {
 
 // A fixed step's allowance (ωΔt)²/8 with ω² = k p δ_u^(p−1)/m and Δt = π δ_u/(v0 n) is, since
 // k δ_u^(p+1) = (p+1) m v0²/2, p (p+1) π² / (16 n²) whatever the scales.
+// Whatever a program writes is read within bounds: nesting refused before any tree is built (a
+// reply 10^5 arrays deep crashed `pldamp run`, and Python with it), every text it says kept to
+// one line of at most max_reply_text characters, each handshake list at most max_reply_items.
+TEST(ExternalChecks, WhatAProgramSaysIsReadWithinBounds) {
+  const auto nested = [](int depth) {
+    return std::string(std::size_t(depth), '[') + std::string(std::size_t(depth), ']');
+  };
+  const auto reply = [](const std::string& fields) {
+    return R"({"id": 3, "outcome": "exited", )" + fields + "}";
+  };
+  const auto message_of = [&](const std::string& line) -> std::string {
+    try {
+      (void)read_reply(line, 3);
+    } catch (const std::exception& e) {
+      return e.what();
+    }
+    return "read";
+  };
+  for (const int depth : {16, 17, 100000}) { // the reply object itself is level 1
+    const std::string what = message_of(reply(R"("e": )" + nested(depth)));
+    EXPECT_EQ(what.find("nests JSON deeper than 16 levels") != std::string::npos, depth > 15)
+        << depth << ": " << what;
+    EXPECT_LE(what.size(), 200u) << depth;
+  }
+  EXPECT_EQ(message_of(reply(R"("e": 0.5)")), "read");
+  // A reason of 10^5 characters, with newlines and a two-byte character at every cut: kept as one
+  // line of whole characters.
+  std::string reason;
+  for (int i = 0; i < 50000; ++i) {
+    reason += R"(\u00e9\n)"; // JSON's escapes: é and a newline
+  }
+  try {
+    (void)read_reply(R"({"id": 3, "outcome": "error", "reason": ")" + reason + "\"}", 3);
+    ADD_FAILURE() << "an error outcome fails its record";
+  } catch (const ReportedError& e) {
+    const std::string what = e.what();
+    EXPECT_LE(what.size(), std::string("the program's error: ").size() + max_reply_text) << what;
+    EXPECT_EQ(what.find('\n'), std::string::npos);
+    EXPECT_TRUE(what.ends_with("\xc3\xa9\\n...") || what.ends_with("\\n\xc3\xa9...") ||
+                what.ends_with("\\...") || what.ends_with("\\n..."))
+        << what.substr(what.size() - 12);
+    EXPECT_EQ(one_line(what), what) << "whole UTF-8 characters only";
+  }
+  // The handshake: nesting, a long name, long lists.
+  const std::string hello = R"({"protocol": "pldamp-solver", "version": 1, )";
+  const auto handshake_error = [&](const std::string& fields) -> std::string {
+    try {
+      (void)read_handshake(hello + fields + "}", "[[solver]] x");
+    } catch (const ProtocolError& e) {
+      return e.what();
+    }
+    return "read";
+  };
+  EXPECT_NE(handshake_error(R"("solver": "s", "x": )" + nested(100000))
+                .find("[[solver]] x: its handshake nests JSON deeper than 16 levels"),
+            std::string::npos);
+  EXPECT_EQ(
+      read_handshake(hello + R"("solver": ")" + std::string(5000, 's') + "\"}", "x").solver.size(),
+      max_reply_text);
+  std::string many = "[1";
+  for (std::size_t i = 1; i <= max_reply_items; ++i) {
+    many += ", 1";
+  }
+  EXPECT_EQ(handshake_error(R"("solver": "s", "p": )" + many + "]"),
+            "[[solver]] x: its handshake's p lists 1001 items, more than 1000");
+  std::string settings = R"(["dt")";
+  for (std::size_t i = 1; i <= max_reply_items; ++i) {
+    settings += R"(, "dt")";
+  }
+  EXPECT_EQ(handshake_error(R"("solver": "s", "honours": )" + settings + "]"),
+            "[[solver]] x: its handshake's honours lists 1001 items, more than 1000");
+}
+
 TEST(ExternalChecks, TheAllowanceIsPldampsOwnAndScaleFree) {
   const double pi = boost::math::constants::pi<double>();
   SolverConfig fixed;

@@ -109,6 +109,8 @@ TEST(External, EachMisbehaviourFailsItsRecordsWithAReason) {
       {"bad_json", "the reply is not JSON (got 'e = 0.5')"},
       {"wrong_id", "the reply is for another problem: id 0 expected (got '7')"},
       {"no_outcome", "the reply has no outcome"},
+      {"deep", "the reply nests JSON deeper than 16 levels (got '{\"id\": 0, \"outcome\": "
+               "\"error\", \"reason\": \"\\u00e9\\n\\u00e9"},
       {"error", "the program's error: fakecode: lost atoms"},
       {"crash", "the program exited with status 3; its last words on stderr: 'fake: boom'"},
       {"partial", "the program exited with status 0 in the middle of a line ('{\"id\": 0, "

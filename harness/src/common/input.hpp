@@ -9,6 +9,7 @@
 #include "pldamp/core/real_types.hpp"
 #include "pldamp/core/validate.hpp"
 
+#include <algorithm>
 #include <cctype>
 #include <charconv>
 #include <cmath>
@@ -39,24 +40,74 @@ std::string format_number(const Real& value) {
   return to_string_full(value); // "inf" for infinities (JSON answers write null)
 }
 
-// A text as one line of output: control characters shown escaped (\n, \t, \xNN), so that a
-// newline typed into an option or a scene's name cannot start a line of its own.
+// The length of the well-formed UTF-8 sequence `text` begins with (1 to 4), or 0 when its first
+// byte does not begin one (RFC 3629: no overlong form, no surrogate, nothing above U+10FFFF).
+inline std::size_t utf8_sequence(std::string_view text) {
+  const auto byte = [&](std::size_t i) { return static_cast<unsigned char>(text[i]); };
+  const unsigned char lead = byte(0);
+  if (lead < 0x80) {
+    return 1;
+  }
+  const std::size_t n = lead >= 0xc2 && lead <= 0xdf   ? 2
+                        : lead >= 0xe0 && lead <= 0xef ? 3
+                        : lead >= 0xf0 && lead <= 0xf4 ? 4
+                                                       : 0;
+  if (n == 0 || text.size() < n) {
+    return 0;
+  }
+  for (std::size_t i = 1; i < n; ++i) {
+    if ((byte(i) & 0xc0) != 0x80) {
+      return 0;
+    }
+  }
+  const unsigned char second = byte(1);
+  if ((lead == 0xe0 && second < 0xa0) || (lead == 0xed && second > 0x9f) ||
+      (lead == 0xf0 && second < 0x90) || (lead == 0xf4 && second > 0x8f)) {
+    return 0;
+  }
+  return n;
+}
+
+// A text as one line of output: control characters and bytes that are not UTF-8 shown escaped
+// (\n, \t, \xNN), so that a newline typed into an option or a scene's name cannot start a line of
+// its own, a NUL cannot end the line early, and a UTF-16 or binary file's bytes cannot reach a
+// terminal raw (or a JSON writer, which refuses text that is not UTF-8).
 inline std::string one_line(std::string_view text) {
   static constexpr char hex[] = "0123456789abcdef";
   std::string out;
-  for (const char c : text) {
+  for (std::size_t i = 0; i < text.size();) {
+    const char c = text[i];
     const auto byte = static_cast<unsigned char>(c);
+    const std::size_t n = utf8_sequence(text.substr(i));
     if (c == '\n') {
       out += "\\n";
     } else if (c == '\t') {
       out += "\\t";
-    } else if (byte < 0x20 || byte == 0x7f) {
+    } else if (byte < 0x20 || byte == 0x7f || n == 0) {
       out += {'\\', 'x', hex[byte >> 4], hex[byte & 0xf]};
     } else {
-      out += c;
+      out.append(text.substr(i, n));
+      i += n;
+      continue;
     }
+    ++i;
   }
   return out;
+}
+
+// one_line, cut to at most `limit` bytes (a whole character last, then "..."): a text from
+// outside (a program's reply, a file's cell) quoted in a message or kept in a report.
+inline std::string one_line(std::string_view text, std::size_t limit) {
+  // Each byte becomes at most 4 (\xNN): what lies beyond 4·limit bytes is never shown.
+  std::string out = one_line(text.substr(0, std::min(text.size(), 4 * limit + 4)));
+  if (out.size() <= limit && text.size() <= 4 * limit + 4) {
+    return out;
+  }
+  std::size_t cut = limit > 3 ? limit - 3 : 0;
+  while (cut > 0 && (static_cast<unsigned char>(out[cut]) & 0xc0) == 0x80) {
+    --cut; // not inside a character
+  }
+  return out.substr(0, cut) + "...";
 }
 
 // Parses the whole of `text` as a Real, rounding once into the target type (so "0.1" is the

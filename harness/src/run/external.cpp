@@ -18,17 +18,47 @@ using nlohmann::json;
 using nlohmann::ordered_json;
 
 // A line from the program, quoted in a message: one line, at most 100 characters.
-std::string quoted(const std::string& line) {
-  const std::string shown = one_line(line);
-  return "'" + (shown.size() > 100 ? shown.substr(0, 97) + "..." : shown) + "'";
+std::string quote_line(std::string_view line) {
+  return "'" + one_line(line, 100) + "'";
+}
+
+// A text the program said, kept (in a record, a report): one line, at most max_reply_text.
+std::string kept(std::string_view text) {
+  return one_line(text, max_reply_text);
 }
 
 constexpr std::chrono::milliseconds handshake_limit{30000};
 
-// The program's own `error` outcome: the record fails, the exchange is still in step.
-struct ReportedError : std::runtime_error {
-  using std::runtime_error::runtime_error;
-};
+// Thrown by `parse_line` at the first value nested deeper than max_reply_depth.
+struct TooDeep {};
+
+// A line of the program's as JSON, read no deeper than max_reply_depth (nlohmann's parser is
+// iterative, but its dump and a tree's use recurse); discarded when it is not JSON; throws
+// std::runtime_error naming `what` when it nests too deep.
+json parse_line(const std::string& line, const std::string& what) {
+  const json::parser_callback_t bounded = [](int depth, json::parse_event_t, json&) {
+    if (depth >= max_reply_depth) { // the outermost value is at depth 0
+      throw TooDeep{};
+    }
+    return true;
+  };
+  try {
+    return json::parse(line, bounded, false);
+  } catch (const TooDeep&) {
+    throw std::runtime_error(fmt::format("{} nests JSON deeper than {} levels (got {})", what,
+                                         max_reply_depth, quote_line(line)));
+  }
+}
+
+// A list of the handshake's, at most max_reply_items long.
+template <class Item>
+std::vector<Item> bounded_list(const json& list, const std::string& who, const char* key) {
+  if (list.is_array() && list.size() > max_reply_items) {
+    throw ProtocolError(fmt::format("{}: its handshake's {} lists {} items, more than {}", who, key,
+                                    list.size(), max_reply_items));
+  }
+  return list.get<std::vector<Item>>();
+}
 
 std::optional<solvers::Outcome> outcome_named(const std::string& name) {
   using solvers::Outcome;
@@ -53,7 +83,7 @@ std::optional<double> reply_value(const json& reply, const char* key, bool infin
   }
   if (!found->is_number()) {
     throw std::runtime_error(
-        fmt::format("the reply's {} is not a number (got {})", key, quoted(found->dump())));
+        fmt::format("the reply's {} is not a number (got {})", key, quote_line(found->dump())));
   }
   return found->get<double>();
 }
@@ -77,16 +107,21 @@ long reply_count(const json& reply, const char* key) {
   return value ? static_cast<long>(*value) : 0;
 }
 
-// The handshake's facts; throws ProtocolError naming what is wrong.
+} // namespace
+
 ExternalFacts read_handshake(const std::string& line, const std::string& who) {
   json hello;
   try {
-    hello = json::parse(line);
-  } catch (const json::exception&) {
-    throw ProtocolError(who + ": its handshake is not JSON (got " + quoted(line) + ")");
+    hello = parse_line(line, who + ": its handshake");
+  } catch (const std::runtime_error& e) {
+    throw ProtocolError(e.what());
+  }
+  if (hello.is_discarded()) {
+    throw ProtocolError(who + ": its handshake is not JSON (got " + quote_line(line) + ")");
   }
   if (!hello.is_object()) {
-    throw ProtocolError(who + ": its handshake is not a JSON object (got " + quoted(line) + ")");
+    throw ProtocolError(who + ": its handshake is not a JSON object (got " + quote_line(line) +
+                        ")");
   }
   const auto protocol = hello.find("protocol");
   const auto version = hello.find("version");
@@ -94,11 +129,11 @@ ExternalFacts read_handshake(const std::string& line, const std::string& who) {
       !version->is_number_integer() || *version != protocol_version) {
     throw ProtocolError(fmt::format("{}: speaks another protocol; pldamp speaks {} version {} "
                                     "(got {})",
-                                    who, protocol_name, protocol_version, quoted(line)));
+                                    who, protocol_name, protocol_version, quote_line(line)));
   }
   ExternalFacts facts;
   try {
-    facts.solver = hello.at("solver").get<std::string>();
+    facts.solver = kept(hello.at("solver").get<std::string>());
     if (const auto beta = hello.find("damping_exponent"); beta != hello.end()) {
       if (beta->is_number()) {
         facts.damping_exponent = beta->get<double>();
@@ -107,28 +142,32 @@ ExternalFacts read_handshake(const std::string& line, const std::string& who) {
         }
       } else if (*beta != "seed") {
         throw ProtocolError(who + ": damping_exponent must be a number >= 0 or \"seed\" (got " +
-                            quoted(beta->dump()) + ")");
+                            quote_line(beta->dump()) + ")");
       }
     }
     if (const auto p = hello.find("p"); p != hello.end()) {
-      facts.exponents = p->get<std::vector<double>>();
+      facts.exponents = bounded_list<double>(*p, who, "p");
     }
     facts.ends = {solvers::End::overlap, solvers::End::force};
     if (const auto ends = hello.find("ends"); ends != hello.end()) {
       facts.ends.clear();
-      for (const std::string& name : ends->get<std::vector<std::string>>()) {
+      for (const std::string& name : bounded_list<std::string>(*ends, who, "ends")) {
         const std::optional<solvers::End> end = value_named(contact_ends, name);
         if (!end) {
-          throw ProtocolError(who + ": unknown contact end in its handshake (got " + name + ")");
+          throw ProtocolError(who + ": unknown contact end in its handshake (got " +
+                              quote_line(name) + ")");
         }
         facts.ends.push_back(*end);
       }
     }
     if (const auto honours = hello.find("honours"); honours != hello.end()) {
-      facts.honours = honours->get<std::vector<std::string>>();
+      facts.honours = bounded_list<std::string>(*honours, who, "honours");
+      for (std::string& setting : *facts.honours) {
+        setting = kept(setting);
+      }
     }
     if (const auto unavailable = hello.find("unavailable"); unavailable != hello.end()) {
-      facts.unavailable = unavailable->get<std::string>();
+      facts.unavailable = kept(unavailable->get<std::string>());
       if (facts.unavailable.empty()) {
         facts.unavailable = "unavailable";
       }
@@ -136,12 +175,10 @@ ExternalFacts read_handshake(const std::string& line, const std::string& who) {
   } catch (const json::exception&) {
     throw ProtocolError(who +
                         ": its handshake has a key of the wrong type or lacks `solver` (got " +
-                        quoted(line) + ")");
+                        quote_line(line) + ")");
   }
   return facts;
 }
-
-} // namespace
 
 bool ExternalFacts::seed_damping(double p) const {
   return !damping_exponent || std::abs(*damping_exponent - (p - 1) / 2) <= 1e-15;
@@ -239,10 +276,10 @@ std::string ExternalSolver::why_stopped(const std::string& partial) {
   program_->finish();
   std::string out = "the program " + program_->status();
   if (!partial.empty()) {
-    out += " in the middle of a line (" + quoted(partial) + ")";
+    out += " in the middle of a line (" + quote_line(partial) + ")";
   }
   if (const std::string error = program_->last_error_line(); !error.empty()) {
-    out += "; its last words on stderr: " + quoted(error);
+    out += "; its last words on stderr: " + quote_line(error);
   }
   program_.reset();
   return out;
@@ -281,30 +318,28 @@ std::string ExternalSolver::problem_line(const SolverConfig& config,
   return line.dump();
 }
 
-solvers::Result<double> ExternalSolver::parse_reply(const std::string& line, long id) const {
-  json reply;
-  try {
-    reply = json::parse(line);
-  } catch (const json::exception&) {
-    throw std::runtime_error("the reply is not JSON (got " + quoted(line) + ")");
+solvers::Result<double> read_reply(const std::string& line, long id) {
+  const json reply = parse_line(line, "the reply");
+  if (reply.is_discarded()) {
+    throw std::runtime_error("the reply is not JSON (got " + quote_line(line) + ")");
   }
   if (!reply.is_object()) {
-    throw std::runtime_error("the reply is not a JSON object (got " + quoted(line) + ")");
+    throw std::runtime_error("the reply is not a JSON object (got " + quote_line(line) + ")");
   }
   const auto reply_id = reply.find("id");
   if (reply_id == reply.end() || !reply_id->is_number_integer() || *reply_id != id) {
     throw std::runtime_error(
         fmt::format("the reply is for another problem: id {} expected (got {})", id,
-                    reply_id == reply.end() ? "none" : quoted(reply_id->dump())));
+                    reply_id == reply.end() ? "none" : quote_line(reply_id->dump())));
   }
   const auto outcome = reply.find("outcome");
   if (outcome == reply.end() || !outcome->is_string()) {
-    throw std::runtime_error("the reply has no outcome (got " + quoted(line) + ")");
+    throw std::runtime_error("the reply has no outcome (got " + quote_line(line) + ")");
   }
   const std::string name = outcome->get<std::string>();
   const auto reason = [&] {
     const auto found = reply.find("reason");
-    return found != reply.end() && found->is_string() ? one_line(found->get<std::string>())
+    return found != reply.end() && found->is_string() ? kept(found->get<std::string>())
                                                       : std::string("no reason given");
   };
   if (name == "unsupported") {
@@ -315,7 +350,7 @@ solvers::Result<double> ExternalSolver::parse_reply(const std::string& line, lon
   }
   const std::optional<solvers::Outcome> known = outcome_named(name);
   if (!known) {
-    throw std::runtime_error("unknown outcome " + quoted(name) +
+    throw std::runtime_error("unknown outcome " + quote_line(name) +
                              ", expected exited|peak|no_exit|step_limit|time_limit|unstable|"
                              "unsupported|error");
   }
@@ -386,7 +421,7 @@ solvers::Result<double> ExternalSolver::solve(const SolverConfig& config,
   const double round_trip =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - sent).count();
   try {
-    solvers::Result<double> result = parse_reply(line, id);
+    solvers::Result<double> result = read_reply(line, id);
     if (result.wall_seconds == 0) {
       result.wall_seconds = round_trip;
     }

@@ -67,6 +67,27 @@ struct ExternalFacts {
   void require_honoured(const SolverConfig& config) const;
 };
 
+// What a program says is read within these bounds, before anything of it is kept or printed (a
+// line is at most 1 MiB: LineProgram): JSON nested deeper than `max_reply_depth` is refused
+// unread (nlohmann's dump, which a message quoting a value calls, recurses once per level: a
+// reply of 10^5 nested arrays overflowed the stack), and each text kept from it (a name, a
+// reason) is cut to `max_reply_text` characters, each list to `max_reply_items`.
+inline constexpr int max_reply_depth = 16;
+inline constexpr std::size_t max_reply_text = 200;
+inline constexpr std::size_t max_reply_items = 1000;
+
+// The program's own `error` outcome: the record fails, the exchange is still in step.
+struct ReportedError : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
+
+// A handshake line's facts; throws ProtocolError naming what is wrong (`who` begins it).
+ExternalFacts read_handshake(const std::string& line, const std::string& who);
+// A reply line to problem `id` as a Result, before the invariants (answers.hpp) are checked;
+// throws Skipped (unsupported), ReportedError (the program's error) or std::runtime_error (a
+// reply that cannot be read: the exchange is no longer trusted).
+solvers::Result<double> read_reply(const std::string& line, long id);
+
 class ExternalSolver {
 public:
   // Starts the program and reads its handshake (within 30 s, or `limit_seconds` if longer);
@@ -89,8 +110,6 @@ private:
   void stop_program(); // after a broken exchange: killed, restarted on the next problem
   std::string problem_line(const SolverConfig& config, const solvers::Problem<double>& problem,
                            const solvers::Options<double>& options, long id) const;
-  // The reply's line as a Result; throws std::runtime_error or Skipped.
-  solvers::Result<double> parse_reply(const std::string& line, long id) const;
   // Why the program stopped answering: its exit status and the last line it wrote on stderr.
   std::string why_stopped(const std::string& partial);
 

@@ -27,6 +27,7 @@ hang         never answers its first problem
 hang_once    never answers its first problem of all (STATE_FILE remembers), then behaves as good
 partial      writes half a line and exits
 record       appends every problem line to STATE_FILE, then answers as good
+deep         answers e nested in 100 000 arrays (and a reason of 10^5 characters)
 beta         says its dashpot goes as delta^0.5 delta' (not the seed's), then answers as good
 """
 
@@ -97,6 +98,11 @@ def main():
             sys.stdout.write('{"id": %d, "outc' % problem["id"])
             sys.stdout.flush()
             sys.exit(0)
+        if mode == "deep":
+            sys.stdout.write('{"id": %d, "outcome": "error", "reason": "%s", "e": %s%s}\n' %
+                             (problem["id"], "\\u00e9\\n" * 50000, "[" * 100000, "]" * 100000))
+            sys.stdout.flush()
+            continue
         if mode == "bad_json":
             print("e = 0.5", flush=True)
             continue
