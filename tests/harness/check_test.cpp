@@ -361,7 +361,7 @@ TEST(CheckCli, BadInputIsOneLineAndExitTwo) {
   std::filesystem::create_directories(folder);
   const std::vector<std::pair<std::string, std::string>> cases = {
       {"missing.csv", "cannot read the trajectory: No such file or directory (got @)"},
-      {folder, "cannot read the trajectory: a directory (got @)"},
+      {folder, "cannot read the trajectory: a directory, not a regular file (got @)"},
       {big, "a trajectory file is at most 67108864 bytes; this one is larger (got @)"},
       {write_file("empty.csv", ""),
        "@: no header line naming the columns, e.g. t,delta,v (got an empty file)"},

@@ -9,6 +9,7 @@
 #include "judge/diff_parts.hpp"
 #include "report/report.hpp"
 
+#include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
 #include <gtest/gtest.h>
@@ -247,4 +248,54 @@ TEST(DiffReader, DiffOfStreamsEqualsDiffOfTreesSeekableOrNot) {
 }
 
 } // namespace
+// What cannot be a report is refused by what diff reads first, and nothing it reads is held whole
+// beyond its limits (diff.hpp, ReportLimits; small ones here, the command's in Cli tests): blanks
+// before the report (1 GB of them took 36 s and 3.2 GB before "not a JSON report"), a line
+// longer than the limit, a text outside the records beyond it.
+TEST(DiffReader, WhatCannotBeAReportIsRefusedByItsFirstBytesAndHeldWithinBounds) {
+  const std::string good = report_text();
+  const std::string one_line_report = nlohmann::json::parse(good).dump();
+  const ReportLimits limits{
+      .leading_space = 64, .line = 4096, .rest = std::max(good.size(), one_line_report.size())};
+  const auto diff_of = [&](const std::string& text) -> std::string {
+    std::istringstream old_in(text), new_in(good);
+    try {
+      (void)diff_reports(old_in, "bad.json", new_in, "good.json", {}, limits);
+    } catch (const InputError& e) {
+      return e.what();
+    }
+    return "read";
+  };
+  ASSERT_LT(good.find("\n  {"), limits.line) << "a record line within the limit";
+  EXPECT_EQ(diff_of(good), "read");
+  EXPECT_EQ(diff_of(std::string(64, ' ') + good), "read");
+  EXPECT_EQ(diff_of(std::string(65, ' ') + good), "not a JSON report (got bad.json)");
+  EXPECT_EQ(diff_of(std::string(1 << 20, '\0')), "not a JSON report (got bad.json)");
+  EXPECT_EQ(diff_of("[" + good + "]"), "not a JSON report (got bad.json)");
+  // Blank lines are not kept by the fast reader: a report with 10^4 of them reads, its rest
+  // within the limit.
+  std::string blank_lines = good;
+  blank_lines.insert(2, std::string(10000, '\n'));
+  EXPECT_EQ(diff_of(blank_lines), "read");
+  // A report on one line: the fast reader stops at the limit; the general reader reads it, as
+  // long as it is within the rest's limit in all.
+  ASSERT_EQ(one_line_report.find('\n'), std::string::npos);
+  ASSERT_GT(one_line_report.size(), limits.line);
+  std::istringstream long_line(one_line_report);
+  EXPECT_FALSE(diff::read_record_lines(long_line, "r.json", limits));
+  EXPECT_EQ(diff_of(one_line_report), "read");
+  EXPECT_EQ(diff_of(one_line_report + std::string(limits.rest, ' ')),
+            fmt::format("bad.json: not in the layout pldamp writes (a record a line) and larger "
+                        "than {} MiB: diff reads such a report up to that size",
+                        double(limits.rest) / (1 << 20)));
+  // Text outside the records beyond the limit, in pldamp's layout: refused as it is read.
+  std::string padded = good;
+  for (std::size_t i = 0; i <= limits.rest / 1000; ++i) { // lines within the line's limit
+    padded.insert(2, fmt::format(" \"x{}\": \"{}\",\n", i, std::string(1000, 'x')));
+  }
+  EXPECT_EQ(diff_of(padded), fmt::format("bad.json: its text outside the records is larger than {} "
+                                         "MiB: not a report pldamp wrote",
+                                         double(limits.rest) / (1 << 20)));
+}
+
 } // namespace pldamp::harness

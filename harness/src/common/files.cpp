@@ -152,6 +152,25 @@ std::string gather_text(const std::function<void(const TextSink&)>& produce) {
   return text;
 }
 
+std::optional<std::string> unreadable_file(const std::filesystem::path& path) {
+  const Descriptor file(::open(path.c_str(), O_RDONLY | O_NONBLOCK | O_CLOEXEC));
+  struct stat status {};
+  if (file.get() < 0 || ::fstat(file.get(), &status) != 0) {
+    return std::string(std::strerror(errno));
+  }
+  const mode_t type = status.st_mode & S_IFMT;
+  if (type == S_IFREG) {
+    return std::nullopt;
+  }
+  return std::string(type == S_IFIFO    ? "a FIFO (a named pipe)"
+                     : type == S_IFDIR  ? "a directory"
+                     : type == S_IFCHR  ? "a character device"
+                     : type == S_IFBLK  ? "a block device"
+                     : type == S_IFSOCK ? "a socket"
+                                        : "not a file") +
+         ", not a regular file";
+}
+
 void require_writable_folder(const std::filesystem::path& folder) {
   std::error_code failed;
   std::filesystem::create_directories(folder, failed);

@@ -6,6 +6,7 @@
 #include <cstdint>
 #include <filesystem>
 #include <functional>
+#include <optional>
 #include <string>
 #include <string_view>
 
@@ -44,6 +45,13 @@ void write_file_atomically(const std::filesystem::path& path,
                            const std::function<void(const TextSink&)>& produce);
 // A content made in pieces, gathered into one string.
 std::string gather_text(const std::function<void(const TextSink&)>& produce);
+
+// Why `path` cannot be read as a file, or none when it can: it must be a regular file one may
+// open. It is opened without blocking and its type checked before any reader opens it: a FIFO
+// with no writer blocks open() for ever, and a device such as /dev/zero never ends. The reasons
+// read "a FIFO (a named pipe), not a regular file", "a directory, not a regular file", or the
+// system's ("No such file or directory").
+std::optional<std::string> unreadable_file(const std::filesystem::path& path);
 
 // Creates `folder` if needed and checks that a file can be created in it (and removes that
 // file): a read-only mount or a folder of another user fails here, before any work. Throws

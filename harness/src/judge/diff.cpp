@@ -122,12 +122,31 @@ diff::Report facts_of(const json& report) {
 // One in pldamp's layout is read fast (diff::read_record_lines); any other, or one the fast reader
 // doubts, is read again from the start (a stream it cannot go back in is read by this reader
 // alone).
-diff::Report facts_of(std::istream& in, const std::string& path) {
+diff::Report facts_of(std::istream& in, const std::string& path, const ReportLimits& limits) {
+  const auto not_a_report = [&] { return InputError("not a JSON report (got " + path + ")"); };
+  // Its first bytes: '{' after a little white space, or it is not a report.
+  for (std::size_t blank = 0;; ++blank) {
+    const int c = in.peek();
+    if (c == '{') {
+      break;
+    }
+    if (blank == limits.leading_space || !(c == ' ' || c == '\n' || c == '\t' || c == '\r')) {
+      throw not_a_report();
+    }
+    in.get();
+  }
   if (const std::istream::pos_type start = in.tellg(); start != std::istream::pos_type(-1)) {
-    if (std::optional<diff::Report> fast = diff::read_record_lines(in, path)) {
+    if (std::optional<diff::Report> fast = diff::read_record_lines(in, path, limits)) {
       return std::move(*fast);
     }
     in.clear();
+    // Another layout is read whole by the general reader, whose tree of the text outside the
+    // records is not bounded line by line: such a file is read up to limits.rest bytes.
+    if (!in.seekg(0, std::ios::end) || in.tellg() - start > std::streamoff(limits.rest)) {
+      throw InputError(fmt::format("{}: not in the layout pldamp writes (a record a line) and "
+                                   "larger than {} MiB: diff reads such a report up to that size",
+                                   path, double(limits.rest) / (1 << 20)));
+    }
     if (!in.seekg(start)) {
       throw InputError("cannot read " + path + " again");
     }
@@ -183,15 +202,15 @@ DiffResult diff_reports(const json& old_report, const json& new_report,
 
 DiffResult diff_reports(std::istream& old_report, const std::string& old_path,
                         std::istream& new_report, const std::string& new_path,
-                        const DiffOptions& options) {
+                        const DiffOptions& options, const ReportLimits& limits) {
   // The two read at once, a thread each: reading is most of diff's time. The old report's error,
   // if both are bad, is the one said (as when read one after the other).
   std::future<diff::Report> old_facts =
-      std::async(std::launch::async, [&] { return facts_of(old_report, old_path); });
+      std::async(std::launch::async, [&] { return facts_of(old_report, old_path, limits); });
   std::exception_ptr new_failed;
   diff::Report new_facts;
   try {
-    new_facts = facts_of(new_report, new_path);
+    new_facts = facts_of(new_report, new_path, limits);
   } catch (...) {
     new_failed = std::current_exception();
   }

@@ -64,12 +64,26 @@ struct DiffResult {
 DiffResult diff_reports(const nlohmann::json& old_report, const nlohmann::json& new_report,
                         const DiffOptions& options = {});
 
+// What diff reads of a report stream, whatever it holds: a report begins with '{' after at most
+// `leading_space` bytes of white space (what does not is refused by its first bytes: 1 GB of
+// blanks read for 36 s and grew to 3.2 GB before, /dev/zero without end); a line of pldamp's
+// layout is at most `line` bytes (a record is about 1.2 KB, the scene's longest string 6 MiB
+// escaped: a longer line is left to the general reader, never held whole); its text outside the
+// records at most `rest` bytes (the nightly's is 1.2 MB, a 10^6-point map's about 250 MB); and a
+// report in another layout (reformatted by another program) at most `rest` bytes in all. Beyond
+// them, the report is refused with one line.
+struct ReportLimits {
+  std::size_t leading_space = 4096;
+  std::size_t line = std::size_t{16} << 20;
+  std::size_t rest = std::size_t{512} << 20;
+};
+
 // The same of two reports read from streams (report.json files), each checked as
 // schema::read_report checks it and kept only as far as diff compares it: a record is read, its
 // facts kept, and the record dropped (two nightly reports of 62 MB took 560 MB read whole).
 DiffResult diff_reports(std::istream& old_report, const std::string& old_path,
                         std::istream& new_report, const std::string& new_path,
-                        const DiffOptions& options = {});
+                        const DiffOptions& options = {}, const ReportLimits& limits = {});
 
 // The REGRESSION lines of diff_reports, scene changes allowed.
 std::vector<std::string> regressions(const nlohmann::json& old_report,

@@ -89,7 +89,8 @@ std::string describe(const RecordFacts& facts);
 // records parsed by simdjson (judge/diff_read.cpp); none when the input is in another layout, or
 // anything in it is not as the general reader (schema::read_report, then RecordFacts::of) would
 // read it, which then reads it and says what is wrong. Reads `in` to its end either way.
-std::optional<Report> read_record_lines(std::istream& in, const std::string& path);
+std::optional<Report> read_record_lines(std::istream& in, const std::string& path,
+                                        const ReportLimits& limits = {});
 
 enum class Severity { regression, change };
 

@@ -276,17 +276,34 @@ std::string describe(const RecordFacts& facts) {
   return out;
 }
 
-std::optional<Report> read_record_lines(std::istream& in, const std::string& path) {
+std::optional<Report> read_record_lines(std::istream& in, const std::string& path,
+                                        const ReportLimits& limits) {
   // The lines report_json_text writes around the records, and each record's indent.
   constexpr std::string_view records_open = R"( "records": [)", record_indent = "  ";
   std::string rest; // the report without its records' lines: read_report checks it
   std::vector<RecordFacts> records;
   dom::parser parser;
   std::string line;
+  // Lines are read into a buffer of at most limits.line bytes: a longer one (a report on one line,
+  // or no report at all) is not pldamp's layout, and is never held whole here.
+  std::vector<char> buffer(limits.line + 1);
+  const auto next_line = [&] {
+    in.getline(buffer.data(), static_cast<std::streamsize>(buffer.size()));
+    const auto count = static_cast<std::size_t>(in.gcount());
+    if (in.fail() && !in.eof() && count == limits.line) {
+      return false; // longer than limits.line
+    }
+    if (count == 0 && in.eof()) {
+      return false;
+    }
+    in.clear(in.rdstate() & ~std::ios::failbit);
+    line.assign(buffer.data(), count - (count > 0 && !in.eof() ? 1 : 0));
+    return true;
+  };
   enum class Where { before, inside, after } where = Where::before; // the records
   Depth depth;                   // of the text before the records
   bool comma_after_last = false; // whether the last record line ended with one
-  while (std::getline(in, line)) {
+  while (next_line()) {
     if (line.find('\0') != std::string::npos) {
       return std::nullopt; // nlohmann ends its input at a NUL, simdjson refuses it
     }
@@ -297,8 +314,18 @@ std::optional<Report> read_record_lines(std::istream& in, const std::string& pat
         }
         depth.read(line);
       }
-      rest += line;
-      rest += '\n';
+      // A line never begins inside a JSON string (a string holds no raw newline), so its
+      // indentation and a blank line mean nothing: not kept.
+      const std::size_t text = line.find_first_not_of(" \t\r");
+      if (text != std::string::npos) {
+        rest.append(line, text);
+        rest += '\n';
+      }
+      if (rest.size() > limits.rest) {
+        throw InputError(fmt::format("{}: its text outside the records is larger than {} MiB: "
+                                     "not a report pldamp wrote",
+                                     one_line(path), double(limits.rest) / (1 << 20)));
+      }
       continue;
     }
     if (line == " ]" || line == " ],") {
@@ -306,7 +333,7 @@ std::optional<Report> read_record_lines(std::istream& in, const std::string& pat
         return std::nullopt;
       }
       where = Where::after;
-      rest += line;
+      rest += line.substr(1);
       rest += '\n';
       continue;
     }
@@ -334,8 +361,8 @@ std::optional<Report> read_record_lines(std::istream& in, const std::string& pat
     }
     records.push_back(std::move(*facts));
   }
-  if (where != Where::after || in.bad()) {
-    return std::nullopt;
+  if (where != Where::after || in.bad() || !in.eof()) {
+    return std::nullopt; // not to its end: a line longer than limits.line
   }
   Report report;
   try {

@@ -2,6 +2,8 @@
 // README "pldamp check", refused line by line with the file's name and line number.
 #include "judge/trajectory.hpp"
 
+#include "common/files.hpp"
+
 #include "common/input.hpp"
 
 #include <algorithm>
@@ -239,10 +241,10 @@ TrajectoryColumns parse_trajectory_csv(std::string_view text, const std::string&
 }
 
 TrajectoryColumns load_trajectory(const std::string& path) {
-  std::error_code error;
-  if (std::filesystem::is_directory(path, error)) {
-    throw InputError("cannot read the trajectory: a directory (got " + path + ")");
+  if (const std::optional<std::string> why = unreadable_file(path)) {
+    throw InputError("cannot read the trajectory: " + *why + " (got " + one_line(path) + ")");
   }
+  std::error_code error;
   const auto too_large = [&] {
     return InputError("a trajectory file is at most " + std::to_string(max_trajectory_bytes) +
                       " bytes; this one is larger (got " + path + ")");

@@ -2,6 +2,7 @@
 // [limits], [diff], [timing]); each of the others has a file of its own (reader.hpp).
 #include "scene/reader.hpp"
 
+#include "common/files.hpp"
 #include "common/observables.hpp"
 
 #include <algorithm>
@@ -209,9 +210,8 @@ bool solves_with_pldamp(const Scene& scene) {
 }
 
 Scene load_scene(const std::string& path) {
-  std::error_code error;
-  if (std::filesystem::is_directory(path, error)) {
-    throw SceneError(path + ":0: is a directory, not a scene file");
+  if (const std::optional<std::string> why = unreadable_file(path)) {
+    throw SceneError(path + ":0: cannot read the scene: " + *why);
   }
   std::ifstream in(path, std::ios::binary);
   if (!in) {
