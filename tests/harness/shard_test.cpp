@@ -3,6 +3,7 @@
 // refused with one line.
 #include "fixtures.hpp"
 
+#include "common/files.hpp"
 #include "pldamp/harness/distribution.hpp"
 #include "report/report.hpp"
 #include "run/record_store.hpp"
@@ -18,7 +19,9 @@
 #include <bit>
 #include <cmath>
 #include <cstdint>
+#include <cstring>
 #include <fstream>
+#include <functional>
 #include <limits>
 #include <numeric>
 #include <sstream>
@@ -426,6 +429,154 @@ TEST(Shards, ASetThatIsNotOneRunsShardsIsRefusedWithOneLine) {
   const fs::path relative = fs::relative(scene, fs::current_path());
   ASSERT_EQ(run({"run", "./" + relative.string(), "--shard", "3/3", "--out", again}).code, 0);
   EXPECT_EQ(run({"merge", one, two, again, "--out", out}).code, 0);
+}
+
+// A hand-made shard (its checksum is easy to recompute) is held to what a run of this build
+// writes: its header's counts against its bytes before anything is allocated or planned (a
+// header of a 10^7-cell grid with max_runs = 1e12 was planned in full, 51 s and 1.27 GB; an
+// inflated count of the externals' texts turned a 4 MB file into 145 MB), and each record
+// checked as an external answer is (a NaN value became null beside its error and failed =
+// false; delta_max = 1e308 was reported beside an error of -6e-8).
+TEST(Shards, AHandMadeShardIsHeldToWhatItsRunCouldWrite) {
+  const std::string scene = write_file("hand-made.toml", sharded_scene);
+  const fs::path base = scratch() / "hand-made";
+  fs::remove_all(base);
+  std::vector<std::string> folders;
+  for (int k = 1; k <= 2; ++k) {
+    folders.push_back((base / fmt::format("{}", k)).string());
+    ASSERT_EQ(run({"run", scene, "--shard", fmt::format("{}/2", k), "--out", folders.back(),
+                   "--jobs", "1"})
+                  .code,
+              0);
+  }
+  const std::string out = (base / "merged").string();
+  const auto merged = [&](const std::function<void(Shard&)>& edit) {
+    Shard shard = read_shard(folders[1]);
+    edit(shard);
+    const fs::path folder = base / "edited";
+    fs::remove_all(folder);
+    fs::create_directories(folder);
+    write_shard(folder, shard);
+    return run({"merge", folders[0], folder.string(), "--out", out});
+  };
+  const auto refused = [&](const std::function<void(Shard&)>& edit, const std::string& says) {
+    const CliRun ran = merged(edit);
+    EXPECT_EQ(ran.code, 2) << says;
+    EXPECT_NE(ran.err.find(says), std::string::npos) << ran.err;
+    EXPECT_EQ(std::count(ran.err.begin(), ran.err.end(), '\n'), 1) << ran.err;
+  };
+  ASSERT_EQ(merged([](Shard&) {}).code, 0) << "the shards as written merge";
+  const Plan plan = make_plan(parse_scene(sharded_scene, scene));
+  const auto observable = [&](std::string_view key) {
+    for (std::size_t o = 0; o < plan.observables.size(); ++o) {
+      if (plan.observables[o]->key == key) {
+        return o;
+      }
+    }
+    throw std::logic_error("no such observable");
+  };
+  const std::size_t e = observable("e"), delta_max = observable("delta_max");
+  // The first record with a value of each.
+  const auto with_values = [&](Shard& shard) -> Record& {
+    for (Record& record : shard.records) {
+      if (record.value.size() > delta_max && record.value[e] && record.value[delta_max] &&
+          record.error[e] && record.value[e] != 0) {
+        return record;
+      }
+    }
+    throw std::logic_error("no record with values");
+  };
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  refused([&](Shard& s) { with_values(s).value[e] = nan; }, "e's value is NaN");
+  refused([&](Shard& s) { with_values(s).error[e] = std::numeric_limits<double>::infinity(); },
+          "e's error is inf");
+  refused([&](Shard& s) { with_values(s).value[delta_max] = 1e308; },
+          "delta_max's error " /* is not its value 1e+308 minus its reference */);
+  refused([&](Shard& s) { *with_values(s).reference[e] *= 1 + 1e-15; },
+          "e's reference " /* is not the plan's */);
+  refused(
+      [&](Shard& s) {
+        Record& r = with_values(s);
+        r.value[e] = 1.5; // its error as compare() makes it: an e that gains energy, consistent
+        r.error[e] = 1.5 - *r.reference[e];
+        r.abs_error[e] = std::abs(*r.error[e]);
+        r.rel_error[e] = *r.abs_error[e] / *r.reference[e];
+      },
+      "e = 1.5 gains energy");
+  refused([&](Shard& s) { with_values(s).abs_error[e] = 0.0; }, "e's abs_error 0 is not |error|");
+  refused([&](Shard& s) { with_values(s).phases = 7; }, "onset phases, its configuration runs");
+  refused([&](Shard& s) { with_values(s).wall_seconds = -1; }, "a time that is not a finite");
+  // The header: a scene of 10^7 cells with limits lifted, planned only after its bytes are
+  // counted; one whose cells disagree with its scene.
+  std::vector<int> values(1000); // 9·10^6 cells in 9 kB: 3 p × 3 dampings × 10^3 v0 × 10^3 m
+  std::iota(values.begin(), values.end(), 1);
+  std::string huge = sharded_scene;
+  huge.replace(huge.find("v0 = [0.5, 2.0]"), 15,
+               fmt::format("v0 = [{0}]\nm = [{0}]", fmt::join(values, ", ")));
+  refused(
+      [&](Shard& s) {
+        s.header.scene_text = huge;
+        s.header.cells = 3 * 3 * 1000000;
+        s.header.max_runs = 1000000000000L;
+      },
+      "are shards of different runs");
+  const auto both = [&](const std::function<void(Shard&)>& edit) {
+    // The same header in both shards: the set is one run's but for what the header says.
+    for (const std::string& folder : folders) {
+      Shard shard = read_shard(folder);
+      edit(shard);
+      fs::remove_all(base / "both" / fs::path(folder).filename());
+      fs::create_directories(base / "both" / fs::path(folder).filename());
+      write_shard(base / "both" / fs::path(folder).filename(), shard);
+    }
+    return run(
+        {"merge", (base / "both" / "1").string(), (base / "both" / "2").string(), "--out", out});
+  };
+  const CliRun planned = both([&](Shard& s) {
+    s.header.scene_text = huge;
+    s.header.cells = 3 * 3 * 1000000;
+    s.header.max_runs = 1000000000000L;
+  });
+  EXPECT_EQ(planned.code, 2);
+  EXPECT_NE(planned.err.find("the shards' header says 9000000 cells x "), std::string::npos)
+      << planned.err;
+  const CliRun disagreeing = both([&](Shard& s) { s.header.cells += 1; });
+  EXPECT_NE(disagreeing.err.find("the shards' scene has 18 cells, their header says 19"),
+            std::string::npos)
+      << disagreeing.err;
+  for (const auto& [edit, why] : std::vector<std::pair<std::function<void(Shard&)>, std::string>>{
+           {[](Shard& s) { s.header.max_runs = 0; }, "max_runs 0"},
+           {[nan](Shard& s) { s.header.max_seconds = nan; }, "max_seconds NaN"},
+           {[](Shard& s) { s.header.totals.external.push_back("x"); }, "a text too many"}}) {
+    const CliRun ran = both(edit);
+    EXPECT_EQ(ran.code, 2) << why;
+    EXPECT_NE(ran.err.find("is truncated or corrupt: it is not a file pldamp wrote"),
+              std::string::npos)
+        << why << ": " << ran.err;
+  }
+  // A count of texts inflated to the bytes left: refused before 8 bytes a text are allocated.
+  {
+    std::ifstream in(fs::path(folders[1]) / shard_file_name, std::ios::binary);
+    std::string bytes((std::istreambuf_iterator<char>(in)), {});
+    const Shard shard = read_shard(folders[1]);
+    // The count sits right after the totals' wall seconds: found by the two values.
+    const auto count = static_cast<std::uint64_t>(shard.header.totals.external.size());
+    std::string pattern(reinterpret_cast<const char*>(&count), sizeof count);
+    double wall = shard.header.totals.wall_seconds;
+    pattern.insert(0, std::string(reinterpret_cast<const char*>(&wall), sizeof wall));
+    const std::size_t at = bytes.find(pattern);
+    ASSERT_NE(at, std::string::npos);
+    const std::uint64_t inflated = bytes.size();
+    std::memcpy(bytes.data() + at + sizeof wall, &inflated, sizeof inflated);
+    const std::string body = bytes.substr(0, bytes.size() - 8);
+    const std::uint64_t sum = fnv1a(body);
+    bytes = body + std::string(reinterpret_cast<const char*>(&sum), sizeof sum);
+    fs::create_directories(base / "inflated");
+    std::ofstream(base / "inflated" / shard_file_name, std::ios::binary) << bytes;
+    const CliRun ran = run({"merge", folders[0], (base / "inflated").string(), "--out", out});
+    EXPECT_EQ(ran.code, 2);
+    EXPECT_NE(ran.err.find("is truncated or corrupt"), std::string::npos) << ran.err;
+  }
 }
 
 // When a rank cannot start (MPI's all_ready): rank 0 says why, once, for every rank; what fails

@@ -7,6 +7,7 @@
 #include "judge/diff.hpp"
 #include "judge/step_study.hpp"
 #include "report/report.hpp"
+#include "run/record_check.hpp"
 #include "run/record_store.hpp"
 #include "run/shard.hpp"
 
@@ -193,9 +194,12 @@ double planned_runs(const Scene& scene) {
 
 // The report at `path`, opened to be read (common/report_schema.hpp checks it as it is read).
 std::ifstream open_report(const std::string& path) {
+  if (const std::optional<std::string> why = unreadable_file(path)) {
+    throw InputError("cannot read report: " + *why + " (got " + one_line(path) + ")");
+  }
   std::ifstream in(path, std::ios::binary);
-  if (!in || std::filesystem::is_directory(path)) {
-    throw InputError("cannot read report (got " + path + ")");
+  if (!in) {
+    throw InputError("cannot read report (got " + one_line(path) + ")");
   }
   return in;
 }
@@ -688,6 +692,29 @@ int merge_shards(const MergeArgs& args, std::ostream& out, std::ostream& err) {
   scene.limits.max_steps = first.max_steps;
   scene.limits.max_runs = first.max_runs;
   scene.limits.max_seconds = first.max_seconds;
+  // Before the plan is made, what the shards' header says is held to their scene and to their
+  // files' bytes: a hand-made header (its checksum is easy to recompute) of a 10^7-cell grid with
+  // max_runs = 1e12 was planned in full (51 s, 1.27 GB) before its cell count was refused. The
+  // records the set holds need at least `least_record_bytes` each, so the plan's cells are
+  // bounded by the bytes given; the guard is the one the shards' run passed (scene_with_limits).
+  if (grid_cells(scene) != double(first.cells)) {
+    throw InputError(
+        fmt::format("the shards' scene has {:.0f} cells, their header says {} (got {})",
+                    grid_cells(scene), first.cells, args.shards[0]));
+  }
+  double set_bytes = 0;
+  for (const std::string& folder : args.shards) {
+    std::error_code error;
+    set_bytes +=
+        double(std::filesystem::file_size(std::filesystem::path(folder) / shard_file_name, error));
+  }
+  if (double(first.cells) * double(first.configs) * double(least_record_bytes) > set_bytes) {
+    throw InputError(fmt::format("the shards' header says {} cells x {} configurations, more "
+                                 "records than their {:.0f} bytes can hold: not a set pldamp "
+                                 "wrote (got {})",
+                                 first.cells, first.configs, set_bytes, args.shards[0]));
+  }
+  check_plan_size(scene, first.scene_path, double(first.count), false);
   require_writable_folder(args.out);
   const StopOnSignals signals;
   const Plan plan = make_plan(scene, jobs);
@@ -711,6 +738,13 @@ int merge_shards(const MergeArgs& args, std::ostream& out, std::ostream& err) {
           record.cell % h.count != h.index - 1 || records.has(at)) {
         throw InputError(fmt::format("{} holds a record of another shard (cell {}) (got {})",
                                      args.shards[i], record.cell, args.shards[i]));
+      }
+      if (const std::string why = impossible_record(plan, record); !why.empty()) {
+        throw InputError(fmt::format("{} holds a record no run of this plan writes (cell {}, {}): "
+                                     "{}; run its shard again (got {})",
+                                     args.shards[i], record.cell,
+                                     plan.configs[record.config].label(), one_line(why, 300),
+                                     args.shards[i]));
       }
       records.put_bytes(at, bytes);
       ++held;

@@ -60,6 +60,14 @@ public:
   }
   void get_raw(void* value, std::size_t size) { std::memcpy(value, take(size).data(), size); }
   std::string string() { return std::string(take(size())); }
+  // Strings as string() reads them, `count` of them (each takes at least its length's 8 bytes).
+  std::vector<std::string> strings() {
+    std::vector<std::string> out(size(sizeof(std::uint64_t)));
+    for (std::string& text : out) {
+      text = string();
+    }
+    return out;
+  }
   std::optional<double> optional() {
     const auto flag = get<std::uint8_t>();
     if (flag > 1) {
@@ -68,16 +76,18 @@ public:
     return flag == 1 ? std::optional<double>(get<double>()) : std::nullopt;
   }
   std::vector<std::optional<double>> optionals() {
-    std::vector<std::optional<double>> values(size());
+    std::vector<std::optional<double>> values(size(1)); // a flag byte each at least
     for (std::optional<double>& value : values) {
       value = optional();
     }
     return values;
   }
-  // A count, no larger than the bytes left could hold (a corrupt count allocates nothing).
-  std::size_t size() {
+  // A count of items of at least `least_bytes` each, no more than the bytes left could hold: a
+  // corrupt count allocates nothing (a count of strings of a 4 MB file, checked against its bytes
+  // but not their 8-byte lengths, once allocated 145 MB of empty strings before the refusal).
+  std::size_t size(std::size_t least_bytes = 1) {
     const auto count = get<std::uint64_t>();
-    if (count > bytes_.size() - at_) {
+    if (count > (bytes_.size() - at_) / least_bytes) {
       corrupt();
     }
     return static_cast<std::size_t>(count);

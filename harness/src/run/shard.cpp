@@ -96,7 +96,7 @@ void put_records(ByteWriter& out, const std::vector<Record>& records) {
 }
 
 std::vector<Record> get_records(ByteReader& in) {
-  std::vector<Record> records(in.size());
+  std::vector<Record> records(in.size(least_record_bytes));
   for (Record& record : records) {
     record = get_record(in);
   }
@@ -134,7 +134,7 @@ Record read_record(std::string_view bytes, const std::string& source) {
 void for_each_record_bytes(std::string_view bytes, const std::string& source,
                            const RecordVisitor& visit) {
   ByteReader in(bytes, source);
-  for (std::size_t n = in.size(); n > 0; --n) {
+  for (std::size_t n = in.size(least_record_bytes); n > 0; --n) {
     const std::string_view from = in.rest();
     Record record = get_record(in);
     visit(std::move(record), from.substr(0, from.size() - in.rest().size()));
@@ -202,11 +202,9 @@ void write_shard(const std::filesystem::path& folder, const Shard& shard) {
 
 ShardHeader read_shard_records(const std::filesystem::path& folder, const RecordVisitor& visit) {
   const std::string source = (folder / shard_file_name).string();
-  std::error_code error;
-  if (!std::filesystem::is_regular_file(folder / shard_file_name, error)) {
-    throw InputError("not a shard: " + source +
-                     " is no file (a shard is the --out folder of `pldamp run SCENE --shard "
-                     "K/N`)");
+  if (const std::optional<std::string> why = unreadable_file(folder / shard_file_name)) {
+    throw InputError("not a shard: " + one_line(source) + ": " + *why +
+                     " (a shard is the --out folder of `pldamp run SCENE --shard K/N`)");
   }
   std::ifstream in(folder / shard_file_name, std::ios::binary | std::ios::ate);
   std::string bytes;
@@ -218,11 +216,16 @@ ShardHeader read_shard_records(const std::filesystem::path& folder, const Record
   if (!in) {
     throw InputError("cannot read " + source);
   }
+  return read_shard_bytes(bytes, source, visit);
+}
+
+ShardHeader read_shard_bytes(std::string_view bytes, const std::string& source,
+                             const RecordVisitor& visit) {
   if (!bytes.starts_with(shard_magic) ||
       bytes.size() < shard_magic.size() + sizeof(std::uint64_t)) {
     throw InputError(source + " is not a shard file pldamp wrote");
   }
-  const std::string_view body(bytes.data(), bytes.size() - sizeof(std::uint64_t));
+  const std::string_view body = bytes.substr(0, bytes.size() - sizeof(std::uint64_t));
   std::uint64_t stored = 0;
   std::memcpy(&stored, bytes.data() + body.size(), sizeof stored);
   if (stored != fnv1a(body)) {
@@ -251,11 +254,14 @@ ShardHeader read_shard_records(const std::filesystem::path& folder, const Record
   h.totals.rhs_evals = read.get<std::int64_t>();
   h.totals.solver_runs = read.get<std::int64_t>();
   h.totals.wall_seconds = read.get<double>();
-  h.totals.external.resize(read.size());
-  for (std::string& said : h.totals.external) {
-    said = read.string();
-  }
-  if (h.index < 1 || h.index > h.count || h.count > max_shards) {
+  h.totals.external = read.strings();
+  // What the writer's run could hold: its shard of a set, the limits the command line and
+  // [limits] accept (a header's limits are the run's: merge plans under them).
+  const auto within = [](auto x, auto low, auto high) { return x >= low && x <= high; };
+  if (h.index < 1 || h.index > h.count || h.count > max_shards || !within(h.max_steps, 1, 1e12) ||
+      !within(h.max_runs, 1, 1e12) || !within(h.max_seconds, 1e-300, 86400.0) ||
+      h.totals.external.size() != h.configs || !within(h.totals.wall_seconds, 0.0, 1e300) ||
+      h.totals.rhs_evals < 0 || h.totals.solver_runs < 0) {
     read.corrupt();
   }
   if (visit) {

@@ -41,6 +41,12 @@ void for_each_record_bytes(std::string_view bytes, const std::string& source,
 // so that each shard holds every p, damping and scale of the grid in about equal shares.
 std::vector<std::size_t> shard_cells(std::size_t cells, std::size_t index, std::size_t count);
 
+// The fewest bytes append_record writes (a default Record's): each fixed field, each optional's
+// flag, each string's and list's length. A count of records is checked against the bytes left
+// before any is allocated, and a shard set's size bounds the records it holds.
+inline constexpr std::size_t least_record_bytes =
+    8 + 8 + 1 + 8 + 8 + 8 + 8 + 8 + 1 + 1 + 8 + 8 + 4 + 8 + 1 + 7 * 8 + 8 + 8 + 8;
+
 // The most shards a run is split into (--shard K/N: N ≤ max_shards).
 inline constexpr std::size_t max_shards = 1000000;
 
@@ -75,5 +81,8 @@ Shard read_shard(const std::filesystem::path& folder);
 // The same, its records handed to `visit` one at a time with their bytes (none without a visitor:
 // the header alone, the whole file's checksum checked).
 ShardHeader read_shard_records(const std::filesystem::path& folder, const RecordVisitor& visit);
+// The same of a shard file's bytes, named `source` in messages (tests/fuzz drives it).
+ShardHeader read_shard_bytes(std::string_view bytes, const std::string& source,
+                             const RecordVisitor& visit);
 
 } // namespace pldamp::harness

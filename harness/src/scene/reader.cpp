@@ -181,6 +181,11 @@ void Reader::require(bool ok, const toml::node& node, const std::string& what, d
 //   #190), found by tests/fuzz; in a string, \uXXXX says the same.
 // A lexical pass that skips strings and comments; a dot between two digits is a number's.
 void check_text(const Reader& reader, std::string_view text) {
+  // The file's limit holds for a text from elsewhere too (a shard's header carries its scene).
+  if (text.size() > max_scene_bytes) {
+    reader.fail_at(0, "a scene is at most " + std::to_string(max_scene_bytes) +
+                          " bytes; this one is larger");
+  }
   int depth = 0, dots = 0;
   std::size_t line = 1;
   auto deeper_than_allowed = [&](int levels) {
