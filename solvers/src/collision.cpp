@@ -12,7 +12,7 @@ namespace pldamp::solvers::detail {
 template <SupportedReal Real>
 BasicCollision<Real>::BasicCollision(const Problem<Real>& problem, const Options<Real>& options)
     : ode_(problem), options_(options),
-      horizon_(options.horizon.value_or(1000 * ode_.time_scale())),
+      horizon_(options.horizon.value_or(default_horizon_time_scales * ode_.time_scale())),
       sample_times_(options.sample_times) {
   validate_against(problem, options_);
   std::sort(sample_times_.begin(), sample_times_.end());
@@ -406,7 +406,7 @@ void validate_against(const Problem<Real>& problem, const Options<Real>& options
   // The horizon: at least ε of the time scale (CVODE refused a stop time of 1e-300 as behind
   // t = 0), at most 1e9 of it (an overdamped contact's steps then grew to 1e133 and CVODE's
   // corrector failed; the default is 1000).
-  const Real horizon = options.horizon.value_or(1000 * time_scale);
+  const Real horizon = options.horizon.value_or(default_horizon_time_scales * time_scale);
   require(
       horizon >= epsilon * time_scale && horizon <= 1000000000 * time_scale,
       [&] {

@@ -1,14 +1,18 @@
 // The CLI contract (docs/design.md §7), run in-process: JSON keys and digits, the force end, and
 // every kind of bad input producing one "error: <what> (got <value>)" line and exit code 2.
 #include "cli_run.hpp"
+#include "fixtures.hpp"
 #include "pldamp/analytic.hpp"
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include <filesystem>
 #include <sstream>
 #include <string>
 #include <vector>
+
+#include <sys/stat.h>
 
 namespace pldamp::harness {
 namespace {
@@ -146,6 +150,16 @@ TEST(Cli, CalibrateAVelocityDependentCodeAndItsRestitutionAtOtherSpeeds) {
   for (const auto& point : linear_json["e_of_v0"]) {
     EXPECT_NEAR(point["e"].get<double>(), 0.3, 1e-15); // the seed's e does not depend on v0
   }
+
+  // Damping beyond what the reference solve resolves: no e (it answered 0 at 1e20, the solve's
+  // horizon taken for no return) and refused at once (1e30 took 140 s to end step_limit), by the
+  // first group on the way up in steps of 8 that does not return.
+  const CliRun beyond = run({"calibrate", "--code", "lammps-hertz-history", "--p", "1.5", "--e",
+                             "0.9", "--v0", "1", "--speeds", "1,1e30"});
+  EXPECT_EQ(beyond.code, 2);
+  EXPECT_EQ(beyond.err, "error: at v0 = 1e+30 (alpha_eff 42186.8) no e: the reference solve at "
+                        "alpha_eff 1382.38 saw no return within its horizon of 10^4 delta_u/v0, and "
+                        "more damping returns later; ask at lower damping (got --speeds 1e+30)\n");
 
   const CliRun wrong_p =
       run({"calibrate", "--code", "lammps-viscoelastic", "--p", "1", "--e", "0.5"});
@@ -386,6 +400,41 @@ TEST(Cli, BadInputIsOneLineAndExitTwo) {
     EXPECT_EQ(r.code, 2);
     EXPECT_EQ(r.err, "error: p must be in [1, 1000] (got 0.5)\n") << precision;
   });
+}
+
+// Every file a command reads must be a regular file, refused before it is opened otherwise: a
+// FIFO without a writer blocked `check`, `run` and `diff` for ever, and /dev/zero never ends.
+TEST(Cli, WhatIsNotARegularFileIsRefusedBeforeItIsRead) {
+  const std::filesystem::path fifo = testing::scratch() / "no-writer.fifo";
+  std::filesystem::remove(fifo);
+  ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
+  const std::string report = testing::scratch() / "no-such-report.json";
+  const std::vector<std::pair<std::vector<std::string>, std::string>> cases{
+      {{"check", fifo, "--p", "1.5", "--e", "0.5", "--v0", "1"},
+       "error: cannot read the trajectory: a FIFO (a named pipe), not a regular file (got " +
+           fifo.string() + ")"},
+      {{"check", "/dev/zero", "--p", "1.5", "--e", "0.5", "--v0", "1"},
+       "error: cannot read the trajectory: a character device, not a regular file (got "
+       "/dev/zero)"},
+      {{"run", fifo},
+       fifo.string() + ":0: cannot read the scene: a FIFO (a named pipe), not a "
+                       "regular file"},
+      {{"run", "/dev/zero"},
+       "/dev/zero:0: cannot read the scene: a character device, not a "
+       "regular file"},
+      {{"diff", fifo, report},
+       "error: cannot read report: a FIFO (a named pipe), not a regular file (got " +
+           fifo.string() + ")"},
+      {{"diff", "/dev/zero", fifo},
+       "error: cannot read report: a character device, not a regular file (got /dev/zero)"},
+      {{"diff", "/dev/null", "/dev/null"},
+       "error: cannot read report: a character device, not a regular file (got /dev/null)"}};
+  for (const auto& [args, says] : cases) {
+    const CliRun ran = run(args);
+    EXPECT_EQ(ran.code, 2) << args[0];
+    EXPECT_EQ(ran.err, says + "\n");
+  }
+  std::filesystem::remove(fifo);
 }
 
 } // namespace

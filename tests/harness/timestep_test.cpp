@@ -187,6 +187,35 @@ TEST(Timestep, ACodeSetsAlphaAsCalibrateSays) {
   EXPECT_EQ(answer["dt"], by_alpha["dt"]);
 }
 
+// At the force end the contact ends at the cut t_cut whatever its damping (MATH.md §4): a step is
+// searched where τ is infinite (α_eff >= 1 was refused with "the contact does not return"), in
+// cut times, and it holds at every onset phase it was checked at.
+TEST(Timestep, TheForceEndSearchesPastCriticalDamping) {
+  const Args contact{"--p", "1", "--e", "0.1", "--end", "force", "--v0", "1"};
+  const nlohmann::json truth = closed_forms(contact);
+  ASSERT_GT(truth["alpha_eff"].get<double>(), 1);
+  const nlohmann::json answer =
+      answer_of({"timestep", "--scheme", "dem-verlet", "--p", "1", "--e", "0.1", "--end", "force",
+                 "--observables", "e", "--json"});
+  EXPECT_TRUE(answer["tau"].is_null());
+  EXPECT_EQ(answer["t_cut"].get<double>(), truth["t_cut"].get<double>());
+  const double dt = answer["dt"].get<double>();
+  EXPECT_EQ(answer["t_cut_over_dt"].get<double>(), truth["t_cut"].get<double>() / dt);
+  const int phases = answer["phases_checked"].get<int>();
+  double worst = 0;
+  for (int k = 0; k < phases; ++k) {
+    Args args{"solve",         "--json",
+              "--solver",      "dem-verlet",
+              "--dt",          fmt::format("{:.17g}", dt),
+              "--onset-phase", fmt::format("{:.17g}", double(k) / phases)};
+    args.insert(args.end(), contact.begin(), contact.end());
+    const nlohmann::json solved = answer_of(args);
+    worst = std::max(worst, std::abs(solved["e_cap"].get<double>() / 0.1 - 1));
+  }
+  EXPECT_LE(worst, 0.01);
+  EXPECT_GT(worst, 0.005) << "the answer is the loosest step, not a safe one far below it";
+}
+
 TEST(Timestep, BadInputIsOneLineAndExitTwo) {
   const Args base{"timestep", "--scheme", "dem-verlet", "--p", "1.5", "--e", "0.5"};
   auto with = [&](const Args& more) {
@@ -213,6 +242,8 @@ TEST(Timestep, BadInputIsOneLineAndExitTwo) {
         Args{"timestep", "--scheme", "nope", "--p", "1.5", "--e", "0.5"},
         Args{"timestep", "--scheme", "dem-verlet", "--p", "0.5", "--e", "0.5"},
         Args{"timestep", "--scheme", "dem-verlet", "--p", "1.5", "--alpha-eff", "1.5"},
+        Args{"timestep", "--scheme", "dem-verlet", "--p", "1.5", "--alpha-eff", "0.999"},
+        Args{"timestep", "--scheme", "dem-verlet", "--p", "1.5", "--e", "1e-300"},
         Args{"timestep", "--scheme", "dem-verlet", "--p", "1.5"},
         Args{"timestep", "--p", "1.5", "--e", "0.5"}}) {
     const testing::CliRun r = run(args);

@@ -7,6 +7,7 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <cmath>
 #include <map>
 #include <sstream>
@@ -200,17 +201,53 @@ void calibrate_velocity_dependent(const ContactArgs& args, const VelocityDepende
     units["entry"] = per_metre.empty() ? "1/s" : per_metre + "/s";
     o["units"] = units;
   }
-  Answer curve = Answer::array();
+  // e at each speed, from the reference solve of its group, solved from the least damped up: the
+  // more damped a contact, the later it returns and the more steps its solve takes. A group far
+  // beyond the last one solved is approached in steps of 8 (a contact that does not return within
+  // the solve's horizon, or its steps, at one group does not at a larger one), so that damping
+  // beyond what the solve resolves is refused in about a second: --speeds 1e30 took 140 s to say
+  // step_limit, and 1e20 answered e = 0, the solve's horizon taken for no return.
+  constexpr long curve_steps = 100000; // about 9 s of float128 Taylor steps on a 2.4 GHz core
+  std::vector<Exact> groups;
+  std::vector<std::size_t> order;
   for (const double speed : speeds) {
-    const Exact at = group_of(p, code.beta, alpha, overlap_scale(speed));
-    const solvers::Result<Exact>& truth = reference_solve(p, code.beta, at, end);
-    if (solvers::failing(truth.outcome)) {
-      throw InputError(fmt::format("the reference solve at v0 = {} ended {} (got --speeds)", speed,
-                                   solvers::outcome_name(truth.outcome)));
+    order.push_back(groups.size());
+    groups.push_back(group_of(p, code.beta, alpha, overlap_scale(speed)));
+  }
+  std::stable_sort(order.begin(), order.end(),
+                   [&](std::size_t a, std::size_t b) { return groups[a] < groups[b]; });
+  std::vector<Exact> restitution(speeds.size());
+  Exact resolved(1); // the most damped group seen to return (at least a start for the steps)
+  for (const std::size_t i : order) {
+    const auto solved = [&](const Exact& damping) {
+      solvers::Result<Exact> truth =
+          reference_solve_within(Exact(p), Exact(code.beta), damping, end, curve_steps);
+      if (truth.outcome == solvers::Outcome::no_exit || solvers::failing(truth.outcome) ||
+          !truth.e) {
+        throw InputError(fmt::format(
+            "at v0 = {} (alpha_eff {:.6g}) no e: the reference solve {}{}, and more damping "
+            "returns later; ask at lower damping (got --speeds {})",
+            speeds[i], static_cast<double>(groups[i]),
+            damping == groups[i] ? "" : fmt::format("at alpha_eff {:.6g} ", double(damping)),
+            truth.outcome == solvers::Outcome::no_exit
+                ? "saw no return within its horizon of 10^4 delta_u/v0"
+                : fmt::format("ended {} within {} steps", solvers::outcome_name(truth.outcome),
+                              curve_steps),
+            speeds[i]));
+      }
+      resolved = damping;
+      return *truth.e;
+    };
+    for (Exact step = resolved * 8; step < groups[i]; step *= 8) {
+      (void)solved(step);
     }
-    curve.push_back({{"v0", exact_number(speed)},
-                     {"alpha_eff", exact_number(static_cast<double>(at))},
-                     {"e", exact_number(static_cast<double>(truth.e.value_or(Exact(0))))}});
+    restitution[i] = solved(groups[i]);
+  }
+  Answer curve = Answer::array();
+  for (std::size_t i = 0; i < speeds.size(); ++i) {
+    curve.push_back({{"v0", exact_number(speeds[i])},
+                     {"alpha_eff", exact_number(static_cast<double>(groups[i]))},
+                     {"e", exact_number(static_cast<double>(restitution[i]))}});
   }
   o["e_of_v0"] = curve;
   o["source"] = code.source;

@@ -15,8 +15,8 @@ namespace pldamp::harness {
 namespace {
 
 template <TruthReal T>
-solvers::Result<T> solve_at_unit_scale(const T& p, const T& beta, const T& group,
-                                       solvers::End end) {
+solvers::Result<T> solve_at_unit_scale(const T& p, const T& beta, const T& group, solvers::End end,
+                                       long max_steps = solvers::Options<T>{}.max_steps) {
   const T delta_u = unit_overlap(p);
   const solvers::Problem<T> problem{p, T(1), T(1), T(1), alpha_of(p, beta, group, delta_u), beta};
   solvers::Options<T> options;
@@ -24,6 +24,7 @@ solvers::Result<T> solve_at_unit_scale(const T& p, const T& beta, const T& group
   options.end = end;
   options.horizon = 10000 * delta_u; // δ_u / v0 with v0 = 1
   options.max_seconds = 600;
+  options.max_steps = max_steps;
   return solvers::solve("taylor", problem, options);
 }
 
@@ -110,6 +111,11 @@ const solvers::Result<T>& reference_solve(const T& p, const T& beta, const T& gr
   const std::lock_guard<std::mutex> lock(mutex);
   // Entries are never dropped: callers hold references (a run has a few thousand at most).
   return *cache.emplace(key, std::move(result)).first->second;
+}
+
+solvers::Result<Exact> reference_solve_within(const Exact& p, const Exact& beta, const Exact& group,
+                                              solvers::End end, long max_steps) {
+  return solve_at_unit_scale(p, beta, group, end, max_steps);
 }
 
 template <TruthReal T>

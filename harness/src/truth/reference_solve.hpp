@@ -59,6 +59,12 @@ template <TruthReal T>
 const solvers::Result<T>& reference_solve(const T& p, const T& beta, const T& group,
                                           solvers::End end);
 
+// reference_solve in Exact within `max_steps` steps (not kept: a solve cut short is no truth):
+// for a question whose damping may be beyond what the solve resolves in reasonable work (an
+// impact speed of 1e30 took 140 s to end at the default million steps).
+solvers::Result<Exact> reference_solve_within(const Exact& p, const Exact& beta, const Exact& group,
+                                              solvers::End end, long max_steps);
+
 // The group whose restitution (at `end`) is `e`; none when no group gives it (e.g. e below what a
 // dashpot that never lets go allows). In Exact by TOMS 748 on reference_solve; in 50 digits by
 // Newton steps from the Exact group (each a 50-digit solve, about a second; two or three).

@@ -68,6 +68,9 @@ Real standard_rtol() {
   return Real(1) / 100000000;
 }
 
+// The default horizon (Options::horizon), in natural time units δ_u/v0.
+inline constexpr int default_horizon_time_scales = 1000;
+
 template <SupportedReal Real>
 struct Options {
   Real rtol = standard_rtol<Real>();
