@@ -157,9 +157,10 @@ TEST(Cli, CalibrateAVelocityDependentCodeAndItsRestitutionAtOtherSpeeds) {
   const CliRun beyond = run({"calibrate", "--code", "lammps-hertz-history", "--p", "1.5", "--e",
                              "0.9", "--v0", "1", "--speeds", "1,1e30"});
   EXPECT_EQ(beyond.code, 2);
-  EXPECT_EQ(beyond.err, "error: at v0 = 1e+30 (alpha_eff 42186.8) no e: the reference solve at "
-                        "alpha_eff 1382.38 saw no return within its horizon of 10^4 delta_u/v0, and "
-                        "more damping returns later; ask at lower damping (got --speeds 1e+30)\n");
+  EXPECT_EQ(beyond.err,
+            "error: at v0 = 1e+30 (alpha_eff 42186.8) no e: the reference solve at "
+            "alpha_eff 1382.38 saw no return within its horizon of 10^4 delta_u/v0, and "
+            "more damping returns later; ask at lower damping (got --speeds 1e+30)\n");
 
   const CliRun wrong_p =
       run({"calibrate", "--code", "lammps-viscoelastic", "--p", "1", "--e", "0.5"});
@@ -435,6 +436,94 @@ TEST(Cli, WhatIsNotARegularFileIsRefusedBeforeItIsRead) {
     EXPECT_EQ(ran.err, says + "\n");
   }
   std::filesystem::remove(fifo);
+}
+
+// One rule for every list of the command line: no empty item, no item twice where the list is a
+// set, and every item used ("--radius 0.01," and "--speeds 1,,2" were read as if the comma were not
+// there, "--observables e,e" merged, a sample time past the solve dropped).
+TEST(Cli, EveryListTakesEachItemOnceAndUsesIt) {
+  const std::vector<std::string> glass{
+      "--geometry", "sphere-sphere", "--young", "63e9", "--poisson",
+      "0.2",        "--density",     "2500",    "--e",  "0.5"};
+  const auto with_glass = [&](std::vector<std::string> args) {
+    args.insert(args.end(), glass.begin(), glass.end());
+    return args;
+  };
+  const auto solve = [](const std::vector<std::string>& more) {
+    std::vector<std::string> args{"solve", "--solver", "taylor", "--p", "1.5",
+                                  "--e",   "0.5",      "--v0",   "1"};
+    args.insert(args.end(), more.begin(), more.end());
+    return args;
+  };
+  const std::vector<std::pair<std::vector<std::string>, std::string>> cases{
+      {with_glass({"observables", "--v0", "1", "--radius", "0.01,"}),
+       "--radius has an empty item (got 0.01,)"},
+      {with_glass({"observables", "--v0", "1", "--radius", ",0.01"}),
+       "--radius has an empty item (got ,0.01)"},
+      {with_glass({"observables", "--v0", "1", "--radius", "0.01,,0.02"}),
+       "--radius has an empty item (got 0.01,,0.02)"},
+      {{"observables", "--v0", "1", "--e", "0.5", "--geometry", "sphere-sphere", "--radius", "0.01",
+        "--young", "7e10,", "--poisson", "0.2", "--density", "2500"},
+       "--young has an empty item (got 7e10,)"},
+      {{"calibrate", "--code", "lammps-hertz-history", "--p", "1.5", "--e", "0.9", "--speeds",
+        "1,,2"},
+       "--speeds has an empty item (got 1,,2)"},
+      {{"calibrate", "--code", "lammps-hertz-history", "--p", "1.5", "--e", "0.9", "--speeds",
+        "1,1.0"},
+       "--speeds names one speed twice (got 1.0)"},
+      {solve({"--want", "e,"}), "--want has an empty item (got e,)"},
+      {solve({"--want", "e,e"}), "--want names e twice (got e,e)"},
+      {solve({"--sample-times", "0.1,"}), "--sample-times has an empty item (got 0.1,)"},
+      {solve({"--sample-times", "0.1,1e-1"}), "--sample-times names one time twice (got 1e-1)"},
+      {solve({"--want", "delta_max", "--sample-times", "0.5,3.0"}),
+       "--sample-times 3 lies outside the contact solved (outcome peak, at the peak: --want asks "
+       "for nothing later): samples are taken inside it (got 3)"},
+      {solve({"--sample-times", "0.5,9"}),
+       "--sample-times 9 lies outside the contact solved (outcome exited): samples are taken "
+       "inside it (got 9)"},
+      {{"timestep", "--scheme", "dem-verlet", "--p", "1.5", "--e", "0.5", "--observables", "e,"},
+       "--observables has an empty item (got e,)"},
+      {{"timestep", "--scheme", "dem-verlet", "--p", "1.5", "--e", "0.5", "--observables", "e,e"},
+       "--observables names e twice (got e,e)"}};
+  for (const auto& [args, says] : cases) {
+    const CliRun ran = run(args);
+    EXPECT_EQ(ran.code, 2) << says;
+    EXPECT_EQ(ran.err, "error: " + says + "\n");
+  }
+  // Two equal bodies repeat a value: a pair, not a set.
+  const CliRun pair = run(with_glass({"observables", "--v0", "1", "--radius", "0.01,0.01"}));
+  const CliRun one = run(with_glass({"observables", "--v0", "1", "--radius", "0.01"}));
+  EXPECT_EQ(pair.code, 0) << pair.err;
+  EXPECT_EQ(pair.out, one.out);
+  // Every sample asked inside the contact is answered.
+  const CliRun sampled = run(solve({"--sample-times", "0.5,3.0", "--json"}));
+  ASSERT_EQ(sampled.code, 0) << sampled.err;
+  EXPECT_EQ(nlohmann::json::parse(sampled.out)["samples"].size(), 2u);
+}
+
+// What a file or a scene says reaches the terminal escaped: a NUL in a CSV cut the error line at
+// it, a UTF-16 CSV printed raw bytes, and a scene name with control characters reached stdout.
+TEST(Cli, TextFromFilesIsShownEscaped) {
+  using namespace std::string_literals;
+  const std::string nul = testing::write_file("nul.csv", "t,delta\n0,0\n1,\0x\n"s);
+  const CliRun with_nul = run({"check", nul, "--p", "1.5", "--e", "0.5", "--v0", "1"});
+  EXPECT_EQ(with_nul.err, "error: " + nul + ":3: delta is not a number (got \\x00x)\n");
+  const std::string utf16 = testing::write_file("utf16.csv", "\xff\xfet\0,\0d\0e\0l\0t\0a\0\n\0"s);
+  const CliRun with_utf16 = run({"check", utf16, "--p", "1.5", "--e", "0.5", "--v0", "1"});
+  EXPECT_NE(with_utf16.err.find("(got \\xff\\xfet\\x00)"), std::string::npos) << with_utf16.err;
+  const std::string scene = testing::write_file(
+      "bell.toml", "name = \"a\\u0007b\\nreport: /etc/passwd\"\nwant = [\"e\"]\n[grid]\np = [1]\n"
+                   "e = [0.5]\nv0 = [1]\n[[solver]]\nname = \"cvode-bdf\"\nrtol = 1e-6\n"
+                   "[report]\nformats = [\"json\"]\n");
+  const std::string out = (testing::scratch() / "bell\nout").string();
+  const CliRun ran = run({"run", scene, "--out", out});
+  ASSERT_EQ(ran.code, 0) << ran.err;
+  EXPECT_EQ(ran.out.find('\a'), std::string::npos) << ran.out;
+  EXPECT_EQ(ran.out.find("\nreport: /etc/passwd"), std::string::npos) << ran.out;
+  EXPECT_NE(ran.out.find("a\\x07b\\nreport: /etc/passwd: 1 cells"), std::string::npos) << ran.out;
+  EXPECT_NE(ran.out.find("report: " + testing::scratch().string() + "/bell\\nout/report.json"),
+            std::string::npos)
+      << ran.out;
 }
 
 } // namespace

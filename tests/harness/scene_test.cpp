@@ -198,6 +198,11 @@ v0 = [1.0]
       {valid_scene + "[[figure]]\nkind = \"tau_ratio\"\nsolver = \"arkode-dp5\"\nrtol = 1e-8\n"
                      "p = [1.5]\nalpha_eff = [0.5, 1.0]\n",
        "15: alpha_eff must be in [0, 1) (a return) (got 1)"},
+      // A claim's or search's name is its identity in reports and diff.
+      {valid_scene + "[[claim]]\nname = \"c\"\nobservable = \"e\"\nsolver = \"cvode-bdf\"\n"
+                     "rtol = 1e-8\nbound = 1e-5\n[[claim]]\nname = \"c\"\nobservable = \"e\"\n"
+                     "solver = \"cvode-bdf\"\nrtol = 1e-8\nbound = 1e-6\n",
+       "17: [[claim]] c is named twice"},
   };
   expect_refused_before_any_work(cases, "bad");
   const CliRun missing = run({"run", (scratch() / "no-such.toml").string()});

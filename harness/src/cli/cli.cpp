@@ -34,14 +34,12 @@ std::string precision_choices() {
 void add_material_options(CLI::App& command, ContactArgs& a) {
   command.add_option("--geometry", a.geometry,
                      "a Hertz contact from materials: sphere-sphere | sphere-wall (SI units)");
-  command.add_option("--radius", a.radius, "with --geometry: R1[,R2] > 0 [m]")->delimiter(',');
-  command
-      .add_option("--young", a.young, "with --geometry: E1[,E2] > 0 [Pa] (wall: rigid without E2)")
-      ->delimiter(',');
-  command.add_option("--poisson", a.poisson, "with --geometry: nu1[,nu2] in (-1, 0.5)")
-      ->delimiter(',');
-  command.add_option("--density", a.density, "with --geometry: rho1[,rho2] > 0 [kg/m^3]")
-      ->delimiter(',');
+  // Lists are split by list_items (common/input.hpp), not by CLI11, which drops an empty item.
+  command.add_option("--radius", a.radius, "with --geometry: R1[,R2] > 0 [m]");
+  command.add_option("--young", a.young,
+                     "with --geometry: E1[,E2] > 0 [Pa] (wall: rigid without E2)");
+  command.add_option("--poisson", a.poisson, "with --geometry: nu1[,nu2] in (-1, 0.5)");
+  command.add_option("--density", a.density, "with --geometry: rho1[,rho2] > 0 [kg/m^3]");
 }
 
 void add_contact_options(CLI::App& command, ContactArgs& a, bool calibrate_only) {
@@ -66,6 +64,11 @@ void add_contact_options(CLI::App& command, ContactArgs& a, bool calibrate_only)
 
 // After parsing: the materials checked against --m, --k and --p (cli/materials.hpp).
 void settle_material_options(const CLI::App& command, ContactArgs& a) {
+  // A value per body: two equal bodies may repeat one.
+  a.radius = list_items("--radius", a.radius, false);
+  a.young = list_items("--young", a.young, false);
+  a.poisson = list_items("--poisson", a.poisson, false);
+  a.density = list_items("--density", a.density, false);
   std::vector<std::string> mass_options_given;
   for (const char* option : {"--m", "--k"}) {
     if (const CLI::Option* given = command.get_option(option); given->count() > 0) {
@@ -123,11 +126,9 @@ int run_cli(int argc, const char* const* argv, std::ostream& out, std::ostream& 
       "with a velocity-dependent --code: the speed at which e is set (default 1)");
   calibrate->add_option("--m", calibrate_args.m, "reduced mass > 0 (default 1)");
   calibrate->add_option("--k", calibrate_args.k, "stiffness > 0 (default 1)");
-  calibrate
-      ->add_option("--speeds", calibrate_args.speeds,
-                   "with a velocity-dependent --code: the speeds of the e(v0) curve "
-                   "(default v0/10, v0, 10 v0)")
-      ->delimiter(',');
+  calibrate->add_option("--speeds", calibrate_args.speeds,
+                        "with a velocity-dependent --code: the speeds of the e(v0) curve "
+                        "(default v0/10, v0, 10 v0)");
   calibrate->add_option("--reff", calibrate_args.reff,
                         "with a velocity-dependent --code: LAMMPS's effective radius Reff "
                         "(default 1)");
@@ -170,8 +171,8 @@ int run_cli(int argc, const char* const* argv, std::ostream& out, std::ostream& 
                     "first step position in contact, in [0, 1) (default 0)");
   solve->add_option("--horizon", solve_args.horizon,
                     "time at which a contact that has not ended is reported no_exit");
-  solve->add_option("--sample-times", solve_args.sample_times, "comma list of times to sample")
-      ->delimiter(',');
+  solve->add_option("--sample-times", solve_args.sample_times,
+                    "comma list of times to sample, inside the contact solved");
   solve->add_option("--max-steps", solve_args.max_steps, "step limit (default 1e6)");
   solve->add_option("--max-seconds", solve_args.max_seconds,
                     "wall-clock limit of the solve (default 60): outcome time_limit beyond it");
@@ -308,12 +309,14 @@ int run_cli(int argc, const char* const* argv, std::ostream& out, std::ostream& 
                                                        CLI::detail::join(given->results(), ","));
         }
       }
+      calibrate_args.speeds = list_items("--speeds", calibrate_args.speeds, true);
       run_calibrate(calibrate_args, out);
     } else if (observables->parsed()) {
       settle_material_options(*observables, observables_args);
       run_observables(observables_args, out);
     } else if (solve->parsed()) {
       settle_material_options(*solve, solve_args.contact);
+      solve_args.sample_times = list_items("--sample-times", solve_args.sample_times, true);
       run_solve(solve_args, out);
     } else if (timestep->parsed()) {
       settle_material_options(*timestep, timestep_args.contact);

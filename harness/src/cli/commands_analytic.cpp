@@ -158,6 +158,9 @@ void calibrate_velocity_dependent(const ContactArgs& args, const VelocityDepende
     for (const std::string& speed : args.speeds) {
       speeds.push_back(parse_real<double>("--speeds", speed));
       domain::require_scale("speed", speeds.back());
+      if (std::count(speeds.begin(), speeds.end(), speeds.back()) > 1) {
+        throw InputError("--speeds names one speed twice (got " + speed + ")");
+      }
     }
   }
   const solvers::End end = args.limit_damping ? solvers::End::force : solvers::End::overlap;

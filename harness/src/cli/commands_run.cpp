@@ -336,7 +336,7 @@ void print_plan_size(const Scene& scene, std::ostream& out) {
   const bool searches = !scene.searches.empty() || step_study_runs_estimate(scene) > 0;
   out << fmt::format("{}: {:.0f} cells x {:.0f} solver configurations{}: {}{:.0f} solver runs "
                      "(onset phases, repeats{} included), about {:.3g} MB of records\n",
-                     scene.name, cells, double(scene.configs.size()),
+                     one_line(scene.name), cells, double(scene.configs.size()),
                      grid_claims > 0 ? fmt::format(", {} claims on grids of their own", grid_claims)
                                      : "",
                      searches            ? "about "
@@ -369,27 +369,27 @@ int report_records(const Plan& plan, RecordRange records, const RunTotals& total
   }
   const RunReport report{plan, records, budgets, totals, figures, &trajectories};
   if (const std::optional<int> code = signals.exit_code()) {
-    err << "stopped by a signal: no report written, " << folder << " left as it was\n";
+    err << "stopped by a signal: no report written, " << one_line(folder) << " left as it was\n";
     return *code;
   }
   if (stop_requested()) { // under MPI: a signal on another rank, in the shared work
-    err << "stopped by a signal on another rank: no report written, " << folder
+    err << "stopped by a signal on another rank: no report written, " << one_line(folder)
         << " left as it was\n";
     return 128 + SIGINT;
   }
   const WrittenReports files = write_reports(report, folder, jobs);
-  out << scene.name << ": " << plan.cells.size() << " cells x " << plan.configs.size()
+  out << one_line(scene.name) << ": " << plan.cells.size() << " cells x " << plan.configs.size()
       << " solver configurations, " << totals.solver_runs << " solver runs, " << totals.rhs_evals
       << " rhs evaluations in " << totals.wall_seconds << " s; " << budgets.failed_records
       << " failed\n";
   long unexpected = 0;
   for (const Verdict& v : budgets.claims) {
     unexpected += v.unexpected() ? 1 : 0;
-    out << "claim " << v.name << ": " << verdict_text(v)
+    out << "claim " << one_line(v.name) << ": " << verdict_text(v)
         << (v.unexpected() ? (v.expect_holds ? " (UNEXPECTED)" : " (UNEXPECTED: pinned as fails)")
                            : (v.holds ? "" : " (expected)"))
         << fmt::format(" (measured {:.4g}, bound {:.4g}", v.measured, v.bound)
-        << (v.worst.empty() ? "" : "; worst at " + v.worst) << ")";
+        << (v.worst.empty() ? "" : "; worst at " + one_line(v.worst)) << ")";
     if (v.denser && verdict_text(*v.denser) != verdict_text(v)) {
       out << "; on the denser grid it " << verdict_text(*v.denser);
     }
@@ -397,21 +397,21 @@ int report_records(const Plan& plan, RecordRange records, const RunTotals& total
   }
   for (const SearchResult& search : budgets.searches) {
     for (const SearchGroup& group : search.groups) {
-      out << "search " << search.name << ", " << group.group << ": "
+      out << "search " << one_line(search.name) << ", " << one_line(group.group) << ": "
           << (group.loosest ? fmt::format("{} = {:.3g}", search.parameter, *group.loosest)
                             : std::string("none in the range"))
           << (group.failing ? fmt::format(" (breaks at {:.3g})", *group.failing) : "")
           << fmt::format(", {} solver runs", group.solver_runs)
-          << (group.note.empty() ? "" : "; " + group.note) << "\n";
+          << (group.note.empty() ? "" : "; " + one_line(group.note)) << "\n";
     }
   }
   for (const Figure& figure : figures) {
     if (!figure.failure.empty()) {
-      out << "figure " << figure.title << " failed: " << figure.failure << "\n";
+      out << "figure " << one_line(figure.title) << " failed: " << one_line(figure.failure) << "\n";
     }
   }
   for (const std::string& file : files.written) {
-    out << "report: " << file << "\n";
+    out << "report: " << one_line(file) << "\n";
   }
   if (!files.failures.empty()) {
     throw InputError(files.failures.front() +
@@ -437,7 +437,7 @@ int write_shard_run(const RunArgs& args, const Plan& plan, std::size_t index, st
   RecordStore records(cells.size() * plan.configs.size(), args.out);
   solve_into(plan, runner, cells, records, jobs, progress);
   if (const std::optional<int> code = signals.exit_code()) {
-    err << "stopped by a signal: no shard written, " << args.out << " left as it was\n";
+    err << "stopped by a signal: no shard written, " << one_line(args.out) << " left as it was\n";
     return *code;
   }
   records.seal();
@@ -456,7 +456,8 @@ int write_shard_run(const RunArgs& args, const Plan& plan, std::size_t index, st
   h.configs = plan.configs.size();
   write_shard(args.out, h, records);
   if (std::filesystem::exists(std::filesystem::path(args.out) / "report.json")) {
-    err << "note: " << args.out << " also holds an earlier run's report.json; this shard's "
+    err << "note: " << one_line(args.out)
+        << " also holds an earlier run's report.json; this shard's "
         << "records are " << shard_file_name << ", the report is merge's\n";
   }
   long failed = 0;
@@ -465,9 +466,9 @@ int write_shard_run(const RunArgs& args, const Plan& plan, std::size_t index, st
   }
   out << fmt::format("{}: shard {}/{}: {} of {} cells x {} solver configurations, {} solver runs "
                      "in {:.3g} s; {} failed\nshard: {} (pldamp merge {} for the report)\n",
-                     plan.scene.name, index, count, cells.size(), plan.cells.size(),
+                     one_line(plan.scene.name), index, count, cells.size(), plan.cells.size(),
                      plan.configs.size(), h.totals.solver_runs, h.totals.wall_seconds, failed,
-                     (std::filesystem::path(args.out) / shard_file_name).string(),
+                     one_line((std::filesystem::path(args.out) / shard_file_name).string()),
                      count == 1 ? "this folder" : fmt::format("the {} shards' folders", count));
   return 0;
 }
@@ -603,7 +604,7 @@ int run_scene(const RunArgs& args, std::ostream& out, std::ostream& err,
   }
   // Stopped: some records were never solved (a store lacks them), so nothing reads them.
   if (const std::optional<int> code = signals.exit_code()) {
-    err << "stopped by a signal: no report written, " << args.out << " left as it was\n";
+    err << "stopped by a signal: no report written, " << one_line(args.out) << " left as it was\n";
     return *code;
   }
   if (stopped_elsewhere) {

@@ -7,20 +7,16 @@
 
 #include "pldamp/solvers/registry.hpp"
 
+#include <fmt/format.h>
+
 #include <algorithm>
-#include <sstream>
 
 namespace pldamp::harness {
 namespace {
 
 // "e,delta_max,..." -> Want bits; "energy" is both energy_load and energy_unload.
 unsigned parse_want_list(const std::string& list) {
-  std::vector<std::string> words;
-  std::istringstream items(list);
-  for (std::string item; std::getline(items, item, ',');) {
-    words.push_back(item);
-  }
-  const unsigned want = parse_want(words, "--want", true);
+  const unsigned want = parse_want(list_items("--want", list, true), "--want", true);
   if (want == 0) {
     throw InputError("--want names no observable (got " + list + ")");
   }
@@ -82,6 +78,10 @@ void solve_in(const SolveArgs& args, const solvers::SolverInfo* solver, std::ost
   }
   for (const std::string& t : args.sample_times) {
     options.sample_times.push_back(parse_real<Real>("--sample-times", t));
+    if (std::count(options.sample_times.begin(), options.sample_times.end(),
+                   options.sample_times.back()) > 1) {
+      throw InputError("--sample-times names one time twice (got " + t + ")");
+    }
   }
   options.want = parse_want_list(args.want);
   options.end = parse_end(args.contact.end) == ContactEnd::force ? solvers::End::force
@@ -110,6 +110,20 @@ void solve_in(const SolveArgs& args, const solvers::SolverInfo* solver, std::ost
         std::min(r.wall_seconds, solvers::solve(args.solver, problem, options).wall_seconds);
   }
 
+  // Every time asked for is answered: a sample is taken inside the contact the solve ran, and a
+  // time past it (after the peak, where --want asks for nothing later; after the contact's end)
+  // is refused rather than dropped from the answer.
+  for (const Real& t : options.sample_times) {
+    if (std::none_of(r.samples.begin(), r.samples.end(),
+                     [&](const solvers::Sample<Real>& s) { return s.t == t; })) {
+      throw InputError(fmt::format(
+          "--sample-times {} lies outside the contact solved (outcome {}{}): samples are taken "
+          "inside it (got {})",
+          to_string_full(t), solvers::outcome_name(r.outcome),
+          r.outcome == solvers::Outcome::peak ? ", at the peak: --want asks for nothing later" : "",
+          to_string_full(t)));
+    }
+  }
   o["solver"] = args.solver;
   if (r.fixed_step) { // what a fixed-step run used instead of tolerances
     put_number(o, "dt", r.fixed_step);

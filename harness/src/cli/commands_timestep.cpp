@@ -18,7 +18,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <sstream>
 
 namespace pldamp::harness {
 namespace {
@@ -35,8 +34,7 @@ constexpr int onset_phases = 32;
 
 std::vector<std::string> observable_keys(const std::string& list) {
   std::vector<std::string> keys;
-  std::istringstream items(list);
-  for (std::string item; std::getline(items, item, ',');) {
+  for (const std::string& item : list_items("--observables", list, true)) {
     const auto table = observable_table();
     const auto known = std::find_if(table.begin(), table.end(),
                                     [&](const Observable& o) { return o.key == item; });
@@ -50,9 +48,7 @@ std::vector<std::string> observable_keys(const std::string& list) {
       throw InputError("unknown observable in --observables, expected a list of " + names +
                        " (got " + item + ")");
     }
-    if (std::find(keys.begin(), keys.end(), item) == keys.end()) {
-      keys.push_back(item);
-    }
+    keys.push_back(item);
   }
   if (keys.empty()) {
     throw InputError("--observables names no observable (got " + list + ")");

@@ -18,6 +18,7 @@
 #include <stdexcept>
 #include <string>
 #include <string_view>
+#include <vector>
 
 namespace pldamp::harness {
 
@@ -108,6 +109,38 @@ inline std::string one_line(std::string_view text, std::size_t limit) {
     --cut; // not inside a character
   }
   return out.substr(0, cut) + "...";
+}
+
+// The items of a list as typed, its tokens split at commas: the one rule for every list of the
+// command line (and so of Python's keywords). No empty item ("0.01,", ",0.01" and "1,,2" were
+// read as "0.01" and "1,2"); where `distinct` (a set of observables, times or speeds, not a pair
+// of bodies' radii), no item twice as typed (numbers are compared as values where parsed).
+inline std::vector<std::string> list_items(const std::string& option,
+                                           const std::vector<std::string>& tokens, bool distinct) {
+  std::vector<std::string> items;
+  for (const std::string& token : tokens) {
+    for (std::size_t from = 0;;) {
+      const std::size_t comma = token.find(',', from);
+      std::string item = token.substr(from, comma == std::string::npos ? comma : comma - from);
+      if (item.empty()) {
+        throw InputError(option + " has an empty item (got " + one_line(token, 200) + ")");
+      }
+      if (distinct && std::find(items.begin(), items.end(), item) != items.end()) {
+        throw InputError(option + " names " + one_line(item, 200) + " twice (got " +
+                         one_line(token, 200) + ")");
+      }
+      items.push_back(std::move(item));
+      if (comma == std::string::npos) {
+        break;
+      }
+      from = comma + 1;
+    }
+  }
+  return items;
+}
+inline std::vector<std::string> list_items(const std::string& option, const std::string& text,
+                                           bool distinct) {
+  return list_items(option, std::vector<std::string>{text}, distinct);
 }
 
 // Parses the whole of `text` as a Real, rounding once into the target type (so "0.1" is the

@@ -44,8 +44,10 @@ std::string_view trimmed(std::string_view text) {
 }
 
 // A cell as quoted in a message: at most 60 characters.
+// A cell or line in a message: one line of at most 60 bytes, a NUL or a byte that is not UTF-8
+// escaped (a NUL cut the message at it, a UTF-16 file printed raw bytes).
 std::string shown(std::string_view cell) {
-  return cell.size() <= 60 ? std::string(cell) : std::string(cell.substr(0, 57)) + "...";
+  return one_line(cell, 60);
 }
 
 std::vector<std::string_view> cells_of(std::string_view line) {
@@ -247,7 +249,7 @@ TrajectoryColumns load_trajectory(const std::string& path) {
   std::error_code error;
   const auto too_large = [&] {
     return InputError("a trajectory file is at most " + std::to_string(max_trajectory_bytes) +
-                      " bytes; this one is larger (got " + path + ")");
+                      " bytes; this one is larger (got " + one_line(path) + ")");
   };
   if (const auto size = std::filesystem::file_size(path, error);
       !error && size > max_trajectory_bytes) {
@@ -256,7 +258,7 @@ TrajectoryColumns load_trajectory(const std::string& path) {
   std::ifstream in(path, std::ios::binary);
   if (!in) {
     throw InputError("cannot read the trajectory: " + std::string(std::strerror(errno)) + " (got " +
-                     path + ")");
+                     one_line(path) + ")");
   }
   std::string text;
   std::array<char, 65536> buffer{};

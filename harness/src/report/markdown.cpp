@@ -83,7 +83,7 @@ std::string report_markdown(const RunReport& report) {
   const Plan& plan = report.plan;
   const Budgets& budgets = report.budgets;
   std::ostringstream out;
-  out << "# pldamp report: " << plan.scene.name << "\n\n";
+  out << "# pldamp report: " << one_line(plan.scene.name) << "\n\n";
   out << "Scene `" << plan.scene.path << "`, end " << name_of(contact_ends, plan.scene.end) << ": "
       << plan.cells.size() << " cells × " << plan.configs.size() << " solver configurations, "
       << report.totals.solver_runs << " solver runs, " << report.totals.rhs_evals

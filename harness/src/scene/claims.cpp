@@ -444,6 +444,12 @@ void read_claims(const Reader& reader, const toml::node& node, Scene& scene) {
       reader.fail(item, "[[claim]] needs name");
     }
     claim.name = reader.string(*entry.get("name"), "claim name");
+    // A claim's name is its identity in report.json and `pldamp diff`: two of one name would be
+    // judged apart and compared as one.
+    if (std::any_of(scene.claims.begin(), scene.claims.end(),
+                    [&](const Claim& earlier) { return earlier.name == claim.name; })) {
+      reader.fail(*entry.get("name"), "[[claim]] " + claim.name + " is named twice");
+    }
     const toml::node* kind_node = entry.get("kind");
     const ClaimKind kind =
         kind_node ? reader.choice(*kind_node, claim_kinds, "claim kind") : ClaimKind::bound;

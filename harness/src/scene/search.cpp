@@ -19,6 +19,10 @@ void read_searches(const Reader& reader, const toml::node& node, Scene& scene) {
       }
     }
     search.name = reader.string(*entry.get("name"), "search name");
+    if (std::any_of(scene.searches.begin(), scene.searches.end(),
+                    [&](const Search& earlier) { return earlier.name == search.name; })) {
+      reader.fail(*entry.get("name"), "[[search]] " + search.name + " is named twice");
+    }
     for (const char* key : {"where", "quote"}) {
       if (const toml::node* text = entry.get(key)) {
         (key[0] == 'w' ? search.where : search.quote) = reader.string(*text, key);
