@@ -29,6 +29,9 @@ using pldamp::analytic::ContactEnd;
 py::tuple cli(const std::vector<std::string>& args) {
   std::vector<const char*> argv{"pldamp"};
   for (const std::string& arg : args) {
+    if (arg.find('\0') != std::string::npos) { // C would read it as cut at the NUL
+      throw std::invalid_argument("an argument holds a NUL character");
+    }
     argv.push_back(arg.c_str());
   }
   std::ostringstream out, err;
@@ -122,8 +125,8 @@ Contact<double> contact_from(DampingKind kind, ContactEnd end, double p, double 
 
 // The closed forms over flat arrays of one length (python/pldamp broadcasts them): `damping_kind`
 // is e, alpha or alpha_eff; `end` overlap or force (a target e met where the force ends). Returns
-// alpha, alpha_eff and each wanted observable, NaN where it does not exist (an overdamped
-// contact's τ). A value outside the domain raises ValueError naming the element.
+// alpha, alpha_eff and each wanted observable: inf for τ of a contact that never returns, NaN
+// where an observable does not exist. A value outside the domain raises ValueError naming the element.
 py::dict observables_double(const Array& p, const std::string& damping_kind, const Array& damping,
                             const Array& v0, const Array& m, const Array& k, const std::string& end,
                             const std::vector<std::string>& want) {

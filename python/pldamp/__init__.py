@@ -49,6 +49,13 @@ ARRAY_OBSERVABLES = ("e", "delta_max", "t_peak", "tau", "tau0", "energy_load", "
                      "dt_tangent", "e_cap", "t_cut")
 
 
+def _no_nul(name: str, text: str) -> str:
+    """`text` as an argument: a NUL would end it where C reads it (p='1.5\\x00garbage' was 1.5)."""
+    if "\x00" in text:
+        raise ValueError("%s holds a NUL character (got %r)" % (name, text))
+    return text
+
+
 def _text(name: str, value: Any) -> str:
     """A value as the command line reads it."""
     if isinstance(value, bool):
@@ -56,7 +63,7 @@ def _text(name: str, value: Any) -> str:
     if isinstance(value, (float, np.floating)):
         return repr(float(value))  # shortest round trip: the same double
     if isinstance(value, (numbers.Integral, decimal.Decimal, str)):
-        return str(value)
+        return _no_nul(name, str(value))
     if isinstance(value, (list, tuple)):
         return ",".join(_text(name, item) for item in value)
     raise TypeError("%s takes a number, text or a list of them (got %s)" % (name,
@@ -69,7 +76,7 @@ SWITCHES = {"limit_damping", "strict", "verbose", "allow_scene_change"}
 
 
 def _arguments(command: str, positional: Iterable[str], options: dict) -> list:
-    args = [command, *positional]
+    args = [command, *(_no_nul(command, str(item)) for item in positional)]
     for name, value in options.items():
         flag = "--" + name.replace("_", "-")
         if name in SWITCHES:
@@ -86,7 +93,7 @@ def _arguments(command: str, positional: Iterable[str], options: dict) -> list:
 
 def cli(*args: str) -> tuple:
     """`pldamp ARGS...` in-process: (exit code, standard output, standard error)."""
-    return _pldamp.cli([str(a) for a in args])
+    return _pldamp.cli([_no_nul("an argument", str(a)) for a in args])
 
 
 def _answer(command: str, positional: Iterable[str] = (), json_flag: bool = True,
@@ -142,22 +149,62 @@ def observables(p: Any = None, e: Any = None, alpha: Any = None, alpha_eff: Any 
     With an array for any of p, e, alpha, alpha_eff, v0, m, k (broadcast as numpy does), the
     closed forms are evaluated element-wise in C++ in double with the GIL released, and the dict
     holds arrays of that shape: alpha, alpha_eff and each observable of `want` (default all of
-    ARRAY_OBSERVABLES; NaN where one does not exist, as τ of a contact that never returns).
+    ARRAY_OBSERVABLES; inf for τ of a contact that never returns, NaN where an observable does
+    not exist).
     """
     scalars = dict(p=p, e=e, alpha=alpha, alpha_eff=alpha_eff, v0=v0, m=m, k=k)
+    wanted = _wanted(want)
     if any(_is_array(value) for value in scalars.values()):
-        return _observables_arrays(scalars, end or "overlap", precision, want, options)
+        return _observables_arrays(scalars, end or "overlap", precision, wanted, options)
     answer = _call("observables", p=p, e=e, alpha=alpha, alpha_eff=alpha_eff, v0=v0, m=m, k=k,
                    end=end, precision=precision, **options)
     if want is not None:
-        wanted = set(want)
         answer = {key: value for key, value in answer.items()
                   if key in wanted or key not in ARRAY_OBSERVABLES}
     return answer
 
 
+def _wanted(want: Any) -> list:
+    """The observables `want` names, checked: a name or a list of names of ARRAY_OBSERVABLES, each
+    once (want="tau" was read as the letters t, a, u, and want=["taux"] dropped every one)."""
+    if want is None:
+        return list(ARRAY_OBSERVABLES)
+    names = [want] if isinstance(want, str) else list(want)
+    for name in names:
+        if not isinstance(name, str) or name not in ARRAY_OBSERVABLES:
+            raise ValueError("unknown observable in want, expected a list of %s (got %s)"
+                             % (",".join(ARRAY_OBSERVABLES), name))
+        if names.count(name) > 1:
+            raise ValueError("want names %s twice" % name)
+    if not names:
+        raise ValueError("want names no observable (got an empty list)")
+    return names
+
+
+def _numbers(name: str, value: Any) -> np.ndarray:
+    """An array of numbers as float64: a bool (e=True was 1.0), a complex number (its imaginary
+    part was dropped with a warning) or an element that is not a number is refused by name."""
+    array = value if isinstance(value, np.ndarray) else np.asarray(value, dtype=object)
+    if array.dtype.kind == "b":
+        raise TypeError("%s takes numbers, not bools (got an array of bool)" % name)
+    if array.dtype.kind == "c":
+        raise TypeError("%s takes real numbers, not complex ones (got an array of complex)"
+                        % name)
+    if array.dtype.kind not in "iuf":  # element by element, as the caller wrote them
+        for index, item in enumerate(array.ravel()):
+            if isinstance(item, (bool, np.bool_)):
+                raise TypeError("%s takes numbers, not bools (got %r at index %d)"
+                                % (name, item, index))
+            if isinstance(item, (complex, np.complexfloating)):
+                raise TypeError("%s takes real numbers, not complex ones (got %r at index %d)"
+                                % (name, item, index))
+            if not isinstance(item, numbers.Real):
+                raise ValueError("%s holds %r at index %d: not a number" % (name, item, index))
+    return np.asarray(array, dtype=np.float64)
+
+
 def _observables_arrays(scalars: dict, end: str, precision: Optional[str],
-                        want: Optional[Iterable[str]], options: dict) -> dict:
+                        want: list, options: dict) -> dict:
     if precision not in (None, "double"):
         raise ValueError("observables over arrays runs in double; call it per element for "
                          "precision %s (got precision %s)" % (precision, precision))
@@ -174,11 +221,12 @@ def _observables_arrays(scalars: dict, end: str, precision: Optional[str],
     values = [scalars["p"], scalars[kind], scalars["v0"],
               1.0 if scalars["m"] is None else scalars["m"],
               1.0 if scalars["k"] is None else scalars["k"]]
-    arrays = np.broadcast_arrays(*[np.asarray(v, dtype=np.float64) for v in values])
+    names = ["p", kind, "v0", "m", "k"]
+    arrays = np.broadcast_arrays(*[_numbers(n, v) for n, v in zip(names, values)])
     shape = arrays[0].shape
     flat = [np.ascontiguousarray(a).ravel() for a in arrays]
     result = _pldamp.observables_double(flat[0], kind, flat[1], flat[2], flat[3], flat[4], end,
-                                        list(ARRAY_OBSERVABLES if want is None else want))
+                                        want)
     return {key: value.reshape(shape) for key, value in result.items()}
 
 
@@ -241,9 +289,13 @@ def check(t: Any, delta: Any, v: Any = None, F: Any = None, **options) -> dict:
             return _call("check", [path], **options)
         except ValueError as error:
             # "FILE:LINE: what" names the scratch file: say the index in the arrays instead.
-            match = re.match(re.escape(path) + r":(\d+): (.*)", str(error), re.S)
+            # The scratch file's name means nothing to the caller: its line 1 is the header,
+            # line n >= 2 the arrays' index n - 2.
+            match = re.match(re.escape(path) + r"(?::(\d+))?: (.*)", str(error), re.S)
             if match is None:
                 raise
+            if match.group(1) is None or int(match.group(1)) < 2:
+                raise ValueError("the arrays: %s" % match.group(2)) from None
             raise ValueError("at index %d of the arrays: %s" % (int(match.group(1)) - 2,
                                                                  match.group(2))) from None
 
@@ -255,12 +307,22 @@ def run(scene: str, out: Optional[str] = None, strict: bool = False, **options) 
     removed when None. strict=True raises RuntimeError when a claim's verdict is not the one
     expected. jobs, max_steps, max_seconds, max_runs as the command's flags.
     """
+    if options.get("shard") is not None:
+        raise ValueError("run() returns a report and a shard writes none: run the shards with "
+                         "cli('run', scene, '--shard', 'K/N', '--out', DIR) and merge their "
+                         "folders with cli('merge', DIR_1, ..., '--out', OUT) (got shard=%r)"
+                         % (options["shard"],))
+
     def run_into(folder: str) -> dict:
         code, _, err = _answer("run", [os.fspath(scene)], json_flag=False, out=folder,
                                strict=strict, **options)
         if code == 1:
             raise RuntimeError(err.strip())
-        with open(os.path.join(folder, "report.json"), encoding="utf-8") as report:
+        path = os.path.join(folder, "report.json")
+        if not os.path.exists(path):
+            raise ValueError("the scene writes no report.json, which run() returns: add \"json\" "
+                             "to its [report] formats (got %s)" % os.fspath(scene))
+        with open(path, encoding="utf-8") as report:
             return json.load(report)
 
     if out is not None:

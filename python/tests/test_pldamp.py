@@ -174,3 +174,50 @@ def test_a_bool_is_refused_where_a_number_is_meant_and_check_names_array_indices
     with pytest.raises(ValueError, match=r"^at index 2 of the arrays: "):
         pldamp.check(np.array([0.0, 0.1, 0.1, 0.3]), np.array([0.0, 0.1, 0.2, 0.3]), p=1.5,
                      e=0.5, v0=1.0)
+
+
+def test_what_python_hands_over_is_checked_not_cut_or_converted(tmp_path):
+    # want: a name, or names each once, of ARRAY_OBSERVABLES ("tau" was read as t, a, u; "taux"
+    # dropped everything), the same on the scalar and the array path.
+    assert "tau" in pldamp.observables(p=1.5, e=0.5, v0=1.0, want="tau")
+    assert set(pldamp.observables(p=[1.5], e=0.5, v0=1.0, want="tau")) == {"alpha", "alpha_eff",
+                                                                           "tau"}
+    for want in (["taux"], "taux", ["e", "e"], []):
+        for p in (1.5, [1.5]):
+            with pytest.raises(ValueError, match="want"):
+                pldamp.observables(p=p, e=0.5, v0=1.0, want=want)
+    # A NUL would cut the text where C reads it: p='1.5\x00garbage' was 1.5, and
+    # run('tiny.toml\x00.bak') ran tiny.toml.
+    with pytest.raises(ValueError, match="holds a NUL character"):
+        pldamp.observables(p="1.5\x00garbage", e=0.5, v0=1.0)
+    scene = tmp_path / "tiny.toml"
+    scene.write_text('name = "tiny"\nwant = ["e"]\n[grid]\np = [1.5]\ne = [0.5]\nv0 = [1.0]\n'
+                     '[[solver]]\nname = "cvode-bdf"\nrtol = 1e-6\n[report]\nformats = ["csv"]\n')
+    with pytest.raises(ValueError, match="holds a NUL character"):
+        pldamp.run(str(scene) + "\x00.bak")
+    with pytest.raises(ValueError, match="holds a NUL character"):
+        pldamp.cli("observables", "--p", "1.5\x00", "--e", "0.5", "--v0", "1")
+    # A scene without report.json, and a shard, write no report for run() to return: said so,
+    # not a FileNotFoundError naming a deleted temporary.
+    with pytest.raises(ValueError, match="writes no report.json"):
+        pldamp.run(scene)
+    with pytest.raises(ValueError, match="a shard writes none"):
+        pldamp.run(scene, shard="1/2")
+    # check of too few samples speaks of the arrays, not of index -1.
+    with pytest.raises(ValueError) as refused:
+        pldamp.check([], [], p=1.5, e=0.5, v0=1.0)
+    assert "index -1" not in str(refused.value) and "trajectory.csv" not in str(refused.value)
+    assert str(refused.value).startswith("the arrays: ")
+    # Arrays of numbers only: a bool was 1.0, a complex number lost its imaginary part.
+    with pytest.raises(TypeError, match="not bools"):
+        pldamp.observables(p=[1.5], e=True, v0=1.0)
+    with pytest.raises(TypeError, match="not bools"):
+        pldamp.observables(p=[1.5], e=np.array([True]), v0=1.0)
+    with pytest.raises(TypeError, match="complex"):
+        pldamp.observables(p=[1.5], e=[0.5 + 1j], v0=1.0)
+    with pytest.raises(ValueError, match=r"e holds '0.5x' at index 1: not a number"):
+        pldamp.observables(p=[1.5, 1.5], e=[0.5, "0.5x"], v0=1.0)
+    # A contact that never returns: tau is inf on the array path, null (None) on the scalar one.
+    arrays = pldamp.observables(p=[1.5], alpha_eff=[1.5], v0=1.0, want=["tau", "e"])
+    assert np.isinf(arrays["tau"][0]) and arrays["e"][0] == 0
+    assert pldamp.observables(p=1.5, alpha_eff=1.5, v0=1.0)["tau"] is None
