@@ -76,6 +76,9 @@ struct Shard {
 void write_shard(const std::filesystem::path& folder, const ShardHeader& header,
                  RecordRange records);
 void write_shard(const std::filesystem::path& folder, const Shard& shard);
+// A shard file's bytes up to its records' count: its magic line, format, byte order and header.
+void append_shard_head(std::string& bytes, const ShardHeader& header);
+
 // Reads FOLDER/shard.pldamp; InputError with one line when it cannot be read or is not one.
 Shard read_shard(const std::filesystem::path& folder);
 // The same, its records handed to `visit` one at a time with their bytes (none without a visitor:
