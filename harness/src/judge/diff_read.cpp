@@ -13,6 +13,7 @@
 #include <simdjson.h>
 
 #include <algorithm>
+#include <array>
 #include <string>
 
 namespace pldamp::harness::diff {
@@ -284,21 +285,33 @@ std::optional<Report> read_record_lines(std::istream& in, const std::string& pat
   std::vector<RecordFacts> records;
   dom::parser parser;
   std::string line;
-  // Lines are read into a buffer of at most limits.line bytes: a longer one (a report on one line,
-  // or no report at all) is not pldamp's layout, and is never held whole here.
-  std::vector<char> buffer(limits.line + 1);
+  // Lines are read a chunk at a time up to limits.line bytes: a longer one (a report on one line,
+  // or no report at all) is not pldamp's layout, and is never held whole here. `too_long` says
+  // why reading stopped before the end.
+  std::array<char, 65536> chunk; // NOLINT: filled by getline before it is read
+  bool too_long = false;
   const auto next_line = [&] {
-    in.getline(buffer.data(), static_cast<std::streamsize>(buffer.size()));
-    const auto count = static_cast<std::size_t>(in.gcount());
-    if (in.fail() && !in.eof() && count == limits.line) {
-      return false; // longer than limits.line
+    line.clear();
+    for (;;) {
+      in.getline(chunk.data(), static_cast<std::streamsize>(chunk.size()));
+      const auto count = static_cast<std::size_t>(in.gcount());
+      if (in.eof()) { // the last line, without a newline, or nothing
+        line.append(chunk.data(), count);
+        too_long = line.size() > limits.line;
+        return !line.empty() && !too_long;
+      }
+      if (!in.fail()) { // the newline was read (and counted)
+        line.append(chunk.data(), count - 1);
+        return line.size() <= limits.line || !(too_long = true);
+      }
+      // A full chunk without a newline: the line goes on.
+      in.clear(in.rdstate() & ~std::ios::failbit);
+      line.append(chunk.data(), count);
+      if (line.size() > limits.line) {
+        too_long = true;
+        return false;
+      }
     }
-    if (count == 0 && in.eof()) {
-      return false;
-    }
-    in.clear(in.rdstate() & ~std::ios::failbit);
-    line.assign(buffer.data(), count - (count > 0 && !in.eof() ? 1 : 0));
-    return true;
   };
   enum class Where { before, inside, after } where = Where::before; // the records
   Depth depth;                   // of the text before the records
@@ -361,8 +374,8 @@ std::optional<Report> read_record_lines(std::istream& in, const std::string& pat
     }
     records.push_back(std::move(*facts));
   }
-  if (where != Where::after || in.bad() || !in.eof()) {
-    return std::nullopt; // not to its end: a line longer than limits.line
+  if (where != Where::after || in.bad() || too_long) {
+    return std::nullopt;
   }
   Report report;
   try {
