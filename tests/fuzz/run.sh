@@ -1,10 +1,10 @@
 #!/usr/bin/env bash
-# Runs the two libFuzzer targets (tests/fuzz/*_fuzz.cpp) for SECONDS each, side by side (one core
-# each), over a copy of their corpus: the seeds in tests/fuzz/corpus stay as they are, what the
+# Runs the three libFuzzer targets (tests/fuzz/*_fuzz.cpp) for SECONDS each, side by side (on two
+# cores: the wall time of one), over a copy of their corpus: the seeds in tests/fuzz/corpus stay as they are, what the
 # fuzzers add goes to a temporary directory, deleted at the end.
 #   tests/fuzz/run.sh BUILD_DIR SECONDS
 # BUILD_DIR was configured with -DPLDAMP_FUZZ=ON (CC=clang CXX=clang++) and has built the targets
-# scene_fuzz and report_fuzz. Exits non-zero when either finds a crash, a hang (an input slower than
+# scene_fuzz, report_fuzz and exchange_fuzz. Exits non-zero when any finds a crash, a hang (an input slower than
 # 10 s), a leak, an ASan/UBSan report or an exception other than std::invalid_argument; the input
 # that did it is kept in BUILD_DIR/fuzz-artifacts/<target>/ (a crash- file to copy into
 # tests/fuzz/corpus/<target>/), and its report is printed.
@@ -70,9 +70,12 @@ start scene_fuzz
 scene_pid=$!
 start report_fuzz
 report_pid=$!
+start exchange_fuzz
+exchange_pid=$!
 failed=0
 finish scene_fuzz "$scene_pid" || failed=1
 finish report_fuzz "$report_pid" || failed=1
+finish exchange_fuzz "$exchange_pid" || failed=1
 if ((failed)); then
   echo "fuzzing found a problem: the inputs are in $build/fuzz-artifacts/ (replay one: " \
     "$build/tests/fuzz/<target> FILE)" >&2
