@@ -5,7 +5,8 @@
 #                         nightly gate on a second checkout with an injected regression, rebuild
 #                         and rerun the tests under ASan+UBSan, check the reference table
 #                         regenerates bit for bit, that the sources are clang-formatted, fuzz the
-#                         scene and report readers, and build the CLI by Clang without float128
+#                         scene, report, external-reply and shard readers, and build the CLI by
+#                         Clang without float128
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
@@ -111,8 +112,8 @@ test)
   # solves, runs here in Timestep.*, Search.TheTimeStepStudyAnswersAsTheSearchDoes and Plan.*.
   ctest --test-dir build-sanitize -j "$(nproc)" --output-on-failure -LE 'adapters|install' \
     -E 'EndToEnd\.(DemSceneGivesTheTableADemUserQuotes|ViscoelasticSceneJudgesEverythingAgainstTheReferenceSolve)'
-  echo "== fuzzing the scene and report parsers (libFuzzer)"
-  # Clang, the two fuzz targets and what they link (the readers, the solvers) under ASan+UBSan
+  echo "== fuzzing the scene, report, external-reply and shard readers (libFuzzer)"
+  # Clang, the three fuzz targets and what they link (the readers, the solvers) under ASan+UBSan
   # with libFuzzer's coverage, -O1 -g1 as above but with the libraries' assertions
   # (nlohmann::json's catch misuse), without float128 (Clang does not find GCC's quadmath.h); about
   # 4 minutes on 2 cores. Each target then runs for 30 s, side by side, over a copy of
