@@ -118,8 +118,9 @@ std::optional<std::pair<double, double>> vertex_of(const Curve& curve, std::size
 // The largest value of the cubic Hermite pieces on both sides of sample i, and where.
 std::pair<double, double> hermite_peak(const Curve& curve, std::size_t i);
 
-// The largest value of the cubic through samples from .. from + 3, and where: golden-section
-// search over their span (the cubic is unimodal there about a sampled maximum).
+// The largest value of the cubic through samples from .. from + 3, and where: its slope's root
+// in their span that is a maximum (the cubic is unimodal there about a sampled maximum), else
+// the largest of the samples.
 std::pair<double, double> cubic_peak(const Curve& curve, std::size_t from);
 
 } // namespace pldamp::harness::sampled
