@@ -66,6 +66,23 @@ std::pair<double, double> Curve::slopes(double x, const Interpolant& by) const {
   return {by.parabola->slope(x), (y[b] - y[a]) / h};
 }
 
+Strided strided(const Curve& curve, std::size_t anchor, std::size_t stride, std::size_t before,
+                std::size_t after, std::size_t lo, std::size_t hi) {
+  assert(stride >= 1 && lo <= anchor && anchor <= hi && hi < curve.size());
+  Strided rows;
+  const std::size_t down = std::min(before, (anchor - lo) / stride);
+  const std::size_t up = std::min(after, (hi - anchor) / stride);
+  for (std::size_t j = anchor - down * stride; j <= anchor + up * stride; j += stride) {
+    rows.t.push_back(curve.t[j]);
+    rows.y.push_back(curve.y[j]);
+    if (curve.slope != nullptr) {
+      rows.slope.push_back((*curve.slope)[j]);
+    }
+  }
+  rows.at = down;
+  return rows;
+}
+
 std::optional<std::pair<double, double>> vertex_of(const Curve& curve, std::size_t first) {
   const Quadratic parabola = curve.quadratic(first);
   if (!(parabola.d012 < 0)) {

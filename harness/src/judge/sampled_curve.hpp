@@ -111,6 +111,125 @@ struct Curve {
   std::pair<double, double> slopes(double x, const Interpolant& by) const;
 };
 
+// ---- Reading over a wider spacing than the rows' (MATH.md §10.2) -----------------------------
+
+// The relative rounding of each column (resolution_of its digits): a cell y is known to ρ |y|.
+struct Resolution {
+  double t, y, slope;
+};
+
+// Every stride-th row of a curve about one of its rows, as a curve of its own: rows
+// anchor + j·stride for j from −before to after, those in [lo, hi]. A derivative read off rows
+// closer than their digits resolve is their rounding (4 ε y/h² on a second difference); read off
+// every s-th row it is the same reading at an s times wider spacing.
+struct Strided {
+  std::vector<double> t, y, slope;
+  std::size_t at = 0; // the anchor's index among them
+  Curve curve() const { return {t, y, slope.empty() ? nullptr : &slope}; }
+};
+Strided strided(const Curve& curve, std::size_t anchor, std::size_t stride, std::size_t before,
+                std::size_t after, std::size_t lo, std::size_t hi);
+
+// How far readings off `rows` move when each cell they read moves by its half unit (ρ |cell|,
+// MATH.md §10.2), the moves summed: the readings' rounding to first order, whatever weights the
+// interpolant gives the cells (a parabola's slope at its rows' ends weighs them 4/H, a Hermite
+// extrapolated a row past its piece more). `read(rows)` gives N values; infinite where a move
+// made one not finite (a time moved past its neighbour's).
+template <std::size_t N, class Read>
+std::array<double, N> moved_by_rounding(const Strided& rows, const Resolution& r,
+                                        const Read& read) {
+  const std::array<double, N> base = read(rows);
+  std::array<double, N> moved{};
+  for (const auto& [column, resolution] : {std::pair{&Strided::t, r.t}, std::pair{&Strided::y, r.y},
+                                           std::pair{&Strided::slope, r.slope}}) {
+    for (std::size_t j = 0; j < (rows.*column).size(); ++j) {
+      Strided nudged = rows;
+      (nudged.*column)[j] += resolution * std::abs((rows.*column)[j]);
+      const std::array<double, N> now = read(nudged);
+      for (std::size_t k = 0; k < N; ++k) {
+        moved[k] += std::abs(now[k] - base[k]);
+      }
+    }
+  }
+  for (double& m : moved) {
+    m = std::isfinite(m) ? m : std::numeric_limits<double>::infinity();
+  }
+  return moved;
+}
+
+// A reading at one spacing: its value, its estimate (§10.1's comparisons with the other readings
+// at that spacing) and a bound on how far the cells' rounding moves it.
+struct Reading {
+  double value = 0, estimate = 0, rounding = 0;
+  std::size_t stride = 1; // of the rows it was read off
+  // Set by at_resolving_stride: how far the reading moved from the one a stride narrower, and to
+  // the one a stride wider; and how far rounding alone can move those comparisons.
+  double change_from_narrower = 0, change_to_wider = 0, changes_rounding = 0;
+
+  // Two readings each off by up to the bound may differ by twice it through rounding alone.
+  double compared_rounding() const { return std::max(changes_rounding, 2 * rounding); }
+  bool within_rounding() const {
+    return std::max({estimate, change_from_narrower, change_to_wider}) <= compared_rounding();
+  }
+  // The comparisons' spread, but no less than their rounding (readings off by it may agree by
+  // accident, hiding that much of the truncation the spread is meant to show), and the reading's
+  // own rounding. The narrower reading errs by about the change between two strides or less; the
+  // wider by 4/3 of it where its truncation is second order in the spacing, twice where first:
+  // twice is counted (once was seen 1.07-fold short: t_peak, p = 3, e = 0.1, 9 digits, 10^5
+  // rows).
+  double error() const {
+    return std::max({estimate, change_to_wider, 2 * change_from_narrower, compared_rounding()}) +
+           rounding;
+  }
+};
+
+// The §10.1 estimates cover the closed form's errors from 40 rows per contact on; below, they
+// can miss several-fold (e at p = 1, e = 0.1, off 20 rows written with 6 digits and read at
+// stride 2, as if off 10: by 1.6). The widest stride for them keeps 40 rows of contact or more.
+inline std::size_t widest_keeping_40_rows(std::size_t contact_rows) {
+  return std::max<std::size_t>(1, contact_rows / 40);
+}
+
+// The stride a derivative is read at (MATH.md §10.2): 1, doubled while the reading's comparisons
+// are within what rounding alone makes of them (the truncation they are meant to show is below
+// the rounding, which halves or quarters at each doubling) and while `largest` allows; of the
+// strides tried, the one whose error() is least. Past stride 1 each reading is also compared with
+// the ones a stride before and after it, which differ from it by truncation even where its own
+// comparisons are blind to that (e_cap at the force cut without v, p = 1.5, 12 digits, 10^6
+// rows: δ'' = 0 there and the slopes compared err alike; the reading drifted by 5.6e−5 over
+// doublings its comparisons put at 1e−10). At a spacing the digits resolve, stride 1: the reading
+// as it was. `read(s)` gives the reading at stride s, or none.
+template <class Read>
+std::optional<Reading> at_resolving_stride(const Read& read, std::size_t largest) {
+  std::vector<Reading> tried;
+  if (const std::optional<Reading> first = read(std::size_t(1))) {
+    tried.push_back(*first);
+  }
+  for (std::size_t stride = 2;
+       stride <= largest && (tried.empty() || tried.back().within_rounding()); stride *= 2) {
+    std::optional<Reading> next = read(stride);
+    if (!next) {
+      continue;
+    }
+    if (!tried.empty() && tried.back().stride == stride / 2) {
+      Reading& narrower = tried.back();
+      const double change = std::abs(next->value - narrower.value);
+      narrower.change_to_wider = change;
+      next->change_from_narrower = change;
+      for (Reading* r : {&narrower, &*next}) {
+        r->changes_rounding = std::max(r->changes_rounding, narrower.rounding + next->rounding);
+      }
+    }
+    tried.push_back(*next);
+  }
+  if (tried.empty()) {
+    return std::nullopt;
+  }
+  return *std::min_element(tried.begin(), tried.end(), [](const Reading& a, const Reading& b) {
+    return a.error() < b.error();
+  });
+}
+
 // The vertex of the parabola through samples first .. first + 2, when it is concave; clamped to
 // their span.
 std::optional<std::pair<double, double>> vertex_of(const Curve& curve, std::size_t first);

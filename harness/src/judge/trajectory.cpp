@@ -6,8 +6,10 @@
 
 #include "common/input.hpp"
 #include "judge/sampled_curve.hpp"
+#include "judge/trajectory_peak.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cassert>
 #include <cmath>
 #include <tuple>
@@ -15,12 +17,12 @@
 namespace pldamp::harness {
 namespace {
 
-using sampled::cubic_peak;
+using sampled::at_resolving_stride;
 using sampled::Curve;
 using sampled::floored;
-using sampled::hermite_peak;
 using sampled::Interpolant;
-using sampled::vertex_of;
+using sampled::Reading;
+using sampled::Resolution;
 
 Extracted missing(std::string why) {
   return {std::nullopt, 0, std::move(why)};
@@ -48,80 +50,96 @@ void require_series(const TrajectoryColumns& c) {
   }
 }
 
-// The largest total normal force and its time (absolute) over the contact's rows first .. last:
-// the vertex of the parabola through the largest sample and its neighbours, against the peaks of
-// the cubics through four samples about it (one order higher: its sampling estimate; the sample
-// itself where there are not four). Largest at the first row (p = 1 and α_eff ≥ ½: the dashpot's
-// jump at the onset, MATH.md §3): that row, which a sampling one row finer could raise by the
-// change to the next.
-std::pair<Extracted, Extracted> force_peak_of(const Curve& force, std::size_t first,
-                                              std::size_t last) {
-  assert(first <= last && last < force.size()); // the contact's rows
-  const auto i = static_cast<std::size_t>(
-      std::max_element(force.y.begin() + static_cast<std::ptrdiff_t>(first),
-                       force.y.begin() + static_cast<std::ptrdiff_t>(last + 1)) -
-      force.y.begin());
-  if (i == first || i == last) {
-    const std::size_t next = i == first ? std::min(i + 1, last) : i - 1;
-    return {Extracted{force.y[i], std::abs(force.y[i] - force.y[next]), {}},
-            Extracted{force.t[i], std::abs(force.t[i] - force.t[next]), {}}};
+// A crossing of 0 between rows a and a + 1 moves by the times' rounding and by the values' over
+// the slope between them (MATH.md §10.2); its estimate becomes a Reading's error().
+void add_crossing_rounding(Extracted& crossing, const Curve& curve, std::size_t a,
+                           const Resolution& r) {
+  if (!crossing.value) {
+    return;
   }
-  const std::pair<double, double> sample{force.t[i], force.y[i]};
-  const std::pair<double, double> vertex = vertex_of(force, i - 1).value_or(sample);
-  // The cubics through four samples about the peak, the fourth before and after: the larger
-  // disagreement (one alone can agree with the parabola by accident: 36-fold too small at p = 3).
-  double t_spread = 0, y_spread = 0;
-  bool compared = false;
-  for (const std::size_t before : {1, 2}) { // samples before i among the four
-    if (i >= first + before && i - before + 3 <= last) {
-      const std::pair<double, double> cubic = cubic_peak(force, i - before);
-      t_spread = std::max(t_spread, std::abs(vertex.first - cubic.first));
-      y_spread = std::max(y_spread, std::abs(vertex.second - cubic.second));
-      compared = true;
-    }
-  }
-  if (!compared) {
-    t_spread = std::abs(vertex.first - sample.first);
-    y_spread = std::abs(vertex.second - sample.second);
-  }
-  return {Extracted{vertex.second, floored(y_spread, vertex.second), {}},
-          Extracted{vertex.first, floored(t_spread, vertex.first), {}}};
+  const double u_t = r.t * std::max(std::abs(curve.t[a]), std::abs(curve.t[a + 1]));
+  const double u_y = r.y * std::max(std::abs(curve.y[a]), std::abs(curve.y[a + 1]));
+  const double slope = std::abs(curve.y[a + 1] - curve.y[a]) / (curve.t[a + 1] - curve.t[a]);
+  crossing.sampling = Reading{*crossing.value, crossing.sampling, u_t + u_y / slope}.error();
 }
 
-// The largest overlap and its time (absolute), about the largest sample i. With v: the largest
-// value of the cubic Hermite pieces on both sides of it, against the parabola through the three
-// samples; without: that parabola's vertex, against the largest sample and against the vertex
-// of the parabola one sample over, toward the vertex.
-std::pair<Extracted, Extracted> peak_of(const Curve& delta, std::size_t i) {
-  if (i == 0 || i + 1 >= delta.size()) {
-    const char* why = i == 0 ? "the largest overlap is the first row: the peak is not in the series"
-                             : "the largest overlap is the last row: the peak is not in the series";
-    return {missing(why), missing(why)};
+// The speed at x, where the contact ends (x_sampling its estimate), off the rows about the
+// interval [end_at, end_at + 1] holding it: by the interpolant across it and by the contact
+// side's (`before_end`), each with its lower-order partner (MATH.md §10.1). At the force cut,
+// inside the contact, the one across it. At the overlap end the contact side's where the force
+// jumps there, else the one across it (with v), or the secant across it (without: the parabola
+// would bend through the kink). Its estimate, not its rounding.
+Reading end_speed_of(const Curve& overlap, std::size_t end_at,
+                     const std::optional<Interpolant>& before_end, double x, double x_sampling,
+                     bool overlap_end, bool one_sided) {
+  const auto [across_value, across_lower] = overlap.slopes(x, overlap.across(end_at, -1));
+  std::vector<double> candidates{across_value, across_lower};
+  double value = across_value;
+  if (overlap.slope == nullptr) { // and the parabola on the interval's other side
+    candidates.push_back(overlap.slopes(x, overlap.across(end_at, +1)).first);
+    value = (candidates[0] + candidates[2]) / 2; // centred: the four samples' cubic, nearly
   }
-  const std::pair<double, double> sample{delta.t[i], delta.y[i]};
-  const std::pair<double, double> vertex = vertex_of(delta, i - 1).value_or(sample);
-  std::pair<double, double> best = vertex;
-  std::vector<std::pair<double, double>> others;
-  if (delta.slope != nullptr) {
-    best = hermite_peak(delta, i);
-    others.push_back(vertex);
-  } else {
-    others.push_back(sample);
-    const bool later = vertex.first > delta.t[i];
-    if (later ? i + 2 < delta.size() : i >= 2) {
-      if (const auto shifted = vertex_of(delta, later ? i : i - 2)) {
-        others.push_back(*shifted);
+  if (overlap_end) {
+    value = overlap.slope != nullptr ? across_value : across_lower;
+    if (before_end) {
+      const auto [local_value, local_lower] = overlap.slopes(x, *before_end);
+      if (one_sided) { // those across the jump are first order: no yardstick
+        candidates.clear();
+        value = local_value;
       }
+      candidates.insert(candidates.end(), {local_value, local_lower});
     }
   }
-  double t_spread = 0;
-  double y_spread = 0;
-  for (const auto& [t, y] : others) {
-    t_spread = std::max(t_spread, std::abs(best.first - t));
-    y_spread = std::max(y_spread, std::abs(best.second - y));
+  double spread = 0;
+  for (const double candidate : candidates) {
+    spread = std::max(spread, std::abs(value - candidate));
   }
-  return {Extracted{best.second, floored(y_spread, best.second), {}},
-          Extracted{best.first, floored(t_spread, best.first), {}}};
+  // And the end time's own estimate, carried through the speed's change over it.
+  const Interpolant on_time = overlap.across(end_at, -1);
+  for (const double sign : {-1.0, 1.0}) {
+    const double moved = x + sign * x_sampling;
+    spread = std::max(
+        spread, std::abs(overlap.slopes(moved, on_time).first - overlap.slopes(x, on_time).first));
+  }
+  return {value, spread, 0};
+}
+
+// The speed where the contact ends, read over the stride that resolves it (MATH.md §10.2): the
+// interval holding the end widened to s rows — at the overlap end from s rows before the row
+// after the contact (or the file's last row), into the contact; at the force cut about the
+// cut's interval — and the rows s apart about it. Its rounding: each cell it reads moved by its
+// half unit (sampled::moved_by_rounding; the reading may extrapolate, p = 1, from the contact's
+// side up to a row past it).
+Reading end_speed(const Curve& overlap, std::size_t end_at, std::size_t first, std::size_t last,
+                  double x, double x_sampling, bool overlap_end, bool one_sided,
+                  const Resolution& r) {
+  const std::size_t n = overlap.size();
+  const std::size_t points = overlap.slope != nullptr ? 2 : 3; // the rows an interpolant needs
+  const auto read = [&](std::size_t s) -> std::optional<Reading> {
+    const std::size_t a = overlap_end ? std::min(last + s, n - 1) - s : end_at - (s - 1) / 2;
+    // Wider than one row, the rows below the interval (and at the cut, above it) are contact's.
+    if (s > 1 && (a < first + 2 * s || (!overlap_end && a + 2 * s > last))) {
+      return std::nullopt;
+    }
+    const auto speed_off = [&](const sampled::Strided& rows) {
+      const Curve curve = rows.curve();
+      std::optional<Interpolant> before_end;
+      if (overlap_end && a >= first + (points - 1) * s) {
+        before_end = curve.interpolant(rows.at - 1, rows.at + 1 - points);
+      }
+      return end_speed_of(curve, rows.at, before_end, x, x_sampling, overlap_end, one_sided);
+    };
+    const sampled::Strided rows = sampled::strided(overlap, a, s, 2, 2, 0, n - 1);
+    Reading speed = speed_off(rows);
+    speed.rounding = sampled::moved_by_rounding<1>(rows, r, [&](const sampled::Strided& moved) {
+      return std::array{speed_off(moved).value};
+    })[0];
+    speed.stride = s;
+    return speed;
+  };
+  const std::size_t widest = std::min(std::max<std::size_t>(1, (last - first) / 2),
+                                      sampled::widest_keeping_40_rows(last - first + 1));
+  return *at_resolving_stride(read, widest);
 }
 
 // ---- What the file says of its parameters (MATH.md §10.2) -------------------------------------
@@ -173,102 +191,6 @@ std::pair<Extracted, std::string> approach_of(const TrajectoryColumns& c, const 
           ""};
 }
 
-// δ'' and, with an F column, F at the peak time t_star, from the rows i − 1 … i + 1 about the
-// largest overlap: δ'' the curvature of δ's parabola, compared with the parabolas one row over,
-// or the slope of v's parabola, compared with v's secants on either side of i and v's parabolas
-// one row over; F on its parabola, compared with the straight line. The cells' rounding is
-// added: 4 ε/(h₁h₂) on a second difference of values known to ε. And how far δ, δ'' (v's secants
-// or δ's second differences) and F stray from their peak values over the rows within three
-// spacings of row i: a force evaluated up to two steps away from the state dumped with it (a
-// staggered DEM loop's) lies within that of the peak's (MATH.md §10.2).
-void peak_law_of(const TrajectoryColumns& c, std::size_t i, std::size_t first, std::size_t last,
-                 double t_star, TrajectoryObservables& out) {
-  if (i < first + 1 || i + 1 > last) {
-    const std::string why = "fewer than three rows of contact about the peak";
-    out.peak_acceleration = missing(why);
-    out.peak_force = missing(why);
-    return;
-  }
-  const std::vector<double>& t = c.t;
-  const double h1 = t[i] - t[i - 1];
-  const double h2 = t[i + 1] - t[i];
-  const std::size_t k = t_star < t[i] ? i - 1 : i; // the interval holding t_star
-  const std::size_t lo = std::max(first, i - std::min(i, std::size_t(3)));
-  const std::size_t hi = std::min(last, i + 3);
-  const double t_rounding = resolution_of(c.digits.t) *
-                            std::max(std::abs(t[i - 1]), std::abs(t[i + 1])) /
-                            std::min(h1, h2); // relative, on a difference quotient
-  const auto largest = [&](const std::vector<double>& y) {
-    return std::max({std::abs(y[i - 1]), std::abs(y[i]), std::abs(y[i + 1])});
-  };
-  // The first rows of the parabolas one row over, i − 2 … i and i … i + 2, where in contact.
-  std::vector<std::size_t> one_row_over;
-  if (i >= first + 2) {
-    one_row_over.push_back(i - 2);
-  }
-  if (i + 2 <= last) {
-    one_row_over.push_back(i);
-  }
-  double acceleration = 0;
-  double estimate = 0;
-  std::vector<double> nearby; // δ'' over the rows about the peak
-  if (c.v) {
-    const Curve speed{t, *c.v, nullptr};
-    acceleration = speed.quadratic(i - 1).slope(t_star);
-    const double before = speed.slopes(t_star, speed.across(i - 1, +1)).second;
-    const double after = speed.slopes(t_star, speed.across(i, +1)).second;
-    estimate =
-        std::max({std::abs(acceleration - (k < i ? before : after)), std::abs(after - before)});
-    for (const std::size_t shifted : one_row_over) { // v's parabolas one row over
-      estimate =
-          std::max(estimate, std::abs(acceleration - speed.quadratic(shifted).slope(t_star)));
-    }
-    estimate += 2 * resolution_of(c.digits.v) * largest(*c.v) * (1 / h1 + 1 / h2);
-    for (std::size_t j = lo; j < hi; ++j) {
-      nearby.push_back(((*c.v)[j + 1] - (*c.v)[j]) / (t[j + 1] - t[j]));
-    }
-  } else {
-    const Curve overlap{t, c.delta, nullptr};
-    acceleration = 2 * overlap.quadratic(i - 1).d012;
-    bool compared = false;
-    for (const std::size_t shifted : one_row_over) {
-      estimate = std::max(estimate, std::abs(acceleration - 2 * overlap.quadratic(shifted).d012));
-      compared = true;
-    }
-    if (!compared) { // three rows of contact: nothing to compare with
-      estimate = std::abs(acceleration);
-    }
-    estimate += 4 * resolution_of(c.digits.delta) * largest(c.delta) / (h1 * h2);
-    for (std::size_t j = lo; j + 2 <= hi; ++j) {
-      nearby.push_back(2 * overlap.quadratic(j).d012);
-    }
-  }
-  estimate += 4 * t_rounding * std::abs(acceleration);
-  out.peak_acceleration = {acceleration, floored(estimate, acceleration), {}};
-  for (const double a : nearby) {
-    out.peak_acceleration_spread =
-        std::max(out.peak_acceleration_spread, std::abs(a - acceleration));
-  }
-  for (std::size_t j = lo; j <= hi; ++j) {
-    out.peak_overlap_spread = std::max(out.peak_overlap_spread, *out.delta_max.value - c.delta[j]);
-  }
-  if (!c.force) {
-    out.peak_force = missing("no F column");
-    return;
-  }
-  const std::vector<double>& force = *c.force;
-  const Curve total{t, force, nullptr};
-  const double value = total.quadratic(i - 1)(t_star);
-  const double line = force[k] + (force[k + 1] - force[k]) * ((t_star - t[k]) / (t[k + 1] - t[k]));
-  out.peak_force = {
-      value,
-      floored(std::abs(value - line) + resolution_of(c.digits.force) * largest(force), value),
-      {}};
-  for (std::size_t j = lo; j <= hi; ++j) {
-    out.peak_force_spread = std::max(out.peak_force_spread, std::abs(force[j] - value));
-  }
-}
-
 } // namespace
 
 double ForceLaw::operator()(double delta, double v) const {
@@ -285,6 +207,8 @@ TrajectoryObservables extract_observables(const TrajectoryColumns& columns,
   const std::vector<double>& t = columns.t;
   const std::vector<double>& delta = columns.delta;
   const Curve overlap{t, delta, columns.v ? &*columns.v : nullptr};
+  const Resolution rounding{resolution_of(columns.digits.t), resolution_of(columns.digits.delta),
+                            resolution_of(columns.digits.v)};
   TrajectoryObservables out;
 
   // The first contact: the first run of rows with δ > 0.
@@ -327,6 +251,7 @@ TrajectoryObservables extract_observables(const TrajectoryColumns& columns,
   } else {
     const bool clamped = delta[first - 1] == 0 && first >= 2 && delta[first - 2] == 0;
     out.start = overlap.crossing(first - 1, after_start, one_sided, +1, clamped);
+    add_crossing_rounding(out.start, overlap, first - 1, rounding);
     if (clamped) {
       out.notes.push_back("overlap 0 on the rows before contact (clamped?): the start is placed "
                           "within a whole sample spacing");
@@ -339,9 +264,9 @@ TrajectoryObservables extract_observables(const TrajectoryColumns& columns,
                        delta.begin() + static_cast<std::ptrdiff_t>(last + 1)) -
       delta.begin());
   Extracted t_peak_absolute;
-  std::tie(out.delta_max, t_peak_absolute) = peak_of(overlap, peak);
+  std::tie(out.delta_max, t_peak_absolute) = peak::overlap_peak(columns, peak, first, last);
   if (t_peak_absolute.value) {
-    peak_law_of(columns, peak, first, last, *t_peak_absolute.value, out);
+    peak::peak_law(columns, peak, first, last, t_peak_absolute, out);
   } else {
     out.peak_acceleration = missing(t_peak_absolute.missing);
     out.peak_force = missing(t_peak_absolute.missing);
@@ -358,10 +283,18 @@ TrajectoryObservables extract_observables(const TrajectoryColumns& columns,
   const std::vector<double>* force = columns.force      ? &*columns.force
                                      : computed.empty() ? nullptr
                                                         : &computed;
+  // The force's cells: the column's digits; computed, the relative rounding of k δ^p and of the
+  // damping force, p ρ_δ and ρ_δ (p − 1)/2 + ρ_v, at most.
+  const Resolution force_rounding{
+      rounding.t,
+      columns.force ? resolution_of(columns.digits.force)
+                    : std::max(1.0, options.force_law ? options.force_law->p : 1.0) * rounding.y +
+                          rounding.slope,
+      0};
   Extracted t_force_absolute;
   if (force != nullptr) {
     std::tie(out.normal_force_max, t_force_absolute) =
-        force_peak_of(Curve{t, *force, nullptr}, first, last);
+        peak::force_peak(t, *force, force_rounding, first, last);
   } else {
     out.normal_force_max = t_force_absolute =
         missing("no F column, and no v column to compute F from");
@@ -376,6 +309,7 @@ TrajectoryObservables extract_observables(const TrajectoryColumns& columns,
       end_at = last;
       const bool clamped = delta[last + 1] == 0 && last + 2 < n && delta[last + 2] == 0;
       out.end = overlap.crossing(last, before_end, one_sided, -1, clamped);
+      add_crossing_rounding(out.end, overlap, last, rounding);
       if (clamped) {
         out.notes.push_back("overlap 0 on the rows after contact (clamped?): the end is placed "
                             "within a whole sample spacing");
@@ -402,6 +336,7 @@ TrajectoryObservables extract_observables(const TrajectoryColumns& columns,
       const std::size_t b = *end_at + 1;
       const bool clamped = (*force)[b] == 0 && b + 1 < n && (*force)[b + 1] == 0;
       out.end = total.crossing(*end_at, std::nullopt, false, -1, clamped);
+      add_crossing_rounding(out.end, total, *end_at, force_rounding);
       if (clamped) {
         out.notes.push_back("F 0 on the rows after the cut (clamped): the cut is placed within a "
                             "whole sample spacing");
@@ -411,44 +346,11 @@ TrajectoryObservables extract_observables(const TrajectoryColumns& columns,
 
   // e from the velocity at the end.
   if (end_at) {
-    // The slopes at the end by the interpolant across it and by the contact side's, each with its
-    // lower-order partner. At the force cut, inside the contact, the one across it. At the
-    // overlap end the contact side's where the force jumps there, else the one across it (with
-    // v), or the secant across it (without: the parabola would bend through the kink).
-    const double x = *out.end.value;
-    const auto [across_value, across_lower] = overlap.slopes(x, overlap.across(*end_at, -1));
-    std::vector<double> candidates{across_value, across_lower};
-    double value = across_value;
-    if (overlap.slope == nullptr) { // and the parabola on the interval's other side
-      candidates.push_back(overlap.slopes(x, overlap.across(*end_at, +1)).first);
-      value = (candidates[0] + candidates[2]) / 2; // centred: the four samples' cubic, nearly
-    }
-    if (options.end == solvers::End::overlap) {
-      value = overlap.slope != nullptr ? across_value : across_lower;
-      if (before_end) {
-        const auto [local_value, local_lower] = overlap.slopes(x, *before_end);
-        if (one_sided) { // those across the jump are first order: no yardstick
-          candidates.clear();
-          value = local_value;
-        }
-        candidates.insert(candidates.end(), {local_value, local_lower});
-      }
-    }
-    double spread = 0;
-    for (const double candidate : candidates) {
-      spread = std::max(spread, std::abs(value - candidate));
-    }
-    // And the end time's own estimate, carried through the speed's change over it.
-    const Interpolant on_time = overlap.across(*end_at, -1);
-    for (const double sign : {-1.0, 1.0}) {
-      const double moved = x + sign * out.end.sampling;
-      spread = std::max(spread, std::abs(overlap.slopes(moved, on_time).first -
-                                         overlap.slopes(x, on_time).first));
-    }
-    const Extracted speed{value, floored(spread, value), {}};
-    out.e = {std::abs(*speed.value) / options.v0, 0, {}};
-    out.e.sampling = floored(speed.sampling / options.v0, *out.e.value);
-    if (*speed.value > 0) {
+    const Reading speed = end_speed(overlap, *end_at, first, last, *out.end.value, out.end.sampling,
+                                    options.end == solvers::End::overlap, one_sided, rounding);
+    out.e = {std::abs(speed.value) / options.v0, 0, {}};
+    out.e.sampling = floored(floored(speed.error(), speed.value) / options.v0, *out.e.value);
+    if (speed.value > 0) {
       out.notes.push_back("the overlap still grows where the contact ends (v > 0 there)");
     }
   } else {
