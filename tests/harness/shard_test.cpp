@@ -6,6 +6,7 @@
 #include "common/files.hpp"
 #include "pldamp/harness/distribution.hpp"
 #include "report/report.hpp"
+#include "run/record_check.hpp"
 #include "run/record_store.hpp"
 #include "run/shard.hpp"
 #include "truth/point_bytes.hpp"
@@ -577,6 +578,43 @@ TEST(Shards, AHandMadeShardIsHeldToWhatItsRunCouldWrite) {
     EXPECT_EQ(ran.code, 2);
     EXPECT_NE(ran.err.find("is truncated or corrupt"), std::string::npos) << ran.err;
   }
+}
+
+// What a run of pldamp's own solvers writes is what merge takes: a coarse fixed step's dashpot
+// work can come out negative, and its solver does not refuse it (only an external program's
+// answers are held to the energy's sign, run/answers.hpp); a merge of the shipped viscoelastic
+// scene refused exactly that record before.
+TEST(Shards, ARecordAsItsOwnSolverWroteItIsMerged) {
+  const Plan plan = make_plan(parse_scene(R"(name = "coarse"
+want = ["e", "energy"]
+[grid]
+p = [1.5]
+e = [0.5]
+v0 = [1.0]
+[[solver]]
+name = "dem-symplectic-euler"
+steps_per_contact = [10]
+)",
+                                          "coarse.toml"));
+  Record record;
+  record.cell = 0;
+  record.config = 0;
+  record.outcome = solvers::Outcome::exited;
+  record.value.assign(plan.observables.size(), std::nullopt);
+  record.reference = record.error = record.abs_error = record.rel_error = record.spread =
+      record.worst_phase = record.value;
+  for (std::size_t o = 0; o < plan.observables.size(); ++o) {
+    if (plan.observables[o]->key == "energy_load") {
+      record.value[o] = -6.0; // six times m v0^2/2: beyond any allowance an external answer gets
+    }
+  }
+  EXPECT_EQ(impossible_record(plan, record), "");
+  for (std::size_t o = 0; o < plan.observables.size(); ++o) {
+    if (plan.observables[o]->key == "e") {
+      record.value[o] = 1.3; // beyond the step's allowance, min((ωΔt)²/8, 1/4)
+    }
+  }
+  EXPECT_EQ(impossible_record(plan, record).rfind("e = 1.3 gains energy", 0), 0u);
 }
 
 // When a rank cannot start (MPI's all_ready): rank 0 says why, once, for every rank; what fails

@@ -1,11 +1,12 @@
 // A record read back from bytes another process wrote (a shard file, for `pldamp merge`), held to
 // what a run of this build could have written for its plan: a file is checksummed, but the
 // checksum is easy to recompute by hand, so the checksum tells a torn file, and this tells a made
-// one. A merged record is checked as an external program's answer is (run/answers.hpp): every
+// one. A merged record is held to what its solver's answers were held to when it ran: every
 // number finite (τ may be infinite against an infinite truth), no value outside its observable's
-// range (e within 1 + the configuration's allowance, the energies no more negative than it
-// allows, the rest ≥ 0), its truth the plan's to the bit (where the plan is its truth) and its
-// error recomputed from its value and truth.
+// range (e within 1 + the configuration's allowance, sizes and times ≥ 0; an external program's
+// energies no more negative than its allowance, as run/answers.hpp holds them), its truth the
+// plan's to the bit (where the plan is its truth) and its error recomputed from its value and
+// truth.
 #pragma once
 
 #include "run/run.hpp"
