@@ -130,6 +130,20 @@ TEST(External, EachMisbehaviourFailsItsRecordsWithAReason) {
   }
 }
 
+// A program that does not read its input: a problem line longer than the pipe's buffer (64 KiB)
+// blocked pldamp's write for ever, deaf to max_seconds and to SIGTERM. It fails the record
+// within the limit, as a late reply does.
+TEST(External, AProgramThatDoesNotReadFailsItsRecordWithinTheLimit) {
+  const Ran ran = run_scene_text(
+      scene_with("deaf", "options = { padding = \"" + std::string(100000, 'x') + "\" }\n", "",
+                 "p = [1]\ne = [0.5]\nv0 = [1]\n"));
+  ASSERT_EQ(ran.records.size(), 1u);
+  EXPECT_TRUE(ran.records.front().failed());
+  EXPECT_EQ(ran.records.front().failure,
+            "the program did not read the problem within 0.5 s ([limits] max_seconds); the "
+            "program was stopped");
+}
+
 TEST(External, ACrashedOrHungProgramIsRestartedForTheNextRecord) {
   for (const std::string mode : {"crash_once", "hang_once"}) {
     const Ran ran = run_scene_text(

@@ -187,6 +187,7 @@ LineProgram::LineProgram(const std::vector<std::string>& argv) {
   in_write.release();
   out_read.release();
   err_read.release();
+  ::fcntl(in_, F_SETFL, O_NONBLOCK); // write_line waits in poll, within its limit
   ::fcntl(out_, F_SETFL, O_NONBLOCK);
   ::fcntl(err_, F_SETFL, O_NONBLOCK);
 }
@@ -195,27 +196,53 @@ LineProgram::~LineProgram() {
   finish(std::chrono::milliseconds(0));
 }
 
-bool LineProgram::write_line(const std::string& line) {
+LineProgram::Write LineProgram::write_line(const std::string& line,
+                                           std::chrono::milliseconds limit) {
   if (in_ < 0) {
-    return false;
+    return Write::closed;
   }
+  // A program that does not read (a full pipe: 64 KiB on Linux) blocked a plain write for ever,
+  // deaf to the run's limit and to SIGTERM. The write waits in poll, within `limit`, and keeps
+  // reading what the program writes meanwhile: one that writes before it reads would otherwise
+  // block on its own full output while this waits on its input.
+  const auto deadline = std::chrono::steady_clock::now() + limit;
   const std::string text = line + "\n";
   PipeSignalBlocked blocked;
   std::size_t written = 0;
   bool broken_pipe = false;
+  std::array<char, 65536> buffer{};
   while (written < text.size()) {
     const ssize_t n = ::write(in_, text.data() + written, text.size() - written);
+    if (n > 0) {
+      written += static_cast<std::size_t>(n);
+      continue;
+    }
     if (n < 0 && errno == EINTR) {
       continue;
     }
-    if (n <= 0) {
+    if (n < 0 && errno != EAGAIN) {
       broken_pipe = errno == EPIPE;
       break;
     }
-    written += static_cast<std::size_t>(n);
+    const auto left = std::chrono::duration_cast<std::chrono::milliseconds>(
+        deadline - std::chrono::steady_clock::now());
+    if (left.count() <= 0) {
+      return Write::timeout;
+    }
+    std::array<pollfd, 3> fds{pollfd{in_, POLLOUT, 0}, pollfd{out_, POLLIN, 0},
+                              pollfd{err_, POLLIN, 0}};
+    if (::poll(fds.data(), fds.size(), static_cast<int>(left.count())) < 0 && errno != EINTR) {
+      break;
+    }
+    drain_error();
+    if (out_ >= 0 && (fds[1].revents & POLLIN) != 0 && pending_.size() <= 2 * max_line_bytes) {
+      if (const ssize_t got = ::read(out_, buffer.data(), buffer.size()); got > 0) {
+        pending_.append(buffer.data(), static_cast<std::size_t>(got));
+      }
+    }
   }
   blocked.consume_if(broken_pipe);
-  return written == text.size();
+  return written == text.size() ? Write::done : Write::closed;
 }
 
 void LineProgram::drain_error() {

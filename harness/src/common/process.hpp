@@ -39,8 +39,10 @@ public:
   ~LineProgram();
 
   bool started() const { return pid_ > 0; }
-  // Writes `line` and a newline. False when the program no longer reads (it exited).
-  bool write_line(const std::string& line);
+  enum class Write { done, closed, timeout };
+  // Writes `line` and a newline within `limit`: `closed` when the program no longer reads (it
+  // exited or closed its input), `timeout` when it did not take the line in time.
+  Write write_line(const std::string& line, std::chrono::milliseconds limit);
 
   enum class Read { line, end, timeout, too_long };
   // The next line of its standard output (without the newline) within `limit`; `end` when it

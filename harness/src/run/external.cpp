@@ -243,12 +243,19 @@ void ExternalSolver::start() {
     throw ProtocolError(who + ": cannot start " + typed + " (" + why + ")");
   }
   std::string line;
-  if (!program_->write_line(
-          ordered_json{{"protocol", protocol_name}, {"version", protocol_version}}.dump())) {
-    throw ProtocolError(who + ": " + why_stopped(""));
-  }
   // Starting a code (an interpreter, a simulation library) may take longer than one problem.
   const std::chrono::milliseconds limit = std::max(limit_, handshake_limit);
+  switch (program_->write_line(
+      ordered_json{{"protocol", protocol_name}, {"version", protocol_version}}.dump(), limit)) {
+  case LineProgram::Write::done:
+    break;
+  case LineProgram::Write::timeout:
+    stop_program();
+    throw ProtocolError(fmt::format("{}: did not read pldamp's handshake within {} s", who,
+                                    double(limit.count()) / 1000));
+  case LineProgram::Write::closed:
+    throw ProtocolError(who + ": " + why_stopped(""));
+  }
   switch (program_->read_line(line, limit)) {
   case LineProgram::Read::line:
     break;
@@ -400,7 +407,15 @@ solvers::Result<double> ExternalSolver::solve(const SolverConfig& config,
   }
   const long id = next_id_++;
   const auto sent = std::chrono::steady_clock::now();
-  if (!program_->write_line(problem_line(config, problem, options, id))) {
+  switch (program_->write_line(problem_line(config, problem, options, id), limit_)) {
+  case LineProgram::Write::done:
+    break;
+  case LineProgram::Write::timeout: // it does not read: not in step any more
+    stop_program();
+    throw std::runtime_error(fmt::format("the program did not read the problem within {} s "
+                                         "([limits] max_seconds); the program was stopped",
+                                         double(limit_.count()) / 1000));
+  case LineProgram::Write::closed:
     throw std::runtime_error(why_stopped(""));
   }
   std::string line;

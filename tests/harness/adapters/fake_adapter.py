@@ -27,6 +27,8 @@ hang         never answers its first problem
 hang_once    never answers its first problem of all (STATE_FILE remembers), then behaves as good
 partial      writes half a line and exits
 record       appends every problem line to STATE_FILE, then answers as good
+deaf         never reads a problem (a problem line longer than a pipe's buffer then cannot be
+             written)
 deep         answers e nested in 100 000 arrays (and a reason of 10^5 characters)
 beta         says its dashpot goes as delta^0.5 delta' (not the seed's), then answers as good
 """
@@ -83,6 +85,8 @@ def main():
     if mode == "honours":
         handshake["honours"] = ["steps_per_contact", "onset_phase"]
     print(json.dumps(handshake), flush=True)
+    if mode == "deaf":
+        time.sleep(3600)
     for line in sys.stdin:
         problem = json.loads(line)
         reply = {"id": problem["id"]}
