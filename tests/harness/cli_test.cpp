@@ -157,10 +157,9 @@ TEST(Cli, CalibrateAVelocityDependentCodeAndItsRestitutionAtOtherSpeeds) {
   const CliRun beyond = run({"calibrate", "--code", "lammps-hertz-history", "--p", "1.5", "--e",
                              "0.9", "--v0", "1", "--speeds", "1e30"});
   EXPECT_EQ(beyond.code, 2);
-  EXPECT_EQ(beyond.err,
-            "error: at v0 = 1e+30 (alpha_eff 42186.8) no e: the reference solve at "
-            "alpha_eff 512 saw no return within its horizon of 10^4 delta_u/v0, and "
-            "more damping returns later; ask at lower damping (got --speeds 1e+30)\n");
+  EXPECT_EQ(beyond.err, "error: at v0 = 1e+30 (alpha_eff 42186.8) no e: the reference solve at "
+                        "alpha_eff 512 saw no return within its horizon of 10^4 delta_u/v0, and "
+                        "more damping returns later; ask at lower damping (got --speeds 1e+30)\n");
 
   const CliRun wrong_p =
       run({"calibrate", "--code", "lammps-viscoelastic", "--p", "1", "--e", "0.5"});

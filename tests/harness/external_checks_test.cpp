@@ -97,6 +97,10 @@ TEST(ExternalChecks, WhatAProgramSaysIsReadWithinBounds) {
     EXPECT_LE(what.size(), 200u) << depth;
   }
   EXPECT_EQ(message_of(reply(R"("e": 0.5)")), "read");
+  // Counts a report can sum over its records in 64 bits (INT64_MAX wrapped a total).
+  EXPECT_EQ(message_of(reply(R"("steps": 1e12)")), "read");
+  EXPECT_EQ(message_of(reply(R"("steps": 1000000000001)")),
+            "the reply's steps must be a whole number up to 1e+12 (got 1000000000001)");
   // A reason of 10^5 characters, with newlines and a two-byte character at every cut: kept as one
   // line of whole characters.
   std::string reason;

@@ -109,6 +109,7 @@ TEST(External, EachMisbehaviourFailsItsRecordsWithAReason) {
       {"bad_json", "the reply is not JSON (got 'e = 0.5')"},
       {"wrong_id", "the reply is for another problem: id 0 expected (got '7')"},
       {"no_outcome", "the reply has no outcome"},
+      {"slow_clock", "the reply's wall_seconds 1e+300 is longer than its round trip"},
       {"deep", "the reply nests JSON deeper than 16 levels (got '{\"id\": 0, \"outcome\": "
                "\"error\", \"reason\": \"\\u00e9\\n\\u00e9"},
       {"error", "the program's error: fakecode: lost atoms"},

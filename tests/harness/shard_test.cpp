@@ -506,7 +506,52 @@ TEST(Shards, AHandMadeShardIsHeldToWhatItsRunCouldWrite) {
       "e = 1.5 gains energy");
   refused([&](Shard& s) { with_values(s).abs_error[e] = 0.0; }, "e's abs_error 0 is not |error|");
   refused([&](Shard& s) { with_values(s).phases = 7; }, "onset phases, its configuration runs");
-  refused([&](Shard& s) { with_values(s).wall_seconds = -1; }, "a time that is not a finite");
+  refused([&](Shard& s) { with_values(s).wall_seconds = -1; }, "a time of -1 s, not in [0, 61]");
+  // Found by the second hostile pass: each merged with exit 0, or crashed the merge (all lists
+  // empty), or ended it with an internal error (text that is not UTF-8 reached report.json).
+  refused(
+      [&](Shard& s) {
+        Record& r = with_values(s);
+        r.value = r.reference = r.error = r.abs_error = r.rel_error = r.spread = r.worst_phase = {};
+      },
+      "it holds 0 values of an observable, the plan has 3 observables");
+  refused([&](Shard& s) { with_values(s).note = "x"; },
+          "a skip or a note on a configuration of pldamp's own solver");
+  refused([&](Shard& s) { with_values(s).skip_reason = "x"; },
+          "a skip or a note on a configuration of pldamp's own solver");
+  refused([&](Shard& s) { with_values(s).outcome = solvers::Outcome::peak; },
+          "e, tau or energy_unload beside outcome peak");
+  refused([&](Shard& s) { with_values(s).outcome = solvers::Outcome::unstable; },
+          "values beside outcome unstable");
+  refused([&](Shard& s) { with_values(s).alpha = 123; }, "alpha = 123, its cell's is ");
+  refused([&](Shard& s) { with_values(s).wall_seconds = 1e300; }, "a time of 1e+300 s");
+  refused([&](Shard& s) { with_values(s).rhs_evals = std::numeric_limits<long>::max(); },
+          "work out of its run's limits");
+  refused(
+      [&](Shard& s) {
+        for (Record& r : s.records) {
+          if (!plan.configs[r.config].steps_per_contact) {
+            r.dt = 0.1; // a step on an error-controlled configuration
+            return;
+          }
+        }
+      },
+      "a step dt = 0.1 for a configuration without one");
+  refused([&](Shard& s) { with_values(s).failure = "\xff"; }, "is truncated or corrupt");
+  refused([&](Shard& s) { with_values(s).failure = std::string(20000, 'x'); },
+          "is truncated or corrupt");
+  // More bytes than its records could take: refused before the checksum reads them (a 4 GiB file
+  // was hashed whole, 24 s, before).
+  {
+    std::ifstream in(fs::path(folders[1]) / shard_file_name, std::ios::binary);
+    std::string bytes((std::istreambuf_iterator<char>(in)), {});
+    bytes.insert(bytes.size() - 8, std::string(std::size_t{8} << 20, '\0'));
+    fs::create_directories(base / "padded");
+    std::ofstream(base / "padded" / shard_file_name, std::ios::binary) << bytes;
+    const CliRun ran = run({"merge", folders[0], (base / "padded").string(), "--out", out});
+    EXPECT_EQ(ran.code, 2);
+    EXPECT_NE(ran.err.find("records its header names could take"), std::string::npos) << ran.err;
+  }
   // The header: a scene of 10^7 cells with limits lifted, planned only after its bytes are
   // counted; one whose cells disagree with its scene.
   std::vector<int> values(1000); // 9·10^6 cells in 9 kB: 3 p × 3 dampings × 10^3 v0 × 10^3 m
@@ -600,6 +645,7 @@ steps_per_contact = [10]
   record.cell = 0;
   record.config = 0;
   record.outcome = solvers::Outcome::exited;
+  record.alpha = alpha_as_received<double>(plan.cells[0].alpha);
   record.value.assign(plan.observables.size(), std::nullopt);
   record.reference = record.error = record.abs_error = record.rel_error = record.spread =
       record.worst_phase = record.value;

@@ -60,11 +60,16 @@ public:
   }
   void get_raw(void* value, std::size_t size) { std::memcpy(value, take(size).data(), size); }
   std::string string() { return std::string(take(size())); }
-  // Strings as string() reads them, `count` of them (each takes at least its length's 8 bytes).
-  std::vector<std::string> strings() {
-    std::vector<std::string> out(size(sizeof(std::uint64_t)));
-    for (std::string& text : out) {
-      text = string();
+  // A string a writer of report files may hold: at most `max_bytes`, and UTF-8 (a shard's text
+  // that is not reached report.json's writer as an internal error).
+  std::string text(std::size_t max_bytes) {
+    const std::size_t length = size();
+    if (length > max_bytes) {
+      corrupt();
+    }
+    std::string out(take(length));
+    if (!valid_utf8(out)) {
+      corrupt();
     }
     return out;
   }

@@ -69,6 +69,18 @@ inline std::size_t utf8_sequence(std::string_view text) {
   return n;
 }
 
+// Whether `text` is UTF-8 throughout (what a JSON writer takes: nlohmann's throws otherwise).
+inline bool valid_utf8(std::string_view text) {
+  for (std::size_t i = 0; i < text.size();) {
+    const std::size_t n = utf8_sequence(text.substr(i));
+    if (n == 0) {
+      return false;
+    }
+    i += n;
+  }
+  return true;
+}
+
 // A text as one line of output: control characters and bytes that are not UTF-8 shown escaped
 // (\n, \t, \xNN), so that a newline typed into an option or a scene's name cannot start a line of
 // its own, a NUL cannot end the line early, and a UTF-16 or binary file's bytes cannot reach a

@@ -100,9 +100,9 @@ std::optional<double> reply_number(const json& reply, const char* key) {
 
 long reply_count(const json& reply, const char* key) {
   const std::optional<double> value = reply_number(reply, key);
-  if (value && (*value != std::floor(*value) || *value > 9e15)) {
-    throw std::runtime_error(
-        fmt::format("the reply's {} must be a whole number (got {})", key, *value));
+  if (value && (*value != std::floor(*value) || *value > max_reply_count)) {
+    throw std::runtime_error(fmt::format(
+        "the reply's {} must be a whole number up to {:g} (got {})", key, max_reply_count, *value));
   }
   return value ? static_cast<long>(*value) : 0;
 }
@@ -439,6 +439,10 @@ solvers::Result<double> ExternalSolver::solve(const SolverConfig& config,
     solvers::Result<double> result = read_reply(line, id);
     if (result.wall_seconds == 0) {
       result.wall_seconds = round_trip;
+    } else if (result.wall_seconds > round_trip + 1) { // its clock's grain and ours aside
+      throw ReportedError(fmt::format("the reply's wall_seconds {} is longer than its round "
+                                      "trip, {:.3g} s",
+                                      result.wall_seconds, round_trip));
     }
     result.fixed_step = step_of(config, problem);
     if (result.outcome != solvers::Outcome::unstable) {

@@ -75,6 +75,9 @@ struct ExternalFacts {
 inline constexpr int max_reply_depth = 16;
 inline constexpr std::size_t max_reply_text = 200;
 inline constexpr std::size_t max_reply_items = 1000;
+// The largest work count (steps, rhs_evals) a reply may state: a report sums them over its
+// records in 64 bits (larger ones wrapped the total).
+inline constexpr double max_reply_count = 1e12;
 
 // The program's own `error` outcome: the record fails, the exchange is still in step.
 struct ReportedError : std::runtime_error {

@@ -2,11 +2,13 @@
 
 #include "common/observables.hpp"
 #include "run/answers.hpp"
+#include "run/external.hpp"
 
 #include "pldamp/solvers/contact_ode.hpp"
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 
@@ -111,49 +113,110 @@ std::string impossible_numbers(const Plan& plan, const Record& r, std::size_t o,
   return {};
 }
 
+// Why what a record says of its run (outcome, work, times, α, step, skip and note) cannot be a
+// run's of this plan; empty when it can.
+std::string impossible_run(const Plan& plan, const Record& r) {
+  const SolverConfig& config = plan.configs[r.config];
+  const Cell& cell = plan.cells[r.cell];
+  const Limits& limits = plan.scene.limits;
+  // Work within the run's limits. pldamp's solvers: steps per solve at most max_steps (a mean over
+  // phases), right-hand sides at most a thousand a step (INT64_MAX wrapped the report's total),
+  // times within max_seconds a solve (twice, and a second, for the clock's grain). An external
+  // program: the counts it may report (at most 1e12, external.cpp), its time within its reply's
+  // limit.
+  const bool external = config.external();
+  const double most_steps = external ? max_reply_count : double(limits.max_steps);
+  const double most_rhs = external ? max_reply_count : 1000 * double(limits.max_steps);
+  const double most_seconds = external ? limits.max_seconds + 1 : 2 * limits.max_seconds + 1;
+  if (r.steps < 0 || double(r.steps) > most_steps || r.rhs_evals < 0 ||
+      double(r.rhs_evals) > most_rhs || r.runs < 0) {
+    return fmt::format("work out of its run's limits (steps {}, rhs_evals {}, runs {})", r.steps,
+                       r.rhs_evals, r.runs);
+  }
+  for (const double x : {r.wall_seconds, r.wall_seconds_slowest, r.cpu_seconds.value_or(0),
+                         r.cpu_seconds_slowest.value_or(0)}) {
+    if (!(x >= 0 && x <= most_seconds)) {
+      return fmt::format("a time of {} s, not in [0, {}] (max_seconds {})", to_string_full(x),
+                         most_seconds, limits.max_seconds);
+    }
+  }
+  if (external && (r.cpu_seconds || r.cpu_seconds_slowest)) {
+    return "a CPU time on an external program's record (its work is done in its own process)";
+  }
+  // A skip and a note come from external programs only (their handshakes and β).
+  if (!external && (r.skipped() || !r.note.empty())) {
+    return "a skip or a note on a configuration of pldamp's own solver";
+  }
+  if (r.skipped()) {
+    return {};
+  }
+  if (r.phases != config.onset_phases) {
+    return fmt::format("{} onset phases, its configuration runs {}", r.phases, config.onset_phases);
+  }
+  // α as the configuration receives it (truth/plan.hpp, alpha_as_received), to the bit.
+  if (!(r.alpha == alpha_as_received<double>(cell.alpha))) {
+    return fmt::format("alpha = {}, its cell's is {}", to_string_full(r.alpha),
+                       to_string_full(alpha_as_received<double>(cell.alpha)));
+  }
+  // A step where the configuration runs one and the solver ran, none where it does not.
+  const bool fixed = config.steps_per_contact.has_value() || config.dt.has_value();
+  if ((r.dt && !fixed) || (r.dt && !(std::isfinite(*r.dt) && *r.dt > 0))) {
+    return fmt::format("a step dt = {} for a configuration {}",
+                       r.dt ? to_string_full(*r.dt) : std::string("none"),
+                       fixed ? "of a fixed step" : "without one");
+  }
+  // What an outcome leaves: nothing measured when the solver threw or gave an impossible answer;
+  // at the peak, nothing after it; no return, no e but 0.
+  const auto value_of = [&](std::string_view key) -> std::optional<double> {
+    for (std::size_t o = 0; o < plan.observables.size(); ++o) {
+      if (plan.observables[o]->key == key) {
+        return r.value[o];
+      }
+    }
+    return std::nullopt;
+  };
+  const bool any = std::any_of(r.value.begin(), r.value.end(),
+                               [](const std::optional<double>& v) { return v.has_value(); });
+  if ((!r.outcome || *r.outcome == solvers::Outcome::unstable) && any) {
+    return fmt::format("values beside outcome {}", r.outcome_name());
+  }
+  if (r.outcome == solvers::Outcome::peak &&
+      (value_of("e") || value_of("tau") || value_of("energy_unload"))) {
+    return "e, tau or energy_unload beside outcome peak";
+  }
+  if (r.outcome == solvers::Outcome::no_exit && value_of("e") && *value_of("e") != 0) {
+    return fmt::format("e = {} beside outcome no_exit", to_string_full(*value_of("e")));
+  }
+  return {};
+}
+
 } // namespace
 
 std::string impossible_record(const Plan& plan, const Record& r) {
   if (r.cell >= plan.cells.size() || r.config >= plan.configs.size()) {
     return fmt::format("cell {} or configuration {} is not in the plan", r.cell, r.config);
   }
+  // One value, reference, error and spread per observable, always (a run sizes them whether
+  // it solved, skipped or failed; all empty crashed the merge); the worst phases and a replica's
+  // differences where there are some.
   const std::size_t n = plan.observables.size();
-  for (const RecordValues* values : {&r.value, &r.reference, &r.error, &r.abs_error, &r.rel_error,
-                                     &r.spread, &r.worst_phase, &r.replica_difference}) {
+  for (const RecordValues* values :
+       {&r.value, &r.reference, &r.error, &r.abs_error, &r.rel_error, &r.spread}) {
+    if (values->size() != n) {
+      return fmt::format("it holds {} values of an observable, the plan has {} observables",
+                         values->size(), n);
+    }
+  }
+  for (const RecordValues* values : {&r.worst_phase, &r.replica_difference}) {
     if (!values->empty() && values->size() != n) {
       return fmt::format("it holds {} values of an observable, the plan has {} observables",
                          values->size(), n);
     }
   }
-  for (const RecordValues* values :
-       {&r.reference, &r.error, &r.abs_error, &r.rel_error, &r.spread}) {
-    if (values->size() != r.value.size()) {
-      return "its values, references and errors are not one per observable";
-    }
-  }
   const SolverConfig& config = plan.configs[r.config];
   const Cell& cell = plan.cells[r.cell];
-  const double counts[] = {double(r.steps), double(r.rhs_evals), double(r.runs)};
-  const double times[] = {r.wall_seconds, r.wall_seconds_slowest, r.cpu_seconds.value_or(0),
-                          r.cpu_seconds_slowest.value_or(0)};
-  for (const double x : counts) {
-    if (x < 0) {
-      return fmt::format("a negative count of work ({})", to_string_full(x));
-    }
-  }
-  for (const double x : times) {
-    if (!(std::isfinite(x) && x >= 0)) {
-      return fmt::format("a time that is not a finite number >= 0 ({})", to_string_full(x));
-    }
-  }
-  if (!r.skipped() && r.phases != config.onset_phases) {
-    return fmt::format("{} onset phases, its configuration runs {}", r.phases, config.onset_phases);
-  }
-  if (r.dt && !(std::isfinite(*r.dt) && *r.dt > 0)) {
-    return fmt::format("a step dt = {}", to_string_full(*r.dt));
-  }
-  if (!(std::isfinite(r.alpha) && r.alpha >= 0)) {
-    return fmt::format("alpha = {}", to_string_full(r.alpha));
+  if (const std::string why = impossible_run(plan, r); !why.empty()) {
+    return why;
   }
   for (std::size_t o = 0; o < r.worst_phase.size(); ++o) {
     if (r.worst_phase[o] && !(*r.worst_phase[o] >= 0 && *r.worst_phase[o] < 1)) {

@@ -29,6 +29,7 @@ partial      writes half a line and exits
 record       appends every problem line to STATE_FILE, then answers as good
 deaf         never reads a problem (a problem line longer than a pipe's buffer then cannot be
              written)
+slow_clock   answers as good, with wall_seconds 1e300 (longer than any round trip)
 deep         answers e nested in 100 000 arrays (and a reason of 10^5 characters)
 beta         says its dashpot goes as delta^0.5 delta' (not the seed's), then answers as good
 """
@@ -134,6 +135,8 @@ def main():
         elif mode == "imbalance":
             reply.update(closed_forms(problem))
             reply["energy_unload"] += 0.1 * 0.5 * problem["m"] * problem["v0"] ** 2
+        elif mode == "slow_clock":
+            reply.update(closed_forms(problem), wall_seconds=1e300)
         elif mode == "no_outcome":
             reply.update(closed_forms(problem))
             del reply["outcome"]
