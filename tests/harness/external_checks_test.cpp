@@ -97,6 +97,18 @@ TEST(ExternalChecks, WhatAProgramSaysIsReadWithinBounds) {
     EXPECT_LE(what.size(), 200u) << depth;
   }
   EXPECT_EQ(message_of(reply(R"("e": 0.5)")), "read");
+  // A key twice (the last one won: "id" twice answered another problem); a NUL, where nlohmann's
+  // parser stopped; an array of 3·10^5 objects, read in linear time (24 s before).
+  EXPECT_EQ(message_of(R"({"id": 5, "id": 3, "outcome": "exited"})"),
+            R"(the reply names id twice (got '{"id": 5, "id": 3, "outcome": "exited"}'))");
+  EXPECT_EQ(
+      message_of(reply(R"("e": 0.5)") + std::string(2, '\0')).rfind("the reply is not JSON", 0),
+      0u);
+  std::string objects;
+  for (int i = 0; i < 300000; ++i) {
+    objects += i == 0 ? "{}" : ",{}";
+  }
+  EXPECT_EQ(message_of(reply(R"("x": [)" + objects + "]")), "read");
   // Counts a report can sum over its records in 64 bits (INT64_MAX wrapped a total).
   EXPECT_EQ(message_of(reply(R"("steps": 1e12)")), "read");
   EXPECT_EQ(message_of(reply(R"("steps": 1000000000001)")),
@@ -135,6 +147,19 @@ TEST(ExternalChecks, WhatAProgramSaysIsReadWithinBounds) {
   EXPECT_EQ(
       read_handshake(hello + R"("solver": ")" + std::string(5000, 's') + "\"}", "x").solver.size(),
       max_reply_text);
+  for (const auto& [fields, says] : std::vector<std::pair<std::string, std::string>>{
+           {R"("solver": "s", "version": 2)", "[[solver]] x: its handshake names version twice"},
+           {R"("solver": "")", "[[solver]] x: its handshake's solver names nothing"},
+           {R"("solver": "s", "damping_exponent": 1e10)",
+            "[[solver]] x: damping_exponent must be a number in [0, 1000] or \"seed\" (got "
+            "'10000000000.0')"},
+           {R"("solver": "s", "p": [])", "[[solver]] x: its handshake's p is an empty list"},
+           {R"("solver": "s", "ends": [])", "[[solver]] x: its handshake's ends is an empty list"},
+           {R"("solver": "s", "honours": ["dt", "speed"])",
+            "[[solver]] x: unknown setting in its handshake's honours, expected "
+            "steps_per_contact|dt|onset_phase|rtol|atol|options.KEY (got 'speed')"}}) {
+    EXPECT_EQ(handshake_error(fields).rfind(says, 0), 0u) << handshake_error(fields);
+  }
   std::string many = "[1";
   for (std::size_t i = 1; i <= max_reply_items; ++i) {
     many += ", 1";

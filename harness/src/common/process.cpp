@@ -321,9 +321,10 @@ void LineProgram::finish(std::chrono::milliseconds limit) {
       const timespec pause{0, 1000000};
       nanosleep(&pause, nullptr);
     }
-    if (done == 0) {
+    if (done == 0) { // pldamp stops it: said so, not as a signal of its own
       ::kill(pid_, SIGKILL);
-      status_ = reap(pid_);
+      (void)reap(pid_);
+      status_ = "stopped answering but did not exit (pldamp stopped it)";
     } else if (done == pid_) {
       status_ = describe(status);
     }

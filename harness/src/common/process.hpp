@@ -50,7 +50,9 @@ public:
   Read read_line(std::string& line, std::chrono::milliseconds limit);
   // Closes its standard input and waits up to `limit` for it to exit, then kills it.
   void finish(std::chrono::milliseconds limit = std::chrono::seconds(2));
-  // How it ended, after finish(): "exited with status 3", "killed by signal 11".
+  // How it ended, after finish(): "exited with status 3", "killed by signal 11", or, when finish()
+  // killed it, "stopped answering but did not exit (pldamp stopped it)" (not "killed by signal 9",
+  // which read as a crash of its own).
   std::string status() const { return status_; }
   // The last non-empty line it wrote on standard error (at most 300 characters), or "".
   std::string last_error_line() const;

@@ -3,6 +3,8 @@
 #include "common/observables.hpp"
 #include "run/answers.hpp"
 
+#include "pldamp/core/domain.hpp"
+
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
@@ -10,6 +12,7 @@
 #include <chrono>
 #include <cmath>
 #include <limits>
+#include <set>
 
 namespace pldamp::harness {
 namespace {
@@ -29,25 +32,67 @@ std::string kept(std::string_view text) {
 
 constexpr std::chrono::milliseconds handshake_limit{30000};
 
-// Thrown by `parse_line` at the first value nested deeper than max_reply_depth.
-struct TooDeep {};
+// nlohmann's DOM parser with what the protocol asks on top, as SAX: at most max_reply_depth levels
+// (its dump, and a tree's use, recurse: a reply nested 10^5 deep overflowed the stack) and no key
+// twice in an object (the last one won: an "id" twice answered another problem). Linear, where
+// nlohmann's callback parser scans the parent at every object's end (a reply of 340 000 {} took
+// 24 s).
+class ReplySax : public nlohmann::detail::json_sax_dom_parser<json> {
+  using Dom = nlohmann::detail::json_sax_dom_parser<json>;
 
-// A line of the program's as JSON, read no deeper than max_reply_depth (nlohmann's parser is
-// iterative, but its dump and a tree's use recurse); discarded when it is not JSON; throws
-// std::runtime_error naming `what` when it nests too deep.
-json parse_line(const std::string& line, const std::string& what) {
-  const json::parser_callback_t bounded = [](int depth, json::parse_event_t, json&) {
-    if (depth >= max_reply_depth) { // the outermost value is at depth 0
-      throw TooDeep{};
+public:
+  explicit ReplySax(json& into) : Dom(into, false) {}
+  std::string problem; // why it stopped early: nested too deep, or a key named twice
+  bool start_object(std::size_t elements) {
+    keys_.emplace_back();
+    return enter() && Dom::start_object(elements);
+  }
+  bool end_object() {
+    keys_.pop_back();
+    --depth_;
+    return Dom::end_object();
+  }
+  bool start_array(std::size_t elements) { return enter() && Dom::start_array(elements); }
+  bool end_array() {
+    --depth_;
+    return Dom::end_array();
+  }
+  bool key(json::string_t& name) {
+    if (!keys_.back().insert(name).second) {
+      problem = "names " + one_line(name, 40) + " twice";
+      return false;
+    }
+    return Dom::key(name);
+  }
+
+private:
+  bool enter() {
+    if (++depth_ > max_reply_depth) {
+      problem = fmt::format("nests JSON deeper than {} levels", max_reply_depth);
+      return false;
     }
     return true;
-  };
-  try {
-    return json::parse(line, bounded, false);
-  } catch (const TooDeep&) {
-    throw std::runtime_error(fmt::format("{} nests JSON deeper than {} levels (got {})", what,
-                                         max_reply_depth, quote_line(line)));
   }
+  int depth_ = 0;
+  std::vector<std::set<std::string>> keys_;
+};
+
+// A line of the program's as JSON, read as ReplySax reads it; discarded when it is not JSON (or
+// holds a NUL, where nlohmann's parser would stop); throws std::runtime_error naming `what` when
+// it nests too deep or names a key twice.
+json parse_line(const std::string& line, const std::string& what) {
+  json parsed;
+  if (line.find('\0') != std::string::npos) {
+    return json(json::value_t::discarded);
+  }
+  ReplySax sax(parsed);
+  if (!json::sax_parse(line, &sax) || sax.is_errored()) {
+    if (!sax.problem.empty()) {
+      throw std::runtime_error(fmt::format("{} {} (got {})", what, sax.problem, quote_line(line)));
+    }
+    return json(json::value_t::discarded);
+  }
+  return parsed;
 }
 
 // A list of the handshake's, at most max_reply_items long.
@@ -134,22 +179,42 @@ ExternalFacts read_handshake(const std::string& line, const std::string& who) {
   ExternalFacts facts;
   try {
     facts.solver = kept(hello.at("solver").get<std::string>());
+    if (facts.solver.empty()) {
+      throw ProtocolError(who + ": its handshake's solver names nothing (got " + quote_line(line) +
+                          ")");
+    }
+    // β in [0, p] at every p the domain has (p <= 1000): a β of 1e10 reached every problem as
+    // "alpha must be finite (got nan)".
     if (const auto beta = hello.find("damping_exponent"); beta != hello.end()) {
+      const double most = domain::p_max;
       if (beta->is_number()) {
         facts.damping_exponent = beta->get<double>();
-        if (!std::isfinite(*facts.damping_exponent) || *facts.damping_exponent < 0) {
-          throw ProtocolError(who + ": damping_exponent must be a number >= 0 or \"seed\"");
+        if (!(*facts.damping_exponent >= 0 && *facts.damping_exponent <= most)) {
+          throw ProtocolError(fmt::format("{}: damping_exponent must be a number in [0, {:g}] or "
+                                          "\"seed\" (got {})",
+                                          who, most, quote_line(beta->dump())));
         }
       } else if (*beta != "seed") {
-        throw ProtocolError(who + ": damping_exponent must be a number >= 0 or \"seed\" (got " +
-                            quote_line(beta->dump()) + ")");
+        throw ProtocolError(fmt::format("{}: damping_exponent must be a number in [0, {:g}] or "
+                                        "\"seed\" (got {})",
+                                        who, most, quote_line(beta->dump())));
       }
     }
+    // A list given names something: "p": [] read as any p, "ends": [] as none.
+    const auto nonempty = [&](const json& list, const char* key) {
+      if (list.is_array() && list.empty()) {
+        throw ProtocolError(fmt::format("{}: its handshake's {} is an empty list (leave it out "
+                                        "for the default)",
+                                        who, key));
+      }
+    };
     if (const auto p = hello.find("p"); p != hello.end()) {
+      nonempty(*p, "p");
       facts.exponents = bounded_list<double>(*p, who, "p");
     }
     facts.ends = {solvers::End::overlap, solvers::End::force};
     if (const auto ends = hello.find("ends"); ends != hello.end()) {
+      nonempty(*ends, "ends");
       facts.ends.clear();
       for (const std::string& name : bounded_list<std::string>(*ends, who, "ends")) {
         const std::optional<solvers::End> end = value_named(contact_ends, name);
@@ -163,6 +228,17 @@ ExternalFacts read_handshake(const std::string& line, const std::string& who) {
     if (const auto honours = hello.find("honours"); honours != hello.end()) {
       facts.honours = bounded_list<std::string>(*honours, who, "honours");
       for (std::string& setting : *facts.honours) {
+        // The settings a problem carries (answers.hpp, settings_not_honoured): a word beside
+        // them would say nothing the check could hold the program to.
+        const bool known = setting == "steps_per_contact" || setting == "dt" ||
+                           setting == "onset_phase" || setting == "rtol" || setting == "atol" ||
+                           (setting.starts_with("options.") && setting.size() > 8);
+        if (!known) {
+          throw ProtocolError(who +
+                              ": unknown setting in its handshake's honours, expected "
+                              "steps_per_contact|dt|onset_phase|rtol|atol|options.KEY (got " +
+                              quote_line(setting) + ")");
+        }
         setting = kept(setting);
       }
     }
