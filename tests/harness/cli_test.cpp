@@ -7,7 +7,9 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include <algorithm>
 #include <filesystem>
+#include <fstream>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -513,7 +515,9 @@ TEST(Cli, TextFromFilesIsShownEscaped) {
   const std::string scene = testing::write_file(
       "bell.toml", "name = \"a\\u0007b\\nreport: /etc/passwd\"\nwant = [\"e\"]\n[grid]\np = [1]\n"
                    "e = [0.5]\nv0 = [1]\n[[solver]]\nname = \"cvode-bdf\"\nrtol = 1e-6\n"
-                   "[report]\nformats = [\"json\"]\n");
+                   "[[claim]]\nname = \"c\\u001b]0;x\\u0007|y\"\nobservable = \"e\"\n"
+                   "solver = \"cvode-bdf\"\nrtol = 1e-6\nbound = 1e-3\n"
+                   "[report]\nformats = [\"json\", \"md\", \"html\"]\n");
   const std::string out = (testing::scratch() / "bell\nout").string();
   const CliRun ran = run({"run", scene, "--out", out});
   ASSERT_EQ(ran.code, 0) << ran.err;
@@ -523,6 +527,20 @@ TEST(Cli, TextFromFilesIsShownEscaped) {
   EXPECT_NE(ran.out.find("report: " + testing::scratch().string() + "/bell\\nout/report.json"),
             std::string::npos)
       << ran.out;
+  // The report files a person opens hold them escaped too (an ESC reached report.md's claims and
+  // report.html's <title> raw).
+  for (const char* file : {"report.md", "report.html"}) {
+    std::ifstream in(std::filesystem::path(out) / file, std::ios::binary);
+    const std::string text((std::istreambuf_iterator<char>(in)), {});
+    EXPECT_FALSE(text.empty()) << file;
+    EXPECT_EQ(std::count_if(text.begin(), text.end(),
+                            [](char c) {
+                              const auto byte = static_cast<unsigned char>(c);
+                              return (byte < 0x20 && c != '\n' && c != '\t') || byte == 0x7f;
+                            }),
+              0)
+        << file;
+  }
 }
 
 } // namespace

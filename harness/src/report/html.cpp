@@ -12,6 +12,7 @@
 // printed in each cell.
 #include "report/html_parts.hpp"
 
+#include "common/input.hpp"
 #include "common/parallel.hpp"
 
 #include <fmt/format.h>
@@ -66,8 +67,22 @@ std::string Gnuplot::draw(const std::string& full_script) const {
 }
 
 std::string escape(std::string_view text) {
+  // Control characters (but a line's end and a tab) and bytes that are not UTF-8 shown escaped,
+  // as error lines show them: a scene named with an ESC and a NUL reached <title> raw.
+  std::string shown;
+  for (std::size_t i = 0; i < text.size();) {
+    const std::size_t n = utf8_sequence(text.substr(i));
+    const auto byte = static_cast<unsigned char>(text[i]);
+    if (n == 0 || ((byte < 0x20 || byte == 0x7f) && text[i] != '\n' && text[i] != '\t')) {
+      shown += one_line(text.substr(i, 1));
+      ++i;
+    } else {
+      shown.append(text.substr(i, n));
+      i += n;
+    }
+  }
   std::string out;
-  for (const char c : text) {
+  for (const char c : shown) {
     switch (c) {
     case '<':
       out += "&lt;";

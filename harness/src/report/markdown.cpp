@@ -1,6 +1,8 @@
 // report.md: the tables of report/sections.hpp in Markdown, fit for a CI log.
 #include "report/sections.hpp"
 
+#include "common/input.hpp"
+
 #include <fmt/format.h>
 
 #include <sstream>
@@ -8,11 +10,25 @@
 namespace pldamp::harness {
 namespace {
 
+// A text of the scene's (a name, a quote, a label) in a Markdown line or table cell: one line,
+// control characters and bytes that are not UTF-8 escaped (a claim named with an ESC sequence
+// reached report.md raw), a '|' that would end a cell escaped.
+std::string md(std::string_view text) {
+  std::string out;
+  for (const char c : one_line(text)) {
+    if (c == '|') {
+      out += '\\';
+    }
+    out += c;
+  }
+  return out;
+}
+
 // A table in Markdown.
 std::string markdown_table(const MapTable& table) {
   std::string out = "|";
   for (const std::string& head : table.header) {
-    out += " " + head + " |";
+    out.append(" ").append(md(head)).append(" |"); // (GCC 12 warns, falsely, on " " + md + " |")
   }
   out += "\n|";
   for (std::size_t c = 0; c < table.header.size(); ++c) {
@@ -21,7 +37,7 @@ std::string markdown_table(const MapTable& table) {
   for (const std::vector<std::string>& row : table.rows) {
     out += "\n|";
     for (const std::string& entry : row) {
-      out += " " + entry + " |";
+      out.append(" ").append(md(entry)).append(" |");
     }
   }
   return out + "\n";
@@ -83,13 +99,13 @@ std::string report_markdown(const RunReport& report) {
   const Plan& plan = report.plan;
   const Budgets& budgets = report.budgets;
   std::ostringstream out;
-  out << "# pldamp report: " << one_line(plan.scene.name) << "\n\n";
-  out << "Scene `" << plan.scene.path << "`, end " << name_of(contact_ends, plan.scene.end) << ": "
-      << plan.cells.size() << " cells × " << plan.configs.size() << " solver configurations, "
-      << report.totals.solver_runs << " solver runs, " << report.totals.rhs_evals
-      << " rhs evaluations, " << short_number(report.totals.wall_seconds, 3) << " s. "
-      << budgets.failed_records << " failed records.\n\n**How to read this report.** "
-      << how_to_read << "\n\n";
+  out << "# pldamp report: " << md(plan.scene.name) << "\n\n";
+  out << "Scene `" << md(plan.scene.path) << "`, end " << name_of(contact_ends, plan.scene.end)
+      << ": " << plan.cells.size() << " cells × " << plan.configs.size()
+      << " solver configurations, " << report.totals.solver_runs << " solver runs, "
+      << report.totals.rhs_evals << " rhs evaluations, "
+      << short_number(report.totals.wall_seconds, 3) << " s. " << budgets.failed_records
+      << " failed records.\n\n**How to read this report.** " << how_to_read << "\n\n";
   if (!plan.scene.contacts.empty()) {
     out << "## Contacts from materials\n\n"
         << markdown_table(contacts_table(report)) << "\n"
@@ -100,15 +116,16 @@ std::string report_markdown(const RunReport& report) {
     out << "## Claims\n\n| claim | where | verdict | worst case | measured | bound | margin | ten "
            "times denser |\n|---|---|---|---|---|---|---|---|\n";
     for (const ClaimRow& row : claim_rows(report)) {
-      out << "| " << row.name << " | " << row.where << " | **" << row.verdict << "** | "
-          << row.worst << " | " << row.measured << " | " << row.bound << " | " << row.margin
+      out << "| " << md(row.name) << " | " << md(row.where) << " | **" << row.verdict << "** | "
+          << md(row.worst) << " | " << row.measured << " | " << row.bound << " | " << row.margin
           << " | " << row.denser << " |\n";
     }
     out << "\n";
     for (const ClaimRow& row : claim_rows(report)) {
-      out << "- **" << row.name << "** (" << row.kind << "; " << row.subject << "). "
-          << (row.quote.empty() ? "" : "\"" + row.quote + "\" ") << "Judged over " << row.grid
-          << ". Measured: " << row.meaning << "." << (row.note.empty() ? "" : " " + row.note + ".")
+      out << "- **" << md(row.name) << "** (" << row.kind << "; " << md(row.subject) << "). "
+          << (row.quote.empty() ? "" : "\"" + md(row.quote) + "\" ") << "Judged over " << row.grid
+          << ". Measured: " << row.meaning << "."
+          << (row.note.empty() ? "" : " " + md(row.note) + ".")
           << (row.without_value.empty() ? "" : " " + row.without_value) << "\n";
     }
     out << "\n";
