@@ -163,6 +163,30 @@ TEST(Cli, CalibrateAVelocityDependentCodeAndItsRestitutionAtOtherSpeeds) {
                         "alpha_eff 512 saw no return within its horizon of 10^4 delta_u/v0, and "
                         "more damping returns later; ask at lower damping (got --speeds 1e+30)\n");
 
+  // An e below what the reference solve resolves is refused by the first group that does not
+  // return (it took 45 s, then failed naming a --speeds never given); a code's formula that
+  // divides by 0 is refused naming --e (not "alpha_eff must be finite (got inf)").
+  const CliRun tiny = run(
+      {"calibrate", "--code", "lammps-hertz-history", "--p", "1.5", "--e", "1e-30", "--v0", "1"});
+  EXPECT_EQ(tiny.code, 2);
+  EXPECT_EQ(tiny.err.rfind("error: no damping gives e = 1e-30 with lammps-hertz-history that the "
+                           "reference solve resolves",
+                           0),
+            0u)
+      << tiny.err;
+  EXPECT_NE(tiny.err.find("(got --e 1e-30)"), std::string::npos) << tiny.err;
+  for (const char* command : {"calibrate", "timestep"}) {
+    std::vector<std::string> args{command, "--code", "yade-hertz-mindlin", "--p", "1.5",
+                                  "--e",   "1e-50"};
+    if (std::string(command) == "timestep") {
+      args.insert(args.end(), {"--scheme", "dem-verlet"});
+    }
+    const CliRun divided = run(args);
+    EXPECT_EQ(divided.err,
+              "error: yade-hertz-mindlin's formula sets no finite alpha at this e (the "
+              "code itself divides by 0 there) (got --e 1e-50)\n");
+  }
+
   const CliRun wrong_p =
       run({"calibrate", "--code", "lammps-viscoelastic", "--p", "1", "--e", "0.5"});
   EXPECT_EQ(wrong_p.code, 2);

@@ -38,6 +38,7 @@ void calibrate_for_code(const ContactArgs& args, std::ostream& out) {
     domain::require_p(p);
     const bool cut = analytic::capped(*convention, args.limit_damping);
     const Real alpha = analytic::alpha_set(*convention, p, target);
+    require_finite_alpha_set(*convention, alpha, *args.e);
     const std::optional<Real> enter =
         analytic::e_to_enter(*convention, p, target, args.limit_damping);
     Answer o;
@@ -171,7 +172,10 @@ void calibrate_velocity_dependent(const ContactArgs& args, const VelocityDepende
   const std::optional<Exact> group = group_for_e(p, code.beta, e, end);
   if (!group) {
     throw InputError(
-        fmt::format("no damping gives e = {} with {} (got --e {})", *args.e, code.name, *args.e));
+        fmt::format("no damping gives e = {} with {} that the reference solve resolves: the "
+                    "contact returns later than its horizon of 10^4 delta_u/v0 before e falls to "
+                    "it (got --e {})",
+                    *args.e, code.name, *args.e));
   }
   const Exact alpha = alpha_of(p, code.beta, *group, overlap_scale(v0));
   const double entry = static_cast<double>(alpha * sqrt(Exact(k) / Exact(m)) /

@@ -133,6 +133,7 @@ void run_timestep(const TimestepArgs& args, std::ostream& out) {
     domain::require_p(p);
     const double alpha =
         analytic::alpha_set(*convention, p, parse_real<double>("--e", *args.contact.e));
+    require_finite_alpha_set(*convention, alpha, *args.contact.e);
     contact_args.e.reset();
     contact_args.alpha = fmt::format("{:.17g}", alpha);
     contact_args.end = analytic::capped(*convention, false) ? "force" : "overlap";

@@ -159,4 +159,17 @@ ExponentContact<Real> contact_with_exponent(const ContactArgs& a, const Real& be
   return {problem, group};
 }
 
+// A code's formula (MATH.md §5) at an e it cannot take: YADE's Hertz-Mindlin β(e) divides by
+// 1 − (1+e)² exp A(e), which rounds to 0 below e ~ 1e-17 in double, and sets an infinite α.
+// Refused naming --e, not as "alpha_eff must be finite (got inf)" later.
+template <class Real>
+void require_finite_alpha_set(const analytic::Convention& convention, const Real& alpha,
+                              const std::string& e_typed) {
+  using std::isfinite;
+  if (!isfinite(alpha)) {
+    throw InputError(std::string(convention.name) + "'s formula sets no finite alpha at this e " +
+                     "(the code itself divides by 0 there) (got --e " + e_typed + ")");
+  }
+}
+
 } // namespace pldamp::harness

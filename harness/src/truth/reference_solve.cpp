@@ -42,12 +42,24 @@ std::optional<Exact> exact_group_for_e(const Exact& p, const Exact& beta, const 
     return Exact(0);
   }
   // Undamped, e = 1 exactly (the energy is conserved): no solve at the bracket's low end.
+  // The bracket grows by doubling the group until e falls to the target. A group whose contact
+  // the solve sees no return of within its horizon (or its budget) ends the search: e there is
+  // not 0 but beyond what it resolves, and a target below every e resolved has no group (it
+  // took 45 s to be bracketed against such "zeros" at e = 1e-30, then failed elsewhere).
+  const auto returns = [&](const Exact& group) {
+    const solvers::Result<Exact>& r = reference_solve(p, beta, group, end);
+    return r.e.has_value() && !solvers::failing(r.outcome) &&
+           (r.outcome != solvers::Outcome::no_exit || beta == (p - 1) / 2);
+  };
   Exact low(0), e_low(1), high = Exact(1) / 8;
   Exact e_high = restitution_at(p, beta, high, end);
   for (int i = 0; i < 40 && e_high > e; ++i) {
     low = high;
     e_low = e_high;
     high *= 2;
+    if (!returns(high)) {
+      return std::nullopt;
+    }
     e_high = restitution_at(p, beta, high, end);
   }
   if (e_high > e) {
