@@ -50,9 +50,14 @@ ARRAY_OBSERVABLES = ("e", "delta_max", "t_peak", "tau", "tau0", "energy_load", "
 
 
 def _no_nul(name: str, text: str) -> str:
-    """`text` as an argument: a NUL would end it where C reads it (p='1.5\\x00garbage' was 1.5)."""
+    """`text` as an argument: a NUL would end it where C reads it (p='1.5\\x00garbage' was 1.5),
+    and a lone surrogate has no UTF-8 (pybind11 raised four lines of TypeError)."""
     if "\x00" in text:
         raise ValueError("%s holds a NUL character (got %r)" % (name, text))
+    try:
+        text.encode("utf-8")
+    except UnicodeEncodeError:
+        raise ValueError("%s is not text UTF-8 can hold (got %r)" % (name, text)) from None
     return text
 
 
@@ -184,13 +189,18 @@ def _wanted(want: Any) -> list:
 def _numbers(name: str, value: Any) -> np.ndarray:
     """An array of numbers as float64: a bool (e=True was 1.0), a complex number (its imaginary
     part was dropped with a warning) or an element that is not a number is refused by name."""
+    if isinstance(value, np.ma.MaskedArray):
+        raise TypeError("%s takes a plain array, not a masked one: fill or drop its masked "
+                        "elements first" % name)
     array = value if isinstance(value, np.ndarray) else np.asarray(value, dtype=object)
     if array.dtype.kind == "b":
         raise TypeError("%s takes numbers, not bools (got an array of bool)" % name)
     if array.dtype.kind == "c":
         raise TypeError("%s takes real numbers, not complex ones (got an array of complex)"
                         % name)
-    if array.dtype.kind not in "iuf":  # element by element, as the caller wrote them
+    if array.dtype.kind not in "iufO":  # times, dates, text, bytes, records
+        raise TypeError("%s takes numbers (got an array of %s)" % (name, array.dtype))
+    if array.dtype.kind == "O":  # element by element, as the caller wrote them
         for index, item in enumerate(array.ravel()):
             if isinstance(item, (bool, np.bool_)):
                 raise TypeError("%s takes numbers, not bools (got %r at index %d)"
@@ -198,7 +208,7 @@ def _numbers(name: str, value: Any) -> np.ndarray:
             if isinstance(item, (complex, np.complexfloating)):
                 raise TypeError("%s takes real numbers, not complex ones (got %r at index %d)"
                                 % (name, item, index))
-            if not isinstance(item, numbers.Real):
+            if not isinstance(item, numbers.Real) or isinstance(item, np.timedelta64):
                 raise ValueError("%s holds %r at index %d: not a number" % (name, item, index))
     return np.asarray(array, dtype=np.float64)
 
@@ -275,7 +285,7 @@ def check(t: Any, delta: Any, v: Any = None, F: Any = None, **options) -> dict:
         columns["v"] = v
     if F is not None:
         columns["F"] = F
-    arrays = {name: np.asarray(c, dtype=np.float64) for name, c in columns.items()}
+    arrays = {name: _numbers(name, c) for name, c in columns.items()}
     shapes = {name: a.shape for name, a in arrays.items()}
     if any(len(shape) != 1 for shape in shapes.values()) or len(set(shapes.values())) != 1:
         raise ValueError("t, delta, v and F are 1-D arrays of one length (got shapes %s)" %

@@ -221,3 +221,21 @@ def test_what_python_hands_over_is_checked_not_cut_or_converted(tmp_path):
     arrays = pldamp.observables(p=[1.5], alpha_eff=[1.5], v0=1.0, want=["tau", "e"])
     assert np.isinf(arrays["tau"][0]) and arrays["e"][0] == 0
     assert pldamp.observables(p=1.5, alpha_eff=1.5, v0=1.0)["tau"] is None
+
+
+def test_arrays_take_plain_real_numbers_only_and_text_must_be_utf8():
+    # Found by the second hostile pass: check() and the arrays took complex values (their
+    # imaginary part dropped), bools, timedeltas and masked arrays (the mask ignored).
+    t = np.linspace(0.0, 1.0, 5)
+    with pytest.raises(TypeError, match="complex"):
+        pldamp.check(t, t + 1j, p=1.5, e=0.5, v0=1.0)
+    with pytest.raises(TypeError, match="bool"):
+        pldamp.check(t, t > 0.5, p=1.5, e=0.5, v0=1.0)
+    with pytest.raises(TypeError, match="timedelta64"):
+        pldamp.observables(p=[1.5], e=np.array([1], dtype="timedelta64[s]"), v0=1.0)
+    with pytest.raises(TypeError, match="masked"):
+        pldamp.observables(p=np.ma.masked_array([1.5, 2.0], mask=[False, True]), e=0.5, v0=1.0)
+    with pytest.raises(ValueError, match="UTF-8"):
+        pldamp.cli("observables", "--p", "\udcff")
+    with pytest.raises(ValueError, match="give it alone"):
+        pldamp.solve("taylor", p=1.5, e=0.5, v0=1.0, want="all,e")

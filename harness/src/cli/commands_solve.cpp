@@ -16,7 +16,11 @@ namespace {
 
 // "e,delta_max,..." -> Want bits; "energy" is both energy_load and energy_unload.
 unsigned parse_want_list(const std::string& list) {
-  const unsigned want = parse_want(list_items("--want", list, true), "--want", true);
+  const std::vector<std::string> words = list_items("--want", list, true);
+  if (words.size() > 1 && std::find(words.begin(), words.end(), "all") != words.end()) {
+    throw InputError("--want all names every observable: give it alone (got " + list + ")");
+  }
+  const unsigned want = parse_want(words, "--want", true);
   if (want == 0) {
     throw InputError("--want names no observable (got " + list + ")");
   }
