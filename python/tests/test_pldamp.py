@@ -84,6 +84,18 @@ def test_arrays_are_the_scalars_element_for_element():
             assert abs(arrays["alpha_eff"][i, j] - one["alpha_eff"]) <= 2.3e-16 * one["alpha_eff"]
 
 
+def test_arrays_keep_the_force_peak_and_the_loading_loss_as_damping_vanishes():
+    # α_eff whose square underflows double (docs/MATH.md §3, "Vanishing damping"): the arrays run
+    # the same closed forms, which gave normal_force_max 0 at t 0 and energy_load 0 there.
+    alpha_eff = np.array([0.0, 1e-200, 1e-160, 5e-324])
+    arrays = pldamp.observables(p=1.5, alpha_eff=alpha_eff, v0=1.0)
+    for key in ("normal_force_max", "t_normal_force_max", "delta_max", "t_peak", "tau"):
+        np.testing.assert_allclose(arrays[key], arrays[key][0], rtol=4.5e-16, atol=0, err_msg=key)
+    loss = math.pi / 2 * alpha_eff  # KE0 π α_eff, a subnormal at 5e-324
+    for key in ("energy_load", "energy_unload"):
+        np.testing.assert_allclose(arrays[key], loss, rtol=4.5e-16, atol=5e-324, err_msg=key)
+
+
 def test_arrays_by_target_e_at_the_force_end():
     e = np.linspace(0.1, 1.0, 7)
     arrays = pldamp.observables(p=[1.0, 1.5, 2.0], e=e[:, None], v0=1.0, end="force",

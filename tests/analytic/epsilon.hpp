@@ -34,7 +34,12 @@ public:
   template <class Want>
   void record(std::string_view region, std::string_view observable, const Real& got,
               const Want& want, const std::string& row) {
-    const double error = relative_error(got, want) / eps<Real>();
+    record_error(region, observable, relative_error(got, want) / eps<Real>(), row);
+  }
+
+  // Records an error already measured in ε of Real (e.g. one that counts a subnormal's ulps).
+  void record_error(std::string_view region, std::string_view observable, double error,
+                    const std::string& row) {
     Group& group = group_of(region, observable);
     ++group.count;
     if (!(error <= group.max)) { // NaN too: it is the worst

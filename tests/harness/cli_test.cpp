@@ -8,8 +8,10 @@
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -93,6 +95,37 @@ TEST(Cli, OverdampedTauIsNullAndForceEndAddsTheCut) {
   const auto d = analytic::damping_from_alpha_eff(1.5);
   EXPECT_EQ(json["e_cap"].get<double>(), analytic::capped_restitution(d));
   EXPECT_GT(json["t_cut"].get<double>(), json["t_peak"].get<double>());
+}
+
+// A damping whose square underflows double (MATH.md §3, "Vanishing damping"): G and the normal
+// force's peak were formed through μ/z² and μr² ~ 1/z², which overflowed, and the answer had
+// normal_force_max 0 at t 0 and energy_load 0. Every observable is the undamped one but the
+// losses, KE0 π α_eff (a subnormal at denorm_min, rounded once), at both ends.
+TEST(Cli, VanishingDampingKeepsTheForcePeakAndTheLoadingLoss) {
+  const auto observables = [](const char* alpha_eff) {
+    const CliRun r = run({"observables", "--p", "1.5", "--alpha-eff", alpha_eff, "--v0", "1",
+                          "--end", "force", "--json"});
+    EXPECT_EQ(r.code, 0) << r.err;
+    return nlohmann::json::parse(r.out);
+  };
+  const auto undamped = observables("0");
+  const double eps = std::numeric_limits<double>::epsilon();
+  EXPECT_NEAR(undamped["normal_force_max"].get<double>(), 1.1433, 1e-4);
+  EXPECT_NEAR(undamped["t_normal_force_max"].get<double>(), 1.609, 1e-3);
+  for (const char* alpha_eff : {"1e-200", "1e-160", "5e-324"}) {
+    const auto tiny = observables(alpha_eff);
+    for (const char* key : {"normal_force_max", "t_normal_force_max", "spring_force_max", "t_peak",
+                            "delta_max", "tau", "t_cut", "e", "e_cap"}) {
+      const double want = undamped[key].get<double>();
+      EXPECT_NEAR(tiny[key].get<double>(), want, 4 * eps * want) << key << " at " << alpha_eff;
+    }
+    const double loss = M_PI / 2 * std::strtod(alpha_eff, nullptr); // KE0 π α_eff (stod: ERANGE)
+    for (const char* key : {"energy_load", "energy_unload"}) {
+      const double got = tiny[key].get<double>();
+      EXPECT_NEAR(got, loss, std::max(4 * eps * loss, std::numeric_limits<double>::denorm_min()))
+          << key << " at " << alpha_eff;
+    }
+  }
 }
 
 TEST(Cli, CalibrateBothEnds) {

@@ -90,10 +90,19 @@ Real alpha_per_alpha_eff(const Real& p) {
 
 // ---- Peak and force-capped end (MATH.md §3 "Peak", §4) ---------------------------------------
 
-// G = z Ω0 s_peak = atan_rf(μ/z²) (MATH.md §3), analytic through z = 1; 0 at z = 0.
+// G = z Ω0 s_peak (MATH.md §3): z·atan2(√μ, z)/√μ while μ > ¼, atan_rf(μ/z²) beyond (analytic
+// through z = 1). Not atan_rf(μ/z²) as z → 0: z² underflows (below √min, 1.5e-154 in double;
+// subnormal, it holds a few bits) and μ/z² overflows, and atan_rf(∞) = 0 made G, E_load and the
+// normal force's peak 0 there. z multiplies last: a subnormal z is rounded once. 0 at z = 0.
 template <SupportedReal Real>
 Real peak_exponent(const Damping<Real>& d) {
-  return d.z == 0 ? Real(0) : atan_rf(Real(d.mu / (d.z * d.z)));
+  using std::atan2;
+  using std::sqrt;
+  if (d.mu > Real(1) / 4) {
+    const Real root_mu = sqrt(d.mu);
+    return d.z * Real(atan2(root_mu, d.z) / root_mu);
+  }
+  return atan_rf(Real(d.mu / (d.z * d.z)));
 }
 
 // σ_peak = Ω0 s_peak: atan2(√μ, z)/√μ while μ > ¼ (finite as z → 0, where G/z is 0/0), G/z beyond.
@@ -129,39 +138,51 @@ Real capped_restitution(const Damping<Real>& d) {
 
 // The peak of the total normal force F = k δ^p + α√(mk) δ^((p−1)/2) δ' (MATH.md §3, "Peak
 // normal force"). With r = S/C (S = sin(√μσ)/√μ, C = cos(√μσ), regime-free), F = k δ^p
-// (1 − 2z² + 2z/r), and dF/ds = 0 is the quadratic Q(r) = a r² + b r + c0 = 0 with
-//     a = z[4z² − 3 − (1 − q)(1 − 2z²)],  b = (2 − q)(1 − 4z²),  c0 = 2z(1 − q).
-// Q(0) = c0 ≥ 0 and Q(1/z) = −2/z < 0 (r = 1/z is the overlap's peak), so exactly one root lies
-// in (0, 1/z): the force peaks before the overlap does. Both roots are formed without
-// cancellation (t = −(b + sgn(b)√D)/2, roots t/a and c0/t). For p = 1 (c0 = 0) and z ≥ ½ the
-// root is r = 0: the force is largest at the onset, F = c v0 (the dashpot's jump).
+// (1 − 2z² + 2z/r), and dF/ds = 0 is a quadratic in r. It is solved for u = z r, which stays in
+// [0, 1] for every z (r ~ 1/z as z → 0, and μr² overflowed below z = 1e-154 in double, which
+// made the peak σ = 0 and F_max = 0):
+//     P(u) = a u² + b u + c0 = 0,
+//     a = 4z² − 3 − (1 − q)(1 − 2z²),  b = (2 − q)(1 − 4z²),  c0 = 2(1 − q) z².
+// P(0) = c0 ≥ 0 and P(1) = −2 < 0 (u = 1 is the overlap's peak, x' = 0), so exactly one root lies
+// in (0, 1): the force peaks before the overlap does. Both roots are formed without cancellation
+// (t = −(b + sgn(b)√D)/2, roots t/a and c0/t); c0 may underflow, the root in (0, 1) is then −b/a.
+// For p = 1 (c0 = 0) and z ≥ ½ the root is u = 0: the force is largest at the onset, F = c v0 (the
+// dashpot's jump). Then σ_F = atan(√μ r)/√μ = atan2(√μ u, z)/√μ while μ > ¼ (as σ_peak), and
+// r·atan_rf(μr²) beyond, and F_max = k δ_F^p (1 − 2z² + 2z²/u).
 template <SupportedReal Real>
 struct NormalForcePeak {
-  Real sigma; // Ω0 s at the peak: 0 at the onset, σ_peak for z = 0
-  Real ratio; // r = S/C there: 0 at the onset, +∞ for z = 0 (the overlap's peak, C = 0)
+  Real sigma;        // Ω0 s at the peak: 0 at the onset, σ_peak for z = 0
+  Real scaled_ratio; // u = z r = zS/C there: 0 at the onset, 1 for z = 0 (the overlap's peak)
 };
 
 template <SupportedReal Real>
 NormalForcePeak<Real> normal_force_peak(const Damping<Real>& d, const Real& q) {
+  using std::atan2;
   using std::sqrt;
   const Real z = d.z;
   if (z == 0) {
-    return {peak_phase(d), std::numeric_limits<Real>::infinity()};
+    return {peak_phase(d), Real(1)};
   }
-  const Real a = z * (4 * z * z - 3 - (1 - q) * (1 - 2 * z * z));
-  const Real b = (2 - q) * (1 - 4 * z * z);
-  const Real c0 = 2 * z * (1 - q);
+  const Real z2 = z * z;
+  const Real a = 4 * z2 - 3 - (1 - q) * (1 - 2 * z2);
+  const Real b = (2 - q) * (1 - 4 * z2);
+  const Real c0 = 2 * (1 - q) * z2;
   const Real root_d = sqrt(b * b - 4 * a * c0); // ≥ 0: a root exists (above)
   const Real t = -(b + (b < 0 ? -root_d : root_d)) / 2;
-  Real r(0);
+  Real u(0);
   for (const Real& candidate :
        {a != 0 ? Real(t / a) : Real(-1), t != 0 ? Real(c0 / t) : Real(-1)}) {
-    if (candidate > 0 && candidate * z < 1) {
-      r = candidate;
+    if (candidate > 0 && candidate < 1) {
+      u = candidate;
     }
   }
-  // σ = atan(√μ r)/√μ, regime-free as r·atan_rf(μr²).
-  return {r * atan_rf(Real(d.mu * r * r)), r};
+  if (d.mu > Real(1) / 4) {
+    const Real root_mu = sqrt(d.mu);
+    return {Real(atan2(root_mu * u, z) / root_mu), u};
+  }
+  // z ≥ √3/2 here: r = u/z neither over- nor underflows. σ = atan(√μ r)/√μ, regime-free.
+  const Real r = u / z;
+  return {r * atan_rf(Real(d.mu * r * r)), u};
 }
 
 // Numeric inverse of the monotone e_cap(z) = e^(−2G(z)): TOMS 748 on G(z) = −½ ln e_cap,

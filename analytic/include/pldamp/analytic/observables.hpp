@@ -58,7 +58,7 @@ Real spring_force_max(const Contact<Real>& c) {
 }
 
 // The peak of the total normal force k δ^p + α√(mk) δ^((p−1)/2) δ' (MATH.md §3, "Peak normal
-// force"): k δ_F^p (1 − 2z² + 2z/r) at σ_F (contact.hpp, normal_force_peak), with
+// force"): k δ_F^p (1 − 2z² + 2z²/u) at σ_F (contact.hpp, normal_force_peak; u = z r), with
 // δ_F^p = A^p (L ξ_F)^(pq) formed by pow, not through ln L: pq = 2p/(p+1) < 2 keeps L^(pq) within
 // range over the domain's scales, and exp(pq ln L) would cost |pq ln L| ulps (1.2e-14 in double
 // at v0 = 1e-6). At the onset (p = 1, z ≥ ½) the dashpot's c v0 = 2z k L.
@@ -68,7 +68,7 @@ Real normal_force_max(const Contact<Real>& c) {
   using std::pow;
   const Damping<Real>& d = c.damping();
   const NormalForcePeak<Real> peak = normal_force_peak(d, c.q());
-  if (peak.ratio == 0) {
+  if (peak.scaled_ratio == 0) {
     return 2 * d.z * c.k() * c.L();
   }
   if (d.z == 0) {
@@ -78,7 +78,7 @@ Real normal_force_max(const Contact<Real>& c) {
       exp(-d.z * peak.sigma) * peak.sigma * sinc_rf(Real(d.mu * peak.sigma * peak.sigma));
   const Real pq = c.p() * c.q();
   return c.k() * exp(log_A_to_the_p(c)) * pow(c.L(), pq) * pow(xi, pq) *
-         (1 - 2 * d.z * d.z + 2 * d.z / peak.ratio);
+         (1 - 2 * d.z * d.z + 2 * d.z * d.z / peak.scaled_ratio);
 }
 
 // The time of that peak, t = T·I(σ_F) (time.hpp); 0 at the onset.
