@@ -126,7 +126,8 @@ Contact<double> contact_from(DampingKind kind, ContactEnd end, double p, double 
 // The closed forms over flat arrays of one length (python/pldamp broadcasts them): `damping_kind`
 // is e, alpha or alpha_eff; `end` overlap or force (a target e met where the force ends). Returns
 // alpha, alpha_eff and each wanted observable: inf for τ of a contact that never returns, NaN
-// where an observable does not exist. A value outside the domain raises ValueError naming the element.
+// where an observable does not exist. A value outside the domain raises ValueError naming the
+// element.
 py::dict observables_double(const Array& p, const std::string& damping_kind, const Array& damping,
                             const Array& v0, const Array& m, const Array& k, const std::string& end,
                             const std::vector<std::string>& want) {
