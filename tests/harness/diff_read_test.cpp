@@ -14,6 +14,7 @@
 
 #include <gtest/gtest.h>
 
+#include <chrono>
 #include <sstream>
 #include <streambuf>
 
@@ -87,13 +88,12 @@ TEST(DiffReader, ReadsPldampsLayoutAsTheGeneralReaderDoesOddRecordsIncluded) {
   }
   // Records read_report accepts, each in the place of the second: escapes and non-ASCII text, a
   // negative zero, integers beyond 2^53 and 2^64, identity fields of the wrong type, null and
-  // string numbers, a field named twice (the last one counts), an observable named twice, a wall
-  // time alone, unknown members, a deep value.
+  // string numbers, a wall time alone, unknown members, a deep value.
   const std::vector<std::string> odd = {
       R"({"key":"a \"quoted\" \u00e9 key\\","outcome":"exited","failed":false,"rel_error":{"e":null,"tau":0},"p":-0,"v0":"fast","value":{"e":-0.0,"tau":"x"},"steps":12,"rhs_evals":null})",
-      R"({"key":"k","outcome":"exited","failed":false,"rel_error":{"e":1},"rel_error":{"e":2},"config":"c"})",
+      R"({"key":"k","outcome":"exited","failed":false,"rel_error":{"e":1},"config":"c"})",
       R"({"key":"k","outcome":"exited","failed":true,"rel_error":{},"steps":18446744073709551615,"rhs_evals":9007199254740993,"m":1e308,"k":123456789012345678901234567890})",
-      R"({"key":"k","outcome":"exited","failed":false,"rel_error":{"e":1e-300},"error":{"e":1,"e":2},"precision":"long"})",
+      R"({"key":"k","outcome":"exited","failed":false,"rel_error":{"e":1e-300},"error":{"e":1,"tau":2},"precision":"long"})",
       R"({"key":"k","outcome":"no_exit","failed":false,"rel_error":{"e":0.5},"wall_seconds":0.5,"wall_seconds_slowest":0.75,"damping":7,"config":null,"failure":"why"})",
       R"({"key":"k","outcome":"exited","failed":false,"rel_error":{"e":2.5},"cpu_seconds":1,"wall_seconds":3,"extra":[[[[{"a":[1,2,{"b":null}]}]]]],"phase_spread":[1],"reference":{"e":true}})",
       R"({"failed":false,"rel_error":{"e":3},"outcome":"exited","key":"fields in another order","p":1.5,"v0":2,"m":3,"k":4,"damping":"e=0.5","config":"taylor"})",
@@ -170,6 +170,18 @@ TEST(DiffReader, OtherLayoutsAndDamagedReportsAreLeftToTheGeneralReader) {
   for (const char c : text) {
     crlf += c == '\n' ? std::string("\r\n") : std::string(1, c);
   }
+  std::string claim_twice = text;
+  claim_twice.replace(claim_twice.find("\"verdict\":"), 10, "\"name\": \"x\", \"verdict\":");
+  const auto damaged = [&](const std::string& fields) {
+    return with_record_line(
+        text, 1, R"({"key":"k","outcome":"exited","failed":false,"rel_error":{})" + fields + "}");
+  };
+  // A key named twice 1000 levels down: the message says where in its first 200 characters.
+  std::string deep_where = "r.json: records[1].x";
+  while (deep_where.size() <= 200 + 8) { // "r.json: " is not part of the place
+    deep_where += "[0]";
+  }
+  const std::string deep = std::string(1000, '[') + R"({"a":1,"a":2})" + std::string(1000, ']');
   const std::vector<Case> cases = {
       {"pretty-printed", tree.dump(2), ""},
       {"on one line", tree.dump(), ""},
@@ -190,6 +202,18 @@ TEST(DiffReader, OtherLayoutsAndDamagedReportsAreLeftToTheGeneralReader) {
       {"schema named twice", schema_twice, "r.json: the report names schema twice"},
       {"a trailing comma", trailing_comma, "not a JSON report (got r.json)"},
       {"cut short", text.substr(0, text.size() / 2), "not a JSON report (got r.json)"},
+      // A key named twice, which nlohmann reads as its last value.
+      {"a record's field named twice", damaged(R"(,"rel_error":{"e":1})"),
+       "r.json: records[1] names rel_error twice"},
+      {"an observable named twice", damaged(R"(,"error":{"e":1,"tau":2,"e":3})"),
+       "r.json: records[1].error names e twice"},
+      {"a key named twice deep in a record", damaged(R"(,"x":[0,{"y":[{"a\n":1,"a\n":2}]}])"),
+       "r.json: records[1].x[1].y[0] names a\\n twice"},
+      {"a key named twice under an observed field", damaged(R"(,"value":[{"a":1,"a":2}])"),
+       "r.json: records[1].value[0] names a twice"},
+      {"a key named twice 1000 levels down", damaged(",\"x\":" + deep),
+       deep_where + "... names a twice"},
+      {"a key named twice outside the records", claim_twice, "r.json: claims[0] names name twice"},
       {"not JSON in a record",
        with_record_line(text, 0,
                         R"({"key":"k","outcome":"exited","failed":false,"rel_error":{}})"
@@ -296,6 +320,90 @@ TEST(DiffReader, WhatCannotBeAReportIsRefusedByItsFirstBytesAndHeldWithinBounds)
   EXPECT_EQ(diff_of(padded), fmt::format("bad.json: its text outside the records is larger than {} "
                                          "MiB: not a report pldamp wrote",
                                          double(limits.rest) / (1 << 20)));
+}
+
+namespace {
+
+// The values and keys of a JSON tree, each counted once, as read_report counts what it keeps.
+std::size_t values_and_keys(const nlohmann::json& j) {
+  std::size_t count = 1;
+  if (j.is_object()) {
+    for (const auto& [name, value] : j.items()) {
+      count += 1 + values_and_keys(value);
+    }
+  } else if (j.is_array()) {
+    for (const nlohmann::json& item : j) {
+      count += values_and_keys(item);
+    }
+  }
+  return count;
+}
+
+} // namespace
+
+// nlohmann's callback parser, which read_report used, looked through an object's parent at each
+// object's end: 100 000 `{}` in an array outside the records took 1.5 s, 200 000 5.6 s, 400 000
+// 22 s (a map of 10^6 points holds such arrays). Read by its own SAX handler, linearly.
+TEST(ReportReader, ReadsInTimeLinearInTheText) {
+  std::string text = report_text();
+  std::string objects = " \"x\": [{}";
+  for (int i = 1; i < 300000; ++i) {
+    objects += ",{}";
+  }
+  text.insert(2, objects + "],\n");
+  const auto start = std::chrono::steady_clock::now();
+  const nlohmann::json report = schema::read_report(text, "r.json");
+  const std::chrono::duration<double> took = std::chrono::steady_clock::now() - start;
+  EXPECT_EQ(report["x"].size(), 300000u);
+  EXPECT_LT(took.count(), 3.0) << "20 s before (nlohmann's callback parser), 0.05 s since";
+}
+
+// The tree of the text outside the records takes up to about 100 bytes a value or key, where its
+// text takes 2 (a 100 MB report of zeros took 2 GB): read_report keeps at most so many, and diff
+// says the same with either reader. Records read before the schema are kept, and count.
+TEST(ReportReader, KeepsAtMostItsLimitOfValuesAndKeysOutsideTheRecords) {
+  const std::string text = report_text();
+  const nlohmann::json tree = nlohmann::json::parse(text);
+  std::size_t in_records = 0;
+  for (const nlohmann::json& record : tree["records"]) {
+    in_records += values_and_keys(record);
+  }
+  const std::size_t outside = values_and_keys(tree) - in_records;
+  const auto refusal = [](std::size_t limit) {
+    return fmt::format("r.json: its text outside the records holds more than {} JSON values and "
+                       "keys (records before its schema count too): not a report pldamp wrote",
+                       limit);
+  };
+  const auto read = [](const std::string& report, std::size_t limit) -> std::string {
+    try {
+      (void)schema::read_report(report, "r.json", limit);
+    } catch (const InputError& e) {
+      return e.what();
+    }
+    return "read";
+  };
+  EXPECT_EQ(read(text, outside), "read");
+  EXPECT_EQ(read(text, outside - 1), refusal(outside - 1));
+  const std::string sorted = tree.dump(); // records before the schema
+  ASSERT_LT(sorted.find("\"records\""), sorted.find("\"schema\""));
+  EXPECT_EQ(read(sorted, outside + in_records), "read");
+  EXPECT_EQ(read(sorted, outside + in_records - 1), refusal(outside + in_records - 1));
+  // diff, of pldamp's layout (the fast reader) and of another (the general one), the schema first.
+  for (const std::string& report : {text, nlohmann::ordered_json::parse(text).dump(1)}) {
+    for (const std::size_t limit : {outside, outside - 1}) {
+      std::istringstream old_in(report), new_in(report);
+      std::string said = "read";
+      try {
+        (void)diff_reports(old_in, "r.json", new_in, "new.json", {}, {.values = limit});
+      } catch (const InputError& e) {
+        said = e.what();
+      }
+      EXPECT_EQ(said, limit == outside ? "read" : refusal(limit));
+    }
+  }
+  std::istringstream in(text);
+  EXPECT_THROW((void)diff::read_record_lines(in, "r.json", {.values = outside - 1}), InputError)
+      << "said by the fast reader itself, never read again";
 }
 
 } // namespace pldamp::harness

@@ -4,7 +4,7 @@
 
 #include <cmath>
 #include <initializer_list>
-#include <set>
+#include <vector>
 
 namespace pldamp::harness::schema {
 
@@ -156,89 +156,283 @@ void check_record(const nlohmann::json& record, const std::string& path, const s
 
 namespace {
 
-// read_report, of any input nlohmann::json::parse takes: every record of the schema's version is
-// checked and handed to `each` as soon as it is read, and not kept (one record in memory at a
-// time); a record read before the schema's version is known is kept until it is.
-template <class Input>
-nlohmann::json read_report_from(Input&& input, const std::string& path, const RecordSink& each) {
-  using event = nlohmann::json::parse_event_t;
-  std::string section;         // the top-level member being read
-  std::optional<bool> ours;    // whether its schema is this version's (none: not yet read)
-  bool in_records = false;     // inside the top-level records array
-  std::size_t read = 0;        // records handed over
-  bool claims_checked = false; // as soon as they are read (before the records, as pldamp writes)
-  std::set<std::string> named; // of schema, claims and records: each once
-  const auto take = [&](nlohmann::json&& record) {
-    check_record(record, path, std::string(key::records) + "[" + std::to_string(read++) + "]");
-    each(std::move(record));
-  };
-  const nlohmann::json::parser_callback_t callback = [&](int depth, event e,
-                                                         nlohmann::json& parsed) {
-    if (depth == 1) {
-      if (e == event::key) {
-        section = parsed.get<std::string>();
-        // Named twice, the tree would keep the last one while the records handed over (or
-        // dropped, or the claims checked) were the first one's: refused.
-        if ((section == key::schema || section == key::claims || section == key::records) &&
-            !named.insert(section).second) {
-          throw InputError(path + ": the report names " + section + " twice");
-        }
-      } else if (e == event::value && section == key::schema) {
-        ours = parsed == version;
-      } else if (e == event::array_end && section == key::claims && ours == true) {
-        check_claims(parsed, path);
-        claims_checked = true;
-      }
-      in_records = section == key::records && e == event::array_start;
-      return true;
-    }
-    const bool element = depth == 2 && in_records &&
-                         (e == event::object_end || e == event::array_end || e == event::value);
-    if (!element || !ours) {
-      return true; // a record before the schema: kept in the tree, handed over at the end
-    }
-    if (*ours) {
-      take(std::move(parsed));
-    }
-    return false; // of another schema: refused at the end, its records never kept
-  };
-  nlohmann::json report = nlohmann::json::parse(std::forward<Input>(input), callback, false);
-  if (report.is_discarded()) {
-    throw InputError("not a JSON report (got " + path + ")");
+using nlohmann::json;
+
+// read_report's refusal of a text that holds too many values (too_many_values tells it apart).
+struct TooManyValues : InputError {
+  using InputError::InputError;
+};
+
+// What read_report does as nlohmann's SAX parser reads a report: the tree built as nlohmann's
+// own DOM parser builds it, but
+// - each record (an element of the top-level records array) in a tree of its own, checked and
+//   handed to the sink as soon as it is whole, and never kept (one record in memory at a time);
+//   a record read before the schema's version is known is kept in the report's tree until it is,
+//   and a record of another version skipped;
+// - in time linear in the text: nlohmann's callback parser (json::parse with a callback, used
+//   before) looked through the parent container at each object's end, and 800 000 `{}` in an
+//   array took minutes;
+// - a key named twice in one object refused (nlohmann keeps the last: a record's field, or its
+//   schema, would silently be the last one);
+// - the values and keys kept in the report's tree counted, at most max_values of them: the tree
+//   takes up to about 100 bytes each (docs/design.md §5), where the text of `[{},{},...]` takes 3.
+// `where` set reads a lone record instead (read_record): no sections, nothing counted.
+class Reader {
+public:
+  Reader(const std::string& path, const RecordSink& each, std::size_t max_values,
+         const std::string* where = nullptr)
+      : path_(path), each_(each), max_values_(max_values), where_(where) {}
+
+  // nlohmann's SAX interface.
+  bool null() { return scalar(json(nullptr)); }
+  bool boolean(bool b) { return scalar(json(b)); }
+  bool number_integer(json::number_integer_t x) { return scalar(json(x)); }
+  bool number_unsigned(json::number_unsigned_t x) { return scalar(json(x)); }
+  bool number_float(json::number_float_t x, const json::string_t& /*text*/) {
+    return scalar(json(x));
   }
+  bool string(json::string_t& s) { return scalar(json(std::move(s))); }
+  bool binary(json::binary_t& /*bytes*/) { return false; } // never in a JSON text
+  bool start_object(std::size_t /*unknown*/) { return open(json::value_t::object); }
+  bool start_array(std::size_t /*unknown*/) { return open(json::value_t::array); }
+  bool key(json::string_t& name);
+  bool end_object() { return close(); }
+  bool end_array() { return close(); }
+  bool parse_error(std::size_t /*at*/, const std::string& /*token*/,
+                   const nlohmann::detail::exception& /*why*/) {
+    return false;
+  }
+
+  // The report, once the parser read it whole (`parsed`), its last checks done and its records
+  // read before its schema handed over.
+  json finish(bool parsed);
+  // The lone record read (read_record).
+  json lone() { return std::move(tree_); }
+
+private:
+  // The top-level object of a report, open and not a record's.
+  bool at_top() const { return where_ == nullptr && open_.size() == 1 && open_[0] == &tree_; }
+  // A value begins: into the tree of the report (or of the lone record), of the record being
+  // read, or nowhere (a record of another schema); the place it went, if a container.
+  json* add(json&& value);
+  bool scalar(json&& value) {
+    if (skipping_ == 0) {
+      (void)add(std::move(value));
+    }
+    return true;
+  }
+  bool open(json::value_t type);
+  bool close();
+  // One more value or key in the tree (of a report, not of a lone record).
+  void keep() {
+    if (where_ == nullptr && ++kept_ > max_values_) {
+      throw TooManyValues(path_ + ": its text outside the records holds more than " +
+                          std::to_string(max_values_) +
+                          " JSON values and keys (records before its schema count too): not a "
+                          "report pldamp wrote");
+    }
+  }
+  void take(json&& record);
+  std::string location() const;
+
+  const std::string& path_;
+  const RecordSink& each_;
+  const std::size_t max_values_;
+  const std::string* where_;
+  json tree_;
+  std::vector<json*> open_; // the containers open, outermost first
+  json* member_ = nullptr;  // the value of the key just read
+  // The record read apart from the tree (of this report's schema), whole when open_ is back to
+  // record_depth_ containers.
+  json record_;
+  bool in_record_ = false;
+  std::size_t record_depth_ = 0;
+  std::size_t skipping_ = 0;    // the depth within a record of another schema
+  std::string section_;         // the top-level member being read
+  json* records_ = nullptr;     // the top-level records array, in the tree
+  std::optional<bool> ours_;    // whether the schema is this version's (none: not yet read)
+  bool claims_checked_ = false; // as soon as they are read (before the records, as pldamp writes)
+  std::size_t kept_ = 0;        // the values and keys in the tree
+  std::size_t taken_ = 0;       // the records handed over (or being read apart)
+};
+
+json* Reader::add(json&& value) {
+  if (!in_record_ && records_ != nullptr && !open_.empty() && open_.back() == records_ && ours_) {
+    if (!*ours_) { // a record of another schema: refused at the end, never kept
+      skipping_ = value.is_structured() ? 1 : 0;
+      return nullptr;
+    }
+    record_ = std::move(value);
+    if (!record_.is_structured()) {
+      take(std::move(record_));
+      return nullptr;
+    }
+    in_record_ = true;
+    record_depth_ = open_.size();
+    return &record_;
+  }
+  if (!in_record_) {
+    keep();
+  }
+  json* at = nullptr;
+  if (open_.empty()) {
+    tree_ = std::move(value);
+    at = &tree_;
+  } else if (open_.back()->is_array()) {
+    at = &open_.back()->get_ref<json::array_t&>().emplace_back(std::move(value));
+  } else {
+    *member_ = std::move(value);
+    at = member_;
+  }
+  if (at_top()) {
+    if (section_ == key::schema) {
+      ours_ = *at == version;
+    } else if (section_ == key::records && at->is_array()) {
+      records_ = at;
+    }
+  }
+  return at;
+}
+
+bool Reader::open(json::value_t type) {
+  if (skipping_ > 0) {
+    ++skipping_;
+  } else if (json* at = add(json(type)); at != nullptr) {
+    open_.push_back(at);
+  }
+  return true;
+}
+
+bool Reader::close() {
+  if (skipping_ > 0) {
+    --skipping_;
+    return true;
+  }
+  json* closed = open_.back();
+  open_.pop_back();
+  if (in_record_ && open_.size() == record_depth_) {
+    in_record_ = false;
+    take(std::move(record_));
+  } else if (at_top() && section_ == key::claims && closed->is_array() && ours_ == true) {
+    check_claims(*closed, path_);
+    claims_checked_ = true;
+  }
+  return true;
+}
+
+bool Reader::key(json::string_t& name) {
+  if (skipping_ > 0) {
+    return true;
+  }
+  if (at_top()) {
+    section_ = name;
+  }
+  if (!in_record_) {
+    keep(); // a member costs its key too: a map node (about 96 bytes)
+  }
+  auto [member, fresh] = open_.back()->get_ref<json::object_t&>().try_emplace(std::move(name));
+  if (!fresh) {
+    // Named twice, the tree would keep the last one while the records handed over (or dropped,
+    // or the claims checked) were the first one's; in a record, diff would read the last one.
+    throw InputError(path_ + ": " + location() + " names " + one_line(member->first, 200) +
+                     " twice");
+  }
+  member_ = &member->second;
+  return true;
+}
+
+// "records[3].rel_error", "scene.grid", "the report": where the innermost open object is (its
+// first 200 characters or so: a path 10^5 levels deep is no message).
+std::string Reader::location() const {
+  std::size_t from = 0;
+  std::string out = where_ != nullptr ? *where_ : "";
+  if (in_record_) {
+    from = record_depth_;
+    out = std::string(key::records) + "[" + std::to_string(taken_) + "]";
+  }
+  for (std::size_t i = from + 1; i < open_.size(); ++i) {
+    if (out.size() > 200) {
+      return out + "...";
+    }
+    if (open_[i - 1]->is_array()) {
+      const json::array_t& items = open_[i - 1]->get_ref<const json::array_t&>();
+      out += "[" + std::to_string(open_[i] - items.data()) + "]";
+      continue;
+    }
+    for (const auto& [name, value] : open_[i - 1]->get_ref<const json::object_t&>()) {
+      if (&value == open_[i]) {
+        out += (out.empty() ? "" : ".") + one_line(name, 200);
+        break;
+      }
+    }
+  }
+  return out.empty() ? "the report" : out;
+}
+
+void Reader::take(json&& record) {
+  const std::string where = std::string(key::records) + "[" + std::to_string(taken_) + "]";
+  check_record(record, path_, where);
+  ++taken_;
+  each_(std::move(record));
+}
+
+json Reader::finish(bool parsed) {
+  if (!parsed) {
+    throw InputError("not a JSON report (got " + path_ + ")");
+  }
+  json report = std::move(tree_);
   if (!report.is_object() || !report.contains(key::schema) || !report.contains(key::records) ||
       !report.contains(key::claims)) {
-    throw InputError("not a pldamp report.json (got " + path + ")");
+    throw InputError("not a pldamp report.json (got " + path_ + ")");
   }
   if (report.at(key::schema) != version) {
-    throw InputError(path + ": report schema " + shown(report.at(key::schema)) + " is not " +
+    throw InputError(path_ + ": report schema " + shown(report.at(key::schema)) + " is not " +
                      std::to_string(version));
   }
-  const auto is_array = [](const nlohmann::json& j) { return j.is_array(); };
-  expect(report.at(key::claims), is_array, path, key::claims, "an array");
-  expect(report.at(key::records), is_array, path, key::records, "an array");
-  if (!claims_checked) {
-    check_claims(report.at(key::claims), path);
+  const auto is_array = [](const json& j) { return j.is_array(); };
+  expect(report.at(key::claims), is_array, path_, key::claims, "an array");
+  expect(report.at(key::records), is_array, path_, key::records, "an array");
+  if (!claims_checked_) {
+    check_claims(report.at(key::claims), path_);
   }
-  for (nlohmann::json& record : report.at(key::records)) {
+  for (json& record : report.at(key::records)) { // read before the schema
     take(std::move(record));
   }
-  report.at(key::records) = nlohmann::json::array();
+  report.at(key::records) = json::array();
   return report;
 }
 
 } // namespace
 
-nlohmann::json read_report(std::string_view text, const std::string& path) {
-  nlohmann::json records = nlohmann::json::array();
-  nlohmann::json report = read_report_from(
-      text, path, [&](nlohmann::json&& record) { records.push_back(std::move(record)); });
+bool too_many_values(const std::exception& error) {
+  return dynamic_cast<const TooManyValues*>(&error) != nullptr;
+}
+
+nlohmann::json read_report(std::string_view text, const std::string& path, std::size_t max_values) {
+  json records = json::array();
+  const RecordSink keep = [&](json&& record) { records.push_back(std::move(record)); };
+  Reader reader(path, keep, max_values);
+  json report = reader.finish(json::sax_parse(text, &reader));
   report.at(key::records) = std::move(records);
   return report;
 }
 
-nlohmann::json read_report(std::istream& in, const std::string& path, const RecordSink& each) {
-  return read_report_from(in, path, each);
+nlohmann::json read_report(std::istream& in, const std::string& path, const RecordSink& each,
+                           std::size_t max_values) {
+  Reader reader(path, each, max_values);
+  return reader.finish(json::sax_parse(in, &reader));
+}
+
+nlohmann::json read_record(std::string_view text, const std::string& path,
+                           const std::string& where) {
+  const RecordSink none = [](json&&) {};
+  Reader reader(path, none, 0, &where);
+  if (!json::sax_parse(text, &reader)) {
+    throw InputError("not a JSON report (got " + path + ")");
+  }
+  json record = reader.lone();
+  check_record(record, path, where);
+  return record;
 }
 
 } // namespace pldamp::harness::schema

@@ -54,6 +54,7 @@
 #include <functional>
 #include <istream>
 #include <optional>
+#include <stdexcept>
 #include <string>
 #include <string_view>
 
@@ -264,16 +265,33 @@ std::optional<RecordId> read_record_id(const nlohmann::json& record);
 // A number for report.json: null when absent or not finite (JSON has no inf or NaN).
 nlohmann::ordered_json number_or_null(const std::optional<double>& x);
 
+// The most JSON values and keys read_report keeps of a report's text outside its records (and of
+// records read before its schema): its tree takes 32 bytes a number in an array and up to about
+// 100 an empty object, where the text takes 2 or 3 (docs/design.md §5: about 800 MB at this
+// limit). The nightly's holds 62 614; diff's default (judge/diff.hpp, ReportLimits).
+inline constexpr std::size_t max_kept_values = std::size_t{1} << 23;
+
 // A report.json's text, parsed and checked for what a reader needs to trust (schema, claims'
 // names, verdicts and expectations, records' keys, outcomes, failed flags, errors and
-// precisions); everything else is read defensively (below). Throws InputError naming `path` and
-// the first thing amiss, so a damaged or foreign file is one line, exit 2.
-nlohmann::json read_report(std::string_view text, const std::string& path);
+// precisions, and no key named twice in an object); everything
+// else is read defensively (below). Throws InputError naming `path` and the first thing amiss,
+// so a damaged or foreign file is one line, exit 2: among them a text outside the records of more
+// than `max_values` JSON values.
+nlohmann::json read_report(std::string_view text, const std::string& path,
+                           std::size_t max_values = max_kept_values);
 // The same of a stream, its records checked one at a time and handed to `each` in order rather
 // than kept: the tree returned has an empty records array, and a reader that keeps only what it
 // needs of each record never holds them all (`pldamp diff` of two nightly reports).
 using RecordSink = std::function<void(nlohmann::json&& record)>;
-nlohmann::json read_report(std::istream& in, const std::string& path, const RecordSink& each);
+nlohmann::json read_report(std::istream& in, const std::string& path, const RecordSink& each,
+                           std::size_t max_values = max_kept_values);
+// Whether `error` is read_report's refusal of more than max_values values, which a reader of the
+// text outside the records alone (diff's fast reader) says as the general reader would.
+bool too_many_values(const std::exception& error);
+// The text of one record (a line of pldamp's layout) read as read_report reads a record: no key
+// named twice, then check_record.
+nlohmann::json read_record(std::string_view text, const std::string& path,
+                           const std::string& where);
 // A record as read_report checks it (InputError naming `path` and `where`, e.g. "records[3]"),
 // and whether a precision's name is one of this build's.
 void check_record(const nlohmann::json& record, const std::string& path, const std::string& where);

@@ -153,7 +153,8 @@ diff::Report facts_of(std::istream& in, const std::string& path, const ReportLim
   }
   diff::Report out;
   out.rest = schema::read_report(
-      in, path, [&](json&& record) { out.records.push_back(diff::RecordFacts::of(record)); });
+      in, path, [&](json&& record) { out.records.push_back(diff::RecordFacts::of(record)); },
+      limits.values);
   return out;
 }
 

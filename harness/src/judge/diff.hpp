@@ -32,6 +32,7 @@
 // --allow-scene-change).
 #pragma once
 
+#include "common/report_schema.hpp"
 #include "scene/scene.hpp"
 
 #include <nlohmann/json.hpp>
@@ -69,13 +70,17 @@ DiffResult diff_reports(const nlohmann::json& old_report, const nlohmann::json& 
 // blanks read for 36 s and grew to 3.2 GB before, /dev/zero without end); a line of pldamp's
 // layout is at most `line` bytes (a record is about 1.2 KB, the scene's longest string 6 MiB
 // escaped: a longer line is left to the general reader, never held whole); its text outside the
-// records at most `rest` bytes (the nightly's is 1.2 MB, a 10^6-point map's about 250 MB); and a
-// report in another layout (reformatted by another program) at most `rest` bytes in all. Beyond
-// them, the report is refused with one line.
+// records at most `rest` bytes (the nightly's is 1.2 MB), and a report in another layout
+// (reformatted by another program) at most `rest` bytes in all; that text's tree at most `values`
+// JSON values and keys (schema::read_report; records read before the schema count too), up to
+// about 100 bytes each where their text may take 3: the nightly's rest holds 62 614, a map of
+// 10^4 points of its 47 configurations would hold about 4.2 million. A report at both limits
+// takes about 1 GB (docs/design.md §5). Beyond them, the report is refused with one line.
 struct ReportLimits {
   std::size_t leading_space = 4096;
   std::size_t line = std::size_t{16} << 20;
-  std::size_t rest = std::size_t{512} << 20;
+  std::size_t rest = std::size_t{128} << 20;
+  std::size_t values = schema::max_kept_values;
 };
 
 // The same of two reports read from streams (report.json files), each checked as

@@ -15,6 +15,7 @@
 #include <algorithm>
 #include <array>
 #include <string>
+#include <vector>
 
 namespace pldamp::harness::diff {
 
@@ -104,9 +105,48 @@ Number number_field(dom::element value) {
   return {.state = value.is_null() ? Number::State::null : Number::State::absent};
 }
 
+// An array or an object: what may hold a key named twice (most of a record's members are
+// numbers, which are asked this inline rather than through keys_once).
+bool structured(dom::element value) {
+  const dom::element_type type = value.type();
+  return type == dom::element_type::ARRAY || type == dom::element_type::OBJECT;
+}
+
+// Whether no object within `value` names a key twice, as read_report requires; `names` is room
+// for the names of each object on the way down.
+bool keys_once(dom::element value, std::vector<std::string_view>& names) {
+  if (value.type() == dom::element_type::ARRAY) {
+    const dom::array items = value.get_array().value_unsafe();
+    return std::all_of(items.begin(), items.end(),
+                       [&](dom::element item) { return keys_once(item, names); });
+  }
+  if (value.type() != dom::element_type::OBJECT) {
+    return true;
+  }
+  const dom::object members = value.get_object().value_unsafe();
+  const std::size_t from = names.size();
+  for (const dom::key_value_pair member : members) {
+    names.push_back(member.key);
+  }
+  std::sort(names.begin() + static_cast<std::ptrdiff_t>(from), names.end());
+  bool once = std::adjacent_find(names.begin() + static_cast<std::ptrdiff_t>(from), names.end()) ==
+              names.end();
+  for (auto member = members.begin(); once && member != members.end(); ++member) {
+    once = keys_once((*member).value, names);
+  }
+  names.resize(from);
+  return once;
+}
+
+// Room facts_from_dom reuses from one record to the next.
+struct Scratch {
+  std::vector<std::string_view> names; // of the members it does not read, and for keys_once
+  std::vector<unsigned> named;         // per observable, the observed fields naming it
+};
+
 // RecordFacts::of of a record read_report would accept, parsed by simdjson; none when the record
 // is not one read_report accepts or the two readings could differ in any way.
-std::optional<RecordFacts> facts_from_dom(dom::element record) {
+std::optional<RecordFacts> facts_from_dom(dom::element record, Scratch& scratch) {
   dom::object object;
   if (record.get(object) != simdjson::SUCCESS) {
     return std::nullopt;
@@ -114,16 +154,29 @@ std::optional<RecordFacts> facts_from_dom(dom::element record) {
   RecordFacts facts;
   std::optional<double> cpu, cpu_slowest, wall, wall_slowest;
   unsigned seen = 0; // the fields read (a required one of the wrong kind returns none at once)
+  std::vector<std::string_view>& names = scratch.names; // the other members', each once too
+  names.clear();
+  scratch.named.clear();
   for (const dom::key_value_pair member : object) {
+    const dom::element value = member.value;
     const std::optional<unsigned> field = record_field_named(member.key);
+    // A key named twice anywhere in the record is refused (an observed field's object: below).
+    const bool observed =
+        field && *field >= f_observed && value.type() == dom::element_type::OBJECT;
+    if (!observed && structured(value) && !keys_once(value, names)) {
+      return std::nullopt;
+    }
     if (!field) {
+      if (std::find(names.begin(), names.end(), member.key) != names.end()) {
+        return std::nullopt;
+      }
+      names.push_back(member.key);
       continue;
     }
     if (seen & (1u << *field)) {
       return std::nullopt;
     }
     seen |= 1u << *field;
-    const dom::element value = member.value;
     std::string_view text;
     const bool is_string = value.get(text) == simdjson::SUCCESS;
     switch (*field) {
@@ -188,6 +241,9 @@ std::optional<RecordFacts> facts_from_dom(dom::element record) {
         break;
       }
       for (const dom::key_value_pair item : values) {
+        if (structured(item.value) && !keys_once(item.value, names)) {
+          return std::nullopt;
+        }
         const Number number = number_field(item.value);
         if (f == rel_error_field && (number.state == Number::State::absent ||
                                      (number.state == Number::State::number && number.value < 0))) {
@@ -197,10 +253,14 @@ std::optional<RecordFacts> facts_from_dom(dom::element record) {
                                [&](const RecordFacts::Observed& o) { return o.name == item.key; });
         if (at == facts.observed.end()) {
           facts.observed.push_back({.name = std::string(item.key), .fields = {}});
+          scratch.named.push_back(0);
           at = facts.observed.end() - 1;
-        } else if (at->fields[f].state != Number::State::absent) {
+        }
+        unsigned& named = scratch.named[static_cast<std::size_t>(at - facts.observed.begin())];
+        if (named & (1u << f)) {
           return std::nullopt; // an observable named twice in one object
         }
+        named |= 1u << f;
         at->fields[f] = number;
       }
       break;
@@ -316,6 +376,10 @@ std::optional<Report> read_record_lines(std::istream& in, const std::string& pat
   enum class Where { before, inside, after } where = Where::before; // the records
   Depth depth;                   // of the text before the records
   bool comma_after_last = false; // whether the last record line ended with one
+  // Whether the schema comes before the records, as pldamp writes it: the general reader keeps
+  // records read before it, which count among the values it holds at most (limits.values).
+  bool schema_first = false;
+  Scratch scratch; // for facts_from_dom
   while (next_line()) {
     if (line.find('\0') != std::string::npos) {
       return std::nullopt; // nlohmann ends its input at a NUL, simdjson refuses it
@@ -325,6 +389,7 @@ std::optional<Report> read_record_lines(std::istream& in, const std::string& pat
         if (line == records_open && depth.top_level()) {
           where = Where::inside;
         }
+        schema_first = schema_first || (depth.top_level() && line.starts_with(R"( "schema":)"));
         depth.read(line);
       }
       // A line never begins inside a JSON string (a string holds no raw newline), so its
@@ -360,27 +425,29 @@ std::optional<Report> read_record_lines(std::istream& in, const std::string& pat
     std::optional<RecordFacts> facts;
     dom::element record;
     if (parser.parse(line.data(), length, false).get(record) == simdjson::SUCCESS) {
-      facts = facts_from_dom(record);
+      facts = facts_from_dom(record, scratch);
     }
     if (!facts) { // a record simdjson refuses or doubts: read as the general reader reads it
       try {
-        json parsed = json::parse(std::string_view(line).substr(0, length));
-        schema::check_record(
-            parsed, path, std::string(key::records) + "[" + std::to_string(records.size()) + "]");
-        facts = RecordFacts::of(parsed);
+        facts = RecordFacts::of(schema::read_record(std::string_view(line).substr(0, length), path,
+                                                    std::string(key::records) + "[" +
+                                                        std::to_string(records.size()) + "]"));
       } catch (const std::exception&) {
         return std::nullopt; // the general reader says what is wrong
       }
     }
     records.push_back(std::move(*facts));
   }
-  if (where != Where::after || in.bad() || too_long) {
+  if (where != Where::after || in.bad() || too_long || !schema_first) {
     return std::nullopt;
   }
   Report report;
   try {
-    report.rest = schema::read_report(rest, path);
-  } catch (const std::exception&) {
+    report.rest = schema::read_report(rest, path, limits.values);
+  } catch (const std::exception& e) {
+    if (schema::too_many_values(e)) {
+      throw; // the general reader's words: the records, all read, were not amiss
+    }
     return std::nullopt;
   }
   if (!report.rest.at(key::records).empty()) {
