@@ -87,15 +87,16 @@ TEST(DiffReader, ReadsPldampsLayoutAsTheGeneralReaderDoesOddRecordsIncluded) {
     EXPECT_EQ(f->rest, g.report.rest);
   }
   // Records read_report accepts, each in the place of the second: escapes and non-ASCII text, a
-  // negative zero, integers beyond 2^53 and 2^64, identity fields of the wrong type, null and
-  // string numbers, a wall time alone, unknown members, a deep value.
+  // negative zero, integers beyond 2^53 and 2^64 where a field is not a count, identity fields of
+  // the wrong type, null and string numbers, counts and times at their bounds, a wall time alone,
+  // unknown members, a deep value.
   const std::vector<std::string> odd = {
       R"({"key":"a \"quoted\" \u00e9 key\\","outcome":"exited","failed":false,"rel_error":{"e":null,"tau":0},"p":-0,"v0":"fast","value":{"e":-0.0,"tau":"x"},"steps":12,"rhs_evals":null})",
-      R"({"key":"k","outcome":"exited","failed":false,"rel_error":{"e":1},"config":"c"})",
-      R"({"key":"k","outcome":"exited","failed":true,"rel_error":{},"steps":18446744073709551615,"rhs_evals":9007199254740993,"m":1e308,"k":123456789012345678901234567890})",
-      R"({"key":"k","outcome":"exited","failed":false,"rel_error":{"e":1e-300},"error":{"e":1,"tau":2},"precision":"long"})",
+      R"({"key":"k","outcome":"exited","failed":false,"rel_error":{"e":1},"config":"c","steps":-0,"rhs_evals":9007199254740992,"cpu_seconds":0,"cpu_seconds_slowest":null,"wall_seconds":-0.0,"wall_seconds_slowest":1e-300})",
+      R"({"key":"k","outcome":"exited","failed":true,"rel_error":{},"v0":18446744073709551615,"p":9007199254740993,"m":1e308,"k":123456789012345678901234567890})",
+      R"({"key":"k","outcome":"exited","failed":false,"rel_error":{"e":1e-300},"error":{"e":1,"tau":2},"precision":"long","steps":0})",
       R"({"key":"k","outcome":"no_exit","failed":false,"rel_error":{"e":0.5},"wall_seconds":0.5,"wall_seconds_slowest":0.75,"damping":7,"config":null,"failure":"why"})",
-      R"({"key":"k","outcome":"exited","failed":false,"rel_error":{"e":2.5},"cpu_seconds":1,"wall_seconds":3,"extra":[[[[{"a":[1,2,{"b":null}]}]]]],"phase_spread":[1],"reference":{"e":true}})",
+      R"({"key":"k","outcome":"exited","failed":false,"rel_error":{"e":2.5},"cpu_seconds":1,"wall_seconds":3,"extra":[[[[{"a":[1,2,{"b":null,"c":{}}],"d":{"a":1}}]]]],"phase_spread":[1],"reference":{"e":true}})",
       R"({"failed":false,"rel_error":{"e":3},"outcome":"exited","key":"fields in another order","p":1.5,"v0":2,"m":3,"k":4,"damping":"e=0.5","config":"taylor"})",
       R"({"key":"zeros","outcome":"exited","failed":false,"rel_error":{"e":0.0,"tau":-0.0},"error":{"e":-0.0,"tau":-0,"t_peak":-0e0,"delta_max":4.9e-325,"energy_load":5e-324},"p":-0.0})",
   };
@@ -112,9 +113,15 @@ TEST(DiffReader, ReadsPldampsLayoutAsTheGeneralReaderDoesOddRecordsIncluded) {
   // Spot checks of the facts themselves, against values known independently of both readers.
   const std::optional<diff::Report> f = fast(with_record_line(text, 1, odd[2]));
   ASSERT_TRUE(f.has_value());
-  EXPECT_EQ(f->records[1].steps.value, 18446744073709551616.0);
-  EXPECT_EQ(f->records[1].rhs_evals.value, 9007199254740992.0); // 2^53 + 1 rounds to even
+  EXPECT_EQ(f->records[1].v0, 18446744073709551616.0);
+  EXPECT_EQ(f->records[1].p, 9007199254740992.0); // 2^53 + 1 rounds to even
   EXPECT_EQ(f->records[1].k, 1.2345678901234568e29);
+  const std::optional<diff::Report> bounds = fast(with_record_line(text, 1, odd[1]));
+  ASSERT_TRUE(bounds.has_value());
+  EXPECT_EQ(diff::describe(bounds->records[1]),
+            R"(key="k" config="c" damping=none p=none v0=none m=none k=none outcome="exited" )"
+            R"(failure="" failed=false rhs_evals=9007199254740992 steps=0 cpu=true seconds=0 )"
+            R"(slowest=none "e": absent absent absent 1 absent)");
   const std::optional<diff::Report> zeros = fast(with_record_line(text, 1, odd.back()));
   ASSERT_TRUE(zeros.has_value());
   EXPECT_EQ(diff::describe(zeros->records[1]),
@@ -214,6 +221,28 @@ TEST(DiffReader, OtherLayoutsAndDamagedReportsAreLeftToTheGeneralReader) {
       {"a key named twice 1000 levels down", damaged(",\"x\":" + deep),
        deep_where + "... names a twice"},
       {"a key named twice outside the records", claim_twice, "r.json: claims[0] names name twice"},
+      // Counts and times diff compares, impossible: "-5" became "CHANGE 120 -> -5", 1.5 was shown
+      // as 2, and a negative or textual time left the time unjudged.
+      {"a negative count", damaged(R"(,"rhs_evals":-5)"),
+       "r.json: records[1].rhs_evals must be null or a whole number from 0 to 2^53 (got -5)"},
+      {"a count with a fraction", damaged(R"(,"steps":1.5)"),
+       "r.json: records[1].steps must be null or a whole number from 0 to 2^53 (got 1.5)"},
+      {"a count as a float", damaged(R"(,"steps":120.0)"),
+       "r.json: records[1].steps must be null or a whole number from 0 to 2^53 (got 120.0)"},
+      {"the least integer as a count", damaged(R"(,"rhs_evals":-9223372036854775808)"),
+       "r.json: records[1].rhs_evals must be null or a whole number from 0 to 2^53 (got "
+       "-9223372036854775808)"},
+      {"a count beyond 2^53", damaged(R"(,"rhs_evals":9007199254740993)"),
+       "r.json: records[1].rhs_evals must be null or a whole number from 0 to 2^53 (got "
+       "9007199254740993)"},
+      {"a count as text", damaged(R"(,"steps":"12")"),
+       "r.json: records[1].steps must be null or a whole number from 0 to 2^53 (got \"12\")"},
+      {"a negative time", damaged(R"(,"cpu_seconds":-1e-9)"),
+       "r.json: records[1].cpu_seconds must be null or a number >= 0 (got -1e-09)"},
+      {"a time as text", damaged(R"(,"cpu_seconds":"fast")"),
+       "r.json: records[1].cpu_seconds must be null or a number >= 0 (got \"fast\")"},
+      {"a slowest time negative", damaged(R"(,"wall_seconds":1,"wall_seconds_slowest":-2)"),
+       "r.json: records[1].wall_seconds_slowest must be null or a number >= 0 (got -2)"},
       {"not JSON in a record",
        with_record_line(text, 0,
                         R"({"key":"k","outcome":"exited","failed":false,"rel_error":{}})"

@@ -3,6 +3,7 @@
 #include "common/input.hpp"
 
 #include <cmath>
+#include <cstdint>
 #include <initializer_list>
 #include <vector>
 
@@ -103,6 +104,19 @@ void expect_strings(const nlohmann::json& value, std::initializer_list<const cha
   }
 }
 
+// An error or a time: unknown (null), or a number a measurement can be.
+bool null_or_at_least_0(const nlohmann::json& j) {
+  return j.is_null() || (j.is_number() && !(j.get<double>() < 0));
+}
+
+// A count diff holds exactly (as a double: up to 2^53) and shows as written: an integer, as
+// pldamp writes one (never 1.5, nor 120.0).
+bool null_or_count(const nlohmann::json& j) {
+  constexpr std::uint64_t largest = std::uint64_t{1} << 53;
+  return j.is_null() || (j.is_number_unsigned() && j.get<std::uint64_t>() <= largest) ||
+         (j.is_number_integer() && j.get<std::int64_t>() == 0); // "-0"
+}
+
 // The claims as read_report checks them.
 void check_claims(const nlohmann::json& claims, const std::string& path) {
   std::size_t i = 0;
@@ -137,12 +151,7 @@ void check_record(const nlohmann::json& record, const std::string& path, const s
   expect(
       errors, [](const nlohmann::json& j) { return j.is_object(); }, path, errors_at, "an object");
   for (const auto& [name, error] : errors.items()) {
-    expect(
-        error,
-        [](const nlohmann::json& j) {
-          return j.is_null() || (j.is_number() && !(j.get<double>() < 0));
-        },
-        path, errors_at + "." + name, "null or a number >= 0");
+    expect(error, null_or_at_least_0, path, errors_at + "." + name, "null or a number >= 0");
   }
   if (const auto precision = record.find(key::precision); precision != record.end()) {
     expect(
@@ -151,6 +160,20 @@ void check_record(const nlohmann::json& record, const std::string& path, const s
           return j.is_string() && known_precision(j.get<std::string>());
         },
         path, where + "." + key::precision, "one of " + precision_names());
+  }
+  // What diff compares of a record's work and time: "-5" steps became "CHANGE 120 -> -5", 1.5 was
+  // shown as 2, and a negative or a textual CPU time silently left the time unjudged.
+  for (const char* name : {key::steps, key::rhs_evals}) {
+    if (const auto count = record.find(name); count != record.end()) {
+      expect(*count, null_or_count, path, where + "." + name,
+             "null or a whole number from 0 to 2^53");
+    }
+  }
+  for (const char* name :
+       {key::cpu_seconds, key::cpu_seconds_slowest, key::wall_seconds, key::wall_seconds_slowest}) {
+    if (const auto time = record.find(name); time != record.end()) {
+      expect(*time, null_or_at_least_0, path, where + "." + name, "null or a number >= 0");
+    }
   }
 }
 

@@ -105,6 +105,21 @@ Number number_field(dom::element value) {
   return {.state = value.is_null() ? Number::State::null : Number::State::absent};
 }
 
+// A count as check_record accepts it: null, or an integer from 0 to 2^53; none otherwise (an
+// integer simdjson reads as a double, "-0" perhaps, is left to nlohmann).
+std::optional<Number> count_field(dom::element value) {
+  constexpr std::int64_t largest = std::int64_t{1} << 53;
+  if (value.is_null()) {
+    return Number{.state = Number::State::null};
+  }
+  std::int64_t count = 0;
+  if (value.type() != dom::element_type::INT64 || value.get(count) != simdjson::SUCCESS ||
+      count < 0 || count > largest) {
+    return std::nullopt;
+  }
+  return Number{.state = Number::State::number, .value = static_cast<double>(count)};
+}
+
 // An array or an object: what may hold a key named twice (most of a record's members are
 // numbers, which are asked this inline rather than through keys_once).
 bool structured(dom::element value) {
@@ -209,9 +224,14 @@ std::optional<RecordFacts> facts_from_dom(dom::element record, Scratch& scratch)
       }
       break;
     case f_rhs_evals:
-    case f_steps:
-      (*field == f_steps ? facts.steps : facts.rhs_evals) = number_field(value);
+    case f_steps: {
+      const std::optional<Number> count = count_field(value);
+      if (!count) {
+        return std::nullopt;
+      }
+      (*field == f_steps ? facts.steps : facts.rhs_evals) = *count;
       break;
+    }
     case f_p:
     case f_v0:
     case f_m:
@@ -229,6 +249,10 @@ std::optional<RecordFacts> facts_from_dom(dom::element record, Scratch& scratch)
                                     : *field == f_wall_seconds        ? wall
                                                                       : wall_slowest;
       into = number_of(value);
+      const bool time = *field != f_p && *field != f_v0 && *field != f_m && *field != f_k;
+      if (time && !value.is_null() && !(into && *into >= 0)) {
+        return std::nullopt; // check_record requires null or a number >= 0
+      }
       break;
     }
     default: { // an observed field: an object of a number (or null) per observable
