@@ -61,6 +61,18 @@ std::optional<diff::Report> fast(const std::string& text) {
   return diff::read_record_lines(in, "r.json");
 }
 
+// The record line `index` (0-based) of a text, without its comma.
+std::string record_line(const std::string& text, std::size_t index) {
+  std::istringstream in(text);
+  std::size_t record = 0;
+  for (std::string l; std::getline(in, l);) {
+    if (l.rfind("  {\"key\":", 0) == 0 && record++ == index) {
+      return l.substr(2, l.size() - 2 - (l.ends_with(",") ? 1 : 0));
+    }
+  }
+  return "";
+}
+
 // The text with its record line `index` (0-based) replaced by `line`.
 std::string with_record_line(const std::string& text, std::size_t index, const std::string& line) {
   std::istringstream in(text);
@@ -177,8 +189,11 @@ TEST(DiffReader, OtherLayoutsAndDamagedReportsAreLeftToTheGeneralReader) {
   for (const char c : text) {
     crlf += c == '\n' ? std::string("\r\n") : std::string(1, c);
   }
+  // A record line twice: diff compared one of them, and never saw the other.
+  std::string record_twice = with_record_line(text, 2, record_line(text, 1));
   std::string claim_twice = text;
   claim_twice.replace(claim_twice.find("\"verdict\":"), 10, "\"name\": \"x\", \"verdict\":");
+  const std::string key_of_1 = nlohmann::json::parse(record_line(text, 1))["key"];
   const auto damaged = [&](const std::string& fields) {
     return with_record_line(
         text, 1, R"({"key":"k","outcome":"exited","failed":false,"rel_error":{})" + fields + "}");
@@ -221,6 +236,8 @@ TEST(DiffReader, OtherLayoutsAndDamagedReportsAreLeftToTheGeneralReader) {
       {"a key named twice 1000 levels down", damaged(",\"x\":" + deep),
        deep_where + "... names a twice"},
       {"a key named twice outside the records", claim_twice, "r.json: claims[0] names name twice"},
+      {"a record line twice", record_twice,
+       "r.json: records[2] has the key of records[1] (" + key_of_1 + ")"},
       // Counts and times diff compares, impossible: "-5" became "CHANGE 120 -> -5", 1.5 was shown
       // as 2, and a negative or textual time left the time unjudged.
       {"a negative count", damaged(R"(,"rhs_evals":-5)"),

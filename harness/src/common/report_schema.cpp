@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstdint>
 #include <initializer_list>
+#include <unordered_map>
 #include <vector>
 
 namespace pldamp::harness::schema {
@@ -277,6 +278,7 @@ private:
   bool claims_checked_ = false; // as soon as they are read (before the records, as pldamp writes)
   std::size_t kept_ = 0;        // the values and keys in the tree
   std::size_t taken_ = 0;       // the records handed over (or being read apart)
+  std::unordered_map<std::string, std::size_t> keys_; // each record's key, and its index
 };
 
 json* Reader::add(json&& value) {
@@ -395,6 +397,13 @@ std::string Reader::location() const {
 void Reader::take(json&& record) {
   const std::string where = std::string(key::records) + "[" + std::to_string(taken_) + "]";
   check_record(record, path_, where);
+  // Two records of one key: diff would compare one of them and never see the other.
+  const auto [earlier, fresh] =
+      keys_.try_emplace(record.at(key::key).get_ref<const std::string&>(), taken_);
+  if (!fresh) {
+    throw InputError(path_ + ": " + where + " has the key of " + key::records + "[" +
+                     std::to_string(earlier->second) + "] (" + one_line(earlier->first, 200) + ")");
+  }
   ++taken_;
   each_(std::move(record));
 }

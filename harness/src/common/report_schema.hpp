@@ -273,7 +273,7 @@ inline constexpr std::size_t max_kept_values = std::size_t{1} << 23;
 
 // A report.json's text, parsed and checked for what a reader needs to trust (schema, claims'
 // names, verdicts and expectations, records' keys, outcomes, failed flags, errors, precisions,
-// counts and times, and no key named twice in an object); everything
+// counts and times, each record's key once, and no key named twice in an object); everything
 // else is read defensively (below). Throws InputError naming `path` and the first thing amiss,
 // so a damaged or foreign file is one line, exit 2: among them a text outside the records of more
 // than `max_values` JSON values.

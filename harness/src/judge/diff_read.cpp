@@ -14,7 +14,9 @@
 
 #include <algorithm>
 #include <array>
+#include <functional>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace pldamp::harness::diff {
@@ -463,6 +465,18 @@ std::optional<Report> read_record_lines(std::istream& in, const std::string& pat
     records.push_back(std::move(*facts));
   }
   if (where != Where::after || in.bad() || too_long || !schema_first) {
+    return std::nullopt;
+  }
+  // Each record's key once, as the general reader requires: the keys sorted by their hashes
+  // (then by themselves, should hashes meet), two equal keys side by side. A hash set of them
+  // cost 0.15 s of CPU for the 400 000 records of a 10^6-run map; sorted, less than its noise.
+  std::vector<std::pair<std::size_t, std::string_view>> keys;
+  keys.reserve(records.size());
+  for (const RecordFacts& record : records) {
+    keys.emplace_back(std::hash<std::string_view>{}(record.key), record.key);
+  }
+  std::sort(keys.begin(), keys.end());
+  if (std::adjacent_find(keys.begin(), keys.end()) != keys.end()) {
     return std::nullopt;
   }
   Report report;
