@@ -219,7 +219,11 @@ TEST(DiffReader, OtherLayoutsAndDamagedReportsAreLeftToTheGeneralReader) {
        "r.json: records[0].failed must be true or false (got 0)"},
       {"another schema", older, "r.json: report schema 2 is not 3"},
       {"a NUL after a record", nul_after_record, "not a JSON report (got r.json)"},
-      {"a NUL after a whole report", nul_between, ""},
+      // nlohmann's lexer ends its input at a NUL: a NUL and what follows it were accepted where
+      // any other text after the report is refused.
+      {"a NUL after a whole report", nul_between, "not a JSON report (got r.json)"},
+      {"a NUL after pldamp's report", text + '\0', "not a JSON report (got r.json)"},
+      {"a NUL and text after it", text + '\0' + "}}", "not a JSON report (got r.json)"},
       {"records named twice", records_twice, "r.json: the report names records twice"},
       {"schema named twice", schema_twice, "r.json: the report names schema twice"},
       {"a trailing comma", trailing_comma, "not a JSON report (got r.json)"},

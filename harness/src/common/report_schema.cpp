@@ -2,9 +2,12 @@
 
 #include "common/input.hpp"
 
+#include <array>
 #include <cmath>
 #include <cstdint>
+#include <cstring>
 #include <initializer_list>
+#include <streambuf>
 #include <unordered_map>
 #include <vector>
 
@@ -434,6 +437,39 @@ json Reader::finish(bool parsed) {
   return report;
 }
 
+// A stream's bytes up to its first NUL, which nlohmann's lexer takes for the end of its input
+// ("{...}\0 anything" read as "{...}" while "{...} anything" was refused). A JSON text never holds
+// one (a string holds no raw control character): a NUL met refuses the report.
+class UpToNul : public std::streambuf {
+public:
+  explicit UpToNul(std::streambuf* source) : source_(source) {}
+  bool met() const { return met_; }
+
+protected:
+  int_type underflow() override {
+    if (met_ || source_ == nullptr) {
+      return traits_type::eof();
+    }
+    const std::streamsize count =
+        source_->sgetn(buffer_.data(), static_cast<std::streamsize>(buffer_.size()));
+    if (count <= 0) {
+      return traits_type::eof();
+    }
+    char* end = buffer_.data() + count;
+    if (void* nul = std::memchr(buffer_.data(), 0, static_cast<std::size_t>(count))) {
+      met_ = true;
+      end = static_cast<char*>(nul);
+    }
+    setg(buffer_.data(), buffer_.data(), end);
+    return end == buffer_.data() ? traits_type::eof() : traits_type::to_int_type(buffer_[0]);
+  }
+
+private:
+  std::streambuf* source_;
+  std::array<char, 65536> buffer_{};
+  bool met_ = false;
+};
+
 } // namespace
 
 bool too_many_values(const std::exception& error) {
@@ -444,22 +480,27 @@ nlohmann::json read_report(std::string_view text, const std::string& path, std::
   json records = json::array();
   const RecordSink keep = [&](json&& record) { records.push_back(std::move(record)); };
   Reader reader(path, keep, max_values);
-  json report = reader.finish(json::sax_parse(text, &reader));
+  const bool parsed = json::sax_parse(text, &reader);
+  // nlohmann's lexer ends its input at a NUL as at the end: refused whatever follows it.
+  json report = reader.finish(parsed && text.find('\0') == std::string_view::npos);
   report.at(key::records) = std::move(records);
   return report;
 }
 
 nlohmann::json read_report(std::istream& in, const std::string& path, const RecordSink& each,
                            std::size_t max_values) {
+  UpToNul bytes(in.rdbuf());
+  std::istream guarded(&bytes);
   Reader reader(path, each, max_values);
-  return reader.finish(json::sax_parse(in, &reader));
+  const bool parsed = json::sax_parse(guarded, &reader);
+  return reader.finish(parsed && !bytes.met());
 }
 
 nlohmann::json read_record(std::string_view text, const std::string& path,
                            const std::string& where) {
   const RecordSink none = [](json&&) {};
   Reader reader(path, none, 0, &where);
-  if (!json::sax_parse(text, &reader)) {
+  if (!json::sax_parse(text, &reader) || text.find('\0') != std::string_view::npos) {
     throw InputError("not a JSON report (got " + path + ")");
   }
   json record = reader.lone();
