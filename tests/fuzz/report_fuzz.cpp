@@ -4,7 +4,9 @@
 // An InputError (an std::invalid_argument) is the answer to bad input; any other exception escapes
 // and aborts, and libFuzzer reports it with a crash, a hang (-timeout), a leak or an ASan/UBSan
 // report. And diff's fast reader (judge/diff_read.cpp) on the same bytes: when it reads them, the
-// general reader must read the same facts (anything else aborts).
+// general reader must read the same facts, and when it refuses them (too many values outside the
+// records), say the same; and read_report of the bytes as a text and as a stream must agree
+// (anything else aborts). Each with diff's limit of values kept, and with a small one.
 //
 // Build (Clang; float128 off, Clang has no GCC quadmath.h) and run, from the source tree:
 //   CC=clang CXX=clang++ cmake -S . -B /tmp/build-fuzz -DPLDAMP_FUZZ=ON -DPLDAMP_WITH_QUAD=OFF \
@@ -24,8 +26,10 @@
 #include <cstdint>
 #include <cstdio>
 #include <cstdlib>
+#include <optional>
 #include <sstream>
 #include <stdexcept>
+#include <string>
 #include <string_view>
 
 namespace {
@@ -70,34 +74,99 @@ const nlohmann::json& other_report() {
   return report;
 }
 
-// The fast reader declines, or reads what the general reader reads.
-void fast_reader_agrees(std::string_view text) {
+// What a reader made of the bytes: the report, or its message.
+struct Read {
+  pldamp::harness::diff::Report report;
+  std::string error;
+};
+
+// The general reader of a stream (schema::read_report, then RecordFacts::of).
+Read general_reading(std::string_view text, std::size_t max_values) {
+  Read out;
+  std::istringstream in{std::string(text)};
+  try {
+    out.report.rest = pldamp::harness::schema::read_report(
+        in, "fuzz.json",
+        [&](nlohmann::json&& record) {
+          out.report.records.push_back(pldamp::harness::diff::RecordFacts::of(record));
+        },
+        max_values);
+  } catch (const std::invalid_argument& e) {
+    out.error = e.what();
+  }
+  return out;
+}
+
+void fail(const char* what, const std::string& detail = "") {
+  std::fprintf(stderr, "%s%s%s\n", what, detail.empty() ? "" : ": ", detail.c_str());
+  std::abort();
+}
+
+// The fast reader declines, or reads what the general reader reads, or says what it says (of a
+// text outside the records beyond `max_values`, which it tells without the general reader).
+void fast_reader_agrees(std::string_view text, std::size_t max_values) {
   using pldamp::harness::diff::describe;
-  using pldamp::harness::diff::RecordFacts;
-  using pldamp::harness::diff::Report;
   std::istringstream fast_in{std::string(text)};
-  const std::optional<Report> fast = pldamp::harness::diff::read_record_lines(fast_in, "fuzz.json");
-  if (!fast) {
+  std::optional<pldamp::harness::diff::Report> fast;
+  std::string fast_error;
+  try {
+    fast = pldamp::harness::diff::read_record_lines(fast_in, "fuzz.json", {.values = max_values});
+  } catch (const std::invalid_argument& e) {
+    fast_error = e.what();
+  }
+  if (!fast && fast_error.empty()) {
     return;
   }
-  std::istringstream general_in{std::string(text)};
-  Report general;
-  try {
-    general.rest =
-        pldamp::harness::schema::read_report(general_in, "fuzz.json", [&](nlohmann::json&& record) {
-          general.records.push_back(RecordFacts::of(record));
-        });
-  } catch (const std::invalid_argument& e) {
-    std::fprintf(stderr, "the fast reader read a report the general one refuses: %s\n", e.what());
-    std::abort();
+  const Read general = general_reading(text, max_values);
+  if (!fast_error.empty()) {
+    if (general.error != fast_error) {
+      fail("the fast reader refused a report otherwise than the general one", fast_error);
+    }
+    return;
   }
-  bool same = fast->records.size() == general.records.size() && fast->rest == general.rest;
+  if (!general.error.empty()) {
+    fail("the fast reader read a report the general one refuses", general.error);
+  }
+  bool same =
+      fast->records.size() == general.report.records.size() && fast->rest == general.report.rest;
   for (std::size_t i = 0; same && i < fast->records.size(); ++i) {
-    same = describe(fast->records[i]) == describe(general.records[i]);
+    same = describe(fast->records[i]) == describe(general.report.records[i]);
   }
   if (!same) {
-    std::fprintf(stderr, "the fast reader read other facts than the general one\n");
-    std::abort();
+    fail("the fast reader read other facts than the general one");
+  }
+}
+
+// read_report of a text and of a stream (nlohmann reads each through its own input, and a NUL
+// is found by each its own way): the same report, or the same message.
+void text_and_stream_agree(std::string_view text, std::size_t max_values) {
+  Read whole;
+  try {
+    const nlohmann::json report =
+        pldamp::harness::schema::read_report(text, "fuzz.json", max_values);
+    whole.report.rest = report;
+    whole.report.rest["records"] = nlohmann::json::array();
+    for (const nlohmann::json& record : report.at("records")) {
+      whole.report.records.push_back(pldamp::harness::diff::RecordFacts::of(record));
+    }
+  } catch (const std::invalid_argument& e) {
+    whole.error = e.what();
+  }
+  const Read streamed = general_reading(text, max_values);
+  if (whole.error != streamed.error) {
+    fail("read_report of a text and of a stream disagree", whole.error + " / " + streamed.error);
+  }
+  if (!whole.error.empty()) {
+    return; // the stream's records read before its error were handed over
+  }
+  bool same = whole.report.rest == streamed.report.rest &&
+              whole.report.records.size() == streamed.report.records.size();
+  for (std::size_t i = 0; same && i < whole.report.records.size(); ++i) {
+    same = pldamp::harness::diff::describe(whole.report.records[i]) ==
+           pldamp::harness::diff::describe(streamed.report.records[i]);
+  }
+  if (!same) {
+    fail("read_report of a text and of a stream read other reports");
   }
 }
 
@@ -105,7 +174,11 @@ void fast_reader_agrees(std::string_view text) {
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   const std::string_view text(reinterpret_cast<const char*>(data), size);
-  fast_reader_agrees(text);
+  // With the limit of values diff applies, and with one a fuzzed report can reach.
+  for (const std::size_t max_values : {pldamp::harness::schema::max_kept_values, std::size_t{40}}) {
+    fast_reader_agrees(text, max_values);
+    text_and_stream_agree(text, max_values);
+  }
   nlohmann::json report;
   try {
     report = pldamp::harness::schema::read_report(text, "fuzz.json");
