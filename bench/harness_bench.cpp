@@ -13,8 +13,13 @@
 //   (run/shard.hpp) and back: bytes and time per record, what a rank's results cost to send
 //   (docs/scaling.md)
 //
+// - report_objects/N: schema::read_report of a report whose text outside the records holds an
+//   array of N empty objects: linear in N (nlohmann's callback parser was quadratic: 300 000 took
+//   20 s, 800 000 over a minute), per object
+//
 //   build/bench/harness_bench
 #include "common/parallel.hpp"
+#include "common/report_schema.hpp"
 #include "judge/budget.hpp"
 #include "judge/claims.hpp"
 #include "report/report.hpp"
@@ -104,6 +109,22 @@ void records_as_bytes(benchmark::State& state) {
                          benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
 }
 BENCHMARK(records_as_bytes)->Unit(benchmark::kMillisecond);
+
+void report_objects(benchmark::State& state) {
+  std::string text = R"({"schema": )" + std::to_string(schema::version) +
+                     R"(, "claims": [], "records": [], "x": [{})";
+  for (long i = 1; i < state.range(0); ++i) {
+    text += ",{}";
+  }
+  text += "]}";
+  for (auto _ : state) {
+    benchmark::DoNotOptimize(schema::read_report(text, "bench.json"));
+  }
+  state.counters["per_object"] =
+      benchmark::Counter(double(state.iterations()) * double(state.range(0)),
+                         benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
+}
+BENCHMARK(report_objects)->Arg(100000)->Arg(300000)->Unit(benchmark::kMillisecond);
 
 void external_protocol(benchmark::State& state) {
   std::string v0s;

@@ -14,7 +14,6 @@
 
 #include <gtest/gtest.h>
 
-#include <chrono>
 #include <sstream>
 #include <streambuf>
 
@@ -394,18 +393,17 @@ std::size_t values_and_keys(const nlohmann::json& j) {
 // nlohmann's callback parser, which read_report used, looked through an object's parent at each
 // object's end: 100 000 `{}` in an array outside the records took 1.5 s, 200 000 5.6 s, 400 000
 // 22 s (a map of 10^6 points holds such arrays). Read by its own SAX handler, linearly.
-TEST(ReportReader, ReadsInTimeLinearInTheText) {
+TEST(ReportReader, ReadsAnArrayOfManyObjects) {
+  // Its time, linear in the objects (20 s for these before, 0.05 s since), is harness_bench's
+  // report_objects: a test does not time.
   std::string text = report_text();
   std::string objects = " \"x\": [{}";
   for (int i = 1; i < 300000; ++i) {
     objects += ",{}";
   }
   text.insert(2, objects + "],\n");
-  const auto start = std::chrono::steady_clock::now();
   const nlohmann::json report = schema::read_report(text, "r.json");
-  const std::chrono::duration<double> took = std::chrono::steady_clock::now() - start;
   EXPECT_EQ(report["x"].size(), 300000u);
-  EXPECT_LT(took.count(), 3.0) << "20 s before (nlohmann's callback parser), 0.05 s since";
 }
 
 // The tree of the text outside the records takes up to about 100 bytes a value or key, where its
