@@ -23,6 +23,9 @@
 #include "pldamp/analytic/quadrature.hpp"
 #include "pldamp/analytic/special.hpp"
 
+#include <boost/math/special_functions/expm1.hpp>
+#include <boost/math/special_functions/log1p.hpp>
+
 #include <algorithm>
 #include <cassert>
 #include <cmath>
@@ -60,6 +63,20 @@ Real log_undamped_scaled_duration(const Real& q) {
 template <SupportedReal Real>
 Real log_scaled_duration(const Damping<Real>& d, const Real& q) {
   return log_undamped_scaled_duration(q) + log_duration_ratio(d, q);
+}
+
+// x^power for x > 0 when x is a normal number; else exp(power·ln x), all that a subnormal or a
+// value beyond the type's range can give (pow(0, power < 0) = +∞). log_x() gives ln x, known
+// where x is not.
+template <SupportedReal Real, class LogX>
+Real power_of(const Real& x, LogX log_x, const Real& power) {
+  using std::exp;
+  using std::isfinite;
+  using std::pow;
+  if (x >= std::numeric_limits<Real>::min() && isfinite(x)) {
+    return pow(x, power);
+  }
+  return exp(power * Real(log_x()));
 }
 
 template <SupportedReal Real>
@@ -113,10 +130,25 @@ public:
     }
     return exp(-d_.z * sigma) * sigma * sinc_rf(Real(d_.mu * sigma * sigma));
   }
-  // dI/dσ = ξ^ν.
+  // ln ξ(σ), finite where ξ itself underflows (late in a decay, or near critical damping where
+  // e^(−zσ) leaves the range before the contact ends).
+  Real log_xi(const Real& sigma) const {
+    using std::log;
+    using std::sqrt;
+    if (d_.mu < 0) {
+      const Real r = sqrt(-d_.mu);
+      if (r * sigma > 1) {
+        using boost::math::log1p;
+        return -(d_.z - r) * sigma + log1p(-exp_(-2 * r * sigma)) - log(2 * r);
+      }
+    }
+    return -d_.z * sigma + log(sigma * sinc_rf(Real(d_.mu * sigma * sigma)));
+  }
+  // dI/dσ = ξ^ν, through ln ξ where ξ is not a normal number (pow(0, ν < 0) would be +∞).
   Real integrand(const Real& sigma) const {
-    using std::pow;
-    return nu_ == 0 ? Real(1) : Real(pow(xi(sigma), nu_));
+    return nu_ == 0 ? Real(1)
+                    : power_of(
+                          xi(sigma), [&] { return log_xi(sigma); }, nu_);
   }
   // ξ(σ_end − ρ) from the distance ρ to the end of an underdamped contact, exact for small ρ:
   // sin(√μσ)/√μ = ρ sinc_rf(μρ²).
@@ -124,9 +156,14 @@ public:
     using std::exp;
     return exp(-d_.z * (sigma_end_ - rho)) * rho * sinc_rf(Real(d_.mu * rho * rho));
   }
+  Real log_xi_before_end(const Real& rho) const {
+    using std::log;
+    return -d_.z * (sigma_end_ - rho) + log(rho * sinc_rf(Real(d_.mu * rho * rho)));
+  }
   Real integrand_before_end(const Real& rho) const {
-    using std::pow;
-    return nu_ == 0 ? Real(1) : Real(pow(xi_before_end(rho), nu_));
+    return nu_ == 0 ? Real(1)
+                    : power_of(
+                          xi_before_end(rho), [&] { return log_xi_before_end(rho); }, nu_);
   }
   // Width of the quadrature pieces; within one width of σ_end, positions are best given as ρ.
   const Real& piece_width() const { return h_; }
@@ -180,6 +217,12 @@ public:
   }
 
 private:
+  template <class T>
+  static T exp_(const T& value) {
+    using std::exp;
+    return exp(value);
+  }
+
   Real from_start(const Real& sigma) const {
     const Real first = sigma < h_ ? sigma : h_;
     return left_piece(first) + panels(first, sigma);
@@ -198,21 +241,34 @@ private:
     return pow(b / 2, nu_ + 1) * sum;
   }
 
-  // ∫₀^b ξ^ν with the weight σ^ν taken exactly: ξ^ν = σ^ν (e^(−zσ) sinc_rf(μσ²))^ν.
+  // ∫₀^b ξ^ν with the weight σ^ν taken exactly: ξ^ν = σ^ν g(σ), g = (e^(−zσ) sinc_rf(μσ²))^ν,
+  // as (b^q/q)(1 + the rule's mean of g − 1): the rounded weights then touch only g − 1, which is
+  // O(b) near the onset, where t ≈ T σ^q/q must be right to the last bits for σ(t) to be (the
+  // rule's own Σ w_i = 2^q/q carried 7 ε of float128 into t there).
   Real left_piece(const Real& b) const {
-    using std::exp;
     using std::log;
-    return jacobi_piece(b, [&](const Real& sigma) {
-      return Real(exp(nu_ * (log(sinc_rf(Real(d_.mu * sigma * sigma))) - d_.z * sigma)));
-    });
+    using std::pow;
+    const JacobiRule<Real>& rule = jacobi_rule(nu_);
+    evaluations_ += rule.nodes.size();
+    Real sum(0);
+    for (std::size_t i = 0; i < rule.nodes.size(); ++i) {
+      const Real sigma = b * (1 + rule.nodes[i]) / 2;
+      sum += rule.weights[i] *
+             boost::math::expm1(
+                 Real(nu_ * (log(sinc_rf(Real(d_.mu * sigma * sigma))) - d_.z * sigma)));
+    }
+    return pow(b, q_) / q_ * (1 + sum * q_ / pow(Real(2), q_));
   }
 
   // ∫ over the last ρ ≤ h before σ_end of ξ^ν; with ρ' = σ_end − σ, ξ = e^(−zσ) ρ' sinc_rf(μρ'²).
   Real tail(const Real& rho) const {
     using std::exp;
-    using std::pow;
+    using std::log;
     return jacobi_piece(rho, [&](const Real& r) {
-      return Real(pow(exp(-d_.z * (sigma_end_ - r)) * sinc_rf(Real(d_.mu * r * r)), nu_));
+      const Real sinc = sinc_rf(Real(d_.mu * r * r));
+      return power_of(
+          Real(exp(-d_.z * (sigma_end_ - r)) * sinc),
+          [&] { return Real(-d_.z * (sigma_end_ - r) + log(sinc)); }, nu_);
     });
   }
 
