@@ -6,7 +6,8 @@
 #include "pldamp/analytic/hertz.hpp"       // m, k, p from radii, moduli and densities (§13)
 #include "pldamp/analytic/instances.hpp" // instantiated once, where pldamp::analytic_instances is linked
 #include "pldamp/analytic/observables.hpp" // e, δ_max, t_peak, τ, energies, e_cap, Δt (§3, §4, §6)
-#include "pldamp/analytic/quadrature.hpp" // Gauss–Jacobi rules
-#include "pldamp/analytic/special.hpp"    // regime-free functions, log|Γ(x+iy)|
-#include "pldamp/analytic/time.hpp"       // t(s) and the closed-form τ (§3)
-#include "pldamp/analytic/trajectory.hpp" // δ(s), v(s), t(s), δ(t), phase portrait (§3)
+#include "pldamp/analytic/quadrature.hpp"      // Gauss–Jacobi rules
+#include "pldamp/analytic/special.hpp"         // regime-free functions, log|Γ(x+iy)|
+#include "pldamp/analytic/time.hpp"            // t(s) and the closed-form τ (§3)
+#include "pldamp/analytic/trajectory.hpp"      // δ(s), v(s), t(s), δ(t), phase portrait (§3)
+#include "pldamp/analytic/trajectory_ends.hpp" // its onset series and slow decay (§3)

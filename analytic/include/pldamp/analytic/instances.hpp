@@ -16,12 +16,15 @@
 #include "pldamp/analytic/special.hpp"
 #include "pldamp/analytic/time.hpp"
 #include "pldamp/analytic/trajectory.hpp"
+#include "pldamp/analytic/trajectory_ends.hpp"
 
 // The instantiations of one precision, each preceded by `prefix` (extern, or nothing).
 #define PLDAMP_ANALYTIC_INSTANCES(prefix, Real)                                                    \
   prefix template class Contact<Real>;                                                             \
   prefix template class ScaledTime<Real>;                                                          \
   prefix template class Trajectory<Real>;                                                          \
+  prefix template class OnsetSeries<Real>;                                                         \
+  prefix template class SlowDecay<Real>;                                                           \
   prefix template Damping<Real> damping_from_log_e(const Real&);                                   \
   prefix template Damping<Real> damping_from_e(const Real&);                                       \
   prefix template Damping<Real> damping_from_one_minus_e(const Real&);                             \

@@ -5,9 +5,16 @@
 // S, C are the regime-free sine and cosine of MATH.md §2 (special.hpp), smooth through z = 1.
 // δ(t) for a given t solves t(s) = t by safeguarded Newton (dt/ds = A q x^(q−1) is known).
 // Underdamped contacts end at s_end = π/Ω1; overdamped and critical ones never end (s → ∞).
+//
+// Every t > 0 a type holds gives a finite state (MATH.md §3, "Its ends"): near the onset, where
+// s ∝ t^((p+1)/2) underflows first, the series of trajectory_ends.hpp (OnsetSeries); in a decay
+// that never returns (p > 1), t(s) in the factored form e^(κσ) G(σ) and δ from ϑ f/G
+// (SlowDecay), up to t = ∞; ξ and its powers go through logarithms where they leave the range.
+// What truly underflows comes back as 0 (v as ±0).
 #pragma once
 
 #include "pldamp/analytic/observables.hpp"
+#include "pldamp/analytic/trajectory_ends.hpp"
 
 #include <boost/math/tools/roots.hpp>
 #include <boost/math/tools/toms748_solve.hpp>
@@ -15,6 +22,7 @@
 #include <cmath>
 #include <cstdint>
 #include <limits>
+#include <optional>
 #include <utility>
 #include <vector>
 
@@ -35,7 +43,19 @@ template <SupportedReal Real>
 class Trajectory {
 public:
   explicit Trajectory(const Contact<Real>& c)
-      : c_(c), scaled_(c.damping(), c.q()), time_scale_(exp_(log_time_scale(c))) {}
+      : c_(c), scaled_(c.damping(), c.q()), log_time_scale_(log_time_scale(c)),
+        time_scale_(exp_(log_time_scale_)), onset_(c) {
+    using std::log;
+    if (c.mu() <= 0 && c.q() < 1) {
+      slow_.emplace(c.damping(), c.q());
+      // The creep's exponents, from p (exact for p = 3/2, 2, 3, 5): δ ∝ (ξ^ν)^(q/ν), ξ =
+      // (ξ^ν)^(1/ν).
+      delta_power_ = -2 / (c.p() - 1);
+      xi_power_ = -(c.p() + 1) / (c.p() - 1);
+    }
+    log_delta_unit_ = log(c.A()) + c.q() * c.log_L(); // δ = A L^q ξ^q
+    delta_unit_ = exp_(log_delta_unit_);
+  }
 
   // LSD functions in physical units (MATH.md §2).
   Real S(const Real& s) const {
@@ -46,16 +66,34 @@ public:
     const Real sigma = c_.omega0() * s;
     return cos_rf(Real(mu() * sigma * sigma));
   }
-  Real x(const Real& s) const { return c_.L() * scaled_.xi(c_.omega0() * s); }
+  Real x(const Real& s) const {
+    const Real sigma = c_.omega0() * s;
+    return decayed(sigma) ? Real(0) : Real(c_.L() * scaled_.xi(sigma));
+  }
   Real x_dot(const Real& s) const {
     using std::exp;
     const Real sigma = c_.omega0() * s;
+    if (decayed(sigma)) {
+      return -Real(0);
+    }
+    if (late_in_decay(sigma)) {
+      // e^(−zσ) C = e^(−λσ)(1 − rP), e^(−zσ) S = e^(−λσ) P with P = (1 − e^(−2rσ))/(2r) and
+      // z + r = 1/λ: no e^(−zσ) → 0 times cosh → ∞ (MATH.md §3, "Its ends").
+      return c_.v0() * exp(-slow_rate() * sigma) * velocity_factor(sigma);
+    }
     const Real w = mu() * sigma * sigma;
     return c_.v0() * exp(-z() * sigma) * (cos_rf(w) - z() * sigma * sinc_rf(w));
   }
   Real x_ddot(const Real& s) const {
     using std::exp;
     const Real sigma = c_.omega0() * s;
+    if (decayed(sigma)) {
+      return Real(0);
+    }
+    if (late_in_decay(sigma)) {
+      // e^(−zσ)(−2z C + (2z² − 1) S) = e^(−λσ)(P/λ² − 2z), as in x_dot with (z + r)² = 1/λ².
+      return c_.v0() * c_.omega0() * exp(-slow_rate() * sigma) * acceleration_factor(sigma);
+    }
     const Real w = mu() * sigma * sigma;
     return c_.v0() * c_.omega0() * exp(-z() * sigma) *
            (-2 * z() * cos_rf(w) + (2 * z() * z() - 1) * sigma * sinc_rf(w));
@@ -65,73 +103,57 @@ public:
   // π/Ω1 when underdamped, +∞ otherwise.
   Real s_end() const { return scaled_.sigma_end() / c_.omega0(); }
 
-  Real time_at_parameter(const Real& s) const { return time_scale_ * scaled_(c_.omega0() * s); }
+  // t(s) for 0 ≤ s ≤ s_end (+∞ at s = +∞ when the contact never ends).
+  Real time_at_parameter(const Real& s) const {
+    using std::exp;
+    using std::isfinite;
+    using std::log;
+    require_parameter(s);
+    const Real sigma = c_.omega0() * s;
+    if (!slow_ || sigma <= scaled_.piece_width()) {
+      return time_scale_ * scaled_(sigma);
+    }
+    if (!isfinite(sigma)) {
+      return sigma;
+    }
+    // T e^(κσ) G(σ): the rounding of κσ is t's own condition number, d ln t/d ln s ≈ κσ.
+    const Real g = slow_->G(sigma);
+    const Real t = time_scale_ * exp(slow_->rate() * sigma) * g;
+    return isfinite(t) && t >= std::numeric_limits<Real>::min()
+               ? t
+               : Real(exp(log_time_scale_ + slow_->rate() * sigma + log(g)));
+  }
 
-  TrajectoryPoint<Real> at_parameter(const Real& s) const { return point(s, time_at_parameter(s)); }
+  TrajectoryPoint<Real> at_parameter(const Real& s) const {
+    require_parameter(s);
+    return point(s, time_at_parameter(s));
+  }
 
   // The state at physical time t ≥ 0. After an underdamped contact ends (t ≥ τ) the point is the
   // exit state: δ = 0, v = −e·v0, in_contact = false.
   TrajectoryPoint<Real> at_time(const Real& t) const {
+    using std::log;
     require_finite("t", t);
     require(t >= 0, "t must be >= 0", t);
     if (t == 0) {
       return point(Real(0), Real(0));
     }
-    const Real target = t / time_scale_;
-    Real lo(0);
-    Real hi = scaled_.sigma_end();
-    Real i_hi;
-    std::uintmax_t iterations = 200;
-    const int digits = std::numeric_limits<Real>::digits - 2;
-    if (hi < std::numeric_limits<Real>::infinity()) {
-      i_hi = scaled_.total();
-      if (target >= i_hi) {
-        return exit_point(t);
-      }
-      // In the last piece, solve for the distance ρ to the end: δ ∝ ρ^q there, and a σ near
-      // σ_end would keep only the absolute precision of σ_end.
-      const Real last = scaled_.piece_width() < hi / 2 ? scaled_.piece_width() : Real(hi / 2);
-      const Real i_last = scaled_.before_end(last);
-      if (target > i_last) {
-        auto residual = [&](const Real& rho) {
-          return std::make_pair(Real(scaled_.before_end(rho) - target),
-                                Real(-scaled_.integrand_before_end(rho)));
-        };
-        const Real guess = last * (i_hi - target) / (i_hi - i_last);
-        const Real rho = boost::math::tools::newton_raphson_iterate(residual, guess, Real(0), last,
-                                                                    digits, iterations);
-        return point_before_end(rho, t);
-      }
-      hi -= last;
-      i_hi = i_last;
-    } else {
-      // Never returns: double σ until I(σ) passes the target, keeping the last σ below it as the
-      // bracket's low end. Late in a decay I grows like e^(κσ) (κ = −ν times the slow rate), so
-      // Newton from [0, hi] could jump to 0 and stay there: at α_eff 1.9–2.01 it answered the
-      // onset, δ = 0 and v = v0, at t ~ 1e6 (found by a user's trial, tests/analytic).
-      hi = peak_phase(c_.damping());
-      while ((i_hi = scaled_(hi)) < target) {
-        lo = hi;
-        hi *= 2;
-      }
+    const Real log_t = log(t);
+    if (onset_.covers(log_t)) {
+      return onset_point(t, log_t);
     }
-    auto residual = [&](const Real& sigma) {
-      return std::make_pair(Real(scaled_(sigma) - target), scaled_.integrand(sigma));
-    };
-    const Real guess = lo + (hi - lo) / 2;
-    Real sigma =
-        boost::math::tools::newton_raphson_iterate(residual, guess, lo, hi, digits, iterations);
-    using std::abs;
-    if (!(abs(scaled_(sigma) - target) <=
-          Real(64) * std::numeric_limits<Real>::epsilon() * target)) {
-      // Newton did not settle on the root: TOMS 748 on the bracket, which always does.
-      auto value = [&](const Real& x) { return Real(scaled_(x) - target); };
-      std::uintmax_t more = 400;
-      const auto [a, b] = boost::math::tools::toms748_solve(
-          value, lo, hi, boost::math::tools::eps_tolerance<Real>(digits), more);
-      sigma = a + (b - a) / 2;
+    if (mu() > 0) {
+      return underdamped_at(t);
     }
-    return point(Real(sigma / c_.omega0()), t);
+    if (slow_) {
+      const Real log_theta = log_t - log_time_scale_;
+      const auto [sigma, g] = slow_->solve(Real(t / time_scale_), log_theta);
+      return decay_point(sigma, t, DecayTime{log_theta, g});
+    }
+    // p = 1: t = T σ, and s = t itself (dt/ds = A q x^(q−1) = 1), finite where σ = Ω0 s is not.
+    TrajectoryPoint<Real> out = decay_point(Real(t / time_scale_), t, std::nullopt);
+    out.s = t;
+    return out;
   }
 
   std::vector<TrajectoryPoint<Real>> at_times(const std::vector<Real>& times) const {
@@ -150,8 +172,7 @@ public:
     require(n >= 2, "phase portrait needs n >= 2", Real(n));
     Real sigma_stop = scaled_.sigma_end();
     if (!(sigma_stop < std::numeric_limits<Real>::infinity())) {
-      const Real slow_rate = z() - sqrt(-mu());
-      sigma_stop = peak_phase(c_.damping()) + 20 / slow_rate;
+      sigma_stop = peak_phase(c_.damping()) + 20 / slow_rate();
     }
     std::vector<PhasePoint<Real>> out;
     out.reserve(n);
@@ -172,29 +193,241 @@ private:
   const Real& z() const { return c_.alpha_eff(); }
   const Real& mu() const { return c_.mu(); }
 
+  void require_parameter(const Real& s) const {
+    require(s >= 0 && s <= s_end(), "s must be in [0, s_end]", s);
+  }
+
+  // σ = +∞ (s = +∞, or Ω0 s beyond the type) of a contact that never returns: at rest at 0.
+  bool decayed(const Real& sigma) const {
+    return mu() <= 0 && !(sigma < std::numeric_limits<Real>::infinity());
+  }
+
+  // Overdamped and past rσ = 1, where e^(−zσ) cosh(rσ) would be 0·∞ far enough on: the decay's
+  // slow-mode form instead (time.hpp's ξ does the same).
+  bool late_in_decay(const Real& sigma) const {
+    using std::sqrt;
+    return mu() < 0 && sqrt(-mu()) * sigma > 1;
+  }
+  // λ = z − r = 1/(z + r), the slow rate (z = 1: 1).
+  Real slow_rate() const {
+    using std::sqrt;
+    return 1 / (z() + sqrt(-mu()));
+  }
+  // P(σ) = e^(λσ) ξ(σ) = (1 − e^(−2rσ))/(2r), σ when critical.
+  Real decay_P(const Real& sigma) const {
+    using std::sqrt;
+    const Real r = sqrt(-mu());
+    return r == 0 ? sigma : Real(-boost::math::expm1(Real(-2 * r * sigma)) / (2 * r));
+  }
+
+  // 1 − P/λ (x' = v0 e^(−λσ)(1 − P/λ)) and P/λ² − 2z (x'' likewise), each in the form that
+  // cancels less: with y = e^(−2rσ) and P = (1 − y)/(2r), u − wP = w(y − y0)/(2r) for
+  // (w, u, y0) = (1/λ, 1, λ²) and (1/λ², 2z, λ⁴), since 2rλ − 1 = −λ² and 4zrλ² − 1 = −λ⁴. Both
+  // forms vanish only at true zeros (the peak, the force's cut), but heavily overdamped
+  // P → 1/(2r) ≈ λ and 1 − P/λ cancels all along the decay (300-fold at α_eff = 10), while near
+  // critical damping 2r → 0 and the y-form cancels instead.
+  Real velocity_factor(const Real& sigma) const {
+    const Real lambda = slow_rate();
+    return least_cancelling(sigma, Real(1 / lambda), Real(1), Real(lambda * lambda));
+  }
+  Real acceleration_factor(const Real& sigma) const {
+    const Real lambda2 = slow_rate() * slow_rate();
+    return -least_cancelling(sigma, Real(1 / lambda2), Real(2 * z()), Real(lambda2 * lambda2));
+  }
+  Real least_cancelling(const Real& sigma, const Real& w, const Real& u, const Real& y0) const {
+    using std::abs;
+    using std::exp;
+    using std::max;
+    using std::sqrt;
+    const Real wp = w * decay_P(sigma);
+    const Real p_form = u - wp;
+    const Real r = sqrt(-mu());
+    if (r == 0) {
+      return p_form;
+    }
+    const Real y = exp(-2 * r * sigma);
+    const Real y_form = w * (y - y0) / (2 * r);
+    // Each form's rounding, relative: its operands' size over its value.
+    return max(y, y0) / abs(y - y0) < max(u, wp) / abs(p_form) ? y_form : p_form;
+  }
+
+  // The underdamped inversion of t(s) (MATH.md §3), and the exit state from τ on.
+  TrajectoryPoint<Real> underdamped_at(const Real& t) const {
+    using std::exp;
+    using std::log;
+    const Real target = t / time_scale_;
+    Real lo(0);
+    Real hi = scaled_.sigma_end();
+    const Real i_hi = scaled_.total();
+    std::uintmax_t iterations = 200;
+    const int digits = std::numeric_limits<Real>::digits - 2;
+    if (target >= i_hi) {
+      return exit_point(t);
+    }
+    // In the last piece, solve for the distance ρ to the end: δ ∝ ρ^q there, and a σ near
+    // σ_end would keep only the absolute precision of σ_end.
+    const Real last = scaled_.piece_width() < hi / 2 ? scaled_.piece_width() : Real(hi / 2);
+    const Real i_last = scaled_.before_end(last);
+    if (target > i_last) {
+      auto residual = [&](const Real& rho) {
+        return std::make_pair(Real(scaled_.before_end(rho) - target),
+                              Real(-scaled_.integrand_before_end(rho)));
+      };
+      const Real guess = last * (i_hi - target) / (i_hi - i_last);
+      const Real rho = boost::math::tools::newton_raphson_iterate(residual, guess, Real(0), last,
+                                                                  digits, iterations);
+      return point_before_end(rho, t);
+    }
+    hi -= last;
+    auto residual = [&](const Real& sigma) {
+      return std::make_pair(Real(scaled_(sigma) - target), scaled_.integrand(sigma));
+    };
+    // Early on I ≈ σ^q/q: from there rather than from the middle, which a small target would
+    // leave by many bisections.
+    const Real early = exp((log(target) + log(c_.q())) / c_.q());
+    const Real guess = early < hi / 2 ? early : Real(hi / 2);
+    Real sigma =
+        boost::math::tools::newton_raphson_iterate(residual, guess, lo, hi, digits, iterations);
+    using std::abs;
+    if (!(abs(scaled_(sigma) - target) <=
+          Real(64) * std::numeric_limits<Real>::epsilon() * target)) {
+      // Newton did not settle on the root: TOMS 748 on the bracket, which always does.
+      auto value = [&](const Real& x) { return Real(scaled_(x) - target); };
+      std::uintmax_t more = 400;
+      const auto [a, b] = boost::math::tools::toms748_solve(
+          value, lo, hi, boost::math::tools::eps_tolerance<Real>(digits), more);
+      sigma = a + (b - a) / 2;
+    }
+    return point(Real(sigma / c_.omega0()), t);
+  }
+
+  // At the onset (OnsetSeries): δ and v from the series, s from ξ = (δ/A)^(1/q)/L by the fixed
+  // point σ = ξ e^(zσ)/sinc_rf(μσ²) in logarithms (σ ≈ ξ; each step gains a factor zσ ≪ 1).
+  TrajectoryPoint<Real> onset_point(const Real& t, const Real& log_t) const {
+    using std::exp;
+    using std::log;
+    const typename OnsetSeries<Real>::State state = onset_.at(t, log_t);
+    const Real log_xi = (state.log_delta - log(c_.A())) / c_.q() - c_.log_L();
+    Real sigma = exp(log_xi), log_sigma = log_xi;
+    for (int step = 0; step < 8; ++step) {
+      log_sigma = log_xi + z() * sigma - log(sinc_rf(Real(mu() * sigma * sigma)));
+      const Real next = exp(log_sigma);
+      if (next == sigma) {
+        break;
+      }
+      sigma = next;
+    }
+    TrajectoryPoint<Real> out{
+        exp(log_sigma - log(c_.omega0())), t, state.delta, state.v, Real(0), Real(0), true};
+    add_forces(out, state.log_delta);
+    return out;
+  }
+
+  // Given ϑ = t/T and G(σ) at the solution of e^(κσ) G(σ) = ϑ (SlowDecay::solve).
+  struct DecayTime {
+    Real log_theta, g;
+  };
+
+  // The state at σ of a contact that never returns (μ ≤ 0). From σ alone, ln ξ = −λσ + ln P and
+  // δ = A (L ξ)^q, whose rounding of λσ costs ε·qλσ. Given the time as well and κσ > 1, from
+  // ξ^ν = ϑ f/G instead: δ = A L^q (ϑ f/G)^(q/ν), ξ = (ϑ f/G)^(1/ν), one power of a number known to
+  // a few ε (MATH.md §3, "Its ends").
+  TrajectoryPoint<Real> decay_point(const Real& sigma, const Real& t,
+                                    const std::optional<DecayTime>& time) const {
+    using std::abs;
+    using std::exp;
+    using std::isfinite;
+    using std::log;
+    const Real s = sigma / c_.omega0();
+    if (!isfinite(sigma)) { // t/T beyond the type: the decay is over
+      return {s, t, Real(0), -Real(0), Real(0), Real(0), true};
+    }
+    const Real lambda = slow_rate();
+    const Real p = decay_P(sigma);
+    TrajectoryPoint<Real> out{s, t, Real(0), Real(0), Real(0), Real(0), true};
+    // v = v0 e^(−λσ)(1 − P/λ) = v0 ξ (1 − P/λ)/P, of the sign of 1 − P/λ (< 0 past the peak).
+    const Real factor = velocity_factor(sigma);
+    const Real v_sign = factor < 0 ? Real(-1) : Real(1);
+    Real log_delta;
+    // ln(v0 |factor|), as a sum: v0 |factor| itself may overflow (factor = 1 − σ at z = 1).
+    const Real log_v_unit = log(c_.v0()) + log(abs(factor));
+    if (time && slow_->rate() * sigma > 1) {
+      // ϑ f/G as t · (f/(G T)): t/T alone can leave the range where the product does not.
+      const Real ratio = slow_->f(sigma) / time->g;
+      const Real log_y = time->log_theta + log(ratio);
+      const Real per_time = ratio / time_scale_;
+      out.delta = power_of_product(delta_unit_, log_delta_unit_, t, per_time, log_y, delta_power_);
+      log_delta = log_delta_unit_ + delta_power_ * log_y;
+      out.v = v_sign * power_of_product(Real(c_.v0() * abs(factor) / p), Real(log_v_unit - log(p)),
+                                        t, per_time, log_y, xi_power_);
+    } else {
+      // ξ = e^(−λσ) P and v = v0 e^(−λσ)(1 − P/λ) as products while they are normal numbers.
+      const Real decay = exp(-lambda * sigma);
+      const Real log_xi = -lambda * sigma + log(p);
+      out.delta = power_of_product(delta_unit_, log_delta_unit_, decay, p, log_xi, c_.q());
+      log_delta = log_delta_unit_ + c_.q() * log_xi;
+      out.v = v_sign * power_of_product(Real(c_.v0() * abs(factor)), log_v_unit, decay, Real(1),
+                                        Real(-lambda * sigma), Real(1));
+    }
+    add_forces(out, log_delta);
+    return out;
+  }
+
+  // unit · (a b)^power (unit = e^log_unit > 0, a, b > 0, ln(a b) = log_y) by pow where a b is a
+  // normal number: as it stands while (a b)^power is one too, else as (a b unit^(1/power))^power,
+  // rounded once near the bottom of the range (through logarithms the exponent's rounding would
+  // cost |ln result| ulps there); where a b leaves the range, as unit a^power b^power; in
+  // logarithms only where all of these do.
+  static Real power_of_product(const Real& unit, const Real& log_unit, const Real& a, const Real& b,
+                               const Real& log_y, const Real& power) {
+    using std::exp;
+    using std::isfinite;
+    using std::pow;
+    const Real min = std::numeric_limits<Real>::min();
+    const auto normal = [&](const Real& x) { return isfinite(x) && x >= min; };
+    const auto raise = [&](const Real& x) { return power == 1 ? x : Real(pow(x, power)); };
+    const Real y = a * b;
+    if (normal(y)) {
+      const Real raised = raise(y);
+      if (normal(raised) && isfinite(unit)) {
+        const Real product = unit * raised;
+        if (isfinite(product)) {
+          return product; // subnormal only when the result is
+        }
+      }
+      const Real base = y * exp(log_unit / power);
+      if (normal(base)) {
+        return raise(base);
+      }
+    } else if (normal(a) && normal(b)) {
+      const Real first = raise(a), second = raise(b);
+      if (normal(first) && normal(second) && isfinite(unit)) {
+        const Real product = unit * second * first;
+        if (isfinite(product) && product != 0) {
+          return product;
+        }
+      }
+    }
+    return exp(log_unit + power * log_y);
+  }
+
   TrajectoryPoint<Real> point(const Real& s, const Real& t) const {
     using std::exp;
     using std::sqrt;
     const Real sigma = c_.omega0() * s;
-    const Real w = mu() * sigma * sigma;
-    const Real r = mu() < 0 ? Real(sqrt(-mu())) : Real(0);
-    if (r * sigma > 1) {
-      // Overdamped and late: e^(−zσ) cosh(rσ) and e^(−zσ) sinh(rσ)/r as the two decaying modes
-      // e^(−(z∓r)σ) (r = √(z² − 1) < z), which neither overflow nor underflow where the factors
-      // do (e^(−zσ) → 0 times cosh rσ → ∞ gave NaN at t = 1e10, α_eff = 2).
-      const Real slow = exp(-(z() - r) * sigma), fast = exp(-(z() + r) * sigma);
-      return assemble(s, t, Real((slow + fast) / 2), Real((slow - fast) / (2 * r)), Real(1));
+    if (late_in_decay(sigma) || decayed(sigma)) {
+      // e^(−zσ) → 0 times cosh rσ → ∞ gave NaN at t = 1e10, α_eff = 2: the slow-mode form.
+      return decay_point(sigma, t, std::nullopt);
     }
-    return assemble(s, t, cos_rf(w), Real(sigma * sinc_rf(w)), exp(-z() * sigma));
+    const Real w = mu() * sigma * sigma;
+    return assemble(s, t, cos_rf(w), Real(sigma * sinc_rf(w)), sigma);
   }
 
   // The state at σ = σ_end − ρ, from ρ: cos(√μσ) = −cos(√μρ), sin(√μσ)/√μ = ρ sinc_rf(μρ²).
   TrajectoryPoint<Real> point_before_end(const Real& rho, const Real& t) const {
     const Real sigma = scaled_.sigma_end() - rho;
     const Real w = mu() * rho * rho;
-    using std::exp;
-    return assemble(Real(sigma / c_.omega0()), t, Real(-cos_rf(w)), Real(rho * sinc_rf(w)),
-                    exp(-z() * sigma));
+    return assemble(Real(sigma / c_.omega0()), t, Real(-cos_rf(w)), Real(rho * sinc_rf(w)), sigma);
   }
 
   TrajectoryPoint<Real> exit_point(const Real& t) const {
@@ -202,30 +435,43 @@ private:
             Real(0), Real(0), false};
   }
 
-  // From the regime-free cos and sine parts C, S̃ = Ω0 S at σ = Ω0 s and the decay e^(−zσ) (1
-  // when the parts carry it already): ξ = x/L = e^(−zσ) S̃, v = x' = v0 e^(−zσ)(C − z S̃),
-  // δ = A (L ξ)^q, forces from δ and v.
+  // From the regime-free cos and sine parts C, S̃ = Ω0 S at σ = Ω0 s: ξ = x/L = e^(−zσ) S̃,
+  // v = x' = v0 e^(−zσ)(C − z S̃), δ = A L^q ξ^q, through ln ξ = −zσ + ln S̃ where e^(−zσ) alone
+  // underflows (near critical damping, late in the contact).
   TrajectoryPoint<Real> assemble(const Real& s, const Real& t, const Real& cos_part,
-                                 const Real& sine_part, const Real& decay) const {
+                                 const Real& sine_part, const Real& sigma) const {
+    using std::exp;
     using std::log;
-    using std::sqrt;
-    const Real xi = decay * sine_part;
+    const Real decay = exp(-z() * sigma);
     TrajectoryPoint<Real> out{
         s,       t,       Real(0), Real(c_.v0() * decay * (cos_part - z() * sine_part)),
         Real(0), Real(0), true};
-    if (xi > 0) {
-      const Real log_delta = log(c_.A()) + c_.q() * (c_.log_L() + log(xi));
-      out.delta = exp(log_delta);
-      out.force_elastic = c_.k() * exp(c_.p() * log_delta);
-      out.force_damping =
-          c_.alpha() * sqrt(c_.m() * c_.k()) * exp((c_.p() - 1) / 2 * log_delta) * out.v;
+    if (sine_part > 0) {
+      const Real log_xi = -z() * sigma + log(sine_part);
+      out.delta = power_of_product(delta_unit_, log_delta_unit_, decay, sine_part, log_xi, c_.q());
+      add_forces(out, Real(log_delta_unit_ + c_.q() * log_xi));
     }
     return out;
   }
 
+  // k δ^p and α√(mk) δ^((p−1)/2) v, through ln δ where δ is not a normal number.
+  void add_forces(TrajectoryPoint<Real>& out, const Real& log_delta) const {
+    using std::sqrt;
+    if (!(out.delta > 0)) {
+      return;
+    }
+    auto log_delta_of = [&] { return log_delta; };
+    out.force_elastic = c_.k() * power_of(out.delta, log_delta_of, c_.p());
+    out.force_damping = c_.alpha() * sqrt(c_.m() * c_.k()) *
+                        power_of(out.delta, log_delta_of, Real((c_.p() - 1) / 2)) * out.v;
+  }
+
   Contact<Real> c_;
   ScaledTime<Real> scaled_;
-  Real time_scale_;
+  Real log_time_scale_, time_scale_;
+  OnsetSeries<Real> onset_;
+  std::optional<SlowDecay<Real>> slow_; // α_eff ≥ 1 and p > 1
+  Real delta_power_ = Real(0), xi_power_ = Real(0), log_delta_unit_, delta_unit_;
 };
 
 } // namespace pldamp::analytic
