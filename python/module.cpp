@@ -10,6 +10,7 @@
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
 
+#include <cmath>
 #include <cstddef>
 #include <limits>
 #include <optional>
@@ -186,31 +187,47 @@ py::dict observables_double(const Array& p, const std::string& damping_kind, con
   return result;
 }
 
-// δ(t) and v(t) of one contact from the closed form (MATH.md §5), in double, at each of `t`:
-// before the contact (t < 0) and after it (t ≥ τ, the overlap end) the free flight at v0 and at
-// −e v0.
+// δ(t) and v(t) of one contact from the closed form (MATH.md §3 "Time-domain solution"), in
+// double, at each of `t`: before the contact (t < 0) the free flight at v0; after its end, the free
+// flight at the exit speed from where the contact ended. At the overlap end that is δ = 0 at τ and
+// −e v0 (τ = ∞ when it never returns); at the force end (MATH.md §4) δ(t_cut) at t_cut, where the
+// total force reaches 0 with δ still > 0, and −e_cap v0.
 py::tuple trajectory_double(double p, const std::string& damping_kind, double damping, double v0,
                             double m, double k, const std::string& end, const Array& t) {
+  const ContactEnd contact_end = end_of(end);
   const Contact<double> c =
-      contact_from(damping_kind_of(damping_kind), end_of(end), p, damping, v0, m, k);
+      contact_from(damping_kind_of(damping_kind), contact_end, p, damping, v0, m, k);
   const auto n = static_cast<std::size_t>(t.size());
   Array delta(static_cast<py::ssize_t>(n)), v(static_cast<py::ssize_t>(n));
   double *ds = delta.mutable_data(), *vs = v.mutable_data();
   const double* ts = t.data();
-  const double tau = pldamp::analytic::contact_duration(c); // ∞ for a contact that never returns
-  const double e = pldamp::analytic::restitution(c);
   {
     py::gil_scoped_release unlocked;
     const pldamp::analytic::Trajectory<double> exact(c);
+    double t_end = 0, delta_end = 0, v_end = 0; // where and how the bodies part
+    if (contact_end == ContactEnd::force) {
+      t_end = pldamp::analytic::cut_time(c);
+      delta_end = exact.at_time(t_end).delta;
+      v_end = -pldamp::analytic::capped_restitution(c) * v0;
+    } else {
+      t_end = pldamp::analytic::contact_duration(c); // ∞ for a contact that never returns
+      v_end = -pldamp::analytic::restitution(c) * v0;
+    }
     for (std::size_t i = 0; i < n; ++i) {
-      if (ts[i] <= 0 || ts[i] >= tau) { // free flight, towards the contact or away from it
-        vs[i] = ts[i] <= 0 ? v0 : -e * v0;
-        ds[i] = ts[i] <= 0 ? v0 * ts[i] : -e * v0 * (ts[i] - tau);
-        continue;
+      if (ts[i] <= 0) { // free flight towards the contact
+        vs[i] = v0;
+        ds[i] = v0 * ts[i];
+      } else if (ts[i] >= t_end && std::isfinite(t_end)) { // free flight away from it
+        vs[i] = v_end;
+        ds[i] = delta_end + v_end * (ts[i] - t_end);
+      } else if (std::isinf(ts[i])) { // a contact that never returns, at rest at δ = 0 at last
+        vs[i] = -0.0;
+        ds[i] = 0;
+      } else {
+        const auto at = exact.at_time(ts[i]);
+        ds[i] = at.delta;
+        vs[i] = at.v;
       }
-      const auto at = exact.at_time(ts[i]);
-      ds[i] = at.delta;
-      vs[i] = at.v;
     }
   }
   return py::make_tuple(delta, v);

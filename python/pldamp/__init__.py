@@ -259,9 +259,18 @@ def timestep(scheme: str, **options) -> dict:
 
 def trajectory(t: Any, p: Any = None, e: Any = None, alpha: Any = None, alpha_eff: Any = None,
                v0: Any = 1.0, m: Any = 1.0, k: Any = 1.0, end: str = "overlap") -> tuple:
-    """δ(t) and v(t) from the closed form (docs/MATH.md §5), in double, at the times `t` (an
-    array): free flight at v0 before the contact (t < 0) and at −e v0 after it. Returns two numpy
-    arrays of t's shape."""
+    """δ(t) and v(t) from the closed form (docs/MATH.md §3 "Time-domain solution"), in double, at
+    the times `t` (an array; any t a double holds, 5e-324 to 1.8e308, and ±inf), free flight at
+    v0 before the contact (t < 0), and after it the free flight at the exit speed from where it
+    ended:
+
+    end="overlap": the contact ends at τ with δ = 0 and v = −e v0 (a contact with α_eff ≥ 1
+    never ends: δ decays to 0, as t^(−2/(p−1)) for p > 1);
+    end="force": it ends at t_cut, where the total force k δ^p + α√(mk) δ^((p−1)/2) δ' reaches 0
+    (MATH.md §4), and δ = δ(t_cut) − e_cap v0 (t − t_cut), v = −e_cap v0 after it; `e` is then the
+    e_cap the contact gives (calibrated at that end), as observables(..., end="force") has it.
+
+    Returns two numpy arrays of t's shape."""
     given = [(name, value) for name, value in (("e", e), ("alpha", alpha),
                                                 ("alpha_eff", alpha_eff)) if value is not None]
     if len(given) != 1:

@@ -1,7 +1,7 @@
 # Type stubs of the module pldamp (docs/python.md).
 from decimal import Decimal
 from os import PathLike
-from typing import Any, Iterable, Optional, Union
+from typing import Any, Iterable, Literal, Optional, Union
 
 import numpy as np
 import numpy.typing as npt
@@ -21,10 +21,13 @@ def observables(p: Optional[ArrayLike] = ..., e: Optional[ArrayLike] = ...,
                 **options: Any) -> dict[str, Any]: ...
 def solve(solver: str, **options: Any) -> dict[str, Any]: ...
 def timestep(scheme: str, **options: Any) -> dict[str, Any]: ...
+# delta(t), v(t) at any times, with the free flight before the contact and after its end: at tau
+# from delta = 0 at -e v0 (end="overlap"), at t_cut from delta(t_cut) at -e_cap v0 (end="force",
+# where e= is e_cap).
 def trajectory(t: npt.ArrayLike, p: Optional[Number] = ..., e: Optional[Number] = ...,
                alpha: Optional[Number] = ..., alpha_eff: Optional[Number] = ...,
                v0: Number = ..., m: Number = ..., k: Number = ...,
-               end: str = ...) -> tuple[np.ndarray, np.ndarray]: ...
+               end: Literal["overlap", "force"] = ...) -> tuple[np.ndarray, np.ndarray]: ...
 def check(t: npt.ArrayLike, delta: npt.ArrayLike, v: Optional[npt.ArrayLike] = ...,
           F: Optional[npt.ArrayLike] = ..., **options: Any) -> dict[str, Any]: ...
 def run(scene: Union[str, PathLike[str]], out: Optional[Union[str, PathLike[str]]] = ...,

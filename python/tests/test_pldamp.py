@@ -141,6 +141,88 @@ def test_the_trajectory_peaks_at_delta_max_and_leaves_at_minus_e_v0():
         pldamp.trajectory(t, p=1.5, e=0.5, end="sideways")
 
 
+def test_the_trajectory_at_extreme_times_against_mpmath():
+    # data/reference/trajectory_ends.csv (mpmath at 80 digits, independent of the C++ code): every
+    # row whose t = 2^n a double holds, 2^-1074 to 2^1023, within 16 eps times the problem's own
+    # condition number |d ln y/d ln t| where that exceeds 1; values below double's normal range
+    # within a few subnormal steps (0 where they underflow).
+    eps, tiny, subnormal = np.finfo(float).eps, np.finfo(float).tiny, math.ldexp(1.0, -1074)
+    contacts = {}
+    for row in table("trajectory_ends.csv"):
+        if -1074 <= int(row["log2_t"]) <= 1023:
+            key = tuple(float(row[name]) for name in ("p", "alpha_eff", "v0", "m", "k"))
+            contacts.setdefault(key, []).append(row)
+    checked = 0
+    for (p, alpha_eff, v0, m, k), rows in contacts.items():
+        t = np.array([math.ldexp(1.0, int(row["log2_t"])) for row in rows])
+        delta, v = pldamp.trajectory(t, p=p, alpha_eff=alpha_eff, v0=v0, m=m, k=k)
+        for i, row in enumerate(rows):
+            # After tau the table has the exit state; pldamp.trajectory flies on from delta = 0.
+            returned = float(row["cond_v"]) == 0 and float(row["delta"]) == 0
+            for got, name in ((delta[i], "delta"), (v[i], "v")):
+                if returned and name == "delta":
+                    assert got < 0
+                    continue
+                want, condition = float(row[name]), abs(float(row["cond_" + name]))
+                where = (p, alpha_eff, v0, m, k, row["log2_t"], name, got, want)
+                assert math.isfinite(got), where
+                if abs(want) < tiny:
+                    assert abs(got - want) <= 4 * subnormal + 16 * eps * abs(want), where
+                else:
+                    assert abs(got / want - 1) <= 16 * eps * max(1.0, condition), where
+                checked += 1
+    assert checked > 700
+
+
+def test_the_times_of_issue_46_are_finite_and_right():
+    # v was NaN at t = 1e100 and 1e300 (p = 1.5, alpha_eff = 2), where delta ~ (kappa t/T)^-4 is
+    # below 1e-395: it underflows, v with it. delta/(v0 t) was 2.5e41 at t = 1e-300 (p = 1.5),
+    # 3.3e84 (p = 2), 2.6e138 (p = 3), and 2.6e38 at t = 1e-200 (p = 3); it is 1 to the last bit.
+    delta, v = pldamp.trajectory([1e100, 1e300], p=1.5, alpha_eff=2)
+    assert np.all(np.isfinite(v)) and np.all(np.abs(v) <= np.finfo(float).tiny)
+    assert np.all(delta == 0)
+    t = np.array([1e-300, 1e-200, 1e-100])
+    for p in (1.5, 2, 3):
+        delta, v = pldamp.trajectory(t, p=p, alpha_eff=2)
+        assert np.all(np.abs(delta / t - 1) <= np.finfo(float).eps), p
+        assert np.all(v == 1.0), p
+
+
+def test_the_force_end_parts_at_e_cap_from_delta_at_t_cut():
+    # end="force" (docs/MATH.md §4): the contact ends at t_cut, where the total force reaches 0
+    # with delta > 0, and the bodies fly apart at -e_cap v0 from delta(t_cut). alpha and
+    # alpha_eff are the damping as given; overdamped contacts end so too.
+    for damping in ({"alpha": 0.5}, {"alpha_eff": 2.0}):
+        closed = pldamp.observables(p=1.5, v0=2.0, m=3.0, end="force", **damping)
+        t_cut, e_cap = closed["t_cut"], closed["e_cap"]
+        t = np.array([t_cut * (1 - 1e-9), t_cut, t_cut * 1.5, t_cut * 4])
+        delta, v = pldamp.trajectory(t, p=1.5, v0=2.0, m=3.0, end="force", **damping)
+        assert np.all(v[1:] == -e_cap * 2.0), damping
+        # v is continuous at the cut (the force is 0 there), delta too, and it flies on.
+        assert abs(v[0] / (-e_cap * 2.0) - 1) < 1e-12, damping
+        assert 0 < delta[1] and abs(delta[0] - delta[1]) <= 2.0 * t_cut * 1e-9, damping
+        for i in (2, 3):
+            flown = delta[1] - e_cap * 2.0 * (t[i] - t_cut)
+            assert abs(delta[i] - flown) <= 4e-16 * (abs(delta[1]) + 2.0 * t[i]), (damping, i)
+    # The overlap end of the same contact parts later, at tau, from delta = 0 and at -e v0.
+    closed = pldamp.observables(p=1.5, alpha=0.5, v0=2.0, m=3.0)
+    delta, v = pldamp.trajectory([2 * closed["tau"]], p=1.5, alpha=0.5, v0=2.0, m=3.0)
+    assert relative(v[0], -closed["e"] * 2.0) < 1e-15
+    assert relative(delta[0], -closed["e"] * 2.0 * closed["tau"]) < 1e-14
+
+
+def test_the_force_end_takes_e_as_e_cap():
+    # With e= the damping is calibrated at the end asked for: at the force end e is e_cap, the
+    # speed the bodies part at (the overlap end's e of that damping would be 0.436).
+    closed = pldamp.observables(p=1.5, e=0.5, v0=2.0, end="force")
+    assert relative(closed["e_cap"], 0.5) < 1e-15
+    t = np.array([closed["t_cut"] * 1.01, closed["tau"] * 2])
+    delta, v = pldamp.trajectory(t, p=1.5, e=0.5, v0=2.0, end="force")
+    assert np.all(v == -closed["e_cap"] * 2.0)
+    assert relative(v[0], -0.5 * 2.0) < 1e-15
+    assert delta[0] > 0 > delta[1]
+
+
 def test_check_judges_closed_form_samples_as_the_command_does():
     closed = pldamp.observables(p=1.5, e=0.5, v0=1.0)
     t = np.linspace(-0.1, closed["tau"] + 0.2, 2000)

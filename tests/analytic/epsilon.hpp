@@ -30,11 +30,14 @@ struct ExpectedEpsilon {
 template <SupportedReal Real>
 class EpsilonErrors {
 public:
-  // Records relative_error(got, want) in ε of Real; `row` says which comparison it was.
+  // Records relative_error(got, want) in ε of Real; `row` says which comparison it was. With a
+  // condition number κ (|d ln want/d ln input|), in ε·max(1, κ): the error the rounding of the
+  // input alone would make is then 1.
   template <class Want>
   void record(std::string_view region, std::string_view observable, const Real& got,
-              const Want& want, const std::string& row) {
-    record_error(region, observable, relative_error(got, want) / eps<Real>(), row);
+              const Want& want, const std::string& row, double condition = 1) {
+    record_error(region, observable,
+                 relative_error(got, want) / eps<Real>() / std::max(1.0, std::abs(condition)), row);
   }
 
   // Records an error already measured in ε of Real (e.g. one that counts a subnormal's ulps).

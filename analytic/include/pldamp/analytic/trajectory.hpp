@@ -23,6 +23,7 @@
 #include <cstdint>
 #include <limits>
 #include <optional>
+#include <type_traits>
 #include <utility>
 #include <vector>
 
@@ -353,7 +354,7 @@ private:
     const Real log_v_unit = log(c_.v0()) + log(abs(factor));
     if (time && slow_->rate() * sigma > 1) {
       // ϑ f/G as t · (f/(G T)): t/T alone can leave the range where the product does not.
-      const Real ratio = slow_->f(sigma) / time->g;
+      const Real ratio = slow_->f_at(sigma) / time->g;
       const Real log_y = time->log_theta + log(ratio);
       const Real per_time = ratio / time_scale_;
       out.delta = power_of_product(delta_unit_, log_delta_unit_, t, per_time, log_y, delta_power_);
@@ -373,36 +374,86 @@ private:
     return out;
   }
 
-  // unit · (a b)^power (unit = e^log_unit > 0, a, b > 0, ln(a b) = log_y) by pow where a b is a
-  // normal number: as it stands while (a b)^power is one too, else as (a b unit^(1/power))^power,
-  // rounded once near the bottom of the range (through logarithms the exponent's rounding would
-  // cost |ln result| ulps there); where a b leaves the range, as unit a^power b^power; in
-  // logarithms only where all of these do.
+  // unit · (a b)^power (unit = e^log_unit > 0, a, b > 0, ln(a b) = log_y). In an IEEE type, the
+  // first of these that stays in range: unit · pow(a b, power) while both are normal numbers
+  // (three roundings); pow(a b unit^(1/power), power), rounded once where the result is
+  // subnormal or a b leaves the range (through logarithms the exponent's rounding would cost
+  // |ln result| ulps there); unit · a^power b^power; logarithms only where all of these leave
+  // the range. In cpp_bin_float_50, whose own pow is not right to an ulp: split_power.
   static Real power_of_product(const Real& unit, const Real& log_unit, const Real& a, const Real& b,
                                const Real& log_y, const Real& power) {
+    using std::isfinite;
+    if constexpr (!std::is_same_v<detail::PowerWide<Real>, Real>) {
+      if (unit > 0 && a > 0 && b > 0 && isfinite(unit) && isfinite(a) && isfinite(b)) {
+        return split_power(unit, a, b, power);
+      }
+    }
+    return power_in_range(unit, log_unit, a, b, log_y, power);
+  }
+
+  // unit · (a b)^power with the binary exponents split off exactly (frexp): the mantissas' power
+  // in detail::PowerWide and 2^(e·power) as 2^⌊e·power⌋ 2^frac, exact where e·power is (as for
+  // the creep's −2/(p−1) and −(p+1)/(p−1) at p = 3/2, 2, 3, 5). Free of PowerWide's range, which
+  // stops 332 binary orders short of cpp_bin_float_50's.
+  static Real split_power(const Real& unit, const Real& a, const Real& b, const Real& power) {
+    using W = detail::PowerWide<Real>;
+    using std::floor;
+    using std::frexp;
+    using std::ldexp;
+    using std::pow;
+    int e_unit = 0, e_a = 0, e_b = 0;
+    const Real m_unit = frexp(unit, &e_unit), m_a = frexp(a, &e_a), m_b = frexp(b, &e_b);
+    const W exponent = W(static_cast<long long>(e_a) + e_b) * W(power);
+    const W whole = floor(exponent);
+    const W mantissa = W(m_unit) * pow(W(m_a) * W(m_b), W(power)) * pow(W(2), W(exponent - whole));
+    // A shift beyond the type's range gives 0 or ∞ however far beyond: clamped to an int.
+    const long long limit = std::numeric_limits<int>::max() - 64;
+    const W shift = whole + W(e_unit);
+    const auto whole_bits = [](const W& x) -> long long {
+      if constexpr (std::is_arithmetic_v<W>) {
+        return static_cast<long long>(x);
+      } else {
+        return x.template convert_to<long long>();
+      }
+    };
+    const long long bits = shift > W(limit)    ? limit
+                           : shift < W(-limit) ? -limit
+                                               : whole_bits(shift);
+    return ldexp(detail::narrowed_power<Real>(mantissa), static_cast<int>(bits));
+  }
+
+  template <class W>
+  static W power_in_range(const W& unit, const W& log_unit, const W& a, const W& b, const W& log_y,
+                          const W& power) {
     using std::exp;
     using std::isfinite;
     using std::pow;
-    const Real min = std::numeric_limits<Real>::min();
-    const auto normal = [&](const Real& x) { return isfinite(x) && x >= min; };
-    const auto raise = [&](const Real& x) { return power == 1 ? x : Real(pow(x, power)); };
-    const Real y = a * b;
-    if (normal(y)) {
-      const Real raised = raise(y);
-      if (normal(raised) && isfinite(unit)) {
-        const Real product = unit * raised;
+    const W min = std::numeric_limits<W>::min();
+    const auto normal = [&](const W& x) { return isfinite(x) && x >= min; };
+    const auto raise = [&](const W& x) { return power == 1 ? x : W(pow(x, power)); };
+    const W y = a * b;
+    if (normal(y) && isfinite(unit)) {
+      const W raised = raise(y);
+      if (normal(raised)) {
+        const W product = unit * raised;
         if (isfinite(product)) {
           return product; // subnormal only when the result is
         }
       }
-      const Real base = y * exp(log_unit / power);
+    }
+    const W root = exp(log_unit / power); // unit^(1/power)
+    for (const W& base : {W(y * root), W(a * (b * root)), W(b * (a * root))}) {
       if (normal(base)) {
-        return raise(base);
+        const W raised = raise(base);
+        if (isfinite(raised)) {
+          return raised;
+        }
       }
-    } else if (normal(a) && normal(b)) {
-      const Real first = raise(a), second = raise(b);
-      if (normal(first) && normal(second) && isfinite(unit)) {
-        const Real product = unit * second * first;
+    }
+    if (normal(a) && normal(b) && isfinite(unit)) {
+      const W first = raise(a), second = raise(b);
+      if (normal(first) && normal(second)) {
+        const W product = unit * second * first;
         if (isfinite(product) && product != 0) {
           return product;
         }

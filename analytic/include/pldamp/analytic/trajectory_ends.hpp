@@ -13,7 +13,7 @@
 // so ξ^ν = e^(κσ) f(σ), κ = −νλ, f = P^ν, and I(σ) = e^(κσ) G(σ) with
 //     G(σ) = ∫₀^σ e^(−κ(σ−u)) f(u) du.
 // G is O(1/κ), smooth, and computed without any exponent of size κσ: by Gauss–Legendre pieces
-// summed forward into a table, G(σ_{j+1}) = e^(−κh) G(σ_j) + ∫ over the piece, up to σ_late, and
+// summed forward into a table, G(σ_{j+1}) = e^(−κw) G(σ_j) + ∫ over the piece, up to σ_late, and
 // beyond by the integration-by-parts series G = (f/κ) Φ + Δ e^(−κ(σ − σ_late)),
 //     Φ = Σ_{n≤N} (−1)^n f^(n)/(f κ^n),    Δ = G_table(σ_late) − (f/κ)Φ at σ_late,
 // whose error is at most the largest first neglected term over [σ_late, σ] times I(σ) − I(σ_late):
@@ -23,7 +23,8 @@
 // number known to a few ε: its error is |q/ν| = 2/(p−1) times that, the conditioning of the creep
 // δ ∝ t^(−2/(p−1)) itself, where the exponent λσ of e^(−qλσ) would cost ε·qλσ (thousands of ε).
 //
-// A SlowDecay builds its table up to σ_late once, when made (a hundred to a thousand pieces).
+// A SlowDecay builds its table up to σ_late once, when made (a few dozen pieces that widen away
+// from σ = 0).
 #pragma once
 
 #include "pldamp/analytic/contact.hpp"
@@ -173,11 +174,13 @@ public:
   Real P(const Real& sigma) const {
     return r_ == 0 ? sigma : Real(-boost::math::expm1(Real(-2 * r_ * sigma)) / (2 * r_));
   }
-  // f = P^ν.
+  // f = P^ν; at a single σ (not a quadrature's node) in detail::PowerWide, as the state's
+  // ξ^ν = ϑ f/G is: cpp_bin_float_50's own pow loses tens of ε.
   Real f(const Real& sigma) const {
     using std::pow;
     return pow(P(sigma), nu_);
   }
+  Real f_at(const Real& sigma) const { return detail::wide_pow(P(sigma), nu_); }
 
   // G(σ) = e^(−κσ) I(σ), σ > 0.
   Real G(const Real& sigma) const {
@@ -339,26 +342,33 @@ private:
     return terms;
   }
 
-  // G beyond σ_late, F + Δ e^(−κd) with F = (f/κ)Φ, Δ = G_late − F_late and d = σ − σ_late,
-  // summed as e^(−κd) G_late + F (1 − e^(−κd)) + e^(−κd)(F − F_late): overdamped, F is nearly
-  // constant and far above G_late (I is still dominated by its start), and F + Δ e^(−κd) would
-  // cancel; F − F_late is formed from P − P_late = e^(−2rσ_late) d exprel(−2rd) and the
-  // differences of the terms, each small where they cancel.
+  // G beyond σ_late, F + Δ e^(−κd) with F = (f/κ)Φ, Δ = G_late − F_late and d = σ − σ_late.
+  // Overdamped, F is nearly constant and far above G_late (I is still dominated by its start):
+  // Δ ≈ −F, and F + Δ e^(−κd) cancels while Δ e^(−κd) is more than half of F. There it is summed
+  // as e^(−κd) G_late + F (1 − e^(−κd)) + e^(−κd)(F − F_late), with F − F_late formed from
+  // P − P_late = e^(−2rσ_late) d exprel(−2rd) and the differences of the terms, each small there
+  // (d is then below ln(2|Δ|/F)/κ); beyond, as it stands (f − f_late would cancel instead).
   Real late(const Real& sigma) const {
-    using boost::math::log1p;
+    using std::abs;
     const Real d = sigma - sigma_late_;
-    const Real p_step = exp_(-2 * r_ * sigma_late_) * d * exprel(Real(-2 * r_ * d));
-    const Real f_step = f_late_ * boost::math::expm1(Real(nu_ * log1p(p_step / p_late_)));
+    const Real decay = exp_(-kappa_ * d);
     const std::vector<Real> terms = late_terms_at(sigma, late_terms_ + 1);
     Real phi(0), phi_step(0);
     for (auto n = terms.size(); n-- > 0;) { // smallest first
       phi += terms[n];
       phi_step += terms[n] - late_phi_terms_[n];
     }
-    const Real f_now = f_late_ + f_step;
-    const Real decay = exp_(-kappa_ * d);
+    const Real offset = late_g_ - f_late_ / kappa_ * late_phi_; // Δ
+    const Real F = f_at(sigma) / kappa_ * phi;
+    if (abs(offset * decay) <= F / 2) {
+      return F + offset * decay;
+    }
+    using boost::math::log1p;
+    const Real p_step = exp_(-2 * r_ * sigma_late_) * d * exprel(Real(-2 * r_ * d));
+    const Real f_step = f_late_ * boost::math::expm1(Real(nu_ * log1p(p_step / p_late_)));
     const Real F_step = (f_step * phi + f_late_ * phi_step) / kappa_;
-    return decay * late_g_ - f_now / kappa_ * phi * boost::math::expm1(Real(-kappa_ * d)) +
+    return decay * late_g_ -
+           (f_late_ + f_step) / kappa_ * phi * boost::math::expm1(Real(-kappa_ * d)) +
            decay * F_step;
   }
 
@@ -398,8 +408,12 @@ private:
       sigma_late_ = sigma;
       late_g_ = gs_.back();
       p_late_ = P(sigma);
-      f_late_ = f(sigma);
+      f_late_ = f_at(sigma);
       late_phi_terms_ = late_terms_at(sigma, needed + 1);
+      late_phi_ = Real(0);
+      for (auto n = late_phi_terms_.size(); n-- > 0;) {
+        late_phi_ += late_phi_terms_[n];
+      }
       return;
     }
     throw std::logic_error("SlowDecay: no late switch found (not reached for p > 1, z >= 1)");
@@ -408,7 +422,7 @@ private:
   ScaledTime<Real> scaled_;
   Real nu_, r_, lambda_, kappa_, widest_;
   // At σ_late: G, P, f and the terms of Φ kept.
-  Real sigma_late_, late_g_, p_late_, f_late_;
+  Real sigma_late_, late_g_, p_late_, f_late_, late_phi_;
   std::vector<Real> late_phi_terms_;
   int late_terms_ = 0;
   // G at the ends σ_j of the pieces up to σ_late (the last), and ln I there.
