@@ -213,6 +213,16 @@ def _numbers(name: str, value: Any) -> np.ndarray:
     return np.asarray(array, dtype=np.float64)
 
 
+def _scalar(name: str, value: Any) -> float:
+    """One real number as a float, refused as _numbers refuses an element (a Decimal is taken)."""
+    if isinstance(value, decimal.Decimal):
+        return float(value)
+    array = _numbers(name, value)
+    if array.ndim != 0:
+        raise TypeError("%s takes one number (got an array of shape %s)" % (name, array.shape))
+    return float(array)
+
+
 def _observables_arrays(scalars: dict, end: str, precision: Optional[str],
                         want: list, options: dict) -> dict:
     if precision not in (None, "double"):
@@ -277,9 +287,10 @@ def trajectory(t: Any, p: Any = None, e: Any = None, alpha: Any = None, alpha_ef
         raise ValueError("give exactly one of e, alpha, alpha_eff (got %d)" % len(given))
     if p is None:
         raise ValueError("p is required (got nothing)")
-    times = np.asarray(t, dtype=np.float64)
-    delta, v = _pldamp.trajectory_double(float(p), given[0][0], float(given[0][1]), float(v0),
-                                         float(m), float(k), end,
+    times = _numbers("t", t)
+    delta, v = _pldamp.trajectory_double(_scalar("p", p), given[0][0],
+                                         _scalar(given[0][0], given[0][1]), _scalar("v0", v0),
+                                         _scalar("m", m), _scalar("k", k), _text("end", end),
                                          np.ascontiguousarray(times).ravel())
     return delta.reshape(times.shape), v.reshape(times.shape)
 

@@ -223,6 +223,28 @@ def test_the_force_end_takes_e_as_e_cap():
     assert delta[0] > 0 > delta[1]
 
 
+def test_the_trajectory_refuses_what_is_not_a_number():
+    # t=[True, False] once ran as t = 1 and 0, p="1.5" as 1.5 and p=True as p = 1.
+    with pytest.raises(TypeError, match="t takes numbers, not bools"):
+        pldamp.trajectory([True, False], p=1.5, e=0.5)
+    with pytest.raises(TypeError, match="p takes numbers, not bools"):
+        pldamp.trajectory([0.1], p=True, e=0.5)
+    with pytest.raises(ValueError, match="p holds '1.5' at index 0: not a number"):
+        pldamp.trajectory([0.1], p="1.5", e=0.5)
+    with pytest.raises(ValueError, match="t holds '0.1' at index 0: not a number"):
+        pldamp.trajectory(["0.1"], p=1.5, e=0.5)
+    with pytest.raises(TypeError, match="v0 takes real numbers, not complex ones"):
+        pldamp.trajectory([0.1], p=1.5, e=0.5, v0=1 + 0j)
+    with pytest.raises(TypeError, match=r"p takes one number \(got an array of shape \(2,\)\)"):
+        pldamp.trajectory([0.1], p=[1.5, 2], e=0.5)
+    with pytest.raises(ValueError, match="t must be finite"):
+        pldamp.trajectory([float("nan")], p=1.5, e=0.5)
+    # A Decimal and numpy scalars are numbers.
+    delta, v = pldamp.trajectory(0.1, p=decimal.Decimal("1.5"), e=np.float32(0.5))
+    want_delta, want_v = pldamp.trajectory([0.1], p=1.5, e=float(np.float32(0.5)))
+    assert delta.shape == () and delta == want_delta[0] and v == want_v[0]
+
+
 def test_check_judges_closed_form_samples_as_the_command_does():
     closed = pldamp.observables(p=1.5, e=0.5, v0=1.0)
     t = np.linspace(-0.1, closed["tau"] + 0.2, 2000)
