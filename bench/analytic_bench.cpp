@@ -154,4 +154,40 @@ void contact_from_e_double(benchmark::State& state) {
 }
 BENCHMARK(contact_from_e_double);
 
+// The time-domain solution (trajectory.hpp): a Trajectory made (for a decay that never returns,
+// its SlowDecay table) and asked for δ, v at 1000 times, 2^−60 to 2^60 (onset series, the map, the
+// late form): what pldamp.trajectory does per call. Arg 0 returns (α_eff 0.5), 1 never does (2).
+template <SupportedReal Real>
+void trajectory_at_times(benchmark::State& state) {
+  const Real alpha_eff = state.range(0) == 0 ? Real(1) / 2 : Real(2);
+  const Contact<Real> c = Contact<Real>::from_alpha_eff(Real(3) / 2, alpha_eff, Real(1));
+  std::vector<Real> times;
+  for (int i = 0; i < 1000; ++i) {
+    using std::exp2;
+    times.push_back(Real(exp2(Real(-60) + Real(120) * Real(i) / Real(999))));
+  }
+  for (auto _ : state) {
+    const Trajectory<Real> path(c);
+    Real sum(0);
+    for (const Real& t : times) {
+      const TrajectoryPoint<Real> at = path.at_time(t);
+      sum += at.delta + at.v;
+    }
+    benchmark::DoNotOptimize(sum);
+  }
+  state.SetItemsProcessed(state.iterations() * 1000);
+}
+BENCHMARK(trajectory_at_times<double>)
+    ->Name("trajectory_1000_times_double")
+    ->Arg(0)
+    ->Arg(1)
+    ->Unit(benchmark::kMicrosecond);
+#if PLDAMP_WITH_QUAD
+BENCHMARK(trajectory_at_times<quad>)
+    ->Name("trajectory_1000_times_quad")
+    ->Arg(0)
+    ->Arg(1)
+    ->Unit(benchmark::kMillisecond);
+#endif
+
 } // namespace
