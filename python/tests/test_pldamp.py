@@ -6,6 +6,7 @@ against the command line it mirrors.
 
 import csv
 import decimal
+import doctest
 import math
 import os
 
@@ -243,6 +244,13 @@ def test_the_trajectory_refuses_what_is_not_a_number():
     delta, v = pldamp.trajectory(0.1, p=decimal.Decimal("1.5"), e=np.float32(0.5))
     want_delta, want_v = pldamp.trajectory([0.1], p=1.5, e=float(np.float32(0.5)))
     assert delta.shape == () and delta == want_delta[0] and v == want_v[0]
+
+
+def test_the_examples_of_docs_python_md_give_what_they_show():
+    # Its >>> lines as doctest runs them (the timestep example had drifted in its 17th digit).
+    path = os.path.join(os.path.dirname(__file__), "..", "..", "docs", "python.md")
+    result = doctest.testfile(path, module_relative=False, optionflags=doctest.ELLIPSIS)
+    assert result.attempted >= 8 and result.failed == 0, result
 
 
 def test_check_judges_closed_form_samples_as_the_command_does():
