@@ -329,6 +329,59 @@ TEST(QuadVersusBin50, AgreeInEpsilon) {
 }
 #endif
 
+// Far overdamped, up to the domain's α_eff = 10⁶ (the reference table and the live grid stop at
+// 10): every precision against cpp_bin_float_50. The peak phase was atanh(r/z)/r, whose argument
+// r/z → 1 − 1/(2z²) carried its rounding as ε·2z² (δ_max 4e−5 relative at z = 10⁶ in double, 7e13
+// ε in float128); asinh(r)/r keeps it. What remains is the rounding of the exponent G ≈ ln 2z,
+// times q or pq in δ_max and the forces (pqG ε ≈ 2·10 ε at p = 10, z = 10⁴). Measured and set to
+// twice the measured max and RMS, rounded up (`observables_test --gtest_filter='*FarOverdamped*'`).
+constexpr ExpectedEpsilon far_overdamped_errors[] = {
+    {"double", "z>=10", "*", 54, 24}, // measured 27 (spring_force_max, p=10), 11.9
+    {"long", "z>=10", "*", 26, 13},   // measured 13, 6.5
+    {"quad", "z>=10", "*", 29, 16},   // measured 14.4, 7.8
+};
+
+TYPED_TEST(ObservablesTest, FarOverdampedAgreesWithFiftyDigits) {
+  using Real = TypeParam;
+  EpsilonErrors<Real> errors;
+  for (const double p : {1.0, 1.5, 3.0, 10.0}) {
+    for (const double z : {10.0, 1e3, 1e4, 1e6}) {
+      const auto fast = pldamp::testing::as_map(observables(
+          Contact<Real>::from_alpha_eff(Real(p), Real(z), Real(2), Real(3), Real(5)), want_all));
+      const auto wide = pldamp::testing::as_map(observables(
+          Contact<bin50>::from_alpha_eff(bin50(p), bin50(z), bin50(2), bin50(3), bin50(5)),
+          want_all));
+      const std::string where = "p=" + to_string_full(p) + " z=" + to_string_full(z);
+      for (const auto& [name, want] : wide) {
+        if (want) {
+          compare(fast.at(name), *want, errors, "z>=10", name, where);
+        }
+      }
+    }
+  }
+  errors.check(far_overdamped_errors);
+}
+
+// The 50 digits above by a second route, for p = 1 (δ = x, no time map): the peak where
+// tanh(rσ) = r/z, σ = atanh(r/z)/r, δ_max = (v0/Ω0) e^(−zσ), e_cap = e^(−2zσ) — at 50 digits
+// atanh's ε·2z² is 10⁻³⁸ at z = 10⁶.
+TEST(FarOverdamped, LinearPeakByAtanhAtFiftyDigits) {
+  using std::atanh;
+  using std::exp;
+  using std::sqrt;
+  for (const bin50& z : {bin50(10), bin50(1000), bin50(1000000)}) {
+    const bin50 v0(2), m(3), k(5);
+    const Contact<bin50> c = Contact<bin50>::from_alpha_eff(bin50(1), z, v0, m, k);
+    const bin50 r = sqrt(z * z - 1);
+    const bin50 sigma = atanh(r / z) / r;
+    const bin50 omega0 = sqrt(k / m);
+    EXPECT_LE(relative_error(delta_max(c), bin50(v0 / omega0 * exp(-z * sigma))), bin50(1e-36))
+        << z;
+    EXPECT_LE(relative_error(t_peak(c), bin50(sigma / omega0)), bin50(1e-36)) << z;
+    EXPECT_LE(relative_error(capped_restitution(c), bin50(exp(-2 * z * sigma))), bin50(1e-36)) << z;
+  }
+}
+
 // p = 1 is the linear spring-dashpot: τ = π/Ω1, t_peak = atan(Ω1/(ξΩ0))/Ω1,
 // δ_max = (v0/Ω0) exp(−ξ/√(1−ξ²) · atan(√(1−ξ²)/ξ)).
 TYPED_TEST(ObservablesTest, LinearCaseIsTheTextbook) {

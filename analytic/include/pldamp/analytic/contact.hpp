@@ -90,10 +90,28 @@ Real alpha_per_alpha_eff(const Real& p) {
 
 // ---- Peak and force-capped end (MATH.md §3 "Peak", §4) ---------------------------------------
 
-// G = z Ω0 s_peak (MATH.md §3): z·atan2(√μ, z)/√μ while μ > ¼, atan_rf(μ/z²) beyond (analytic
-// through z = 1). Not atan_rf(μ/z²) as z → 0: z² underflows (below √min, 1.5e-154 in double;
-// subnormal, it holds a few bits) and μ/z² overflows, and atan_rf(∞) = 0 made G, E_load and the
-// normal force's peak 0 there. z multiplies last: a subnormal z is rounded once. 0 at z = 0.
+// Overdamped beyond |μ|/z² ≥ 1/16 (z ≥ 1.033), the peak phase in the form that keeps its digits:
+// tanh(rσ) = r/z at the peak (r = √−μ) and r/z = tanh(asinh r), so σ_peak = asinh(r)/r. The
+// regime-free atan_rf(μ/z²) = atanh(r/z)/(r/z) is the same number, but r/z → 1 − 1/(2z²) and
+// atanh there carries the rounding of its argument as ε·2z²: 4e−5 relative in δ_max at
+// z = 10⁶ in double, 7e13 ε in float128 (found by a hostile trial; MATH.md §3 "Peak").
+template <SupportedReal Real>
+bool far_overdamped(const Damping<Real>& d) {
+  return d.mu < 0 && -d.mu >= d.z * d.z / 16;
+}
+template <SupportedReal Real>
+Real far_overdamped_peak_phase(const Damping<Real>& d) {
+  using std::asinh;
+  using std::sqrt;
+  const Real r = sqrt(-d.mu); // −μ = (z − 1)(z + 1), formed without cancellation
+  return asinh(r) / r;
+}
+
+// G = z Ω0 s_peak (MATH.md §3): z·atan2(√μ, z)/√μ while μ > ¼, atan_rf(μ/z²) near critical damping
+// (analytic through z = 1), z·asinh(r)/r far overdamped (above). Not atan_rf(μ/z²) as z → 0: z²
+// underflows (below √min, 1.5e-154 in double; subnormal, it holds a few bits) and μ/z² overflows,
+// and atan_rf(∞) = 0 made G, E_load and the normal force's peak 0 there. z multiplies last: a
+// subnormal z is rounded once. 0 at z = 0.
 template <SupportedReal Real>
 Real peak_exponent(const Damping<Real>& d) {
   using std::atan2;
@@ -102,10 +120,14 @@ Real peak_exponent(const Damping<Real>& d) {
     const Real root_mu = sqrt(d.mu);
     return d.z * Real(atan2(root_mu, d.z) / root_mu);
   }
+  if (far_overdamped(d)) {
+    return d.z * far_overdamped_peak_phase(d);
+  }
   return atan_rf(Real(d.mu / (d.z * d.z)));
 }
 
-// σ_peak = Ω0 s_peak: atan2(√μ, z)/√μ while μ > ¼ (finite as z → 0, where G/z is 0/0), G/z beyond.
+// σ_peak = Ω0 s_peak: atan2(√μ, z)/√μ while μ > ¼ (finite as z → 0, where G/z is 0/0),
+// asinh(r)/r far overdamped, G/z between.
 template <SupportedReal Real>
 Real peak_phase(const Damping<Real>& d) {
   using std::atan2;
@@ -113,6 +135,9 @@ Real peak_phase(const Damping<Real>& d) {
   if (d.mu > Real(1) / 4) {
     const Real root_mu = sqrt(d.mu);
     return atan2(root_mu, d.z) / root_mu;
+  }
+  if (far_overdamped(d)) {
+    return far_overdamped_peak_phase(d);
   }
   return peak_exponent(d) / d.z;
 }
