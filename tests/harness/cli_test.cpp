@@ -143,6 +143,28 @@ TEST(Cli, CalibrateBothEnds) {
   EXPECT_LT(b["e_uncapped"].get<double>(), 0.5);
 }
 
+// α and α_eff are one damping: both the root in 80 digits rounded once, so in double α_eff is
+// the float128 answer rounded (at e = 1e−10, force end, it was 1.7e−7 off while α was right).
+TEST(Cli, CalibrateRoundsAlphaEffOnceAsAlpha) {
+  for (const char* end : {"force", "overlap"}) {
+    for (const char* e : {"0.5", "1e-4", "1e-10"}) {
+      const CliRun fast = run({"calibrate", "--p", "1.5", "--e", e, "--end", end, "--json"});
+      const CliRun wide =
+          run({"calibrate", "--p", "1.5", "--e", e, "--end", end, "--json", "--precision", "quad"});
+      ASSERT_EQ(fast.code, 0) << fast.err;
+      ASSERT_EQ(wide.code, 0) << wide.err;
+      const auto a = nlohmann::json::parse(fast.out);
+      // The quad number as text, rounded to double by strtod (correctly rounded).
+      const std::string text = wide.out.substr(wide.out.find("\"alpha_eff\": ") + 13);
+      const double rounded = std::strtod(text.c_str(), nullptr);
+      EXPECT_EQ(a["alpha_eff"].get<double>(), rounded) << end << " e=" << e;
+      EXPECT_NEAR(a["alpha_eff"].get<double>() * std::sqrt(5.0), a["alpha"].get<double>(),
+                  4e-16 * a["alpha"].get<double>())
+          << end << " e=" << e;
+    }
+  }
+}
+
 // A velocity-dependent model (MATH.md §12.4): the α that gives e at --v0 is checked by solving
 // that α with taylor through `solve --damping-exponent` (an independent path: --alpha, no
 // inversion), e falls with the speed for the viscoelastic dashpot (more damping at higher

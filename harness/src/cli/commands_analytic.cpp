@@ -385,7 +385,11 @@ void run_calibrate(const ContactArgs& args, std::ostream& out) {
     // α as `run` sends it for this p and e: calibrated in Exact, rounded once (truth/plan.hpp).
     o["alpha"] = exact_number(
         seed_alpha(c.p(), Damping::Kind::e, parse_real<Real>("--e", *args.e), parse_end(args.end)));
-    o["alpha_eff"] = exact_number(c.alpha_eff());
+    // α_eff likewise: the contact's own α_eff is the Real-precision root, which far from e = 1 at
+    // the force end differed from α/√(2(p+1)) above by a few ε (by 1.7e−7 before the peak's
+    // asinh form).
+    o["alpha_eff"] = exact_number(seed_alpha_eff(
+        c.p(), Damping::Kind::e, parse_real<Real>("--e", *args.e), parse_end(args.end)));
     if (parse_end(args.end) == ContactEnd::force) {
       // What the same α gives a code that lets the force turn attractive (overlap end).
       o["e_uncapped"] = exact_number(analytic::restitution(c.damping()));
