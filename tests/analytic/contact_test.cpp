@@ -44,6 +44,21 @@ TYPED_TEST(ContactTest, BadInputNamesTheParameterAndValue) {
             "alpha_eff must be finite (got nan)");
   EXPECT_EQ(message_of([&] { C::from_e(one, Real(0), one, one, one, ContactEnd::force); }),
             "e must be in (0, 1] (got 0)");
+  // Below what α_eff = 1e6 gives at the force end, e_cap = e^(−2G) with G = 1e6 asinh(r)/r
+  // (about 1/(4e12)): refused as such, not as the root bracket's α_eff 2^20 out of range.
+  const Real e_cap_least = capped_restitution(damping_from_alpha_eff(Real(1000000)));
+  EXPECT_LE(relative_error(e_cap_least, Real(Real(1) / 4000000000000)), Real(1) / 10000);
+  EXPECT_EQ(message_of([&] {
+              C::from_e(one, Real(1) / 100000000000000, one, one, one, ContactEnd::force);
+            }),
+            "e at the force end must be >= " + to_string_full(e_cap_least) +
+                ", what the largest alpha_eff, 1e6, gives (got " +
+                to_string_full(Real(1) / 100000000000000) + ")");
+  // Just above it the root lies between 2^19 and 1e6, the bracket's end.
+  EXPECT_GT(
+      C::from_e(one, Real(e_cap_least * (1 + Real(1) / 1000)), one, one, one, ContactEnd::force)
+          .alpha_eff(),
+      Real(524288));
 }
 
 // ξ_L = −ln e/√(π² + ln²e); α = √(2(p+1)) ξ_L, which for p = 3/2 is Antypov–Elliott's √5 ξ_L.

@@ -222,11 +222,22 @@ Damping<Real> damping_from_e_cap(const Real& e_cap) {
   }
   const Real target = -log(e_cap) / 2;
   auto residual = [&](const Real& z) { return peak_exponent(damping_from_alpha_eff(z)) - target; };
+  // e_cap falls only like 1/(2z)² (G ≈ ln 2z): below its value at the domain's largest α_eff no
+  // damping reaches it. Said so, not as the bracket's α_eff out of range (it said "alpha_eff
+  // must be in [0, 1e6] (got 1048576)", a number the user never gave).
+  const Real most = Real(domain::alpha_eff_max);
+  if (residual(most) < 0) {
+    require(false,
+            "e at the force end must be >= " +
+                to_string_full(capped_restitution(damping_from_alpha_eff(most))) +
+                ", what the largest alpha_eff, 1e6, gives",
+            e_cap);
+  }
   Real lo(0);
   Real hi(1);
-  while (residual(hi) < 0) {
+  while (residual(hi) < 0) { // ends by `most` at the latest, where the residual is ≥ 0
     lo = hi;
-    hi *= 2;
+    hi = 2 * hi < most ? Real(2 * hi) : most;
   }
   boost::math::tools::eps_tolerance<Real> converged(std::numeric_limits<Real>::digits - 2);
   std::uintmax_t max_iterations = 400;
