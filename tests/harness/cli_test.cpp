@@ -485,6 +485,23 @@ TEST(Cli, BadInputIsOneLineAndExitTwo) {
 
 // Every file a command reads must be a regular file, refused before it is opened otherwise: a
 // FIFO without a writer blocked `check`, `run` and `diff` for ever, and /dev/zero never ends.
+// The domain's bounds are the decimals as every precision reads them: --v0 1e-30 was refused in
+// long, quad and 50 digits (the bound was the double nearest 1e-30, above theirs). A hex float
+// is refused in every precision (three of four read it).
+TEST(Cli, EveryPrecisionReadsTheSameNumbers) {
+  for (const char* precision : {"double", "long", "quad", "50"}) {
+    for (const char* bound : {"1e-30", "1e30"}) {
+      const CliRun at =
+          run({"observables", "--p", "1.5", "--e", "0.5", "--v0", bound, "--precision", precision});
+      EXPECT_EQ(at.code, 0) << precision << " " << bound << ": " << at.err;
+    }
+    const CliRun hex =
+        run({"observables", "--p", "1.5", "--e", "0x1p-1", "--v0", "1", "--precision", precision});
+    EXPECT_EQ(hex.code, 2) << precision;
+    EXPECT_EQ(hex.err, "error: --e is not a number in decimal (got 0x1p-1)\n") << precision;
+  }
+}
+
 TEST(Cli, WhatIsNotARegularFileIsRefusedBeforeItIsRead) {
   const std::filesystem::path fifo = testing::scratch() / "no-writer.fifo";
   std::filesystem::remove(fifo);

@@ -164,6 +164,11 @@ Real parse_real(const std::string& option, const std::string& text) {
   if (!text.empty() && std::isspace(static_cast<unsigned char>(text.front()))) {
     throw InputError(what + " (got " + text + ")");
   }
+  // Decimal only, as in scenes and CSV files: strtod and float128 read 0x1p-1, cpp_bin_float
+  // does not, so a hex float was a number in three precisions of four.
+  if (text.find("0x") != std::string::npos || text.find("0X") != std::string::npos) {
+    throw InputError(what + " in decimal (got " + text + ")");
+  }
   if constexpr (std::is_floating_point_v<Real>) {
     char* end = nullptr;
     const Real value = std::is_same_v<Real, double> ? Real(std::strtod(text.c_str(), &end))

@@ -15,12 +15,13 @@
 
 #include "pldamp/core/validate.hpp"
 
+#include <cstdlib>
 #include <string>
+#include <type_traits>
 
 namespace pldamp::domain {
 
 inline constexpr double p_max = 1000;
-inline constexpr double scale_min = 1e-30, scale_max = 1e30;
 inline constexpr double alpha_eff_max = 1e6;
 inline constexpr double alpha_max = 1e8;
 
@@ -30,13 +31,28 @@ void require_p(const Real& p) {
   require(p >= 1 && p <= Real(p_max), "p must be in [1, 1000]", p);
 }
 
+// The Real nearest the decimal `text`, as a user's "1e-30" is read in that precision: Real(1e-30)
+// is the double nearest it, 8e−18 above the long double nearest, which refused --v0 1e-30 in
+// every precision but double.
+template <SupportedReal Real>
+Real nearest_to_decimal(const char* text) {
+  if constexpr (std::is_same_v<Real, double>) {
+    return std::strtod(text, nullptr);
+  } else if constexpr (std::is_floating_point_v<Real>) {
+    return std::strtold(text, nullptr);
+  } else {
+    return Real(text);
+  }
+}
+
 // m, k or v0.
 template <SupportedReal Real>
 void require_scale(const std::string& name, const Real& value) {
+  static const Real least = nearest_to_decimal<Real>("1e-30"),
+                    most = nearest_to_decimal<Real>("1e30");
   require_finite(name, value);
   require(
-      value >= Real(scale_min) && value <= Real(scale_max),
-      [&] { return name + " must be in [1e-30, 1e30]"; }, value);
+      value >= least && value <= most, [&] { return name + " must be in [1e-30, 1e30]"; }, value);
 }
 
 template <SupportedReal Real>
