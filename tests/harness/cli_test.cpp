@@ -499,6 +499,15 @@ TEST(Cli, EveryPrecisionReadsTheSameNumbers) {
         run({"observables", "--p", "1.5", "--e", "0x1p-1", "--v0", "1", "--precision", precision});
     EXPECT_EQ(hex.code, 2) << precision;
     EXPECT_EQ(hex.err, "error: --e is not a number in decimal (got 0x1p-1)\n") << precision;
+    // A number the precision cannot hold is named as typed, not as the inf or 0 it became.
+    const std::string beyond = std::string(precision) == "double" ? "1e400" : "1e-99999";
+    const CliRun far = run({"observables", "--p", "1.5", "--e", "0.5", "--v0", beyond.c_str(),
+                            "--precision", precision});
+    EXPECT_EQ(far.code, 2) << precision;
+    if (std::string(precision) != "50") { // cpp_bin_float_50 holds 1e-99999
+      EXPECT_EQ(far.err, "error: --v0 is beyond what precision " + std::string(precision) +
+                             " holds (got " + beyond + ")\n");
+    }
   }
 }
 

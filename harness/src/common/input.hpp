@@ -155,6 +155,20 @@ inline std::vector<std::string> list_items(const std::string& option, const std:
   return list_items(option, std::vector<std::string>{text}, distinct);
 }
 
+// Beyond the type's range the number read is not the one typed: 1e400 read as inf and 1e-400 as
+// 0 were refused as "(got inf)" and "(got 0)", values the user never gave.
+template <SupportedReal Real>
+void refuse_out_of_range(const std::string& option, const std::string& text, const Real& value) {
+  using std::isinf;
+  const std::string mantissa = text.substr(0, text.find_first_of("eE"));
+  const bool infinity_typed = text.find_first_of("iI") != std::string::npos;
+  const bool nonzero_typed = mantissa.find_first_of("123456789") != std::string::npos;
+  if ((isinf(value) && !infinity_typed) || (value == 0 && nonzero_typed)) {
+    throw InputError(option + " is beyond what precision " + std::string(precision_name<Real>()) +
+                     " holds" + " (got " + text + ")");
+  }
+}
+
 // Parses the whole of `text` as a Real, rounding once into the target type (so "0.1" is the
 // float128 nearest 0.1, not the double one). "nan"/"inf" parse; validation rejects them later.
 template <SupportedReal Real>
@@ -176,13 +190,17 @@ Real parse_real(const std::string& option, const std::string& text) {
     if (text.empty() || end != text.c_str() + text.size()) {
       throw InputError(what + " (got " + text + ")");
     }
+    refuse_out_of_range(option, text, value);
     return value;
   } else {
+    Real value;
     try {
-      return Real(text);
+      value = Real(text);
     } catch (const std::exception&) {
       throw InputError(what + " (got " + text + ")");
     }
+    refuse_out_of_range(option, text, value);
+    return value;
   }
 }
 
