@@ -16,6 +16,12 @@ negative_delta  answers delta_max = -0.1, the rest as good
 peak         answers outcome peak (delta_max and t_peak only), whatever is wanted
 gained       answers energy_load = -0.2 m v0^2/2 (energy gained), the rest as good
 imbalance    answers the energies 0.1 m v0^2/2 more than the balance with e allows
+dmax_huge    answers delta_max = 1e308 (far above the undamped peak), the rest as good
+tpeak_zero   answers t_peak = 0, the rest as good
+tpeak_after_tau  answers t_peak = 2 tau, the rest as good
+tau_tiny     answers tau = 5e-324, the rest as good
+fast_compression  answers t_peak = delta_max / (2 v0) (compressed at twice v0), the rest as good
+fast_return  answers without t_peak and with tau = 1.5 delta_max / v0, the rest as good
 gaps         its handshake runs p = 1 and 2 only; at p = 2 it answers exited without any value
 honours      its handshake honours steps_per_contact and onset_phase only; answers as good
 no_outcome   answers without an outcome
@@ -135,6 +141,22 @@ def main():
         elif mode == "imbalance":
             reply.update(closed_forms(problem))
             reply["energy_unload"] += 0.1 * 0.5 * problem["m"] * problem["v0"] ** 2
+        elif mode == "dmax_huge":
+            reply.update(closed_forms(problem), delta_max=1e308)
+        elif mode == "tpeak_zero":
+            reply.update(closed_forms(problem), t_peak=0.0)
+        elif mode == "tpeak_after_tau":
+            forms = closed_forms(problem)
+            reply.update(forms, t_peak=2 * forms["tau"])
+        elif mode == "tau_tiny":
+            reply.update(closed_forms(problem), tau=5e-324)
+        elif mode == "fast_compression":
+            forms = closed_forms(problem)
+            reply.update(forms, t_peak=forms["delta_max"] / (2 * problem["v0"]))
+        elif mode == "fast_return":
+            reply.update(closed_forms(problem))
+            del reply["t_peak"]
+            reply["tau"] = 1.5 * reply["delta_max"] / problem["v0"]
         elif mode == "slow_clock":
             reply.update(closed_forms(problem), wall_seconds=1e300)
         elif mode == "no_outcome":
