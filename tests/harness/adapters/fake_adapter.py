@@ -33,6 +33,11 @@ hang         never answers its first problem
 hang_once    never answers its first problem of all (STATE_FILE remembers), then behaves as good
 partial      writes half a line and exits
 record       appends every problem line to STATE_FILE, then answers as good
+fork_stay    forks a child that sleeps (holding the pipes), appends its pid and the program's to
+             STATE_FILE, then answers as good
+fork_exit    on its first problem forks such a child, appends the pids, and exits (status 0)
+             without answering
+fork_handshake  forks such a child, appends the pids, and exits before its handshake
 deaf         never reads a problem (a problem line longer than a pipe's buffer then cannot be
              written)
 slow_clock   answers as good, with wall_seconds 1e300 (longer than any round trip)
@@ -74,6 +79,16 @@ def first_time(state):
         return False
 
 
+def fork_sleeper(state):
+    """Forks a child that sleeps an hour on the program's pipes; appends both pids to `state`."""
+    child = os.fork()
+    if child == 0:
+        time.sleep(3600)
+        os._exit(0)
+    with open(state, "a", encoding="utf-8") as log:
+        log.write("%d %d\n" % (os.getpid(), child))
+
+
 def main():
     mode = sys.argv[1]
     state = sys.argv[2] if len(sys.argv) > 2 else None
@@ -81,6 +96,11 @@ def main():
     assert hello == {"protocol": "pldamp-solver", "version": 1}, hello
     if mode == "no_handshake":
         sys.exit(0)
+    if mode == "fork_handshake":
+        fork_sleeper(state)
+        sys.exit(0)
+    if mode == "fork_stay":
+        fork_sleeper(state)
     handshake = {"protocol": "pldamp-solver", "version": 2 if mode == "wrong_version" else 1,
                  "solver": "fake " + mode}
     if mode == "beta":
@@ -100,6 +120,9 @@ def main():
         if mode == "record":
             with open(state, "a", encoding="utf-8") as log:
                 log.write(line)
+        if mode == "fork_exit":
+            fork_sleeper(state)
+            sys.exit(0)
         if mode == "crash" or (mode == "crash_once" and first_time(state)):
             sys.stderr.write("fake: boom\n")
             sys.exit(3)
