@@ -16,6 +16,7 @@
 #include <cmath>
 #include <fstream>
 #include <string>
+#include <thread>
 #include <vector>
 
 namespace pldamp::harness {
@@ -235,6 +236,27 @@ TEST(External, NoProcessOfAProgramOutlivesTheRun) {
   }
   EXPECT_LT(seconds_since(start), 2.0) << "the handshake waited for the child";
   expect_all_ended(before_handshake, 2);
+}
+
+// A program runs in a process group of its own, so a terminal's Ctrl-C reaches pldamp alone: the
+// run's stop (its SIGINT handler's flag) ends the wait for a reply at once, and the program with
+// it, where the wait went on to max_seconds (60 s here).
+TEST(External, AStoppedRunStopsWaitingForTheProgram) {
+  const std::string text = "name = \"stopped\"\nwant = [\"e\"]\n[grid]\np = [1]\ne = [0.5]\n"
+                           "v0 = [1]\n[limits]\nmax_seconds = 60\n" +
+                           testing::fake_solver("hang");
+  std::thread stopper([] {
+    std::this_thread::sleep_for(std::chrono::milliseconds(300));
+    stop_requested() = true;
+  });
+  const auto start = std::chrono::steady_clock::now();
+  const Ran ran = run_scene_text(text);
+  const double seconds = seconds_since(start);
+  stopper.join();
+  stop_requested() = false;
+  ASSERT_EQ(ran.records.size(), 1u);
+  EXPECT_EQ(ran.records[0].failure, "pldamp was stopped by a signal; the program was stopped");
+  EXPECT_LT(seconds, 2.0);
 }
 
 TEST(External, AWrongProtocolOrNoProgramStopsTheRunBeforeAnyWork) {

@@ -231,7 +231,8 @@ ProgramRun run_program(const std::vector<std::string>& argv, const std::string& 
   return run;
 }
 
-LineProgram::LineProgram(const std::vector<std::string>& argv) {
+LineProgram::LineProgram(const std::vector<std::string>& argv, const std::atomic<bool>* stop)
+    : stop_(stop) {
   if (argv.empty()) {
     return;
   }
@@ -259,6 +260,10 @@ LineProgram::LineProgram(const std::vector<std::string>& argv) {
 
 LineProgram::~LineProgram() {
   finish(std::chrono::milliseconds(0));
+}
+
+bool LineProgram::stop_requested() const {
+  return stop_ != nullptr && stop_->load();
 }
 
 bool LineProgram::has_exited() {
@@ -300,6 +305,9 @@ LineProgram::Write LineProgram::write_line(const std::string& line,
     if (n < 0 && errno != EAGAIN) {
       broken_pipe = errno == EPIPE;
       break;
+    }
+    if (stop_requested()) {
+      return Write::stopped;
     }
     if (has_exited()) {
       break;
@@ -370,6 +378,10 @@ LineProgram::Read LineProgram::read_line(std::string& line, std::chrono::millise
     if (out_ < 0) {
       line = std::exchange(pending_, {}); // a partial last line, if any
       return Read::end;
+    }
+    if (stop_requested()) {
+      line.clear();
+      return Read::stopped;
     }
     if (has_exited()) {
       // All it wrote is in the pipe: read it, and its output has ended, whatever a child it

@@ -3,6 +3,7 @@
 // discarded, a wall-clock limit. No temporary file, no string ever interpreted by a shell.
 #pragma once
 
+#include <atomic>
 #include <chrono>
 #include <cstddef>
 #include <optional>
@@ -34,19 +35,21 @@ namespace pldamp::harness {
 // has not exited by then.
 class LineProgram {
 public:
-  // Starts argv (argv[0] looked up on PATH unless it names a path); started() tells.
-  explicit LineProgram(const std::vector<std::string>& argv);
+  // Starts argv (argv[0] looked up on PATH unless it names a path); started() tells. While
+  // `stop` (a signal handler's flag) is set, no wait for the program goes on: it says `stopped`.
+  explicit LineProgram(const std::vector<std::string>& argv,
+                       const std::atomic<bool>* stop = nullptr);
   LineProgram(const LineProgram&) = delete;
   LineProgram& operator=(const LineProgram&) = delete;
   ~LineProgram();
 
   bool started() const { return pid_ > 0; }
-  enum class Write { done, closed, timeout };
+  enum class Write { done, closed, timeout, stopped };
   // Writes `line` and a newline within `limit`: `closed` when the program no longer reads (it
   // exited or closed its input), `timeout` when it did not take the line in time.
   Write write_line(const std::string& line, std::chrono::milliseconds limit);
 
-  enum class Read { line, end, timeout, too_long };
+  enum class Read { line, end, timeout, too_long, stopped };
   // The next line of its standard output (without the newline) within `limit`; `end` when it
   // closed its output or exited (at once, though a child it forked holds its output open: looked
   // at every 10 ms), `too_long` for a line beyond max_line_bytes.
@@ -67,8 +70,10 @@ private:
   void drain_error(); // reads what standard error holds without waiting
   bool read_output(); // reads what standard output holds, once; false if nothing
   bool has_exited();  // the program itself (not its children), without reaping it
-  int pid_ = -1;      // also its process group's id
+  bool stop_requested() const;
+  int pid_ = -1; // also its process group's id
   bool exited_ = false;
+  const std::atomic<bool>* stop_ = nullptr;
   int in_ = -1, out_ = -1, err_ = -1;
   std::string pending_; // read from standard output, not yet returned as a line
   std::string error_;   // the tail of standard error
