@@ -5,6 +5,8 @@
 #include "run/answers.hpp"
 #include "run/external.hpp"
 
+#include "pldamp/solvers/registry.hpp"
+
 #include <boost/math/constants/constants.hpp>
 #include <fmt/format.h>
 #include <gtest/gtest.h>
@@ -41,7 +43,17 @@ TEST(ExternalChecks, AnImpossibleAnswerIsUnstableWithItsReason) {
       {"gained", "", with_energy,
        "impossible answer: energy gained: energy_load = -0.1 (m v0^2/2 = 0.5)"},
       {"imbalance", "rtol = [1e-10]\n", with_energy,
-       "impossible answer: energy balance off by 0.1"}};
+       "impossible answer: energy balance off by 0.1"},
+      // What no damping allows (answers.cpp): these were accepted as `exited`.
+      {"dmax_huge", "", "",
+       "impossible answer: energy gained: delta_max = 1e+308 above the undamped peak delta_u = 1 "
+       "(allowed up to 1.00100000000022"},
+      {"tpeak_zero", "", "",
+       "impossible answer: t_peak = 0: not positive (the contact begins at v0 > 0)"},
+      {"tpeak_after_tau", "", "", " not after t_peak = "},
+      {"tau_tiny", "", "", "impossible answer: tau = 5e-324 not after t_peak = "},
+      {"fast_compression", "", "", ": compressed faster than v0 (allowed up to 1 + 0.001 times)"},
+      {"fast_return", "", "", ": in and out faster than v0 (allowed down to 1 - 0.001 times)"}};
   for (const Case& c : cases) {
     const std::string scene = c.want.empty() ? scene_with(c.mode, c.extra, "", grid)
                                              : scene_with(c.mode, c.extra, "", grid, c.want);
@@ -220,6 +232,165 @@ TEST(ExternalChecks, TheAllowanceIsPldampsOwnAndScaleFree) {
   answer.e.reset();
   answer.tau = std::numeric_limits<double>::infinity();
   EXPECT_EQ(impossible_answer(answer, fixed, unit, options), "exited with tau = inf");
+}
+
+// What no damping ≥ 0 allows (answers.cpp derives each bound), at a fixed step and under error
+// control: each bound refuses an answer just beyond it and takes an honest coarse one just within
+// it. Off the unit scales: m = 2, k = 3, v0 = 0.5, p = 1.5.
+TEST(ExternalChecks, NoDampingAllowsWhatTheUndampedContactCannotDo) {
+  const solvers::Problem<double> problem{1.5, 2, 3, 0.5, 0.4};
+  const double v0 = problem.v0;
+  // k δ_u^(p+1)/(p+1) = m v0²/2.
+  const double delta_u =
+      std::pow((problem.p + 1) * problem.m * v0 * v0 / (2 * problem.k), 1 / (problem.p + 1));
+  SolverConfig fixed;
+  fixed.command = {"x"};
+  fixed.steps_per_contact = 20;
+  SolverConfig controlled;
+  controlled.command = {"x"};
+  controlled.rtol = 1e-6;
+  const double dt = boost::math::constants::pi<double>() * delta_u / v0 / 20;
+  solvers::Options<double> overlap_end;
+  solvers::Options<double> force_end;
+  force_end.end = solvers::End::force;
+  const auto verdict = [&](const SolverConfig& config, std::optional<double> delta_max,
+                           std::optional<double> t_peak, std::optional<double> tau,
+                           const solvers::Options<double>& options) {
+    solvers::Result<double> answer;
+    answer.outcome = solvers::Outcome::exited;
+    answer.delta_max = delta_max;
+    answer.t_peak = t_peak;
+    answer.tau = tau;
+    return impossible_answer(answer, config, problem, options);
+  };
+  const auto starts = [](const std::string& text, const std::string& prefix) {
+    return text.rfind(prefix, 0) == 0;
+  };
+  for (const SolverConfig* config : {&fixed, &controlled}) {
+    const double a = answer_allowance(*config, problem);
+    const bool stepped = config == &fixed;
+    SCOPED_TRACE(stepped ? "fixed step" : "error control");
+    EXPECT_NEAR(a,
+                stepped ? std::min(1.5 * 2.5 * std::pow(boost::math::constants::pi<double>(), 2) /
+                                       (16.0 * 20 * 20),
+                                   0.25)
+                        : 1e-3 + 1000 * std::numeric_limits<double>::epsilon(),
+                1e-15);
+    // 0 < δ_max ≤ (1 + a)(δ_u + v0 Δt): the undamped peak, a step's onset beyond it.
+    const double most = (1 + a) * (delta_u + (stepped ? v0 * dt : 0));
+    EXPECT_EQ(verdict(*config, 0.0, {}, {}, overlap_end),
+              "delta_max = 0: not positive (the contact begins at v0 > 0)");
+    EXPECT_EQ(verdict(*config, 1e-300, {}, {}, overlap_end), "");
+    EXPECT_TRUE(starts(verdict(*config, most * (1 + 1e-9), {}, {}, overlap_end),
+                       "energy gained: delta_max = "))
+        << verdict(*config, most * (1 + 1e-9), {}, {}, overlap_end);
+    EXPECT_EQ(verdict(*config, most * (1 - 1e-9), {}, {}, overlap_end), "");
+    EXPECT_TRUE(starts(verdict(*config, 1e308, {}, {}, force_end),
+                       "energy gained: delta_max = 1e+308 above the undamped peak delta_u = "));
+    // t_peak > 0, and δ_max ≤ v0 t_peak (1 + a).
+    EXPECT_EQ(verdict(*config, {}, 0.0, {}, overlap_end),
+              "t_peak = 0: not positive (the contact begins at v0 > 0)");
+    const double fastest = delta_u / (v0 * (1 + a)); // the shortest t_peak of δ_max = δ_u
+    EXPECT_TRUE(starts(verdict(*config, delta_u, fastest * (1 - 1e-9), {}, overlap_end),
+                       "delta_max = " + to_string_full(delta_u) + " above v0 t_peak = "));
+    EXPECT_NE(verdict(*config, delta_u, fastest * (1 - 1e-9), {}, force_end), "");
+    EXPECT_EQ(verdict(*config, delta_u, fastest * (1 + 1e-9), {}, overlap_end), "");
+    // τ > t_peak (at either end), and τ > 0.
+    EXPECT_EQ(verdict(*config, {}, 1.5, 1.5, force_end),
+              "tau = 1.5 not after t_peak = 1.5: a contact ends after its peak");
+    EXPECT_EQ(verdict(*config, {}, 1.5, 5e-324, overlap_end),
+              "tau = 5e-324 not after t_peak = 1.5: a contact ends after its peak");
+    EXPECT_EQ(verdict(*config, {}, 1.5, std::nextafter(1.5, 2.0), overlap_end), "");
+    EXPECT_EQ(verdict(*config, {}, {}, 0.0, overlap_end),
+              "tau = 0: not positive (the contact begins at v0 > 0)");
+    // At the overlap end τ ≥ 2 δ_max/v0 (1 − a); the force end's cut may come sooner.
+    const double shortest = 2 * delta_u / v0 * (1 - a);
+    EXPECT_TRUE(starts(verdict(*config, delta_u, {}, shortest * (1 - 1e-9), overlap_end), "tau = "))
+        << verdict(*config, delta_u, {}, shortest * (1 - 1e-9), overlap_end);
+    EXPECT_NE(verdict(*config, delta_u, {}, shortest * (1 - 1e-9), overlap_end)
+                  .find(" below 2 delta_max/v0 = " + to_string_full(2 * delta_u / v0) +
+                        ": in and out faster than v0"),
+              std::string::npos);
+    EXPECT_EQ(verdict(*config, delta_u, {}, shortest * (1 + 1e-9), overlap_end), "");
+    EXPECT_EQ(verdict(*config, delta_u, {}, 0.5 * shortest, force_end), "");
+    // With t_peak given too, and a no_exit's infinite τ, which bounds nothing.
+    EXPECT_NE(verdict(*config, delta_u, fastest * 1.01, shortest * (1 - 1e-9), overlap_end), "");
+    EXPECT_EQ(verdict(*config, delta_u, fastest * 1.01, shortest * (1 + 1e-9), overlap_end), "");
+    solvers::Result<double> no_exit;
+    no_exit.outcome = solvers::Outcome::no_exit;
+    no_exit.delta_max = delta_u;
+    no_exit.t_peak = fastest * 1.01;
+    no_exit.tau = std::numeric_limits<double>::infinity();
+    EXPECT_EQ(impossible_answer(no_exit, *config, problem, overlap_end), "");
+  }
+}
+
+// pldamp's own solvers, run as a program would be (each fixed-step scheme at 2 to 50 steps per
+// contact and onset phases up to a step, each error-controlled one at rtol 1e-2 to 1e-12, p from
+// 1 to 30, undamped to overdamped, both ends), never give an answer the checks call impossible:
+// the allowances are honest for coarse schemes. (δ_max (1 + a) alone refused dem-verlet at 4
+// steps per contact, answers.cpp.)
+TEST(ExternalChecks, PldampsOwnSolversNeverGiveAnImpossibleAnswer) {
+  long judged = 0;
+  for (const solvers::SolverInfo& info : solvers::registry()) {
+    if (!info.runs_in("double")) {
+      continue;
+    }
+    for (const double p : {1.0, 1.5, 3.0, 30.0}) {
+      for (const double alpha : {0.0, 0.3, 1.5, 4.0}) {
+        const solvers::Problem<double> problem{p, 2, 3, 0.5, alpha};
+        for (const solvers::End end : {solvers::End::overlap, solvers::End::force}) {
+          const auto judge = [&](const SolverConfig& config, solvers::Options<double> options) {
+            options.end = end;
+            if (info.fixed_step || options.fixed_step) {
+              // A coarse fixed step's dashpot work can come out negative, and pldamp's own schemes
+              // are not held to its sign (Shards.ARecordAsItsOwnSolverWroteItIsMerged).
+              options.want &= ~solvers::want_energy;
+            }
+            const solvers::Result<double> answer = solvers::solve(info.name, problem, options);
+            if (answer.outcome == solvers::Outcome::unstable) {
+              return; // its own invariant refused it: not an answer
+            }
+            EXPECT_EQ(impossible_answer(answer, config, problem, options), "")
+                << info.name << " p = " << p << " alpha = " << alpha
+                << " steps = " << config.steps_per_contact.value_or(0)
+                << " rtol = " << config.rtol.value_or(0) << " phase = " << options.onset_phase;
+            ++judged;
+          };
+          for (const int steps : {2, 3, 4, 6, 10, 50}) {
+            SolverConfig config;
+            config.command = {"x"};
+            solvers::Options<double> options;
+            if (info.fixed_step) {
+              config.steps_per_contact = steps;
+              options.steps_per_contact = steps;
+              for (const double phase : {0.0, 0.5, 0.9999}) {
+                options.onset_phase = phase;
+                judge(config, options);
+              }
+            } else if (info.takes_fixed_step) {
+              config.steps_per_contact = steps;
+              config.dt = step_of(config, problem); // sent as dt, as a program is
+              config.steps_per_contact.reset();
+              options.fixed_step = config.dt;
+              judge(config, options);
+            }
+          }
+          if (!info.fixed_step) {
+            for (const double rtol : {1e-2, 1e-4, 1e-8, 1e-12}) {
+              SolverConfig config;
+              config.command = {"x"};
+              config.rtol = rtol;
+              solvers::Options<double> options;
+              options.rtol = rtol;
+              judge(config, options);
+            }
+          }
+        }
+      }
+    }
+  }
+  EXPECT_GT(judged, 2000);
 }
 
 TEST(ExternalChecks, ASettingTheProgramDoesNotHonourIsRefusedBeforeAnyWork) {

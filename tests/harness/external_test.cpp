@@ -12,8 +12,12 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include <chrono>
 #include <cmath>
 #include <fstream>
+#include <string>
+#include <thread>
+#include <vector>
 
 namespace pldamp::harness {
 namespace {
@@ -159,6 +163,100 @@ TEST(External, ACrashedOrHungProgramIsRestartedForTheNextRecord) {
     EXPECT_EQ(failed, 1) << mode;
     EXPECT_EQ(good, 3) << mode;
   }
+}
+
+// Whether process `pid` has ended: gone from /proc, or a zombie (dead, left for its parent to
+// reap: an orphan's new parent, init, may never do so in a container).
+bool ended(long pid) {
+  std::ifstream stat("/proc/" + std::to_string(pid) + "/stat");
+  const std::string text((std::istreambuf_iterator<char>(stat)), {});
+  const std::size_t name_end = text.rfind(')'); // "PID (NAME) STATE ...", NAME may hold ')'
+  return text.empty() || (name_end != std::string::npos && text.substr(name_end, 3) == ") Z");
+}
+
+// The pids fake_adapter.py's fork modes append to their state file: the program's and its
+// sleeping child's, a line each time one forks.
+std::vector<long> forked_pids(const std::string& state) {
+  std::ifstream in(state);
+  std::vector<long> pids;
+  for (long pid = 0; in >> pid;) {
+    pids.push_back(pid);
+  }
+  return pids;
+}
+
+double seconds_since(std::chrono::steady_clock::time_point start) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
+// A program that forks a child which sleeps an hour on its pipes. Whether the program answers
+// (fork_stay) or exits without a word (fork_exit on its first problem, fork_handshake before its
+// handshake), no process of it is left after the run: each ran in its own process group, stopped
+// as a whole. And a program that exits fails at once, though its child holds its output open:
+// each record waited max_seconds ("no reply within 5 s"), the handshake 30 s ("no handshake
+// within 30 s"), and the children slept on as orphans.
+TEST(External, NoProcessOfAProgramOutlivesTheRun) {
+  const auto scene = [](const std::string& mode, const std::string& state) {
+    return "name = \"forks\"\nwant = [\"e\"]\n[grid]\np = [1]\ne = [0.5]\nv0 = [1, 2]\n"
+           "[limits]\nmax_seconds = 5\n" +
+           testing::fake_solver(mode, state);
+  };
+  const auto expect_all_ended = [](const std::string& state, std::size_t processes) {
+    const std::vector<long> pids = forked_pids(state);
+    EXPECT_EQ(pids.size(), processes) << state;
+    for (const long pid : pids) {
+      EXPECT_TRUE(ended(pid)) << "process " << pid << " of " << state << " still runs";
+    }
+  };
+  const std::string staying = fresh_state("fork_stay.pids");
+  for (const Record& record : run_scene_text(scene("fork_stay", staying)).records) {
+    EXPECT_FALSE(record.failed()) << record.failure;
+  }
+  expect_all_ended(staying, 2);
+
+  const std::string exiting = fresh_state("fork_exit.pids");
+  auto start = std::chrono::steady_clock::now();
+  const Ran ran = run_scene_text(scene("fork_exit", exiting));
+  const double both_records = seconds_since(start);
+  ASSERT_EQ(ran.records.size(), 2u);
+  for (const Record& record : ran.records) {
+    EXPECT_EQ(record.failure, "the program exited with status 0"); // restarted for the second
+  }
+  EXPECT_LT(both_records, 2.0) << "each record waited for the child, not the program";
+  expect_all_ended(exiting, 4);
+
+  const std::string before_handshake = fresh_state("fork_handshake.pids");
+  start = std::chrono::steady_clock::now();
+  try {
+    run_scene_text(scene("fork_handshake", before_handshake));
+    ADD_FAILURE() << "a program without a handshake ran";
+  } catch (const ProtocolError& e) {
+    EXPECT_EQ(std::string(e.what()),
+              "[[solver]] fake: the program exited with status 0 before its handshake");
+  }
+  EXPECT_LT(seconds_since(start), 2.0) << "the handshake waited for the child";
+  expect_all_ended(before_handshake, 2);
+}
+
+// A program runs in a process group of its own, so a terminal's Ctrl-C reaches pldamp alone: the
+// run's stop (its SIGINT handler's flag) ends the wait for a reply at once, and the program with
+// it, where the wait went on to max_seconds (60 s here).
+TEST(External, AStoppedRunStopsWaitingForTheProgram) {
+  const std::string text = "name = \"stopped\"\nwant = [\"e\"]\n[grid]\np = [1]\ne = [0.5]\n"
+                           "v0 = [1]\n[limits]\nmax_seconds = 60\n" +
+                           testing::fake_solver("hang");
+  std::thread stopper([] {
+    std::this_thread::sleep_for(std::chrono::milliseconds(300));
+    stop_requested() = true;
+  });
+  const auto start = std::chrono::steady_clock::now();
+  const Ran ran = run_scene_text(text);
+  const double seconds = seconds_since(start);
+  stopper.join();
+  stop_requested() = false;
+  ASSERT_EQ(ran.records.size(), 1u);
+  EXPECT_EQ(ran.records[0].failure, "pldamp was stopped by a signal; the program was stopped");
+  EXPECT_LT(seconds, 2.0);
 }
 
 TEST(External, AWrongProtocolOrNoProgramStopsTheRunBeforeAnyWork) {

@@ -663,6 +663,67 @@ steps_per_contact = [10]
   EXPECT_EQ(impossible_record(plan, record).rfind("e = 1.3 gains energy", 0), 0u);
 }
 
+// An external program's record is merged only as its answer was judged when it ran
+// (run/answers.hpp, impossible_answer): delta_max = 1e308 beside a consistent error was merged
+// before. With one onset phase the values are one answer's; with more, each observable's is its
+// worst phase's, so only each value alone is held.
+TEST(Shards, AnExternalRecordIsMergedOnlyAsItsAnswerWasJudged) {
+  const auto plan_of = [](int phases) {
+    return make_plan(parse_scene(fmt::format(R"(name = "external"
+want = ["e", "delta_max", "t_peak", "tau"]
+[grid]
+p = [1.0]
+e = [0.5]
+v0 = [1.0]
+[[solver]]
+command = ["./adapter"]
+label = "fake"
+steps_per_contact = [20]
+onset_phases = {}
+)",
+                                             phases),
+                                 "external.toml"));
+  };
+  const auto record_of = [](const Plan& plan, double delta_max, double t_peak, double tau) {
+    Record record;
+    record.cell = 0;
+    record.config = 0;
+    record.outcome = solvers::Outcome::exited;
+    record.phases = plan.configs[0].onset_phases;
+    record.alpha = alpha_as_received<double>(plan.cells[0].alpha);
+    record.value.assign(plan.observables.size(), std::nullopt);
+    record.reference = record.error = record.abs_error = record.rel_error = record.spread =
+        record.worst_phase = record.value;
+    for (std::size_t o = 0; o < plan.observables.size(); ++o) {
+      const std::string_view key = plan.observables[o]->key;
+      record.value[o] = key == "e"           ? 0.5
+                        : key == "delta_max" ? delta_max
+                        : key == "t_peak"    ? t_peak
+                                             : tau;
+    }
+    return record;
+  };
+  // p = 1, m = k = v0 = 1: δ_u = 1, the undamped contact lasts π.
+  const Plan one = plan_of(1);
+  EXPECT_EQ(impossible_record(one, record_of(one, 0.8, 1.4, 3.5)), "");
+  EXPECT_EQ(impossible_record(one, record_of(one, 1e308, 1.4, 3.5))
+                .rfind("impossible answer: energy gained: delta_max = 1e+308 above the undamped "
+                       "peak delta_u = 1",
+                       0),
+            0u);
+  EXPECT_EQ(impossible_record(one, record_of(one, 0.8, 0.0, 3.5)),
+            "impossible answer: t_peak = 0: not positive (the contact begins at v0 > 0)");
+  EXPECT_EQ(impossible_record(one, record_of(one, 0.8, 3.5, 1.4)),
+            "impossible answer: tau = 1.4 not after t_peak = 3.5: a contact ends after its peak");
+  // Two phases: t_peak and τ may be different phases' (each its worst), a value alone may not.
+  const Plan two = plan_of(2);
+  EXPECT_EQ(impossible_record(two, record_of(two, 0.8, 3.5, 1.4)), "");
+  EXPECT_EQ(impossible_record(two, record_of(two, 1e308, 1.4, 3.5))
+                .rfind("impossible answer: energy gained: delta_max = 1e+308", 0),
+            0u);
+  EXPECT_EQ(impossible_record(two, record_of(two, 0.8, 1.4, 5e-324)), ""); // alone, positive
+}
+
 // When a rank cannot start (MPI's all_ready): rank 0 says why, once, for every rank; what fails
 // on rank 0 as it is, what fails on other ranks only as the first such rank's, with how many more.
 TEST(Distribution, WhoSaysWhyARunCannotStart) {

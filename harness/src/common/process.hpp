@@ -3,6 +3,7 @@
 // discarded, a wall-clock limit. No temporary file, no string ever interpreted by a shell.
 #pragma once
 
+#include <atomic>
 #include <chrono>
 #include <cstddef>
 #include <optional>
@@ -29,26 +30,32 @@ namespace pldamp::harness {
 // A program kept running and spoken to in lines (the external-solver protocol, README "Your code
 // in the loop"): lines written to its standard input, lines read from its standard output within a
 // time limit, the last line of its standard error kept for messages. Started with an argument
-// vector, never a shell; killed when destroyed if it has not exited by then.
+// vector, never a shell, in a process group of its own: finish() stops the group, so what the
+// program forked (and left running, holding its pipes) goes with it. Killed when destroyed if it
+// has not exited by then.
 class LineProgram {
 public:
-  // Starts argv (argv[0] looked up on PATH unless it names a path); started() tells.
-  explicit LineProgram(const std::vector<std::string>& argv);
+  // Starts argv (argv[0] looked up on PATH unless it names a path); started() tells. While
+  // `stop` (a signal handler's flag) is set, no wait for the program goes on: it says `stopped`.
+  explicit LineProgram(const std::vector<std::string>& argv,
+                       const std::atomic<bool>* stop = nullptr);
   LineProgram(const LineProgram&) = delete;
   LineProgram& operator=(const LineProgram&) = delete;
   ~LineProgram();
 
   bool started() const { return pid_ > 0; }
-  enum class Write { done, closed, timeout };
+  enum class Write { done, closed, timeout, stopped };
   // Writes `line` and a newline within `limit`: `closed` when the program no longer reads (it
   // exited or closed its input), `timeout` when it did not take the line in time.
   Write write_line(const std::string& line, std::chrono::milliseconds limit);
 
-  enum class Read { line, end, timeout, too_long };
+  enum class Read { line, end, timeout, too_long, stopped };
   // The next line of its standard output (without the newline) within `limit`; `end` when it
-  // closed its output (exited), `too_long` for a line beyond max_line_bytes.
+  // closed its output or exited (at once, though a child it forked holds its output open: looked
+  // at every 10 ms), `too_long` for a line beyond max_line_bytes.
   Read read_line(std::string& line, std::chrono::milliseconds limit);
-  // Closes its standard input and waits up to `limit` for it to exit, then kills it.
+  // Closes its standard input and waits up to `limit` for it to exit; then stops its process
+  // group: SIGTERM, and SIGKILL to what is left after `limit` more.
   void finish(std::chrono::milliseconds limit = std::chrono::seconds(2));
   // How it ended, after finish(): "exited with status 3", "killed by signal 11", or, when finish()
   // killed it, "stopped answering but did not exit (pldamp stopped it)" (not "killed by signal 9",
@@ -61,7 +68,12 @@ public:
 
 private:
   void drain_error(); // reads what standard error holds without waiting
-  int pid_ = -1;
+  bool read_output(); // reads what standard output holds, once; false if nothing
+  bool has_exited();  // the program itself (not its children), without reaping it
+  bool stop_requested() const;
+  int pid_ = -1; // also its process group's id
+  bool exited_ = false;
+  const std::atomic<bool>* stop_ = nullptr;
   int in_ = -1, out_ = -1, err_ = -1;
   std::string pending_; // read from standard output, not yet returned as a line
   std::string error_;   // the tail of standard error

@@ -9,6 +9,7 @@
 
 #include <optional>
 #include <string>
+#include <string_view>
 #include <vector>
 
 namespace pldamp::harness {
@@ -24,13 +25,23 @@ std::optional<double> step_of(const SolverConfig& config, const solvers::Problem
 // and for a program given neither, its own default taken as rtol = 1e-6.
 double answer_allowance(const SolverConfig& config, const solvers::Problem<double>& problem);
 
+// Why `value`, an answer's `key` (e, delta_max, t_peak, tau, energy_load or energy_unload), can
+// be no answer to `problem` from a program run as `config`, whatever the answer's other values;
+// empty when it can be one. Impossible: not finite (τ may be infinite); negative, or for an
+// energy dissipated below −allowance · ½ m v0² (energy gained); e above 1 beyond the allowance;
+// δ_max, t_peak or τ not positive; δ_max above the undamped peak δ_u beyond the allowance (and,
+// at a fixed step Δt, the v0 Δt a step may overshoot by: (1 + allowance)(δ_u + v0 Δt)).
+std::string impossible_value(std::string_view key, double value, const SolverConfig& config,
+                             const solvers::Problem<double>& problem);
+
 // Why an answer (the program's outcome and values for `problem`, asked with `options`) is
-// impossible; empty when it is not. Impossible: a value that is not finite (τ may be infinite on
-// no_exit) or is negative; e above 1 beyond the allowance; an energy dissipated below
-// −allowance · ½ m v0² (energy gained); under error control the energy balance
-// ½ m v0² = ½ m (e v0)² + W off by more than the allowance (at the force end: W + ½ m (e v0)²
-// above it, the spring keeping the rest); `peak` where e, τ or the energies were wanted;
-// `no_exit` with e ≠ 0; `exited` with τ infinite.
+// impossible; empty when it is not. Impossible: a value impossible_value refuses; `exited` with τ
+// infinite; `peak` where e, τ or the energies were wanted; `no_exit` with e ≠ 0; δ_max above
+// v0 t_peak (1 + allowance) (compressed faster than v0); τ not after t_peak; at the overlap end
+// τ below 2 δ_max/v0 (1 − allowance) (in and out faster than v0); under error control the energy
+// balance ½ m v0² = ½ m (e v0)² + W off by more than the allowance (at the force end:
+// W + ½ m (e v0)² above it, the spring keeping the rest). answers.cpp derives the bounds on δ_max,
+// t_peak and τ: every damping ≥ 0 keeps them.
 std::string impossible_answer(const solvers::Result<double>& answer, const SolverConfig& config,
                               const solvers::Problem<double>& problem,
                               const solvers::Options<double>& options);

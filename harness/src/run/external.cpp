@@ -32,6 +32,10 @@ std::string kept(std::string_view text) {
 
 constexpr std::chrono::milliseconds handshake_limit{30000};
 
+// A run stopped by SIGINT or SIGTERM while it waited for the program. The program, in a process
+// group of its own, does not get a terminal's Ctrl-C: pldamp stops it.
+constexpr const char* stopped_by_signal = "pldamp was stopped by a signal; the program was stopped";
+
 // nlohmann's DOM parser with what the protocol asks on top, as SAX: at most max_reply_depth levels
 // (its dump, and a tree's use, recurse: a reply nested 10^5 deep overflowed the stack) and no key
 // twice in an object (the last one won: an "id" twice answered another problem). Linear, where
@@ -290,10 +294,11 @@ void ExternalFacts::require_honoured(const SolverConfig& config) const {
   }
 }
 
-ExternalSolver::ExternalSolver(const SolverConfig& config, double limit_seconds)
+ExternalSolver::ExternalSolver(const SolverConfig& config, double limit_seconds,
+                               const std::atomic<bool>* stop)
     : config_(config), options_(config.options.empty() ? ordered_json::object()
                                                        : ordered_json::parse(config.options)),
-      limit_(std::chrono::milliseconds(std::llround(limit_seconds * 1000))) {
+      limit_(std::chrono::milliseconds(std::llround(limit_seconds * 1000))), stop_(stop) {
   start();
 }
 
@@ -305,7 +310,7 @@ ExternalSolver::~ExternalSolver() {
 
 void ExternalSolver::start() {
   const std::string who = "[[solver]] " + config_.name;
-  program_ = std::make_unique<LineProgram>(config_.command);
+  program_ = std::make_unique<LineProgram>(config_.command, stop_);
   if (!program_->started()) {
     program_.reset();
     // Named as the scene typed it, and where it was looked for.
@@ -331,6 +336,9 @@ void ExternalSolver::start() {
                                     double(limit.count()) / 1000));
   case LineProgram::Write::closed:
     throw ProtocolError(who + ": " + why_stopped(""));
+  case LineProgram::Write::stopped:
+    stop_program();
+    throw ProtocolError(who + ": " + stopped_by_signal);
   }
   switch (program_->read_line(line, limit)) {
   case LineProgram::Read::line:
@@ -344,6 +352,9 @@ void ExternalSolver::start() {
     throw ProtocolError(who + ": its handshake is longer than 1 MiB");
   case LineProgram::Read::end:
     throw ProtocolError(who + ": " + why_stopped(line) + " before its handshake");
+  case LineProgram::Read::stopped:
+    stop_program();
+    throw ProtocolError(who + ": " + stopped_by_signal);
   }
   facts_ = read_handshake(line, who);
 }
@@ -493,6 +504,9 @@ solvers::Result<double> ExternalSolver::solve(const SolverConfig& config,
                                          double(limit_.count()) / 1000));
   case LineProgram::Write::closed:
     throw std::runtime_error(why_stopped(""));
+  case LineProgram::Write::stopped:
+    stop_program();
+    throw std::runtime_error(stopped_by_signal);
   }
   std::string line;
   switch (program_->read_line(line, limit_)) {
@@ -508,6 +522,9 @@ solvers::Result<double> ExternalSolver::solve(const SolverConfig& config,
     throw std::runtime_error("a reply longer than 1 MiB; the program was stopped");
   case LineProgram::Read::end:
     throw std::runtime_error(why_stopped(line));
+  case LineProgram::Read::stopped:
+    stop_program();
+    throw std::runtime_error(stopped_by_signal);
   }
   const double round_trip =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - sent).count();

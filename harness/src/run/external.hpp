@@ -23,6 +23,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include <atomic>
 #include <memory>
 #include <mutex>
 #include <optional>
@@ -94,8 +95,10 @@ solvers::Result<double> read_reply(const std::string& line, long id);
 class ExternalSolver {
 public:
   // Starts the program and reads its handshake (within 30 s, or `limit_seconds` if longer);
-  // `limit_seconds` bounds each reply after it. Throws ProtocolError.
-  ExternalSolver(const SolverConfig& config, double limit_seconds);
+  // `limit_seconds` bounds each reply after it, and `stop` (the run's stop_requested) ends any
+  // wait for the program. Throws ProtocolError.
+  ExternalSolver(const SolverConfig& config, double limit_seconds,
+                 const std::atomic<bool>* stop = nullptr);
   ExternalSolver(const ExternalSolver&) = delete;
   ExternalSolver& operator=(const ExternalSolver&) = delete;
   ~ExternalSolver();
@@ -119,6 +122,7 @@ private:
   SolverConfig config_;
   nlohmann::ordered_json options_; // config_.options, parsed once
   std::chrono::milliseconds limit_;
+  const std::atomic<bool>* stop_;
   ExternalFacts facts_;
   std::unique_ptr<LineProgram> program_;
   std::string dead_; // not empty: it could not be restarted; every record fails with this

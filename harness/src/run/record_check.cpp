@@ -4,13 +4,12 @@
 #include "run/answers.hpp"
 #include "run/external.hpp"
 
-#include "pldamp/solvers/contact_ode.hpp"
-
 #include <fmt/format.h>
 
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <utility>
 
 namespace pldamp::harness {
 namespace {
@@ -27,10 +26,10 @@ bool agree_to_ulps(double a, double b, double ulps) {
          ulps * std::numeric_limits<double>::epsilon() * std::max(std::abs(a), std::abs(b));
 }
 
-// Why observable `o`'s numbers cannot be its run's; empty when they can.
+// Why observable `o`'s numbers cannot be its run's; empty when they can. An external program's
+// values are held apart, as its answers were (impossible_external_values).
 std::string impossible_numbers(const Plan& plan, const Record& r, std::size_t o,
-                               const std::optional<Exact>& truth, bool external, double allowance,
-                               double energy_scale) {
+                               const std::optional<Exact>& truth, bool external, double allowance) {
   const std::string_view key = plan.observables[o]->key;
   const std::optional<double>&value = r.value[o], &reference = r.reference[o], &error = r.error[o],
         &abs_error = r.abs_error[o], &rel_error = r.rel_error[o];
@@ -51,12 +50,11 @@ std::string impossible_numbers(const Plan& plan, const Record& r, std::size_t o,
   if (r.spread[o] && *r.spread[o] < 0) {
     return fmt::format("{}'s spread {} is negative", key, to_string_full(*r.spread[o]));
   }
-  if (value) {
-    // The ranges the run held the record's solver to: an external program's answers as
-    // impossible_answer holds them; pldamp's own solvers as BasicCollision::violated_invariant
+  if (value && !external) {
+    // The ranges the run held pldamp's own solvers to, as BasicCollision::violated_invariant
     // does, which bounds e alone (a coarse fixed step's dashpot work can come out negative).
     const bool energy = key == "energy_load" || key == "energy_unload";
-    if (energy ? external && *value < -allowance * energy_scale : *value < 0) {
+    if (!energy && *value < 0) {
       return fmt::format("{} = {} is impossible (energy gained, or a negative size)", key,
                          to_string_full(*value));
     }
@@ -111,6 +109,48 @@ std::string impossible_numbers(const Plan& plan, const Record& r, std::size_t o,
                        to_string_full(*rel_error), to_string_full(relative));
   }
   return {};
+}
+
+// The observables an external program answers, as the fields of its answer.
+constexpr std::pair<std::string_view, std::optional<double> solvers::Result<double>::*>
+    answer_fields[] = {{"e", &solvers::Result<double>::e},
+                       {"delta_max", &solvers::Result<double>::delta_max},
+                       {"t_peak", &solvers::Result<double>::t_peak},
+                       {"tau", &solvers::Result<double>::tau},
+                       {"energy_load", &solvers::Result<double>::energy_load},
+                       {"energy_unload", &solvers::Result<double>::energy_unload}};
+
+// Why an external program's record holds values its run would have refused (impossible_answer
+// made such an answer unstable, nothing kept); empty when it holds none. With one onset phase the
+// values are one answer's and held together; with more, each observable's is its worst phase's
+// (run.cpp, judge_record), so each is held alone.
+std::string impossible_external_values(const Plan& plan, const Record& r,
+                                       const solvers::Problem<double>& problem) {
+  const SolverConfig& config = plan.configs[r.config];
+  if (!r.outcome) {
+    return {}; // nothing measured (impossible_run holds it to that)
+  }
+  solvers::Result<double> answer;
+  answer.outcome = *r.outcome;
+  for (std::size_t o = 0; o < plan.observables.size(); ++o) {
+    for (const auto& [key, field] : answer_fields) {
+      if (plan.observables[o]->key == key && r.value[o]) {
+        if (r.phases > 1) {
+          if (std::string why = impossible_value(key, *r.value[o], config, problem); !why.empty()) {
+            return why;
+          }
+        }
+        answer.*field = r.value[o];
+      }
+    }
+  }
+  if (r.phases > 1) {
+    return {};
+  }
+  solvers::Options<double> options;
+  options.want = plan.scene.want;
+  options.end = end_of(plan.scene, config);
+  return impossible_answer(answer, config, problem, options);
 }
 
 // Why what a record says of its run (outcome, work, times, α, step, skip and note) cannot be a
@@ -235,13 +275,16 @@ std::string impossible_record(const Plan& plan, const Record& r) {
   solvers::Problem<double> problem{point.p, cell.m, cell.k, cell.v0, r.alpha};
   problem.damping_exponent = point.beta;
   const double allowance = answer_allowance(config, problem);
-  const double energy_scale = solvers::ContactOde<double>(problem).energy_scale();
   for (std::size_t o = 0; o < r.value.size(); ++o) {
     const std::optional<Exact> truth = reference_at(plan, cell, o, config);
-    if (std::string why =
-            impossible_numbers(plan, r, o, truth, config.external(), allowance, energy_scale);
+    if (std::string why = impossible_numbers(plan, r, o, truth, config.external(), allowance);
         !why.empty()) {
       return why;
+    }
+  }
+  if (config.external()) {
+    if (std::string why = impossible_external_values(plan, r, problem); !why.empty()) {
+      return "impossible answer: " + why;
     }
   }
   return {};

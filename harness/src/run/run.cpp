@@ -571,8 +571,8 @@ PlanRunner::PlanRunner(const Plan& plan, int jobs, std::size_t batch_lanes)
       }
     }
     if (externals[c] == nullptr) {
-      programs_->owned.push_back(
-          std::make_unique<ExternalSolver>(config, plan.scene.limits.max_seconds));
+      programs_->owned.push_back(std::make_unique<ExternalSolver>(
+          config, plan.scene.limits.max_seconds, &stop_requested()));
       externals[c] = programs_->owned.back().get();
     }
     externals[c]->facts().require_honoured(config);

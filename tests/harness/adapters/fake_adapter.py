@@ -16,6 +16,12 @@ negative_delta  answers delta_max = -0.1, the rest as good
 peak         answers outcome peak (delta_max and t_peak only), whatever is wanted
 gained       answers energy_load = -0.2 m v0^2/2 (energy gained), the rest as good
 imbalance    answers the energies 0.1 m v0^2/2 more than the balance with e allows
+dmax_huge    answers delta_max = 1e308 (far above the undamped peak), the rest as good
+tpeak_zero   answers t_peak = 0, the rest as good
+tpeak_after_tau  answers t_peak = 2 tau, the rest as good
+tau_tiny     answers tau = 5e-324, the rest as good
+fast_compression  answers t_peak = delta_max / (2 v0) (compressed at twice v0), the rest as good
+fast_return  answers without t_peak and with tau = 1.5 delta_max / v0, the rest as good
 gaps         its handshake runs p = 1 and 2 only; at p = 2 it answers exited without any value
 honours      its handshake honours steps_per_contact and onset_phase only; answers as good
 no_outcome   answers without an outcome
@@ -27,6 +33,11 @@ hang         never answers its first problem
 hang_once    never answers its first problem of all (STATE_FILE remembers), then behaves as good
 partial      writes half a line and exits
 record       appends every problem line to STATE_FILE, then answers as good
+fork_stay    forks a child that sleeps (holding the pipes), appends its pid and the program's to
+             STATE_FILE, then answers as good
+fork_exit    on its first problem forks such a child, appends the pids, and exits (status 0)
+             without answering
+fork_handshake  forks such a child, appends the pids, and exits before its handshake
 deaf         never reads a problem (a problem line longer than a pipe's buffer then cannot be
              written)
 slow_clock   answers as good, with wall_seconds 1e300 (longer than any round trip)
@@ -68,6 +79,16 @@ def first_time(state):
         return False
 
 
+def fork_sleeper(state):
+    """Forks a child that sleeps an hour on the program's pipes; appends both pids to `state`."""
+    child = os.fork()
+    if child == 0:
+        time.sleep(3600)
+        os._exit(0)
+    with open(state, "a", encoding="utf-8") as log:
+        log.write("%d %d\n" % (os.getpid(), child))
+
+
 def main():
     mode = sys.argv[1]
     state = sys.argv[2] if len(sys.argv) > 2 else None
@@ -75,6 +96,11 @@ def main():
     assert hello == {"protocol": "pldamp-solver", "version": 1}, hello
     if mode == "no_handshake":
         sys.exit(0)
+    if mode == "fork_handshake":
+        fork_sleeper(state)
+        sys.exit(0)
+    if mode == "fork_stay":
+        fork_sleeper(state)
     handshake = {"protocol": "pldamp-solver", "version": 2 if mode == "wrong_version" else 1,
                  "solver": "fake " + mode}
     if mode == "beta":
@@ -94,6 +120,9 @@ def main():
         if mode == "record":
             with open(state, "a", encoding="utf-8") as log:
                 log.write(line)
+        if mode == "fork_exit":
+            fork_sleeper(state)
+            sys.exit(0)
         if mode == "crash" or (mode == "crash_once" and first_time(state)):
             sys.stderr.write("fake: boom\n")
             sys.exit(3)
@@ -135,6 +164,22 @@ def main():
         elif mode == "imbalance":
             reply.update(closed_forms(problem))
             reply["energy_unload"] += 0.1 * 0.5 * problem["m"] * problem["v0"] ** 2
+        elif mode == "dmax_huge":
+            reply.update(closed_forms(problem), delta_max=1e308)
+        elif mode == "tpeak_zero":
+            reply.update(closed_forms(problem), t_peak=0.0)
+        elif mode == "tpeak_after_tau":
+            forms = closed_forms(problem)
+            reply.update(forms, t_peak=2 * forms["tau"])
+        elif mode == "tau_tiny":
+            reply.update(closed_forms(problem), tau=5e-324)
+        elif mode == "fast_compression":
+            forms = closed_forms(problem)
+            reply.update(forms, t_peak=forms["delta_max"] / (2 * problem["v0"]))
+        elif mode == "fast_return":
+            reply.update(closed_forms(problem))
+            del reply["t_peak"]
+            reply["tau"] = 1.5 * reply["delta_max"] / problem["v0"]
         elif mode == "slow_clock":
             reply.update(closed_forms(problem), wall_seconds=1e300)
         elif mode == "no_outcome":
