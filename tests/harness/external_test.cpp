@@ -314,6 +314,10 @@ TEST(External, AnUnavailableCodeIsSkippedWithItsReason) {
     EXPECT_FALSE(record.failed());
     EXPECT_EQ(record.skip_reason, "unavailable: fakecode not found on PATH");
   }
+  // An empty reason is said to be missing ("unavailable: unavailable" before).
+  for (const Record& record : run_scene_text(scene_with("unavailable_silently")).records) {
+    EXPECT_EQ(record.skip_reason, "unavailable: (no reason given)");
+  }
 }
 
 // A code whose dashpot is not the point's is judged against the reference solve of its own β at

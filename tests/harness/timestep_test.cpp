@@ -259,5 +259,25 @@ TEST(Timestep, BadInputIsOneLineAndExitTwo) {
   }
 }
 
+// Too close to critical damping, the contact outlasts every solve of the search: said so, with
+// the α_eff given in full (0.9999999 printed as 1, a τ beyond double as "lasts inf" before), not
+// as a "dt must be in [...]" of a step the user never gave.
+TEST(Timestep, AContactLongerThanTheSearchIsRefusedForWhatItIs) {
+  const testing::CliRun near =
+      run({"timestep", "--scheme", "dem-verlet", "--p", "1.5", "--alpha-eff", "0.999"});
+  EXPECT_EQ(near.code, 2);
+  EXPECT_NE(near.err.find("beyond the 1000 delta_u/v0 a fixed-step solve runs to"),
+            std::string::npos)
+      << near.err;
+  EXPECT_NE(near.err.find("(got alpha_eff 0.999)"), std::string::npos) << near.err;
+  const testing::CliRun nearer =
+      run({"timestep", "--scheme", "dem-verlet", "--p", "1.5", "--alpha-eff", "0.9999999"});
+  EXPECT_EQ(nearer.code, 2);
+  EXPECT_EQ(nearer.err.rfind("error: the contact lasts longer than a double holds, beyond", 0), 0u)
+      << nearer.err;
+  EXPECT_NE(nearer.err.find("(got alpha_eff 0.9999999)\n"), std::string::npos) << nearer.err;
+  EXPECT_EQ(nearer.err.find("dt must be"), std::string::npos) << nearer.err;
+}
+
 } // namespace
 } // namespace pldamp::harness

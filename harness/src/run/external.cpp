@@ -249,7 +249,7 @@ ExternalFacts read_handshake(const std::string& line, const std::string& who) {
     if (const auto unavailable = hello.find("unavailable"); unavailable != hello.end()) {
       facts.unavailable = kept(unavailable->get<std::string>());
       if (facts.unavailable.empty()) {
-        facts.unavailable = "unavailable";
+        facts.unavailable = "(no reason given)";
       }
     }
   } catch (const json::exception&) {

@@ -107,6 +107,8 @@ def main():
         handshake["damping_exponent"] = 0.5
     if mode == "unavailable":
         handshake["unavailable"] = "fakecode not found on PATH"
+    if mode == "unavailable_silently":
+        handshake["unavailable"] = ""
     if mode == "gaps":
         handshake["p"] = [1, 2]
     if mode == "honours":
