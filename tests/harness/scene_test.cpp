@@ -47,6 +47,14 @@ e = [0.5]
 v0 = [1.0]
 )",
        "3: p must be a number (got string)"},
+      {R"(name = "t"
+[grid]
+p = [1.5]
+e = [0.5]
+v0 = [9223372036854775807]
+)",
+       "5: v0 is an integer beyond 2^53, which no double holds exactly: write it as a float (got "
+       "9223372036854775807)"},
       {R"([grid]
 p = []
 e = [0.5]

@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <sstream>
 
 namespace pldamp::harness::scene_reading {
@@ -85,6 +86,14 @@ double Reader::number(const toml::node& node, const std::string& what) const {
       fail(node, what + " must be finite (got " + to_string_full(*value) + ")");
     }
     return *value;
+  }
+  if (const toml::value<std::int64_t>* integer = node.as_integer()) {
+    // An integer beyond 2^53 has no double equal to it, so toml++ gives no value<double> (2^63 − 1
+    // said "must be a number (got integer)"). Refused as what it is, with the digits typed.
+    fail(node, what +
+                   " is an integer beyond 2^53, which no double holds exactly: write it as a "
+                   "float (got " +
+                   std::to_string(integer->get()) + ")");
   }
   fail(node, what + " must be a number (got " + type_of(node) + ")");
 }
