@@ -129,6 +129,9 @@ TEST(Text, OneLineEscapesWhatIsNotPrintableUtf8) {
   EXPECT_EQ(one_line("t\0,\0d"s), "t\\x00,\\x00d");
   EXPECT_EQ(one_line("\xff\xfet\0"s), "\\xff\\xfet\\x00"); // UTF-16's byte order mark
   EXPECT_EQ(one_line("\u00e9\u20ac\U0001f600"), "\u00e9\u20ac\U0001f600");
+  // What turns a line around or hides itself: bidirectional overrides, isolates, marks and C1.
+  EXPECT_EQ(one_line("fake\u202ecode\u2066|\u200f|\u0085"),
+            "fake\\u202ecode\\u2066|\\u200f|\\u0085");
   // Overlong, surrogate, beyond U+10FFFF, a lead byte cut short.
   EXPECT_EQ(one_line("\xc0\xaf|\xed\xa0\x80|\xf4\x90\x80\x80|\xe2\x82"),
             "\\xc0\\xaf|\\xed\\xa0\\x80|\\xf4\\x90\\x80\\x80|\\xe2\\x82");

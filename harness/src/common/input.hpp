@@ -81,10 +81,37 @@ inline bool valid_utf8(std::string_view text) {
   return true;
 }
 
+// The code point of one well-formed UTF-8 sequence (utf8_sequence's length).
+inline char32_t code_point(std::string_view sequence) {
+  const auto byte = [&](std::size_t i) {
+    return static_cast<char32_t>(static_cast<unsigned char>(sequence[i]));
+  };
+  switch (sequence.size()) {
+  case 1:
+    return byte(0);
+  case 2:
+    return (byte(0) & 0x1f) << 6 | (byte(1) & 0x3f);
+  case 3:
+    return (byte(0) & 0x0f) << 12 | (byte(1) & 0x3f) << 6 | (byte(2) & 0x3f);
+  default:
+    return (byte(0) & 0x07) << 18 | (byte(1) & 0x3f) << 12 | (byte(2) & 0x3f) << 6 |
+           (byte(3) & 0x3f);
+  }
+}
+
+// Characters that change what a terminal shows without showing themselves: the C1 controls and
+// the bidirectional marks, embeddings, overrides and isolates (U+202E in a solver's name turned
+// the rest of its line around).
+inline bool hidden(char32_t point) {
+  return (point >= 0x80 && point <= 0x9f) || point == 0x200e || point == 0x200f ||
+         (point >= 0x202a && point <= 0x202e) || (point >= 0x2066 && point <= 0x2069);
+}
+
 // A text as one line of output: control characters and bytes that are not UTF-8 shown escaped
-// (\n, \t, \xNN), so that a newline typed into an option or a scene's name cannot start a line of
-// its own, a NUL cannot end the line early, and a UTF-16 or binary file's bytes cannot reach a
-// terminal raw (or a JSON writer, which refuses text that is not UTF-8).
+// (\n, \t, \xNN; the hidden characters above as \uNNNN), so that a newline typed into an option or
+// a scene's name cannot start a line of its own, a NUL cannot end the line early, and a UTF-16 or
+// binary file's bytes cannot reach a terminal raw (or a JSON writer, which refuses text that is not
+// UTF-8).
 inline std::string one_line(std::string_view text) {
   static constexpr char hex[] = "0123456789abcdef";
   std::string out;
@@ -98,6 +125,11 @@ inline std::string one_line(std::string_view text) {
       out += "\\t";
     } else if (byte < 0x20 || byte == 0x7f || n == 0) {
       out += {'\\', 'x', hex[byte >> 4], hex[byte & 0xf]};
+    } else if (const char32_t point = code_point(text.substr(i, n)); hidden(point)) {
+      out += "\\u" + std::string{hex[(point >> 12) & 0xf], hex[(point >> 8) & 0xf],
+                                 hex[(point >> 4) & 0xf], hex[point & 0xf]};
+      i += n;
+      continue;
     } else {
       out.append(text.substr(i, n));
       i += n;
@@ -180,7 +212,9 @@ Real parse_real(const std::string& option, const std::string& text) {
   }
   // Decimal only, as in scenes and CSV files: strtod and float128 read 0x1p-1, cpp_bin_float
   // does not, so a hex float was a number in three precisions of four.
-  if (text.find("0x") != std::string::npos || text.find("0X") != std::string::npos) {
+  const std::size_t digits = text.find_first_not_of("+-");
+  if (digits != std::string::npos &&
+      (text.compare(digits, 2, "0x") == 0 || text.compare(digits, 2, "0X") == 0)) {
     throw InputError(what + " in decimal (got " + text + ")");
   }
   if constexpr (std::is_floating_point_v<Real>) {
