@@ -107,6 +107,8 @@ def _answer(command: str, positional: Iterable[str] = (), json_flag: bool = True
     if json_flag:
         args.append("--json")
     code, out, err = _pldamp.cli(args)
+    if code == 130:  # SIGINT (Ctrl-C) stopped the run, as the command exits 128 + 2
+        raise KeyboardInterrupt(err.strip().removeprefix("error: "))
     if code == 2:
         raise ValueError(err.strip().removeprefix("error: "))
     if code not in (0, 1):

@@ -283,6 +283,26 @@ def test_run_returns_the_report(tmp_path):
         pldamp.run(tmp_path / "missing.toml")
 
 
+def test_ctrl_c_during_a_run_is_a_keyboard_interrupt(tmp_path):
+    # The run stops at SIGINT and exits 130, as the command does; Python sees the Ctrl-C it was
+    # (a RuntimeError before), and the report folder keeps no half-written file.
+    import signal
+    import threading
+    import time
+    scene = os.path.join(DATA, "scenes", "nightly.toml")  # about 25 s: stopped long before
+    timer = threading.Timer(1.0, os.kill, (os.getpid(), signal.SIGINT))
+    started = time.monotonic()
+    timer.start()
+    try:
+        with pytest.raises(KeyboardInterrupt):
+            pldamp.run(scene, out=tmp_path)
+    finally:
+        timer.cancel()
+    assert time.monotonic() - started < 15
+    assert not (tmp_path / "report.json").exists()
+    assert signal.getsignal(signal.SIGINT) is signal.default_int_handler
+
+
 def test_a_bool_is_refused_where_a_number_is_meant_and_check_names_array_indices():
     with pytest.raises(TypeError, match="not a bool"):
         pldamp.observables(p=1.5, e=True, v0=1)
