@@ -663,6 +663,42 @@ steps_per_contact = [10]
   EXPECT_EQ(impossible_record(plan, record).rfind("e = 1.3 gains energy", 0), 0u);
 }
 
+// A record of several onset phases keeps the first phase's outcome and each observable's worst
+// phase: no_exit in one phase beside another phase's e is what a run writes, and merges (it was
+// refused as "e = 0.3 beside outcome no_exit"); with one phase it is a contradiction.
+TEST(Shards, APhasedRecordsOutcomeAndValuesMayComeFromDifferentPhases) {
+  for (const int phases : {1, 4}) {
+    const Plan plan = make_plan(parse_scene(R"(name = "phased"
+want = ["e"]
+[grid]
+p = [1.5]
+e = [0.5]
+v0 = [1.0]
+[[solver]]
+name = "dem-verlet"
+steps_per_contact = [10]
+onset_phases = )" + std::to_string(phases) + "\n",
+                                            "phased.toml"));
+    Record record;
+    record.cell = 0;
+    record.config = 0;
+    record.phases = phases;
+    record.outcome = solvers::Outcome::no_exit;
+    record.alpha = alpha_as_received<double>(plan.cells[0].alpha);
+    record.value.assign(plan.observables.size(), std::nullopt);
+    record.reference = record.error = record.abs_error = record.rel_error = record.spread =
+        record.worst_phase = record.value;
+    record.value[0] = 0.3;
+    record.worst_phase[0] = 0.25;
+    if (phases == 1) {
+      record.worst_phase[0] = 0.0;
+      EXPECT_EQ(impossible_record(plan, record), "e = 0.3 beside outcome no_exit");
+    } else {
+      EXPECT_EQ(impossible_record(plan, record), "");
+    }
+  }
+}
+
 // An external program's record is merged only as its answer was judged when it ran
 // (run/answers.hpp, impossible_answer): delta_max = 1e308 beside a consistent error was merged
 // before. With one onset phase the values are one answer's; with more, each observable's is its
