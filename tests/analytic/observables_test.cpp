@@ -362,6 +362,43 @@ TYPED_TEST(ObservablesTest, FarOverdampedAgreesWithFiftyDigits) {
   errors.check(far_overdamped_errors);
 }
 
+// p just above 1 (exact in every type: 1 + 2^−52, 1 + 2^−30) against 50 digits, near critical
+// damping too. 1 − q was formed as 1 − 2/(p + 1), which keeps only ε/(p − 1) of it: the force's
+// peak time came out 0 at p = 1 + 2^−52 (it is 1.05e−8), and τ near critical damping 5.6e6 ε off
+// (c = (1 − q) z/√μ). Now from (p − 1)/(p + 1). Set to twice the measured max and RMS, rounded
+// up (`observables_test --gtest_filter='*NearlyLinear*'`); τ near critical damping is
+// conditioned by μ's rounding as it is at p = 1, e by ε·|ln e|.
+constexpr ExpectedEpsilon nearly_linear_errors[] = {
+    {"double", "p=1+", "*", 40, 24},   // measured 19.7 (normal_force_max), 11.7
+    {"long", "p=1+", "e", 1800, 1300}, // measured 861, 609: ε·|ln e| near critical damping
+    {"long", "p=1+", "*", 12, 7},      // measured 5.74, 3.14
+    {"quad", "p=1+", "e", 1400, 1000}, // measured 656, 464
+    {"quad", "p=1+", "*", 14, 6},      // measured 6.95, 3
+};
+
+TYPED_TEST(ObservablesTest, NearlyLinearAgreesWithFiftyDigits) {
+  using Real = TypeParam;
+  using std::ldexp;
+  EpsilonErrors<Real> errors;
+  for (const int bits : {52, 30}) {
+    for (const int closeness : {1, 20, 40}) { // z = 1/2, 1 − 2^−20, 1 − 2^−40
+      const double p = 1 + ldexp(1.0, -bits);
+      const double z = closeness == 1 ? 0.5 : 1 - ldexp(1.0, -closeness);
+      const auto fast = pldamp::testing::as_map(
+          observables(Contact<Real>::from_alpha_eff(Real(p), Real(z), Real(1))));
+      const auto wide = pldamp::testing::as_map(
+          observables(Contact<bin50>::from_alpha_eff(bin50(p), bin50(z), bin50(1))));
+      const std::string where = "p=1+2^-" + std::to_string(bits) + " z=" + to_string_full(z);
+      for (const auto& [name, want] : wide) {
+        if (want) {
+          compare(fast.at(name), *want, errors, "p=1+", name, where);
+        }
+      }
+    }
+  }
+  errors.check(nearly_linear_errors);
+}
+
 // The 50 digits above by a second route, for p = 1 (δ = x, no time map): the peak where
 // tanh(rσ) = r/z, σ = atanh(r/z)/r, δ_max = (v0/Ω0) e^(−zσ), e_cap = e^(−2zσ) — at 50 digits
 // atanh's ε·2z² is 10⁻³⁸ at z = 10⁶.

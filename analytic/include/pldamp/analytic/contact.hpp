@@ -181,7 +181,8 @@ struct NormalForcePeak {
 };
 
 template <SupportedReal Real>
-NormalForcePeak<Real> normal_force_peak(const Damping<Real>& d, const Real& q) {
+NormalForcePeak<Real> normal_force_peak(const Damping<Real>& d, const Real& q,
+                                        const Real& one_minus_q) {
   using std::atan2;
   using std::sqrt;
   const Real z = d.z;
@@ -189,9 +190,9 @@ NormalForcePeak<Real> normal_force_peak(const Damping<Real>& d, const Real& q) {
     return {peak_phase(d), Real(1)};
   }
   const Real z2 = z * z;
-  const Real a = 4 * z2 - 3 - (1 - q) * (1 - 2 * z2);
+  const Real a = 4 * z2 - 3 - one_minus_q * (1 - 2 * z2);
   const Real b = (2 - q) * (1 - 4 * z2);
-  const Real c0 = 2 * (1 - q) * z2;
+  const Real c0 = 2 * one_minus_q * z2; // from (p − 1)/(p + 1): 0 at p = 1 + 2^−52 from 1 − q
   const Real root_d = sqrt(b * b - 4 * a * c0); // ≥ 0: a root exists (above)
   const Real t = -(b + (b < 0 ? -root_d : root_d)) / 2;
   Real u(0);
@@ -284,11 +285,12 @@ public:
   const Real& alpha_eff() const { return damping_.z; } // z
   const Real& mu() const { return damping_.mu; }       // 1 − z²
   Real alpha() const { return damping_.z * alpha_per_alpha_eff(p_); }
-  const Real& q() const { return q_; }           // 2/(p+1)
-  Real nu() const { return q_ - 1; }             // exponent of dt/ds = A q x^(q−1)
-  const Real& A() const { return A_; }           // ((p+1)/2)^(1/(p+1))
-  const Real& omega0() const { return omega0_; } // √(k/m)
-  const Real& L() const { return L_; }           // v0/Ω0
+  const Real& q() const { return q_; }                     // 2/(p+1)
+  const Real& one_minus_q() const { return one_minus_q_; } // (p − 1)/(p + 1), −ν
+  Real nu() const { return q_ - 1; }                       // exponent of dt/ds = A q x^(q−1)
+  const Real& A() const { return A_; }                     // ((p+1)/2)^(1/(p+1))
+  const Real& omega0() const { return omega0_; }           // √(k/m)
+  const Real& L() const { return L_; }                     // v0/Ω0
   const Real& log_L() const { return log_L_; }
   Real ke0() const { return m_ * v0_ * v0_ / 2; }
 
@@ -302,6 +304,7 @@ private:
     domain::require_scale("m", m);
     domain::require_scale("k", k);
     q_ = 2 / (p + 1);
+    one_minus_q_ = (p - 1) / (p + 1); // not 1 − q: as p → 1 that keeps only ε/(p − 1) of it
     A_ = pow((p + 1) / 2, 1 / (p + 1));
     omega0_ = sqrt(k / m);
     L_ = v0 * sqrt(m / k);
@@ -311,7 +314,7 @@ private:
   }
   Real p_, m_, k_, v0_;
   Damping<Real> damping_;
-  Real q_, A_, omega0_, L_, log_L_;
+  Real q_, one_minus_q_, A_, omega0_, L_, log_L_;
 };
 
 } // namespace pldamp::analytic

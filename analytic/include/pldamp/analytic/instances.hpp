@@ -35,7 +35,8 @@
   prefix template Real peak_exponent(const Damping<Real>&);                                        \
   prefix template Real peak_phase(const Damping<Real>&);                                           \
   prefix template Real capped_restitution(const Damping<Real>&);                                   \
-  prefix template NormalForcePeak<Real> normal_force_peak(const Damping<Real>&, const Real&);      \
+  prefix template NormalForcePeak<Real> normal_force_peak(const Damping<Real>&, const Real&,       \
+                                                          const Real&);                            \
   prefix template Real restitution(const Contact<Real>&);                                          \
   prefix template Real log_delta_max(const Contact<Real>&);                                        \
   prefix template Real delta_max(const Contact<Real>&);                                            \
@@ -62,7 +63,7 @@
   prefix template Real e_given(const Real&, const Real&, bool);                                    \
   prefix template std::optional<Real> e_to_enter(const Convention&, const Real&, const Real&,      \
                                                  bool);                                            \
-  prefix template Real log_duration_ratio(const Damping<Real>&, const Real&);                      \
+  prefix template Real log_duration_ratio(const Damping<Real>&, const Real&, const Real&);         \
   prefix template Real log_undamped_scaled_duration(const Real&);                                  \
   prefix template Real log_scaled_duration(const Damping<Real>&, const Real&);                     \
   prefix template Real log_abs_gamma_ratio(const Real&, const Real&);                              \

@@ -67,7 +67,7 @@ Real normal_force_max(const Contact<Real>& c) {
   using std::exp;
   using std::pow;
   const Damping<Real>& d = c.damping();
-  const NormalForcePeak<Real> peak = normal_force_peak(d, c.q());
+  const NormalForcePeak<Real> peak = normal_force_peak(d, c.q(), c.one_minus_q());
   if (peak.scaled_ratio == 0) {
     return 2 * d.z * c.k() * c.L();
   }
@@ -86,7 +86,8 @@ template <SupportedReal Real>
 Real t_normal_force_max(const Contact<Real>& c) {
   using std::exp;
   const ScaledTime<Real> scaled(c.damping(), c.q());
-  return exp(log_time_scale(c)) * scaled(normal_force_peak(c.damping(), c.q()).sigma);
+  return exp(log_time_scale(c)) *
+         scaled(normal_force_peak(c.damping(), c.q(), c.one_minus_q()).sigma);
 }
 
 // ln of the time scale T = A q L^ν / Ω0 with t = T·I(σ) (time.hpp).
@@ -186,13 +187,14 @@ Duration<Real> duration_and_ratio(const Contact<Real>& c, const Real& log_tau0) 
     if (widen_duration_exponent(c)) {
       using W = DurationWide<Real>;
       const W log_ratio =
-          log_duration_ratio(Damping<W>{W(c.alpha_eff()), W(c.mu())}, W(2 / (W(c.p()) + 1)));
+          log_duration_ratio(Damping<W>{W(c.alpha_eff()), W(c.mu())}, W(2 / (W(c.p()) + 1)),
+                             W((W(c.p()) - 1) / (W(c.p()) + 1)));
       const W log_tau = W(log_tau0) + log_ratio;
       return {narrowed<Real>(exp(log_tau)), narrowed<Real>(exp(log_ratio)),
               narrowed<Real>(log_tau)};
     }
   }
-  const Real log_ratio = log_duration_ratio(c.damping(), c.q());
+  const Real log_ratio = log_duration_ratio(c.damping(), c.q(), c.one_minus_q());
   return {exp(log_tau0 + log_ratio), exp(log_ratio), log_tau0 + log_ratio};
 }
 
@@ -227,8 +229,7 @@ Real duration_ratio(const Contact<Real>& c) {
 // a = (1 + q)/2. So τ/τ0 = 1 + s1·z + (s2 + s1²/2)·z² + O(z³).
 template <SupportedReal Real>
 Real duration_ratio_slope(const Real& p) {
-  const Real q = 2 / (p + 1);
-  return boost::math::constants::half_pi<Real>() * (1 - q);
+  return boost::math::constants::half_pi<Real>() * ((p - 1) / (p + 1)); // 1 − q
 }
 
 // The z² coefficient of τ/τ0 itself: s2 + s1²/2.
@@ -236,7 +237,7 @@ template <SupportedReal Real>
 Real duration_ratio_curvature(const Real& p) {
   const Real q = 2 / (p + 1);
   const Real s1 = duration_ratio_slope(p);
-  const Real one_minus_q = 1 - q;
+  const Real one_minus_q = (p - 1) / (p + 1);
   return q / 2 + one_minus_q * one_minus_q * boost::math::trigamma((1 + q) / 2) / 4 + s1 * s1 / 2;
 }
 
@@ -328,7 +329,8 @@ Observables<Real> observables(const Contact<Real>& c, unsigned want = want_all) 
     const ScaledTime<Real> scaled(c.damping(), c.q());
     const Real scale = exp(log_time_scale(c));
     if (want & want_normal_force) {
-      out.t_normal_force_max = scale * scaled(normal_force_peak(c.damping(), c.q()).sigma);
+      out.t_normal_force_max =
+          scale * scaled(normal_force_peak(c.damping(), c.q(), c.one_minus_q()).sigma);
     }
     if (want & want_t_peak) {
       out.t_peak = scale * scaled(peak_phase(c.damping()));

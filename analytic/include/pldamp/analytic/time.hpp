@@ -37,16 +37,17 @@
 namespace pldamp::analytic {
 
 // ln(τ/τ0) = −(q/2) ln μ + cπ/2 − 2 ln|Γ(a + ic/2)/Γ(a)|  (MATH.md §3); +∞ for z ≥ 1. This is
-// the part of ln τ that grows like πc as z → 1.
+// the part of ln τ that grows like πc as z → 1. c = (1 − q) z/√μ from 1 − q = (p − 1)/(p + 1) as
+// given: 1 − q formed from q keeps only ε/(p − 1) of it as p → 1, and near critical damping πc
+// carries that into τ (5.6e6 ε at p = 1 + 2^−52, z = 1 − 1e−14).
 template <SupportedReal Real>
-Real log_duration_ratio(const Damping<Real>& d, const Real& q) {
+Real log_duration_ratio(const Damping<Real>& d, const Real& q, const Real& one_minus_q) {
   using std::log;
   using std::sqrt;
   if (d.mu <= 0) {
     return std::numeric_limits<Real>::infinity();
   }
-  const Real nu = q - 1;
-  const Real c = -nu * d.z / sqrt(d.mu);
+  const Real c = one_minus_q * d.z / sqrt(d.mu);
   const Real a = (1 + q) / 2;
   return -q * log(d.mu) / 2 + c * boost::math::constants::pi<Real>() / 2 -
          2 * log_abs_gamma_ratio(a, Real(c / 2));
@@ -64,7 +65,7 @@ Real log_undamped_scaled_duration(const Real& q) {
 // above, ln[μ^(−q/2) π e^(cπ/2) Γ(q) / (2^ν |Γ(a + ic/2)|²)].
 template <SupportedReal Real>
 Real log_scaled_duration(const Damping<Real>& d, const Real& q) {
-  return log_undamped_scaled_duration(q) + log_duration_ratio(d, q);
+  return log_undamped_scaled_duration(q) + log_duration_ratio(d, q, Real(1 - q));
 }
 
 namespace detail {
