@@ -131,6 +131,30 @@ TYPED_TEST(TrajectoryTest, SmoothThroughCriticalDamping) {
 }
 
 // Overdamped and critical: δ decays monotonically after the peak and never leaves contact.
+// Large p unloads through the map's last sliver: ρ = σ_end − σ ∝ (τ − t)^((p+1)/2) is below ε
+// (p = 80 at t = 0.9τ: 1e−40; p = 1000 at 0.5τ: 1e−150, beyond double), and there the bodies
+// part at the exit speed: δ = e v0 (τ − t), v = −e v0 to 1 + O(ρ), with e and τ the closed
+// forms. δ came out 0.029 for 0.0118 at p = 80 and 0.7589 for 0.0117 at p = 1000 (t = 0.99τ):
+// the solve for ρ in ρ itself. In ε times the condition number τ/(τ − t) of τ − t.
+TYPED_TEST(TrajectoryTest, LargePUnloadsAtTheExitSpeed) {
+  using Real = TypeParam;
+  for (const int p : {80, 200, 1000}) {
+    const Contact<Real> c =
+        Contact<Real>::from_alpha_eff(Real(p), Real(1) / 2, Real(2), Real(3), Real(5));
+    const Trajectory<Real> path(c);
+    const Real tau = contact_duration(c), e = restitution(c);
+    for (const Real& fraction : {Real(9) / 10, Real(99) / 100, Real(999) / 1000}) {
+      const Real t = fraction * tau;
+      const TrajectoryPoint<Real> at = path.at_time(t);
+      const Real condition = tau / (tau - t);
+      EXPECT_LE(relative_error(at.delta, Real(e * c.v0() * (tau - t))),
+                64 * eps<Real>() * condition)
+          << "p=" << p << " at " << fraction;
+      EXPECT_LE(relative_error(at.v, Real(-e * c.v0())), 16 * eps<Real>()) << "p=" << p;
+    }
+  }
+}
+
 TEST(Overdamped, DecaysWithoutExit) {
   for (const double z : {1.0, 1.5}) {
     const Contact<double> c = Contact<double>::from_alpha_eff(2.5, z, 1.0);

@@ -232,6 +232,11 @@ public:
 
   // I(σ_end − ρ) for an underdamped contact, given the distance ρ ≥ 0 to the end directly (a
   // rounding of σ near σ_end would cost digits: dI/dσ is infinite there).
+  // ∫ over the last ρ before σ_end of ξ^ν, 0 < ρ ≤ piece_width(): what is left of the contact's
+  // time, in units of T, at ρ from its end (one end-weighted piece).
+  Real to_end(const Real& rho) const { return nu_ == 0 ? rho : tail(rho); }
+  const Real& nu() const { return nu_; }
+
   Real before_end(const Real& rho) const {
     if (nu_ == 0) {
       return sigma_end_ - rho;

@@ -270,14 +270,7 @@ private:
     const Real last = scaled_.piece_width() < hi / 2 ? scaled_.piece_width() : Real(hi / 2);
     const Real i_last = scaled_.before_end(last);
     if (target > i_last) {
-      auto residual = [&](const Real& rho) {
-        return std::make_pair(Real(scaled_.before_end(rho) - target),
-                              Real(-scaled_.integrand_before_end(rho)));
-      };
-      const Real guess = last * (i_hi - target) / (i_hi - i_last);
-      const Real rho = boost::math::tools::newton_raphson_iterate(residual, guess, Real(0), last,
-                                                                  digits, iterations);
-      return point_before_end(rho, t);
+      return unloading_at(Real(i_hi - target), last, t);
     }
     hi -= last;
     auto residual = [&](const Real& sigma) {
@@ -300,6 +293,76 @@ private:
       sigma = a + (b - a) / 2;
     }
     return point(Real(sigma / c_.omega0()), t);
+  }
+
+  // The state at the distance ρ ≤ `last` from σ_end at which the time left, to_end(ρ), is
+  // `left` (in units of T; MATH.md §3 "Its ends"). Near the end to_end(ρ) = (ρ^q/q) g0 (1 + O(ρ)),
+  // g0 = e^(−νzσ_end): ρ ∝ left^(1/q), which for large p leaves the type while t is far from τ
+  // (p = 1000 at t = 0.99τ: ρ ≈ 1e−1000), and a Newton step in ρ itself could not find
+  // ρ = 1e−81 (p = 80) from a linear guess: δ came out 0.029 for 0.0118, at p = 1000 wrong by
+  // 63-fold. So ρ is solved for in ln ρ, where ln to_end(ρ) is nearly linear (slope q); and where
+  // ρ is below ε/(16(1 + z)), whatever the type holds, the exit form: with ρ^q = q·left/g0,
+  // δ = A L^q (e^(−zσ_end) ρ)^q = A L^q q·left·e (q − ν = 1), i.e. δ = e v0 (τ − t), and
+  // v = −e v0, each to 1 + O(ρ).
+  TrajectoryPoint<Real> unloading_at(const Real& left, const Real& last, const Real& t) const {
+    using std::exp;
+    using std::isfinite;
+    using std::log;
+    if (scaled_.nu() == 0) { // p = 1: to_end(ρ) = ρ
+      return point_before_end(std::min(left, last), t);
+    }
+    const Real q = c_.q();
+    const Real sigma_end = scaled_.sigma_end();
+    const Real log_g0 = -scaled_.nu() * z() * sigma_end;
+    const Real log_rho0 = (log(Real(q * left)) - log_g0) / q;
+    const Real eps = std::numeric_limits<Real>::epsilon();
+    if (log_rho0 < log(Real(eps / (16 * (1 + z()))))) {
+      const Real e = exp(-z() * sigma_end);
+      const Real log_delta = log_delta_unit_ + log(q) + log(left) - z() * sigma_end;
+      Real delta = delta_unit_ * q * left * e;
+      if (!(isfinite(delta) && delta >= std::numeric_limits<Real>::min())) {
+        delta = exp(log_delta);
+      }
+      TrajectoryPoint<Real> out{
+          Real(sigma_end / c_.omega0()), t, delta, Real(-e * c_.v0()), Real(0), Real(0), true};
+      add_forces(out, log_delta);
+      return out;
+    }
+    // F(λ) = ln to_end(e^λ) − ln left, increasing; bracketed around λ0 (F ≈ q(λ − λ0) plus the
+    // slow drift of g over the piece), its top at ln last.
+    const Real log_left = log(left);
+    const Real log_last = log(last);
+    auto residual = [&](const Real& lambda) {
+      return Real(log(scaled_.to_end(Real(exp(lambda)))) - log_left);
+    };
+    Real lo = log_rho0 - 1, hi = log_rho0 + 1 < log_last ? Real(log_rho0 + 1) : log_last;
+    for (int step = 0; step < 64 && residual(lo) > 0; ++step) {
+      lo -= Real(1 << std::min(step, 20)) / q;
+    }
+    for (int step = 0; step < 64 && hi < log_last && residual(hi) < 0; ++step) {
+      hi = std::min(Real(hi + Real(1 << std::min(step, 20)) / q), log_last);
+    }
+    if (!(residual(hi) > 0)) { // left rounds to all of the last piece's time
+      return point_before_end(last, t);
+    }
+    // TOMS 748 in λ to a few digits, then Newton in ρ itself inside that bracket: λ's own
+    // tolerance would leave ρ only ε·|ln ρ| relative.
+    const int digits = std::numeric_limits<Real>::digits - 2;
+    std::uintmax_t iterations = 200;
+    const auto [a, b] = boost::math::tools::toms748_solve(
+        residual, lo, hi, boost::math::tools::eps_tolerance<Real>(digits / 4), iterations);
+    auto in_rho = [&](const Real& rho) {
+      return std::make_pair(Real(scaled_.to_end(rho) - left),
+                            Real(scaled_.integrand_before_end(rho)));
+    };
+    const Real rho_lo = exp(std::min(a, b)), rho_hi = exp(std::max(a, b));
+    if (!(rho_lo < rho_hi)) {
+      return point_before_end(rho_lo, t);
+    }
+    iterations = 200;
+    const Real rho = boost::math::tools::newton_raphson_iterate(
+        in_rho, Real(rho_lo + (rho_hi - rho_lo) / 2), rho_lo, rho_hi, digits, iterations);
+    return point_before_end(rho, t);
   }
 
   // At the onset (OnsetSeries): δ and v from the series, s from ξ = (δ/A)^(1/q)/L by the fixed
