@@ -161,4 +161,35 @@ std::string inconsistent_with_outcome(std::string_view outcome,
   return {};
 }
 
+std::string inconsistent_reported(const ReportedRecord& record) {
+  const std::string_view outcome = record.run.outcome;
+  const std::optional<solvers::Outcome> solver_outcome = solvers::outcome_named(outcome);
+  const bool skipped = outcome == skipped_outcome;
+  if (!solver_outcome && outcome != threw_outcome && !skipped) {
+    return fmt::format("unknown outcome \"{}\"", one_line(outcome, 100));
+  }
+  // Failed when its solver threw, its outcome fails or it has a failure (a no_exit before the
+  // truth's return); a skipped record never (Record::failed, which the report's "failed" is).
+  const bool fails = !solver_outcome || solvers::failing(*solver_outcome) || record.has_failure;
+  if (skipped ? record.failed || record.has_failure : fails && !record.failed) {
+    return fmt::format("failed is {} beside outcome {}{}", record.failed, outcome,
+                       record.has_failure ? " and a failure" : "");
+  }
+  if (std::string why = inconsistent_with_outcome(outcome, record.observed); !why.empty()) {
+    return why;
+  }
+  for (ObservedNumbers numbers : record.observed) {
+    // JSON has no infinity: τ of a contact that never ends is null, its reference too where the
+    // truth never returns, and their error (0) and relative error (0) are numbers.
+    if (numbers.error && !numbers.value && !numbers.reference &&
+        may_be_infinite(find_observable(numbers.key))) {
+      numbers.value = numbers.reference = infinity;
+    }
+    if (std::string why = inconsistent_numbers(numbers, record.run); !why.empty()) {
+      return why;
+    }
+  }
+  return {};
+}
+
 } // namespace pldamp::harness

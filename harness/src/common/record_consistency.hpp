@@ -8,9 +8,11 @@
 // measured when the solver threw, gave an impossible answer (unstable) or was skipped, nothing
 // after the peak at `peak`, and e = 0 at `no_exit`.
 //
-// `pldamp merge` holds a shard's records to these (run/record_check.cpp: infinities kept, and
-// what only the plan tells beside: the truth to the bit, the ranges of e and of the energies, the
-// work, the times), and they are what any reader of records can hold them to.
+// Two readers hold records to these, so that a record is judged alike wherever it comes from:
+// `pldamp merge` (run/record_check.cpp: a shard's records, infinities kept, and what only the plan
+// tells beside: the truth to the bit, the ranges of e and of the energies, the work, the times),
+// and report.json's reader for `pldamp diff` (common/report_schema.cpp: JSON writes an infinity as
+// null, and a record's outcome and failed flag are a word and a flag to check too).
 #pragma once
 
 #include <optional>
@@ -45,5 +47,21 @@ std::string inconsistent_numbers(const ObservedNumbers& numbers, const RecordRun
 // Why a record's values cannot stand beside its outcome; empty when they can.
 std::string inconsistent_with_outcome(std::string_view outcome,
                                       std::span<const ObservedNumbers> observed);
+
+// A record of report.json as its reader has it: each of its numbers none where it is null or
+// absent (or not a number).
+struct ReportedRecord {
+  RecordRun run;
+  bool failed = false;      // its "failed"
+  bool has_failure = false; // a "failure" text
+  std::span<const ObservedNumbers> observed;
+};
+
+// Why a record of report.json cannot be one a run wrote; empty when it can: an outcome no record
+// has, a failed flag its outcome or failure contradicts (a record fails when its solver threw or
+// its outcome fails, and when it has a failure; a skipped one never), values its outcome leaves
+// none of, or numbers that disagree (inconsistent_numbers, a null value and reference beside a τ's
+// error being the infinities JSON cannot write).
+std::string inconsistent_reported(const ReportedRecord& record);
 
 } // namespace pldamp::harness
