@@ -110,8 +110,10 @@ test)
   # and viscoelastic scenes end to end (1.5 of the 4.3 minutes these tests took under the
   # sanitizers, 2026-11-28): what they run, the schemes' batches, the step study and the reference
   # solves, runs here in Timestep.*, Search.TheTimeStepStudyAnswersAsTheSearchDoes and Plan.*.
+  # The nightly scene's diff against itself (half a minute in Release) too: diff reads every
+  # record of the quick and paper scenes' reports here.
   ctest --test-dir build-sanitize -j "$(nproc)" --output-on-failure -LE 'adapters|install' \
-    -E 'EndToEnd\.(DemSceneGivesTheTableADemUserQuotes|ViscoelasticSceneJudgesEverythingAgainstTheReferenceSolve)'
+    -E 'EndToEnd\.(DemSceneGivesTheTableADemUserQuotes|ViscoelasticSceneJudgesEverythingAgainstTheReferenceSolve|EveryOtherShippedSceneDiffsCleanlyAgainstItself)'
   echo "== fuzzing the scene, report, external-reply and shard readers (libFuzzer)"
   # Clang, the three fuzz targets and what they link (the readers, the solvers) under ASan+UBSan
   # with libFuzzer's coverage, -O1 -g1 as above but with the libraries' assertions

@@ -68,7 +68,8 @@ def run_pldamp(binary, *arguments):
 def run_scene_strictly(binary, scene, timeout):
     """`binary run SCENE --strict` into a scratch folder: (its exit problems, report.json's records,
     the report). Exits 77 (skipped) when a code answers `unavailable` (not installed), and fails
-    when no report was written."""
+    when no report was written. The report must diff cleanly against itself: `pldamp diff` holds
+    every record to itself (an external program's records too)."""
     with tempfile.TemporaryDirectory() as out:
         run = subprocess.run([binary, "run", scene, "--strict", "--out", out, "--jobs", "2"],
                              capture_output=True, text=True, timeout=timeout, check=False)
@@ -77,6 +78,8 @@ def run_scene_strictly(binary, scene, timeout):
             sys.exit("no report (exit %d): %s" % (run.returncode, run.stderr.strip()))
         with open(report_path, encoding="utf-8") as f:
             report = json.load(f)
+        diff = subprocess.run([binary, "diff", report_path, report_path], capture_output=True,
+                              text=True, timeout=timeout, check=False)
     records = report["records"]
     unavailable = [r for r in records if r.get("skipped", "").startswith("unavailable")]
     if unavailable:
@@ -85,4 +88,7 @@ def run_scene_strictly(binary, scene, timeout):
     problems = []
     if run.returncode != 0:
         problems.append("exit %d: %s" % (run.returncode, run.stderr.strip()))
+    if diff.returncode != 0 or diff.stdout != "0 regressions, 0 changes\n":
+        problems.append("diff against itself, exit %d: %s%s" % (diff.returncode, diff.stdout,
+                                                               diff.stderr.strip()))
     return problems, records, report

@@ -36,7 +36,8 @@ namespace {
 
 // A valid report (in a build with or without float128) with keys of records in corpus/report,
 // so that a fuzzed report's records are found, gone, newly failed or grown against it, and a
-// work-precision point checked against its records. (Its schema must be schema::version: a report
+// work-precision point checked against its records; each record consistent in itself
+// (common/record_consistency.hpp). (Its schema must be schema::version: a report
 // read_report refuses is compared with nothing.)
 constexpr std::string_view other_text = R"({
   "schema": 3,
@@ -45,11 +46,18 @@ constexpr std::string_view other_text = R"({
   "records": [
     {"key": "cvode-bdf rtol=1e-06 | p=1 e=0.9 v0=0.1 m=1 k=1", "precision": "double",
      "config": "cvode-bdf rtol=1e-06", "p": 1, "outcome": "exited", "failed": false,
+     "value": {"e": 0.5000005, "delta_max": 0.25000005, "tau": 3},
+     "reference": {"e": 0.5, "delta_max": 0.25, "tau": null},
+     "error": {"e": 5e-07, "delta_max": 5e-08, "tau": null},
      "rel_error": {"e": 1e-06, "delta_max": 2e-07, "tau": null}},
     {"key": "taylor long | p=1.5 e=0.5 v0=1 m=1 k=1", "precision": "long",
-     "outcome": "exited", "failed": false, "rel_error": {"e": 1e-19, "tau": 0}},
+     "outcome": "exited", "failed": false, "value": {"e": 0.5, "tau": 2},
+     "reference": {"e": 0.5, "tau": 2}, "error": {"e": 5e-20, "tau": 0},
+     "rel_error": {"e": 1e-19, "tau": 0}},
     {"key": "dem-verlet n=1 end=overlap phases=2 | p=1.5 z=1 v0=1 m=1 k=1",
-     "precision": "double", "outcome": "exited", "failed": false, "rel_error": {"e": 0.1}},
+     "precision": "double", "outcome": "exited", "failed": false, "phases": 2,
+     "value": {"e": 0.55}, "reference": {"e": 0.5}, "error": {"e": 0.05},
+     "rel_error": {"e": 0.1}},
     {"key": "verlet-predicted n=1000 | p=2.5 z=2 v0=10 m=1 k=1", "outcome": "no_exit",
      "failed": true, "rel_error": {}}
   ],

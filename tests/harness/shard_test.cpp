@@ -505,6 +505,14 @@ TEST(Shards, AHandMadeShardIsHeldToWhatItsRunCouldWrite) {
       },
       "e = 1.5 gains energy");
   refused([&](Shard& s) { with_values(s).abs_error[e] = 0.0; }, "e's abs_error 0 is not |error|");
+  // |error| stands for the relative error against a reference 0 or infinite and for e on a late
+  // return, not for any observable of any record (common/record_consistency.hpp): merged before.
+  refused(
+      [&](Shard& s) {
+        Record& r = with_values(s);
+        r.rel_error[delta_max] = r.abs_error[delta_max];
+      },
+      "delta_max's rel_error " /* is not |error| / |reference| */);
   refused([&](Shard& s) { with_values(s).phases = 7; }, "onset phases, its configuration runs");
   refused([&](Shard& s) { with_values(s).wall_seconds = -1; }, "a time of -1 s, not in [0, 61]");
   // Found by the second hostile pass: each merged with exit 0, or crashed the merge (all lists

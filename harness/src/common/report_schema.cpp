@@ -2,6 +2,7 @@
 
 #include "common/input.hpp"
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <cstdint>
@@ -179,6 +180,45 @@ void check_record(const nlohmann::json& record, const std::string& path, const s
       expect(*time, null_or_at_least_0, path, where + "." + name, "null or a number >= 0");
     }
   }
+  // What its numbers say of each other (common/record_consistency.hpp): diff judges a record by
+  // its rel_error, which an error or a value edited alone, or an unknown outcome, left silently
+  // standing.
+  const std::vector<ObservedNumbers> observed = observed_in(record);
+  const std::optional<double> phases = number_in(record, key::phases);
+  if (const std::string why = inconsistent_reported(
+          {.run = {.outcome = record.at(key::outcome).get_ref<const std::string&>(),
+                   .several_phases = phases && *phases > 1},
+           .failed = record.at(key::failed).get<bool>(),
+           .has_failure = !string_in(record, key::failure).empty(),
+           .observed = observed});
+      !why.empty()) {
+    throw InputError(path + ": " + where + " (" +
+                     one_line(record.at(key::key).get_ref<const std::string&>(), 200) +
+                     "): " + why);
+  }
+}
+
+std::vector<ObservedNumbers> observed_in(const nlohmann::json& record) {
+  std::vector<ObservedNumbers> observed;
+  for (const auto& [field, number_of] : observed_number_fields) {
+    const nlohmann::json& values = member_or_null(record, field);
+    if (!values.is_object()) {
+      continue;
+    }
+    for (const auto& item : values.items()) {
+      const std::string& name = item.key();
+      auto at = std::find_if(observed.begin(), observed.end(),
+                             [&](const ObservedNumbers& o) { return o.key == name; });
+      if (at == observed.end()) {
+        observed.push_back({.key = name});
+        at = observed.end() - 1;
+      }
+      if (item.value().is_number()) {
+        (*at).*number_of = item.value().get<double>();
+      }
+    }
+  }
+  return observed;
 }
 
 namespace {

@@ -49,14 +49,19 @@
 // them as before (nothing of them to check).
 #pragma once
 
+#include "common/record_consistency.hpp"
+
 #include <nlohmann/json.hpp>
 
+#include <array>
 #include <functional>
 #include <istream>
 #include <optional>
 #include <stdexcept>
 #include <string>
 #include <string_view>
+#include <utility>
+#include <vector>
 
 namespace pldamp::harness::schema {
 
@@ -273,10 +278,11 @@ inline constexpr std::size_t max_kept_values = std::size_t{1} << 23;
 
 // A report.json's text, parsed and checked for what a reader needs to trust (schema, claims'
 // names, verdicts and expectations, records' keys, outcomes, failed flags, errors, precisions,
-// counts and times, each record's key once, and no key named twice in an object); everything
-// else is read defensively (below). Throws InputError naming `path` and the first thing amiss,
-// so a damaged or foreign file is one line, exit 2: among them a text outside the records of more
-// than `max_values` JSON values.
+// counts and times, each record's numbers against each other and its outcome
+// (common/record_consistency.hpp), each record's key once, and no key named twice in an object);
+// everything else is read defensively (below). Throws InputError naming `path` and the first thing
+// amiss, so a damaged or foreign file is one line, exit 2: among them a text outside the records of
+// more than `max_values` JSON values.
 nlohmann::json read_report(std::string_view text, const std::string& path,
                            std::size_t max_values = max_kept_values);
 // The same of a stream, its records checked one at a time and handed to `each` in order rather
@@ -296,6 +302,19 @@ nlohmann::json read_record(std::string_view text, const std::string& path,
 // and whether a precision's name is one of this build's.
 void check_record(const nlohmann::json& record, const std::string& path, const std::string& where);
 bool known_precision(std::string_view name);
+
+// A record's objects of a number per observable, and which of ObservedNumbers' numbers
+// (common/record_consistency.hpp) each holds.
+inline constexpr std::array<std::pair<const char*, std::optional<double> ObservedNumbers::*>, 6>
+    observed_number_fields{{{key::value, &ObservedNumbers::value},
+                            {key::reference, &ObservedNumbers::reference},
+                            {key::error, &ObservedNumbers::error},
+                            {key::rel_error, &ObservedNumbers::rel_error},
+                            {key::phase_spread, &ObservedNumbers::spread},
+                            {key::replica_difference, &ObservedNumbers::replica_difference}}};
+// A record's numbers per observable as check_record judges them, each none where it is null,
+// absent or not a number; the keys are views of the record's.
+std::vector<ObservedNumbers> observed_in(const nlohmann::json& record);
 
 // Reading defensively: a member of an object (null when the object is not one or lacks it), a
 // member that is a number (none otherwise: a field absent or null is simply absent), a string

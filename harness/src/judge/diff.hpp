@@ -28,8 +28,10 @@
 // A field's control characters are escaped (\n, \xNN) and a " | " inside it is written " / ", so
 // that a name from a scene can neither add a line nor shift the fields; --verbose adds each
 // finding under its group's line, indented by two spaces (a record's key keeps its " | ").
-// Exit: 0 no regression, 1 regressions, 2 bad input (not a report, a different scene without
-// --allow-scene-change).
+// Exit: 0 no regression, 1 regressions, 2 bad input (not a report, a record inconsistent in
+// itself, a different scene without --allow-scene-change). A record is judged by its rel_error,
+// so each is first held to itself as read_report checks it (common/record_consistency.hpp): a
+// rel_error its error, value and reference contradict is refused, not trusted.
 #pragma once
 
 #include "common/report_schema.hpp"

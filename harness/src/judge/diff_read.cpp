@@ -4,10 +4,13 @@
 // of CPU instead of 3.8 (docs/performance.md, "The harness"). The general reader
 // (schema::read_report, then RecordFacts::of) stays the authority: this one returns nothing
 // whenever it is not sure to read exactly what that one reads, and a record it doubts is read by
-// nlohmann; tests/fuzz/report_fuzz.cpp compares the two on arbitrary input.
+// nlohmann; tests/fuzz/report_fuzz.cpp compares the two on arbitrary input. A record's numbers are
+// held to each other here as check_record holds them (inconsistent_reported, on the same numbers),
+// and one that fails is left to the general reader, which says what disagrees.
 #include "judge/diff_parts.hpp"
 
 #include "common/input.hpp"
+#include "common/record_consistency.hpp"
 
 #include <fmt/format.h>
 #include <simdjson.h>
@@ -45,7 +48,9 @@ enum Field : unsigned {
   f_cpu_seconds_slowest,
   f_wall_seconds,
   f_wall_seconds_slowest,
-  f_observed, // + the index in observed_fields
+  f_phases,             // read for the check of its numbers alone (check_record's)
+  f_replica_difference, // the same
+  f_observed,           // + the index in observed_fields
 };
 constexpr std::array<std::pair<std::string_view, unsigned>, f_observed> scalar_fields{{
     {key::key, f_key},
@@ -65,6 +70,8 @@ constexpr std::array<std::pair<std::string_view, unsigned>, f_observed> scalar_f
     {key::cpu_seconds_slowest, f_cpu_seconds_slowest},
     {key::wall_seconds, f_wall_seconds},
     {key::wall_seconds_slowest, f_wall_seconds_slowest},
+    {key::phases, f_phases},
+    {key::replica_difference, f_replica_difference},
 }};
 
 std::optional<unsigned> record_field_named(std::string_view name) {
@@ -159,7 +166,51 @@ bool keys_once(dom::element value, std::vector<std::string_view>& names) {
 struct Scratch {
   std::vector<std::string_view> names; // of the members it does not read, and for keys_once
   std::vector<unsigned> named;         // per observable, the observed fields naming it
+  std::vector<std::pair<std::string_view, double>> replica; // its replica_difference's numbers
+  std::vector<ObservedNumbers> numbers;                     // as check_record judges them
 };
+
+// The member of ObservedNumbers each of observed_fields holds (schema::observed_number_fields).
+const std::array<std::optional<double> ObservedNumbers::*, observed_fields.size()>
+    observed_members = [] {
+      std::array<std::optional<double> ObservedNumbers::*, observed_fields.size()> members{};
+      for (std::size_t f = 0; f < observed_fields.size(); ++f) {
+        for (const auto& [name, member] : schema::observed_number_fields) {
+          if (std::string_view(name) == observed_fields[f]) {
+            members[f] = member;
+          }
+        }
+      }
+      return members;
+    }();
+
+// Whether a record's numbers are consistent as check_record judges them (schema::observed_in,
+// inconsistent_reported), from its facts, its phases and its replica differences.
+bool consistent(const RecordFacts& facts, std::optional<double> phases, Scratch& scratch) {
+  std::vector<ObservedNumbers>& numbers = scratch.numbers;
+  numbers.clear();
+  for (const RecordFacts::Observed& observed : facts.observed) {
+    ObservedNumbers& n = numbers.emplace_back(ObservedNumbers{.key = observed.name});
+    for (std::size_t f = 0; f < observed_fields.size(); ++f) {
+      n.*observed_members[f] = observed.fields[f].number();
+    }
+  }
+  for (const std::pair<std::string_view, double>& replica : scratch.replica) {
+    // Not a structured binding: Clang 14 (the fuzz build) lets no lambda capture one.
+    auto at = std::find_if(numbers.begin(), numbers.end(),
+                           [&](const ObservedNumbers& n) { return n.key == replica.first; });
+    if (at == numbers.end()) {
+      at = numbers.insert(numbers.end(), ObservedNumbers{.key = replica.first});
+    }
+    at->replica_difference = replica.second;
+  }
+  return inconsistent_reported(
+             {.run = {.outcome = facts.outcome, .several_phases = phases && *phases > 1},
+              .failed = facts.failed,
+              .has_failure = !facts.failure.empty(),
+              .observed = numbers})
+      .empty();
+}
 
 // RecordFacts::of of a record read_report would accept, parsed by simdjson; none when the record
 // is not one read_report accepts or the two readings could differ in any way.
@@ -169,11 +220,12 @@ std::optional<RecordFacts> facts_from_dom(dom::element record, Scratch& scratch)
     return std::nullopt;
   }
   RecordFacts facts;
-  std::optional<double> cpu, cpu_slowest, wall, wall_slowest;
+  std::optional<double> cpu, cpu_slowest, wall, wall_slowest, phases;
   unsigned seen = 0; // the fields read (a required one of the wrong kind returns none at once)
   std::vector<std::string_view>& names = scratch.names; // the other members', each once too
   names.clear();
   scratch.named.clear();
+  scratch.replica.clear();
   for (const dom::key_value_pair member : object) {
     const dom::element value = member.value;
     const std::optional<unsigned> field = record_field_named(member.key);
@@ -257,6 +309,20 @@ std::optional<RecordFacts> facts_from_dom(dom::element record, Scratch& scratch)
       }
       break;
     }
+    case f_phases:
+      phases = number_of(value);
+      break;
+    case f_replica_difference: { // an object of a number per observable (its keys checked above)
+      dom::object values;
+      if (value.get(values) == simdjson::SUCCESS) {
+        for (const dom::key_value_pair item : values) {
+          if (const std::optional<double> difference = number_of(item.value)) {
+            scratch.replica.emplace_back(item.key, *difference);
+          }
+        }
+      }
+      break;
+    }
     default: { // an observed field: an object of a number (or null) per observable
       const std::size_t f = *field - f_observed;
       dom::object values;
@@ -302,6 +368,9 @@ std::optional<RecordFacts> facts_from_dom(dom::element record, Scratch& scratch)
             [](const RecordFacts::Observed& a, const RecordFacts::Observed& b) {
               return a.name < b.name;
             });
+  if (!consistent(facts, phases, scratch)) {
+    return std::nullopt; // the general reader says what is inconsistent
+  }
   facts.cpu = cpu.has_value();
   facts.seconds = facts.cpu ? cpu : wall;
   facts.seconds_slowest = facts.cpu ? cpu_slowest : wall_slowest;

@@ -109,17 +109,6 @@ std::vector<Item> bounded_list(const json& list, const std::string& who, const c
   return list.get<std::vector<Item>>();
 }
 
-std::optional<solvers::Outcome> outcome_named(const std::string& name) {
-  using solvers::Outcome;
-  for (const Outcome outcome : {Outcome::exited, Outcome::peak, Outcome::no_exit,
-                                Outcome::step_limit, Outcome::time_limit, Outcome::unstable}) {
-    if (solvers::outcome_name(outcome) == name) {
-      return outcome;
-    }
-  }
-  return std::nullopt;
-}
-
 // A measured value of the reply: absent, a number (whatever its sign: impossible values are
 // judged by impossible_answer, the exchange is still in step), or "inf" where `infinite_ok`.
 std::optional<double> reply_value(const json& reply, const char* key, bool infinite_ok) {
@@ -442,7 +431,7 @@ solvers::Result<double> read_reply(const std::string& line, long id) {
   if (name == "error") {
     throw ReportedError("the program's error: " + reason());
   }
-  const std::optional<solvers::Outcome> known = outcome_named(name);
+  const std::optional<solvers::Outcome> known = solvers::outcome_named(name);
   if (!known) {
     throw std::runtime_error("unknown outcome " + quote_line(name) +
                              ", expected exited|peak|no_exit|step_limit|time_limit|unstable|"

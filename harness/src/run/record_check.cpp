@@ -1,68 +1,40 @@
 #include "run/record_check.hpp"
 
 #include "common/observables.hpp"
+#include "common/record_consistency.hpp"
 #include "run/answers.hpp"
 #include "run/external.hpp"
 
 #include <fmt/format.h>
 
-#include <algorithm>
 #include <cmath>
-#include <limits>
 #include <utility>
+#include <vector>
 
 namespace pldamp::harness {
 namespace {
 
 using RecordValues = std::vector<std::optional<double>>;
 
-// Whether a and b agree to `ulps` units in the last place of the larger magnitude (exactly when
-// either is 0 or infinite).
-bool agree_to_ulps(double a, double b, double ulps) {
-  if (std::isinf(a) || std::isinf(b) || a == 0 || b == 0) {
-    return a == b;
-  }
-  return std::abs(a - b) <=
-         ulps * std::numeric_limits<double>::epsilon() * std::max(std::abs(a), std::abs(b));
+// Observable `o`'s numbers in `r`.
+ObservedNumbers numbers_of(const Plan& plan, const Record& r, std::size_t o) {
+  return {.key = plan.observables[o]->key,
+          .value = r.value[o],
+          .reference = r.reference[o],
+          .error = r.error[o],
+          .rel_error = r.rel_error[o],
+          .spread = r.spread[o],
+          .replica_difference =
+              r.replica_difference.empty() ? std::nullopt : r.replica_difference[o]};
 }
 
-// Why observable `o`'s numbers cannot be its run's; empty when they can. An external program's
-// values are held apart, as its answers were (impossible_external_values).
-std::string impossible_numbers(const Plan& plan, const Record& r, std::size_t o,
+// Why observable `o`'s numbers (`numbers`) cannot be its run's; empty when they can: as any
+// record's (common/record_consistency.hpp), and beside that what the plan tells of them.
+std::string impossible_numbers(const Record& r, std::size_t o, const ObservedNumbers& numbers,
                                const std::optional<Exact>& truth, bool external, double allowance) {
-  const std::string_view key = plan.observables[o]->key;
-  const std::optional<double>&value = r.value[o], &reference = r.reference[o], &error = r.error[o],
-        &abs_error = r.abs_error[o], &rel_error = r.rel_error[o];
-  const bool duration = key == "tau"; // the one that may be infinite (a contact that never ends)
-  for (const auto& [name, number] : {std::pair{"value", &value},
-                                     {"reference", &reference},
-                                     {"error", &error},
-                                     {"abs_error", &abs_error},
-                                     {"rel_error", &rel_error},
-                                     {"spread", &r.spread[o]}}) {
-    if (*number && std::isnan(**number)) {
-      return fmt::format("{}'s {} is NaN", key, name);
-    }
-    if (*number && std::isinf(**number) && !duration) {
-      return fmt::format("{}'s {} is {}", key, name, to_string_full(**number));
-    }
-  }
-  if (r.spread[o] && *r.spread[o] < 0) {
-    return fmt::format("{}'s spread {} is negative", key, to_string_full(*r.spread[o]));
-  }
-  if (value && !external) {
-    // The ranges the run held pldamp's own solvers to, as BasicCollision::violated_invariant
-    // does, which bounds e alone (a coarse fixed step's dashpot work can come out negative).
-    const bool energy = key == "energy_load" || key == "energy_unload";
-    if (!energy && *value < 0) {
-      return fmt::format("{} = {} is impossible (energy gained, or a negative size)", key,
-                         to_string_full(*value));
-    }
-    if (key == "e" && *value > 1 + allowance) {
-      return fmt::format("e = {} gains energy (allowed up to 1 + {:.3g})", to_string_full(*value),
-                         allowance);
-    }
-  }
+  const std::string_view key = numbers.key;
+  const std::optional<double>&value = numbers.value, &reference = numbers.reference,
+        &error = numbers.error, &abs_error = r.abs_error[o];
   // The truth: the plan's to the bit, where the plan is the record's truth (not a code's own β).
   if (r.note.empty() && reference &&
       (!truth || !(static_cast<double>(*truth) == *reference ||
@@ -70,43 +42,24 @@ std::string impossible_numbers(const Plan& plan, const Record& r, std::size_t o,
     return fmt::format("{}'s reference {} is not the plan's ({})", key, to_string_full(*reference),
                        truth ? to_string_full(static_cast<double>(*truth)) : std::string("none"));
   }
-  if (!error) {
-    if (abs_error || rel_error) {
-      return fmt::format("{} has an error's size but no error", key);
-    }
-    return {};
+  if (std::string why = inconsistent_numbers(
+          numbers, {.outcome = r.outcome_name(), .several_phases = r.phases > 1});
+      !why.empty()) {
+    return why;
   }
-  if (!value || !reference || !abs_error || !rel_error) {
-    return fmt::format("{} has an error without its value, reference and sizes", key);
+  // The ranges the run held pldamp's own solvers to beyond a size's sign, as
+  // BasicCollision::violated_invariant does, which bounds e alone (a coarse fixed step's dashpot
+  // work can come out negative). An external program's values are held as its answers were, by
+  // impossible_external_values.
+  if (value && !external && key == "e" && *value > 1 + allowance) {
+    return fmt::format("e = {} gains energy (allowed up to 1 + {:.3g})", to_string_full(*value),
+                       allowance);
   }
-  // The error as run.cpp's compare made it: value − reference in Exact, rounded once (the value
-  // kept is rounded to double: a wider solver's differs from it by half an ulp of the value).
-  double expected = 0;
-  if (std::isinf(*value) || std::isinf(*reference)) {
-    expected = *value == *reference  ? 0.0
-               : *value > *reference ? std::numeric_limits<double>::infinity()
-                                     : -std::numeric_limits<double>::infinity();
-  } else {
-    expected =
-        static_cast<double>(Exact(*value) - (truth && r.note.empty() ? *truth : Exact(*reference)));
-  }
-  const double slack = std::abs(*error) + std::abs(*value);
-  if (!(std::isinf(expected)
-            ? *error == expected
-            : std::abs(*error - expected) <= 4 * std::numeric_limits<double>::epsilon() * slack)) {
-    return fmt::format("{}'s error {} is not its value {} minus its reference {}", key,
-                       to_string_full(*error), to_string_full(*value), to_string_full(*reference));
-  }
-  if (*abs_error != std::abs(*error)) {
-    return fmt::format("{}'s abs_error {} is not |error| = {}", key, to_string_full(*abs_error),
-                       to_string_full(std::abs(*error)));
-  }
-  // Relative to the reference, or the absolute error (a reference 0, or e of a late return).
-  const double relative =
-      *reference == 0 || std::isinf(*reference) ? *abs_error : *abs_error / std::abs(*reference);
-  if (!agree_to_ulps(*rel_error, relative, 4) && *rel_error != *abs_error) {
-    return fmt::format("{}'s rel_error {} is not |error| / |reference| = {}", key,
-                       to_string_full(*rel_error), to_string_full(relative));
+  // |error|, which only a record in memory holds (report.json writes none).
+  if (abs_error.has_value() != error.has_value() || (abs_error && *abs_error != std::abs(*error))) {
+    return fmt::format("{}'s abs_error {} is not |error| = {}", key,
+                       abs_error ? to_string_full(*abs_error) : std::string("none"),
+                       error ? to_string_full(std::abs(*error)) : std::string("none"));
   }
   return {};
 }
@@ -153,8 +106,8 @@ std::string impossible_external_values(const Plan& plan, const Record& r,
   return impossible_answer(answer, config, problem, options);
 }
 
-// Why what a record says of its run (outcome, work, times, α, step, skip and note) cannot be a
-// run's of this plan; empty when it can.
+// Why what a record says of its run (work, times, α, step, skip and note) cannot be a run's of
+// this plan; empty when it can.
 std::string impossible_run(const Plan& plan, const Record& r) {
   const SolverConfig& config = plan.configs[r.config];
   const Cell& cell = plan.cells[r.cell];
@@ -205,31 +158,6 @@ std::string impossible_run(const Plan& plan, const Record& r) {
                        r.dt ? to_string_full(*r.dt) : std::string("none"),
                        fixed ? "of a fixed step" : "without one");
   }
-  // What an outcome leaves: nothing measured when the solver threw or gave an impossible answer;
-  // at the peak, nothing after it; no return, no e but 0.
-  const auto value_of = [&](std::string_view key) -> std::optional<double> {
-    for (std::size_t o = 0; o < plan.observables.size(); ++o) {
-      if (plan.observables[o]->key == key) {
-        return r.value[o];
-      }
-    }
-    return std::nullopt;
-  };
-  const bool any = std::any_of(r.value.begin(), r.value.end(),
-                               [](const std::optional<double>& v) { return v.has_value(); });
-  if ((!r.outcome || *r.outcome == solvers::Outcome::unstable) && any) {
-    return fmt::format("values beside outcome {}", r.outcome_name());
-  }
-  if (r.outcome == solvers::Outcome::peak &&
-      (value_of("e") || value_of("tau") || value_of("energy_unload"))) {
-    return "e, tau or energy_unload beside outcome peak";
-  }
-  // With several onset phases the outcome is the first phase's (or the worst failing one) while
-  // each value is its worst phase's: a no_exit phase beside another phase's e is what run writes.
-  if (r.phases == 1 && r.outcome == solvers::Outcome::no_exit && value_of("e") &&
-      *value_of("e") != 0) {
-    return fmt::format("e = {} beside outcome no_exit", to_string_full(*value_of("e")));
-  }
   return {};
 }
 
@@ -267,20 +195,23 @@ std::string impossible_record(const Plan& plan, const Record& r) {
                          to_string_full(*r.worst_phase[o]));
     }
   }
-  for (std::size_t o = 0; o < r.replica_difference.size(); ++o) {
-    if (r.replica_difference[o] &&
-        !(std::isfinite(*r.replica_difference[o]) && *r.replica_difference[o] >= 0)) {
-      return fmt::format("{}'s difference from its replica is {}", plan.observables[o]->key,
-                         to_string_full(*r.replica_difference[o]));
-    }
+  std::vector<ObservedNumbers> observed;
+  for (std::size_t o = 0; o < n; ++o) {
+    observed.push_back(numbers_of(plan, r, o));
+  }
+  if (std::string why = inconsistent_with_outcome(
+          {.outcome = r.outcome_name(), .several_phases = r.phases > 1}, observed);
+      !why.empty()) {
+    return why;
   }
   const Point& point = plan.points[cell.point];
   solvers::Problem<double> problem{point.p, cell.m, cell.k, cell.v0, r.alpha};
   problem.damping_exponent = point.beta;
   const double allowance = answer_allowance(config, problem);
-  for (std::size_t o = 0; o < r.value.size(); ++o) {
+  for (std::size_t o = 0; o < n; ++o) {
     const std::optional<Exact> truth = reference_at(plan, cell, o, config);
-    if (std::string why = impossible_numbers(plan, r, o, truth, config.external(), allowance);
+    if (std::string why =
+            impossible_numbers(r, o, observed[o], truth, config.external(), allowance);
         !why.empty()) {
       return why;
     }

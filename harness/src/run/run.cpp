@@ -3,6 +3,7 @@
 #include "run/record_store.hpp"
 
 #include "common/parallel.hpp"
+#include "common/record_consistency.hpp"
 #include "run/external.hpp"
 #include "run/shard.hpp"
 #include "truth/reference_solve.hpp"
@@ -533,9 +534,9 @@ bool Record::failed() const {
 
 std::string_view Record::outcome_name() const {
   if (skipped()) {
-    return "skipped";
+    return skipped_outcome;
   }
-  return outcome ? solvers::outcome_name(*outcome) : "error";
+  return outcome ? solvers::outcome_name(*outcome) : threw_outcome;
 }
 
 std::atomic<bool>& stop_requested() {

@@ -189,6 +189,18 @@ constexpr std::string_view outcome_name(Outcome outcome) {
   return "unstable";
 }
 
+// The outcome outcome_name names `name`; none for any other word (an external program's reply, a
+// report's record).
+constexpr std::optional<Outcome> outcome_named(std::string_view name) {
+  for (const Outcome outcome : {Outcome::exited, Outcome::peak, Outcome::no_exit,
+                                Outcome::step_limit, Outcome::time_limit, Outcome::unstable}) {
+    if (outcome_name(outcome) == name) {
+      return outcome;
+    }
+  }
+  return std::nullopt;
+}
+
 // The normal force's peak (dF/dt falling through 0, ContactOde::force_rate_sign), the overlap's
 // peak (v = 0) and the exit.
 enum class EventKind { force_peak, peak, exit };
