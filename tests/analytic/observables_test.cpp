@@ -399,6 +399,24 @@ TYPED_TEST(ObservablesTest, NearlyLinearAgreesWithFiftyDigits) {
   errors.check(nearly_linear_errors);
 }
 
+// The tangent step at large p against its definition in 50 digits, 2/(Ω0 √(p δ0^(p−1))) with
+// δ0 = A L^q and A = ((p + 1)/2)^(1/(p+1)) by pow: (p − 1) ln A from the rounded A carried its
+// rounding p-fold (49, 151 and 130 ε at p = 1000 in double, long and quad).
+TYPED_TEST(ObservablesTest, TangentStepAtLargePKeepsItsDigits) {
+  using Real = TypeParam;
+  using std::pow;
+  using std::sqrt;
+  for (const int p : {10, 100, 1000}) {
+    const Contact<Real> c =
+        Contact<Real>::from_alpha_eff(Real(p), Real(0), Real(2), Real(3), Real(5));
+    const bin50 wide_p(p), v0(2), m(3), k(5);
+    const bin50 omega0 = sqrt(k / m), L = v0 * sqrt(m / k);
+    const bin50 delta0 = pow((wide_p + 1) / 2, 1 / (wide_p + 1)) * pow(L, 2 / (wide_p + 1));
+    const bin50 want = 2 / (omega0 * sqrt(wide_p * pow(delta0, wide_p - 1)));
+    EXPECT_LE(relative_error(dt_crit_tangent(c), want), bin50(8 * eps<Real>())) << p;
+  }
+}
+
 // The 50 digits above by a second route, for p = 1 (δ = x, no time map): the peak where
 // tanh(rσ) = r/z, σ = atanh(r/z)/r, δ_max = (v0/Ω0) e^(−zσ), e_cap = e^(−2zσ) — at 50 digits
 // atanh's ε·2z² is 10⁻³⁸ at z = 10⁶.
