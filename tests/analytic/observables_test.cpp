@@ -399,6 +399,23 @@ TYPED_TEST(ObservablesTest, NearlyLinearAgreesWithFiftyDigits) {
   errors.check(nearly_linear_errors);
 }
 
+// τ near critical damping in every precision against 50 digits, p up to 1000: ln τ grows like
+// πc (c = (1 − q)z/√μ) and its rounding, ε·ln τ, is summed away in a wider type (detail::
+// DurationWidening). long double had none: 350 ε at p = 2, 1100 ε at p = 1000 (z = 1 − 1e−6).
+TYPED_TEST(ObservablesTest, DurationNearCriticalDampingAtEveryP) {
+  using Real = TypeParam;
+  for (const int p : {2, 10, 100, 1000}) {
+    for (const int closeness : {10, 14}) { // τ up to e^280: within double
+      const double z = 1 - std::ldexp(1.0, -closeness);
+      const Real tau = contact_duration(Contact<Real>::from_alpha_eff(Real(p), Real(z), Real(1)));
+      const bin50 want =
+          contact_duration(Contact<bin50>::from_alpha_eff(bin50(p), bin50(z), bin50(1)));
+      EXPECT_LE(relative_error(tau, want), bin50(16 * eps<Real>()))
+          << "p=" << p << " z=1-2^-" << closeness;
+    }
+  }
+}
+
 // The tangent step at large p against its definition in 50 digits, 2/(Ω0 √(p δ0^(p−1))) with
 // δ0 = A L^q and A = ((p + 1)/2)^(1/(p+1)) by pow: (p − 1) ln A from the rounded A carried its
 // rounding p-fold (49, 151 and 130 ε at p = 1000 in double, long and quad).
