@@ -618,17 +618,19 @@ TEST(Cli, TextFromFilesIsShownEscaped) {
   const CliRun with_utf16 = run({"check", utf16, "--p", "1.5", "--e", "0.5", "--v0", "1"});
   EXPECT_NE(with_utf16.err.find("(got \\xff\\xfet\\x00)"), std::string::npos) << with_utf16.err;
   const std::string scene = testing::write_file(
-      "bell.toml", "name = \"a\\u0007b\\nreport: /etc/passwd\"\nwant = [\"e\"]\n[grid]\np = [1]\n"
-                   "e = [0.5]\nv0 = [1]\n[[solver]]\nname = \"cvode-bdf\"\nrtol = 1e-6\n"
-                   "[[claim]]\nname = \"c\\u001b]0;x\\u0007|y\"\nobservable = \"e\"\n"
-                   "solver = \"cvode-bdf\"\nrtol = 1e-6\nbound = 1e-3\n"
-                   "[report]\nformats = [\"json\", \"md\", \"html\"]\n");
+      "bell.toml",
+      "name = \"a\\u0007b\\nreport: /etc/passwd\\u202e\"\nwant = [\"e\"]\n[grid]\np = [1]\n"
+      "e = [0.5]\nv0 = [1]\n[[solver]]\nname = \"cvode-bdf\"\nrtol = 1e-6\n"
+      "[[claim]]\nname = \"c\\u001b]0;x\\u0007|y\"\nobservable = \"e\"\n"
+      "solver = \"cvode-bdf\"\nrtol = 1e-6\nbound = 1e-3\n"
+      "[report]\nformats = [\"json\", \"md\", \"html\"]\n");
   const std::string out = (testing::scratch() / "bell\nout").string();
   const CliRun ran = run({"run", scene, "--out", out});
   ASSERT_EQ(ran.code, 0) << ran.err;
   EXPECT_EQ(ran.out.find('\a'), std::string::npos) << ran.out;
   EXPECT_EQ(ran.out.find("\nreport: /etc/passwd"), std::string::npos) << ran.out;
-  EXPECT_NE(ran.out.find("a\\x07b\\nreport: /etc/passwd: 1 cells"), std::string::npos) << ran.out;
+  EXPECT_NE(ran.out.find("a\\x07b\\nreport: /etc/passwd\\u202e: 1 cells"), std::string::npos)
+      << ran.out;
   EXPECT_NE(ran.out.find("report: " + testing::scratch().string() + "/bell\\nout/report.json"),
             std::string::npos)
       << ran.out;
@@ -645,7 +647,10 @@ TEST(Cli, TextFromFilesIsShownEscaped) {
                             }),
               0)
         << file;
+    // Nor a right-to-left override (U+202E turned report.html's title around).
+    EXPECT_EQ(text.find("\xe2\x80\xae"), std::string::npos) << file;
   }
+  EXPECT_EQ(ran.out.find("\xe2\x80\xae"), std::string::npos) << ran.out;
 }
 
 } // namespace

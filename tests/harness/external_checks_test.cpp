@@ -295,6 +295,24 @@ TEST(ExternalChecks, NoDampingAllowsWhatTheUndampedContactCannotDo) {
                        "delta_max = " + to_string_full(delta_u) + " above v0 t_peak = "));
     EXPECT_NE(verdict(*config, delta_u, fastest * (1 - 1e-9), {}, force_end), "");
     EXPECT_EQ(verdict(*config, delta_u, fastest * (1 + 1e-9), {}, overlap_end), "");
+    // The force peaks at or before the overlap, within the contact; its peak is finite.
+    {
+      solvers::Result<double> answer;
+      answer.outcome = solvers::Outcome::exited;
+      answer.t_peak = 1.5;
+      answer.tau = 3.2;
+      answer.t_normal_force_max = 1e6;
+      EXPECT_TRUE(starts(impossible_answer(answer, *config, problem, overlap_end),
+                         "t_normal_force_max = 1e+06 after t_peak = 1.5"));
+      answer.t_peak.reset();
+      EXPECT_EQ(impossible_answer(answer, *config, problem, overlap_end),
+                "t_normal_force_max = 1e+06 not before tau = 3.2");
+      answer.t_normal_force_max = 1.5;
+      EXPECT_EQ(impossible_answer(answer, *config, problem, overlap_end), "");
+      answer.normal_force_max = std::numeric_limits<double>::infinity();
+      EXPECT_EQ(impossible_answer(answer, *config, problem, overlap_end),
+                "normal_force_max = inf: not finite");
+    }
     // τ > t_peak (at either end), and τ > 0.
     EXPECT_EQ(verdict(*config, {}, 1.5, 1.5, force_end),
               "tau = 1.5 not after t_peak = 1.5: a contact ends after its peak");

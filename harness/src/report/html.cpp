@@ -76,6 +76,9 @@ std::string escape(std::string_view text) {
     if (n == 0 || ((byte < 0x20 || byte == 0x7f) && text[i] != '\n' && text[i] != '\t')) {
       shown += one_line(text.substr(i, 1));
       ++i;
+    } else if (hidden(code_point(text.substr(i, n)))) { // U+202E turned the title around
+      shown += one_line(text.substr(i, n));
+      i += n;
     } else {
       shown.append(text.substr(i, n));
       i += n;

@@ -71,7 +71,8 @@ constexpr std::pair<std::string_view, std::optional<double> solvers::Result<doub
                        {"t_peak", &solvers::Result<double>::t_peak},
                        {"tau", &solvers::Result<double>::tau},
                        {"energy_load", &solvers::Result<double>::energy_load},
-                       {"energy_unload", &solvers::Result<double>::energy_unload}};
+                       {"energy_unload", &solvers::Result<double>::energy_unload},
+                       {"t_normal_force_max", &solvers::Result<double>::t_normal_force_max}};
 
 // Why an external program's record holds values its run would have refused (impossible_answer
 // made such an answer unstable, nothing kept); empty when it holds none. With one onset phase the
