@@ -111,8 +111,9 @@ TEST(Budget, TheWallClockEndsASolveAsTimeLimit) {
 
 // A lane of a batch is charged its share of the batch's time (SharedClock): eight lanes that
 // never end, each allowed 0.1 s, run together for about 0.8 s, not 0.1 s (each lane alone would
-// have had its 0.1 s), and all end time_limit within 1 % of each other's steps (their clocks
-// started as each lane was set up, a few µs apart), in each batched scheme.
+// have had its 0.1 s), and all end time_limit within 5 % of each other's steps (their clocks
+// started as each lane was set up, a few µs apart; a scheduler's pause between two lanes' setup
+// under the sanitizers' load made it 2.5 % once), in each batched scheme.
 TEST(Budget, ABatchedLaneIsChargedItsShareOfTheBatchsTime) {
   for (const char* name : {"dem-verlet", "verlet-predicted"}) {
     Options<double> options;
@@ -129,7 +130,7 @@ TEST(Budget, ABatchedLaneIsChargedItsShareOfTheBatchsTime) {
     EXPECT_LT(seconds, 10.0) << name; // generous: the point is that it ends
     for (const Result<double>& lane : r) {
       EXPECT_EQ(lane.outcome, Outcome::time_limit) << name;
-      EXPECT_NEAR(double(lane.steps), double(r[0].steps), 0.01 * double(r[0].steps)) << name;
+      EXPECT_NEAR(double(lane.steps), double(r[0].steps), 0.05 * double(r[0].steps)) << name;
     }
   }
 }
