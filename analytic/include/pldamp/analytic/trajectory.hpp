@@ -214,11 +214,9 @@ private:
     using std::sqrt;
     return 1 / (z() + sqrt(-mu()));
   }
-  // P(σ) = e^(λσ) ξ(σ) = (1 − e^(−2rσ))/(2r), σ when critical.
   Real decay_P(const Real& sigma) const {
     using std::sqrt;
-    const Real r = sqrt(-mu());
-    return r == 0 ? sigma : Real(-boost::math::expm1(Real(-2 * r * sigma)) / (2 * r));
+    return slow_mode_P(Real(sqrt(-mu())), sigma);
   }
 
   // 1 − P/λ (x' = v0 e^(−λσ)(1 − P/λ)) and P/λ² − 2z (x'' likewise), each in the form that

@@ -54,6 +54,13 @@ Real exprel(const Real& x) {
   return x == 0 ? Real(1) : Real(boost::math::expm1(x) / x);
 }
 
+// P(σ) = e^(λσ) ξ(σ) = (1 − e^(−2rσ))/(2r) of a decay that never returns (r = √−μ ≥ 0); σ at
+// r = 0 (critical damping).
+template <SupportedReal Real>
+Real slow_mode_P(const Real& r, const Real& sigma) {
+  return r == 0 ? sigma : Real(-boost::math::expm1(Real(-2 * r * sigma)) / (2 * r));
+}
+
 // ---- the onset -------------------------------------------------------------------------------
 
 template <SupportedReal Real>
@@ -165,15 +172,9 @@ public:
     find_late_switch(peak_phase(d));
   }
 
-  const Real& rate() const { return kappa_; }       // κ
-  const Real& slow_rate() const { return lambda_; } // λ
-  const Real& sigma_late() const { return sigma_late_; }
-  int late_terms() const { return late_terms_; }
+  const Real& rate() const { return kappa_; } // κ
 
-  // P(σ) = (1 − e^(−2rσ))/(2r) = e^(λσ) ξ(σ); σ at r = 0.
-  Real P(const Real& sigma) const {
-    return r_ == 0 ? sigma : Real(-boost::math::expm1(Real(-2 * r_ * sigma)) / (2 * r_));
-  }
+  Real P(const Real& sigma) const { return slow_mode_P(r_, sigma); }
   // f = P^ν; at a single σ (not a quadrature's node) in detail::PowerWide, as the state's
   // ξ^ν = ϑ f/G is: cpp_bin_float_50's own pow loses tens of ε.
   Real f(const Real& sigma) const {
