@@ -29,6 +29,7 @@
 // anywhere relative to the moment two particles touch.
 #include "collision.hpp"
 #include "methods.hpp"
+#include "step_timing.hpp"
 
 #include <boost/math/constants/constants.hpp>
 
@@ -56,6 +57,9 @@ public:
   double force(double t, double delta, double v) {
     if (delta <= 0) {
       ended_ = touched_;
+      if (ended_) {
+        timing_.ended(t, delta, 0);
+      }
       return 0;
     }
     touched_ = true;
@@ -65,10 +69,13 @@ public:
     }
     if (capped_ && force >= 0) { // the total normal force k δ^p + c δ^a v is ≤ 0: clipped
       ended_ = true;
+      timing_.ended(t, delta, -force);
       return 0;
     }
+    timing_.acted(t, delta, -force);
     return force;
   }
+  const StepTiming& timing() const { return timing_; }
   bool ended() const { return ended_; }
 
   // The work done on the dashpot by balance, with the velocity the code reports.
@@ -133,6 +140,7 @@ private:
   double dt_;
   bool capped_;
   bool touched_ = false, ended_ = false;
+  StepTiming timing_;
   double t_last_; // the last step position and the code's state there
   State last_;
 };
@@ -206,7 +214,9 @@ Result<double> solve_dem(DemScheme scheme, const Problem<double>& problem,
     // The force evaluation at the start of a step found the contact over (Chrono, YADE).
     contact.after_step(t, delta, v, steps, outcome);
   }
-  return collision.finish(outcome, steps);
+  Result<double> result = collision.finish(outcome, steps);
+  contact.timing().fill(result);
+  return result;
 }
 
 } // namespace pldamp::solvers::detail

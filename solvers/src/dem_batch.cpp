@@ -22,6 +22,7 @@
 #include "batch_lanes.hpp"
 #include "collision.hpp"
 #include "methods.hpp"
+#include "step_timing.hpp"
 
 #include <algorithm>
 #include <array>
@@ -109,6 +110,7 @@ private:
     double t_last = 0, last_d = 0, last_v = 0; // the last step position and the code's state
     bool last_initial = true;                  // last_ is the start: W = 0 there (dem.cpp)
     LaneCounts counts;
+    StepTiming timing;
     long max_steps = 0;
     double v_bound = 0, d_bound = 0, horizon = 0;
   };
@@ -150,6 +152,9 @@ private:
     Lane& lane = lane_[i];
     if (d_[i] <= 0) {
       lane.ended = lane.touched;
+      if (lane.ended) {
+        lane.timing.ended(t, d_[i], 0);
+      }
       return 0;
     }
     lane.touched = true;
@@ -160,8 +165,10 @@ private:
     }
     if (lane.capped && force >= 0) {
       lane.ended = true;
+      lane.timing.ended(t, d_[i], -force);
       return 0;
     }
+    lane.timing.acted(t, d_[i], -force);
     return force;
   }
 
@@ -242,6 +249,7 @@ private:
   void finish(std::size_t i, Outcome outcome, Result<double>& result) {
     Lane& lane = lane_[i];
     result = lane.counts.finish(*collisions_[i], outcome);
+    lane.timing.fill(result);
     lane.done = true;
     dt_[i] = 0; // the lane stands still from here on (masked)
     f_[i] = 0;

@@ -17,6 +17,7 @@
 #include "collision.hpp"
 #include "hermite.hpp"
 #include "methods.hpp"
+#include "step_timing.hpp"
 
 #include <boost/math/constants/constants.hpp>
 
@@ -43,6 +44,10 @@ Result<double> solve_verlet(const Problem<double>& problem, const Options<double
     }
   };
   offer_force(t);
+  StepTiming timing;
+  if (y[0] > 0) {
+    timing.acted(t, y[0], -collision.ode().m() * a);
+  }
   auto dashpot_power = [&](double delta, double v) {
     const auto& ode = collision.ode();
     return collision.with_work() ? ode.damping_coefficient() * ode.dashpot_factor(delta) * v * v
@@ -83,11 +88,16 @@ Result<double> solve_verlet(const Problem<double>& problem, const Options<double
     if (contact_lost) {
       y[1] = v_half; // no contact force, hence no dashpot work, on the step that loses it
       y[2] = y_old[2];
+      timing.ended(t, delta, delta > 0 ? collision.ode().total_force(delta, v_half) : 0.0);
+    } else {
+      timing.acted(t, delta, -collision.ode().m() * a);
     }
     collision.sample_through(t, between);
     if (contact_lost) {
       const bool exited = collision.record(EventKind::exit, t, y); // not if tolerance noise
-      return collision.finish(exited ? Outcome::exited : Outcome::no_exit, steps);
+      Result<double> result = collision.finish(exited ? Outcome::exited : Outcome::no_exit, steps);
+      timing.fill(result);
+      return result;
     }
     // Settled (Collision::settled): looked at every 64 steps, as the energy costs a power.
     if (t >= collision.horizon() || (steps % 64 == 0 && collision.settled(y))) {

@@ -9,6 +9,7 @@
 #include "collision.hpp"
 #include "hermite.hpp"
 #include "methods.hpp"
+#include "step_timing.hpp"
 
 #include <array>
 #include <chrono>
@@ -61,6 +62,9 @@ public:
       v_[i] = y[1];
       w_[i] = y[2];
       offer_force(i, t_[i]);
+      if (y[0] > 0) {
+        lane.timing.acted(t_[i], y[0], -ode.m() * a_[i]);
+      }
       power_at_[i] =
           lane.with_work ? ode.damping_coefficient() * ode.dashpot_factor(y[0]) * y[1] * y[1] : 0.0;
     }
@@ -89,6 +93,7 @@ private:
     bool peak_found = false;
     double horizon = 0;
     LaneCounts counts;
+    StepTiming timing;
     long max_steps = 0;
   };
 
@@ -103,6 +108,7 @@ private:
   void finish(std::size_t i, Outcome outcome, Result<double>& result) {
     Lane& lane = lane_[i];
     result = lane.counts.finish(*collisions_[i], outcome);
+    lane.timing.fill(result);
     lane.done = true;
     dt_[i] = 0; // the lane stands still from here on (masked)
     a_[i] = 0;
@@ -171,7 +177,9 @@ private:
                            !(lane.peak_found && (lane.capped || d_[i] <= 0)) &&
                            t_[i] < lane.horizon &&
                            !(lane.peak_found && lane.counts.steps % 64 == 0); // settled?
-      if (!routine && after_step(i, results[slot_lane_[i]])) {
+      if (routine) {
+        lane.timing.acted(t_[i], d_[i], -m_[i] * a_[i]);
+      } else if (after_step(i, results[slot_lane_[i]])) {
         ++completed;
       }
     }
@@ -205,10 +213,12 @@ private:
     if (contact_lost) {
       y[1] = v_half; // no contact force, hence no dashpot work, on the step that loses it
       y[2] = y_old[2];
+      lane.timing.ended(t, delta, delta > 0 ? collision.ode().total_force(delta, v_half) : 0.0);
       const bool exited = collision.record(EventKind::exit, t, y); // not if tolerance noise
       finish(i, exited ? Outcome::exited : Outcome::no_exit, result);
       return true;
     }
+    lane.timing.acted(t, delta, -m_[i] * a_[i]);
     // Settled (Collision::settled), looked at every 64 steps as verlet.cpp does.
     if (t >= lane.horizon || (lane.counts.steps % 64 == 0 && collision.settled(y))) {
       finish(i, Outcome::no_exit, result);

@@ -43,13 +43,18 @@ std::string difference(const Result<double>& batch, const Result<double>& scalar
         field("normal_force_max", batch.normal_force_max, scalar.normal_force_max),
         field("t_normal_force_max", batch.t_normal_force_max, scalar.t_normal_force_max),
         field("fixed_step", batch.fixed_step, scalar.fixed_step),
-        field("horizon", batch.horizon, scalar.horizon)}) {
+        field("horizon", batch.horizon, scalar.horizon),
+        field("tau_crossing", batch.tau_crossing, scalar.tau_crossing)}) {
     if (!d.empty()) {
       return d;
     }
   }
   if (batch.invariant != scalar.invariant) {
     return "invariant '" + batch.invariant + "' vs '" + scalar.invariant + "'";
+  }
+  if (batch.steps_in_contact != scalar.steps_in_contact) {
+    return "steps_in_contact " + std::to_string(batch.steps_in_contact.value_or(-1)) + " vs " +
+           std::to_string(scalar.steps_in_contact.value_or(-1));
   }
   if (batch.steps != scalar.steps || batch.rhs_evals != scalar.rhs_evals ||
       batch.jacobian_evals != scalar.jacobian_evals) {

@@ -227,7 +227,13 @@ struct Result {
   std::optional<Real> e, delta_max, t_peak, tau, energy_load, energy_unload;
   std::optional<Real> normal_force_max, t_normal_force_max;
   std::optional<Real> fixed_step; // the step of a fixed-step run (or Options::fixed_step)
-  Real horizon = 0;               // where a contact not yet ended was given up (no_exit)
+  // A fixed-step run whose contact ended: the step positions at which the contact force acted,
+  // and the linear interpolation between the last of them and τ of the crossing that ended it
+  // (δ = 0, or F = 0 under End::force): the contact time as a code may count it (n Δt) or
+  // interpolate it, beside τ, its first position out of contact (docs/MATH.md §5.1).
+  std::optional<long> steps_in_contact;
+  std::optional<Real> tau_crossing;
+  Real horizon = 0; // where a contact not yet ended was given up (no_exit)
   long steps = 0;
   long rhs_evals = 0; // every right-hand-side evaluation, Jacobian difference quotients included
   long jacobian_evals = 0; // analytic Jacobians of the implicit methods (each ~ one rhs)
