@@ -17,6 +17,10 @@
 //   array of N empty objects: linear in N (nlohmann's callback parser was quadratic: 300 000 took
 //   20 s, 800 000 over a minute), per object
 //
+// - timestep/TOLERANCE: `pldamp timestep --scheme dem-verlet --p 1.5 --e 0.5 --tolerance 10^-T`
+//   (T = 2, 3), the worst over every onset phase at each value it tries (run/phase_supremum.hpp)
+//   and the stability search's likewise; target <= 1 s (issue 47)
+//
 //   build/bench/harness_bench
 #include "common/parallel.hpp"
 #include "common/report_schema.hpp"
@@ -28,9 +32,14 @@
 #include "scene/scene.hpp"
 #include "truth/plan.hpp"
 
+#include "pldamp/harness/cli.hpp"
+
 #include <benchmark/benchmark.h>
 
+#include <fmt/format.h>
+
 #include <chrono>
+#include <sstream>
 #include <string>
 
 namespace {
@@ -169,5 +178,21 @@ BENCHMARK(paper_claims)
     ->Unit(benchmark::kMillisecond)
     ->UseRealTime()
     ->Iterations(3);
+
+void timestep(benchmark::State& state) {
+  const std::string tolerance = fmt::format("1e-{}", state.range(0));
+  const std::vector<const char*> argv{
+      "pldamp", "timestep", "--scheme",    "dem-verlet",      "--p",   "1.5", "--e", "0.5",
+      "--v0",   "1",        "--tolerance", tolerance.c_str(), "--json"};
+  for (auto _ : state) {
+    std::ostringstream out, err;
+    if (run_cli(static_cast<int>(argv.size()), argv.data(), out, err) != 0) {
+      state.SkipWithError(err.str().c_str());
+      break;
+    }
+    benchmark::DoNotOptimize(out.str());
+  }
+}
+BENCHMARK(timestep)->Arg(2)->Arg(3)->Unit(benchmark::kMillisecond)->Iterations(3);
 
 } // namespace

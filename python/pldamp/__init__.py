@@ -263,8 +263,9 @@ def solve(solver: str, **options) -> dict:
 
 
 def timestep(scheme: str, **options) -> dict:
-    """The largest Δt keeping e, δ_max and τ within a tolerance from any onset phase, as
-    `pldamp timestep` (scheme "dem-verlet", ...; tolerance=0.01; materials add the step as a
+    """The largest Δt keeping e, δ_max and τ within a tolerance at every onset phase, as
+    `pldamp timestep` (scheme "dem-verlet", ...; tolerance=0.01; tau_as="first-step-out",
+    "steps-in-contact" or "crossing": τ as the user's code counts it; materials add the step as a
     fraction of the Hertz and Rayleigh times)."""
     return _call("timestep", scheme=scheme, **options)
 

@@ -215,6 +215,7 @@ TEST(Flags, EverySolveFlagChangesItsAnswer) {
            {"--dt", dem, with(dem, {"--dt", "0.05"}), ""},
            {"--steps-per-contact", dem, with(dem, {"--steps-per-contact", "20"}), ""},
            {"--onset-phase", dem, with(dem, {"--onset-phase", "0.5"}), ""},
+           {"--tau-as", dem, with(dem, {"--tau-as", "crossing"}), ""},
            {"--horizon", cvode, with(cvode, {"--horizon", "2"}), ""},
            {"--sample-times", cvode, with(cvode, {"--sample-times", "1"}), ""},
            {"--max-steps", cvode, with(cvode, {"--max-steps", "3"}), ""},
@@ -254,6 +255,7 @@ TEST(Flags, EveryTimestepFlagChangesItsAnswer) {
               {"--k", one, with(one, {"--k", "3"}), ""},
               {"--tolerance", one, with(one, {"--tolerance", "0.001"}), ""},
               {"--observables", one, with(one, {"--observables", "e"}), ""},
+              {"--tau-as", one, with(one, {"--tau-as", "steps-in-contact"}), ""},
               {"--code", one, with(one, {"--code", "liggghts"}), ""}}),
       [](const Args& args) { return shown(run(args)); });
 }

@@ -144,7 +144,7 @@ v0 = [1.0]
        "11: a character beyond ASCII outside a comment (in a string, write it as \\uXXXX)"},
       {valid_scene + "[[solver]]\nname = \"cvode-adams\"\nrtl = 1e-6\n",
        "12: unknown key in [[solver]], expected "
-       "name|rtol|atol|precision|steps_per_contact|end|onset_phases (got rtl)"},
+       "name|rtol|atol|precision|steps_per_contact|end|onset_phases|tau_as (got rtl)"},
       {valid_scene + "[[solver]]\nname = \"dem-verlet\"\nonset_phases = 2.5\n",
        "12: onset_phases must be an integer in [1, 1000] (got 2.5)"},
       {valid_scene + "[[solver]]\nname = \"cvode-adams\"\nrtol = 1e-6\nonset_phases = 4\n",

@@ -169,6 +169,11 @@ int run_cli(int argc, const char* const* argv, std::ostream& out, std::ostream& 
   solve->add_option("--onset-phase", solve_args.onset_phase,
                     "fixed-step solvers: the contact begins this fraction of a step before the "
                     "first step position in contact, in [0, 1) (default 0)");
+  const std::string tau_as_help =
+      "fixed-step solvers: the contact time as the code measures it, " + names_of(tau_as_names) +
+      " (default first-step-out: the first step position out of contact, from the touch; "
+      "steps-in-contact: n dt; crossing: delta = 0 interpolated)";
+  solve->add_option("--tau-as", solve_args.tau_as, tau_as_help);
   solve->add_option("--horizon", solve_args.horizon,
                     "time at which a contact that has not ended is reported no_exit");
   solve->add_option("--sample-times", solve_args.sample_times,
@@ -195,6 +200,7 @@ int run_cli(int argc, const char* const* argv, std::ostream& out, std::ostream& 
                        "relative error every observable keeps, in (0, 1) (default 0.01)");
   timestep->add_option("--observables", timestep_args.observables,
                        "comma list of the observables judged (default e,delta_max,tau)");
+  timestep->add_option("--tau-as", timestep_args.tau_as, tau_as_help);
   timestep->add_option("--code", timestep_args.contact.code,
                        "a DEM code's convention sets alpha from --e (as calibrate --code): " +
                            analytic_convention_names());

@@ -47,6 +47,7 @@ struct SolveArgs {
   std::vector<std::string> sample_times;
   std::optional<std::string> steps_per_contact; // fixed-step solvers without --dt (default 50)
   std::optional<std::string> onset_phase;       // fixed-step solvers, in [0, 1)
+  std::optional<std::string> tau_as;            // fixed-step solvers: how τ is counted
   std::string max_steps = "1000000";
   std::string max_seconds = "60";
   std::string repeats = "3"; // wall_seconds: the fastest of this many solves
@@ -58,7 +59,11 @@ struct TimestepArgs {
   std::string scheme;
   std::string tolerance = "0.01";
   std::string observables = "e,delta_max,tau";
+  std::string tau_as = "first-step-out"; // the contact time as the user's code measures it
 };
+
+// --tau-as's word (common/tau_as.hpp), or InputError naming the choices.
+TauAs parse_tau_as(const std::string& word);
 
 // The question `timestep` asks, as numbers: its [[search]] scene (timestep_scene_text).
 struct TimestepQuestion {
@@ -68,6 +73,7 @@ struct TimestepQuestion {
   double p = 1, damping = 0, v0 = 1, m = 1, k = 1;
   std::string damping_key = "alpha";
   std::string end = "overlap";
+  std::string tau_as = "first-step-out";
   std::array<double, 2> range{}; // Δt: tightest, loosest
 };
 

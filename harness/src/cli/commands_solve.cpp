@@ -113,6 +113,9 @@ void solve_in(const SolveArgs& args, const solvers::SolverInfo* solver, std::ost
     r.wall_seconds =
         std::min(r.wall_seconds, solvers::solve(args.solver, problem, options).wall_seconds);
   }
+  const TauAs tau_as = args.tau_as ? parse_tau_as(*args.tau_as) : TauAs::first_step_out;
+  const std::optional<Real> tau_first_step_out = r.tau;
+  time_contact_as(r, tau_as);
 
   // Every time asked for is answered: a sample is taken inside the contact the solve ran, and a
   // time past it (after the peak, where --want asks for nothing later; after the contact's end)
@@ -142,6 +145,14 @@ void solve_in(const SolveArgs& args, const solvers::SolverInfo* solver, std::ost
   for (const Observable& observable : observable_table()) {
     put_number(o, std::string(observable.key_at(options.end)), observable.measured(r));
   }
+  if (r.fixed_step) { // τ as asked; the three ways a code may count it (docs/MATH.md §5.1)
+    o["tau_as"] = name_of(tau_as_names, tau_as);
+    put_number(o, "tau_first_step_out", tau_first_step_out);
+    if (r.steps_in_contact) {
+      o["steps_in_contact"] = *r.steps_in_contact;
+    }
+    put_number(o, "tau_crossing", r.tau_crossing);
+  }
   o["steps"] = r.steps;
   o["rhs_evals"] = r.rhs_evals;
   if (r.jacobian_evals > 0) {
@@ -155,6 +166,14 @@ void solve_in(const SolveArgs& args, const solvers::SolverInfo* solver, std::ost
 }
 
 } // namespace
+
+TauAs parse_tau_as(const std::string& word) {
+  const std::optional<TauAs> as = value_named(tau_as_names, word);
+  if (!as) {
+    throw InputError("--tau-as must be " + names_of(tau_as_names) + " (got " + word + ")");
+  }
+  return *as;
+}
 
 void run_solve(const SolveArgs& args, std::ostream& out) {
   // An unknown name is reported by solvers::solve, after the contact's own checks.
@@ -172,6 +191,15 @@ void run_solve(const SolveArgs& args, std::ostream& out) {
   if (solver != nullptr && args.steps_per_contact && !solver->fixed_step) {
     throw InputError(args.solver + " does not step a fixed number of steps per contact (got " +
                      "--steps-per-contact " + *args.steps_per_contact + ")");
+  }
+  if (args.tau_as) {
+    parse_tau_as(*args.tau_as);
+    if (solver != nullptr && !solver->fixed_step) {
+      throw InputError(args.solver +
+                       " is not a fixed-step solver: its tau is not counted on "
+                       "steps (got --tau-as " +
+                       *args.tau_as + ")");
+    }
   }
   if (args.steps_per_contact && args.dt) {
     throw InputError("give --dt or --steps-per-contact, not both (got --steps-per-contact " +

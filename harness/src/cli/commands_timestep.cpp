@@ -22,15 +22,18 @@
 namespace pldamp::harness {
 namespace {
 
-// The Δt range searched, in contact times τ: from τ/1e5 (a step limit of 1e6 leaves room) to τ/2
-// (two steps a contact, beyond every scheme's accuracy).
+// The Δt range searched, in contact times τ: from τ/(30/tolerance), at most τ/1e5 (a step limit
+// of 1e6 leaves room), to τ/2 (two steps a contact, beyond every scheme's accuracy). The schemes
+// are first order: their answers lie between 0.7 and 8 steps per contact over the tolerance (the
+// table of docs/timestep.md), so the scan begins nearly four times tighter than any answer, and
+// each of its values costs a search over every onset phase of contacts 30/tolerance steps long.
 constexpr double tightest_steps_per_contact = 1e5;
+constexpr double steps_per_contact_per_tolerance = 30;
 constexpr double loosest_steps_per_contact = 2;
-// The onset phases each trial takes its worst over (the answer checked at twice as many, then at
-// 131, and 16 steps down to half of it at those phases). The
-// search's default of 8, checked at 16, let 64 phases find errors up to 5 % beyond the tolerance
-// (1.049 % for 1 % at p = 1, e = 0.9, each DEM scheme); a user quotes this answer for every phase.
-constexpr int onset_phases = 32;
+// The onset phases each trial samples before its worst over every phase is sought from them
+// (run/phase_supremum.hpp): more samples find the smooth maxima's neighbourhoods with fewer Brent
+// steps, fewer cost less per trial.
+constexpr int onset_phases = 16;
 
 std::vector<std::string> observable_keys(const std::string& list) {
   std::vector<std::string> keys;
@@ -93,10 +96,11 @@ observable = "{}"
 bound_rel = {:.17g}
 end = "{}"
 onset_phases = {}
+tau_as = "{}"
 )",
                      q.end, want, q.p, q.damping_key, q.damping, q.v0, q.m, q.k, q.scheme,
                      q.range[0], q.range[1], q.observables.front(), q.tolerance, q.end,
-                     onset_phases);
+                     onset_phases, q.tau_as);
 }
 
 void run_timestep(const TimestepArgs& args, std::ostream& out) {
@@ -117,6 +121,7 @@ void run_timestep(const TimestepArgs& args, std::ostream& out) {
   q.scheme = args.scheme;
   q.tolerance = tolerance;
   q.observables = observable_keys(args.observables);
+  q.tau_as = name_of(tau_as_names, parse_tau_as(args.tau_as));
   Answer o;
   if (args.contact.code) {
     // A DEM code's convention (calibrate --code): the α its formula sets for the target e, whose
@@ -193,7 +198,9 @@ void run_timestep(const TimestepArgs& args, std::ostream& out) {
   q.m = contact.m();
   q.k = contact.k();
   q.end = contact_args.end;
-  q.range = {contact_time / tightest_steps_per_contact, contact_time / loosest_steps_per_contact};
+  q.range = {contact_time /
+                 std::min(tightest_steps_per_contact, steps_per_contact_per_tolerance / tolerance),
+             contact_time / loosest_steps_per_contact};
   Scene scene = parse_scene(timestep_scene_text(q), "timestep");
   Search& search = scene.searches.front();
   search.more_observables.assign(q.observables.begin() + 1, q.observables.end());
@@ -207,6 +214,7 @@ void run_timestep(const TimestepArgs& args, std::ostream& out) {
     observables.push_back(key);
   }
   o["observables"] = observables;
+  o["tau_as"] = q.tau_as;
   o["tau"] = exact_number(tau); // null (inf in text) when the contact never returns
   if (force_end) {
     o["t_cut"] = exact_number(contact_time);
@@ -220,11 +228,14 @@ void run_timestep(const TimestepArgs& args, std::ostream& out) {
     put_number(o, "t_cut_over_dt",
                group.loosest ? std::optional<double>(contact_time / *group.loosest) : std::nullopt);
   }
-  put_number(o, "worst_onset_phase", group.worst_onset_phase);
+  // How tight: the worst error at the answer over every onset phase and the phase it is reached
+  // at; the next Δt tried beyond it (within the search's 2 %) and its failing phase and error.
   put_number(o, "worst_error", group.measured);
+  put_number(o, "worst_onset_phase", group.worst_onset_phase);
   put_number(o, "dt_failing", group.failing);
+  put_number(o, "failing_error", group.failing_measured);
+  put_number(o, "failing_onset_phase", group.failing_onset_phase);
   o["onset_phases"] = group.onset_phases;
-  o["phases_checked"] = group.phases_checked;
   o["trials"] = group.trials;
   o["solver_runs"] = group.solver_runs;
   // The seed's Δt_crit (MATH.md §6), analytic; and the largest stable Δt measured as the

@@ -23,8 +23,9 @@
 //                 denser? {verdict, measured, margin, worst, grid, note, cells, ...},
 //                 orders? [{p, order, coefficient}]}]
 //   searches      [{name, where, quote, solver, parameter, observable, measured, bound,
-//                 solver_runs, groups [{group, loosest, failing, measured, worst, trials, scanned,
-//                 onset_phases, phases_checked, solver_runs, note}]}]
+//                 solver_runs, groups [{group, loosest, failing, measured, worst,
+//                 worst_onset_phase, failing_measured, failing_onset_phase, trials, scanned,
+//                 onset_phases, every_phase, solver_runs, note}]}]
 //   budgets       points_order, worst [{config, observable, max_abs, max_rel, worst_cell,
 //                 max_phase_spread?}], maps [{config, observable, max_rel [per point]}],
 //                 analytic_double [{p, damping, alpha_eff, max_rel {OBSERVABLE}, not_representable,
@@ -175,7 +176,10 @@ inline constexpr const char* failing = "failing";
 inline constexpr const char* trials = "trials";
 inline constexpr const char* scanned = "scanned";
 inline constexpr const char* onset_phases = "onset_phases";
-inline constexpr const char* phases_checked = "phases_checked";
+inline constexpr const char* every_phase = "every_phase";
+inline constexpr const char* worst_onset_phase = "worst_onset_phase";
+inline constexpr const char* failing_measured = "failing_measured";
+inline constexpr const char* failing_onset_phase = "failing_onset_phase";
 // budgets
 inline constexpr const char* points_order = "points_order";
 inline constexpr const char* config = "config";

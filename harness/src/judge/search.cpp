@@ -1,5 +1,6 @@
 #include "judge/search.hpp"
 
+#include "common/observables.hpp"
 #include "common/parallel.hpp"
 #include "judge/budget.hpp"
 #include "judge/claims.hpp"
@@ -16,8 +17,6 @@ namespace {
 
 // The scan's density: values a decade apart by 10^(1/8) = 1.33.
 constexpr double scan_per_decade = 8;
-// More phases than this and the onset phase is no longer what moves the answer.
-constexpr int most_phases = 256;
 
 bool fixed_step(const Search& search) {
   return search.parameter != SearchParameter::rtol;
@@ -64,20 +63,13 @@ std::vector<double> band_between(SearchParameter parameter, double answer, doubl
   return values;
 }
 
-// The smallest prime above n.
-int prime_beyond(int n) {
-  for (int candidate = n + 1;; ++candidate) {
-    bool prime = candidate > 1;
-    for (int d = 2; d * d <= candidate && prime; ++d) {
-      prime = candidate % d != 0;
-    }
-    if (prime) {
-      return candidate;
-    }
-  }
-}
-
 } // namespace
+
+std::vector<std::string> search_observable_keys(const Search& search) {
+  std::vector<std::string> keys{search.observable};
+  keys.insert(keys.end(), search.more_observables.begin(), search.more_observables.end());
+  return keys;
+}
 
 std::vector<std::pair<std::string, Scene>> search_groups_of(const Scene& scene,
                                                             const Search& search) {
@@ -88,6 +80,11 @@ std::vector<std::pair<std::string, Scene>> search_groups_of(const Scene& scene,
   base.figures.clear();
   base.repeats = 1;
   base.configs = {search.config};
+  // Only what the search judges is solved for (and its worst sought over every onset phase).
+  base.want = 0;
+  for (const std::string& key : search_observable_keys(search)) {
+    base.want |= find_observable(key)->solver_want;
+  }
   std::vector<std::pair<std::string, Scene>> groups;
   const bool by_p = search.group_by == SearchGroups::p || search.group_by == SearchGroups::point;
   const bool by_damping =
@@ -166,13 +163,13 @@ const GroupTrials::Trial& GroupTrials::trial(double value, int phases) {
   SolverConfig& config = plan_.configs.front();
   set_parameter(config, search_.parameter, value);
   config.onset_phases = phases;
+  config.every_phase = fixed_step(search_);
   RunTotals totals;
   const std::vector<Record> records = run_plan(plan_, workers_, totals);
   solver_runs_ += totals.solver_runs;
   // The observables judged: the search's, then any more (`pldamp timestep`); a cell's error is
   // the largest over them, and its onset phase that observable's worst.
-  std::vector<std::string> keys{search_.observable};
-  keys.insert(keys.end(), search_.more_observables.begin(), search_.more_observables.end());
+  const std::vector<std::string> keys = search_observable_keys(search_);
   std::vector<std::size_t> columns;
   for (const std::string& wanted : keys) {
     columns.push_back(static_cast<std::size_t>(
@@ -225,36 +222,37 @@ bool GroupTrials::holds(const Trial& trial, double bound) const {
 SearchGroup GroupTrials::answer(std::optional<double> bound_given) {
   const double bound = bound_given.value_or(search_.bound);
   const std::vector<double> scan = search_scan(search_);
-  int phases = fixed_step(search_) ? search_.onset_phases : 1;
+  const int phases = fixed_step(search_) ? search_.onset_phases : 1;
   SearchGroup group;
   group.group = name_;
   group.onset_phases = phases;
+  group.every_phase = fixed_step(search_);
   std::vector<double> tried;
-  auto attempt = [&](double value, int at_phases) -> const Trial& {
+  auto attempt = [&](double value) -> const Trial& {
     if (std::find(tried.begin(), tried.end(), value) == tried.end()) {
       tried.push_back(value);
     }
-    return trial(value, at_phases);
+    return trial(value, phases);
   };
-  // Bisects between a value that held and one that failed, at `at_phases`; returns the loosest
-  // that held and sets group.failing.
-  auto bisect = [&](double held, double broke, int at_phases) {
+  // Bisects between a value that held and one that failed; returns the loosest that held and sets
+  // group.failing.
+  auto bisect = [&](double held, double broke) {
     while (!resolved(search_.parameter, held, broke)) {
       const double mid = middle(search_.parameter, held, broke);
       if (mid == held || mid == broke) {
         break;
       }
-      (holds(attempt(mid, at_phases), bound) ? held : broke) = mid;
+      (holds(attempt(mid), bound) ? held : broke) = mid;
     }
     group.failing = broke;
     return held;
   };
-  // The loosest of the scan's values tighter than `than` that holds at `at_phases`.
-  auto tighter_held = [&](double than, int at_phases) -> std::optional<double> {
+  // The loosest of the scan's values tighter than `than` that holds.
+  auto tighter_held = [&](double than) -> std::optional<double> {
     for (std::size_t i = scan.size(); i-- > 0;) { // loosest first
       if ((search_.parameter == SearchParameter::steps_per_contact ? scan[i] > than
                                                                    : scan[i] < than) &&
-          holds(attempt(scan[i], at_phases), bound)) {
+          holds(attempt(scan[i]), bound)) {
         return scan[i];
       }
     }
@@ -264,7 +262,7 @@ SearchGroup GroupTrials::answer(std::optional<double> bound_given) {
   std::size_t first_failure = scan.size();
   for (std::size_t i = 0; i < scan.size(); ++i) {
     ++group.scanned;
-    if (!holds(attempt(scan[i], phases), bound)) {
+    if (!holds(attempt(scan[i]), bound)) {
       first_failure = i;
       break;
     }
@@ -282,72 +280,14 @@ SearchGroup GroupTrials::answer(std::optional<double> bound_given) {
     group.note =
         fmt::format("the bound holds over the whole range ({} values scanned)", scan.size());
   } else {
-    group.loosest = bisect(scan[first_failure - 1], scan[first_failure], phases);
+    group.loosest = bisect(scan[first_failure - 1], scan[first_failure]);
   }
-  // A fixed step: the answer at twice the phases. Where it fails there (the worst onset phase is
-  // a supremum the samples approach from below), the answer is sought again at those phases among
-  // the scan's tighter values, and accepted once it moves by less than 1 % (a step of a few
-  // hundred); otherwise the phases double again, up to 256.
-  const std::optional<double> first_answer = group.loosest;
-  const int first_phases = phases;
-  bool settled = false; // held at twice the phases, or moved by less than 1 % there
-  while (fixed_step(search_) && group.loosest) {
-    const int more = 2 * phases;
-    group.phases_checked = more;
-    if (holds(attempt(*group.loosest, more), bound)) {
-      settled = true;
-      break;
-    }
-    const double before = *group.loosest;
-    const std::optional<double> held = tighter_held(before, more);
-    phases = more;
-    group.onset_phases = phases;
-    if (!held) {
-      group.loosest.reset();
-      group.failing = scan.front();
-      group.note =
-          fmt::format("at {} onset phases the bound fails even at the tightest value", phases);
-      break;
-    }
-    group.loosest = bisect(*held, before, phases);
-    if (std::abs(*group.loosest - before) <= std::max(1.0, before / 100)) {
-      group.phases_checked = phases;
-      settled = true;
-      break;
-    }
-    if (2 * phases > most_phases) {
-      break;
-    }
-  }
-  // The worst onset phase is a supremum that the samples k/n approach from below, and samples at
-  // n and 2n share half their phases: a settled answer is checked once more at a prime count
-  // beyond twice the phases checked (no phase in common with them but 0), and sought again there
-  // if it fails (1.0064 % for 1 % at 97 phases was seen at an answer settled at 64).
-  if (fixed_step(search_) && group.loosest && settled) {
-    const int prime = prime_beyond(2 * group.phases_checked);
-    group.phases_checked = prime;
-    if (!holds(attempt(*group.loosest, prime), bound)) {
-      const double before = *group.loosest;
-      phases = prime;
-      group.onset_phases = prime;
-      if (const std::optional<double> held = tighter_held(before, prime)) {
-        group.loosest = bisect(*held, before, prime);
-      } else {
-        group.loosest.reset();
-        group.failing = scan.front();
-        group.note =
-            fmt::format("at {} onset phases the bound fails even at the tightest value", prime);
-      }
-    }
-  }
-  // The scan sees the error at 8 values a decade, and between two of them it can rise above the
-  // bound and fall again (the exit moves within a step as Δt changes, and the phases sampled
-  // catch the worst one better at some Δt than at others): a report once answered 546 steps per
-  // contact for e within 1e-4 where counts from 548 to 600 failed. So values up to twice as
-  // tight as the answer are checked too (each step count when there are at most 32, else 16
+  // The scan sees the error at 8 values a decade, and between two of them it could rise above the
+  // bound and fall again (when the phases were sampled it did: a report answered 546 steps per
+  // contact for e within 1e-4 where counts from 548 to 600 failed). So values up to twice as tight
+  // as the answer are checked too (each step count when there are at most 32, else 16
   // log-spaced; a first-order error is half the bound there), and where one fails the answer is
-  // sought again tighter than the tightest that fails, until the band holds. Counts between the
-  // band's values are not all checked (README `pldamp timestep`).
+  // sought again tighter than the tightest that fails, until the band holds.
   while (fixed_step(search_) && group.loosest) {
     const bool steps = search_.parameter == SearchParameter::steps_per_contact;
     const double answer = *group.loosest;
@@ -355,7 +295,7 @@ SearchGroup GroupTrials::answer(std::optional<double> bound_given) {
                               : std::max(answer / 2, scan.front());
     std::optional<double> failed; // the tightest value of the band that fails
     for (const double value : band_between(search_.parameter, answer, edge)) {
-      if (!holds(attempt(value, phases), bound) &&
+      if (!holds(attempt(value), bound) &&
           (!failed || (steps ? value > *failed : value < *failed))) {
         failed = value;
       }
@@ -364,20 +304,13 @@ SearchGroup GroupTrials::answer(std::optional<double> bound_given) {
       break;
     }
     ++group.band_refinements;
-    if (const std::optional<double> held = tighter_held(*failed, phases)) {
-      group.loosest = bisect(*held, *failed, phases);
+    if (const std::optional<double> held = tighter_held(*failed)) {
+      group.loosest = bisect(*held, *failed);
     } else {
       group.loosest.reset();
       group.failing = scan.front();
-      group.note =
-          fmt::format("at {} onset phases the bound fails even at the tightest value", phases);
+      group.note = "the bound fails even at the tightest value";
     }
-  }
-  if (group.loosest && first_answer && *group.loosest != *first_answer) {
-    group.note +=
-        fmt::format("{}at {} onset phases {:g}, at {} {:g}{}", group.note.empty() ? "" : "; ",
-                    first_phases, *first_answer, phases, *group.loosest,
-                    settled ? "" : ": the worst onset phase is not resolved");
   }
   if (group.loosest) {
     const Trial& best = trial(*group.loosest, phases);
@@ -387,6 +320,8 @@ SearchGroup GroupTrials::answer(std::optional<double> bound_given) {
   }
   if (group.failing) {
     const Trial& beyond = trial(*group.failing, phases);
+    group.failing_measured = beyond.measured;
+    group.failing_onset_phase = beyond.worst_phase;
     if (!beyond.failure.empty() && first_failure > 0) {
       group.note += (group.note.empty() ? "" : "; ") + ("beyond it: " + beyond.failure);
     }
@@ -407,17 +342,20 @@ std::string search_measure(const Search& search) {
 double search_runs_estimate(const Search& search) {
   const double cells = double(search.grid.p.size()) * double(search.grid.damping.size()) *
                        double(grid_scales(search.grid).size());
-  // The scan, a bisection of one of its intervals (to 1 %), and for a fixed step the answer and
-  // its neighbour at twice the phases, then the answer at a prime count beyond four times.
+  // The scan, a bisection of one of its intervals (to 1 %), and for a fixed step the band of 16
+  // values beyond the answer, each over the sampled phases and the refinement to every phase
+  // (about two jumps bisected to 2^-52 and a Brent search per observable and maximum: ~150).
   const double bisection =
       std::ceil(std::log2(std::log(std::pow(10.0, 1 / scan_per_decade)) / std::log(1.01))) + 1;
   const double values = double(search_scan(search).size()) + bisection;
-  const double phases = fixed_step(search) ? search.onset_phases : 1;
-  return cells * phases * (values + (fixed_step(search) ? 2 * 2 + 4 + 1 : 0));
+  if (!fixed_step(search)) {
+    return cells * values;
+  }
+  return cells * (search.onset_phases + 150) * (values + band_values);
 }
 
 // A group's answer as a piece of a map shared among MPI ranks (run/workers.hpp), every field.
-static_assert(sizeof(SearchGroup) == 192, "a new SearchGroup field: write and read it below");
+static_assert(sizeof(SearchGroup) == 224, "a new SearchGroup field: write and read it below");
 void put_piece(ByteWriter& out, const std::optional<SearchGroup>& answer) {
   Encoding<bool>::put(out, answer.has_value());
   if (!answer) {
@@ -426,14 +364,15 @@ void put_piece(ByteWriter& out, const std::optional<SearchGroup>& answer) {
   const SearchGroup& g = *answer;
   out.put(g.group);
   for (const std::optional<double>* value :
-       {&g.loosest, &g.failing, &g.measured, &g.worst_onset_phase}) {
+       {&g.loosest, &g.failing, &g.measured, &g.worst_onset_phase, &g.failing_measured,
+        &g.failing_onset_phase}) {
     out.put(*value);
   }
   out.put(g.worst);
-  for (const int count :
-       {g.trials, g.scanned, g.onset_phases, g.phases_checked, g.band_refinements}) {
+  for (const int count : {g.trials, g.scanned, g.onset_phases, g.band_refinements}) {
     out.put<std::int32_t>(count);
   }
+  Encoding<bool>::put(out, g.every_phase);
   out.put<std::int64_t>(g.solver_runs);
   out.put(g.note);
 }
@@ -444,14 +383,15 @@ void get_piece(ByteReader& in, std::optional<SearchGroup>& answer) {
   }
   SearchGroup& g = answer.emplace();
   g.group = in.string();
-  for (std::optional<double>* value : {&g.loosest, &g.failing, &g.measured, &g.worst_onset_phase}) {
+  for (std::optional<double>* value : {&g.loosest, &g.failing, &g.measured, &g.worst_onset_phase,
+                                       &g.failing_measured, &g.failing_onset_phase}) {
     *value = in.optional();
   }
   g.worst = in.string();
-  for (int* count :
-       {&g.trials, &g.scanned, &g.onset_phases, &g.phases_checked, &g.band_refinements}) {
+  for (int* count : {&g.trials, &g.scanned, &g.onset_phases, &g.band_refinements}) {
     *count = in.get<std::int32_t>();
   }
+  g.every_phase = Encoding<bool>::get(in);
   g.solver_runs = in.get<std::int64_t>();
   g.note = in.string();
 }

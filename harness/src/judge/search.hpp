@@ -11,14 +11,10 @@
 //
 // A fixed step's error depends on where in a step the contact begins (the onset phase, which a
 // simulation does not control): every trial of a steps_per_contact or dt search takes each cell's
-// worst over `onset_phases` phases k/n (default 8). The answer is then checked at twice as many
-// phases; if it fails there, the search starts again with the phases doubled (up to 256), so the
-// phases reported are ones that more phases do not change. The settled answer is checked last at
-// a prime count q beyond twice those (phases j/q share only 0 with them) and sought again there if
-// it fails: the worst phase is a supremum the samples approach from below. Last, the values
-// between the answer and the nearest tighter scan value are checked at those phases (every step
-// count there, or 24 log-spaced), and the answer sought again tighter than any that fails: the
-// error can rise above the bound and fall again between two scan values.
+// worst over every onset phase (SolverConfig::every_phase, run/phase_supremum.hpp), sought from
+// `onset_phases` sampled phases k/n (default 8). Last, the values between the answer and twice as
+// tight are checked (every step count there, or 16 log-spaced), and the answer sought again
+// tighter than any that fails.
 //
 // Each trial solves every cell of the group once, through a plan of its own (truth/plan.hpp: the
 // same references and errors as the run's records); the solver runs are counted. A record that
@@ -47,9 +43,11 @@ struct SearchGroup {
   std::optional<double> worst_onset_phase; // a fixed step: the onset phase k/n it comes from
   int trials = 0;                          // values solved (each over the group's cells and phases)
   int scanned = 0;                         // of them, the scan's
-  int onset_phases = 1;                    // the phases each fixed-step trial took its worst over
-  int phases_checked = 0;   // the phases the answer was checked at (0: not a fixed step)
+  int onset_phases = 1;     // the phases each fixed-step trial sampled before seeking every phase
+  bool every_phase = false; // a fixed step: each trial's worst is over every onset phase
   int band_refinements = 0; // times a value between the answer and the scan failed, and moved it
+  std::optional<double> failing_measured;    // the error at `failing`
+  std::optional<double> failing_onset_phase; // and the onset phase it comes from
   long solver_runs = 0;
   std::string note; // a failed record, the bound held over the whole range, ...
 };
@@ -88,6 +86,9 @@ private:
   std::map<std::pair<double, int>, Trial> trials_;
   long solver_runs_ = 0;
 };
+
+// The observables a search judges: its own, then any more (`pldamp timestep`).
+std::vector<std::string> search_observable_keys(const Search& search);
 
 // The groups of cells a search answers for, each as a scene of its own: its grid split by p,
 // damping, both, or not at all, with the search's configuration alone.

@@ -1,6 +1,7 @@
 #include "judge/solve.hpp"
 
 #include "common/input.hpp"
+#include "run/phase_supremum.hpp"
 #include "run/run.hpp"
 
 #include "pldamp/analytic/contact.hpp"
@@ -9,6 +10,7 @@
 #include <boost/math/tools/toms748_solve.hpp>
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <cmath>
 
 #include <limits>
@@ -28,7 +30,7 @@ std::string where(const Inputs& in) {
 
 solvers::Result<double> solve_unchecked(const SolverConfig& config, const Inputs& in, unsigned want,
                                         const Limits& limits, std::vector<double> sample_times,
-                                        std::optional<double> fixed_step) {
+                                        std::optional<double> fixed_step, double onset_phase) {
   solvers::Options<double> options;
   options.rtol =
       config.rtol.value_or(solvers::solver_named(config.name).template default_rtol<double>());
@@ -38,6 +40,7 @@ solvers::Result<double> solve_unchecked(const SolverConfig& config, const Inputs
   options.max_seconds = limits.max_seconds;
   options.stop = &stop_requested(); // a signal ends these solves too (cli/commands_run.cpp)
   options.fixed_step = fixed_step;
+  options.onset_phase = onset_phase;
   if (config.steps_per_contact && !fixed_step) {
     options.steps_per_contact = *config.steps_per_contact;
   }
@@ -84,13 +87,30 @@ double alpha_by_bisection(const SolverConfig& config, Inputs in, double e, const
 StableStep largest_stable_dt(const SolverConfig& config, const Inputs& in, const Limits& limits,
                              double tau) {
   StableStep found;
-  // Stable: the contact ends, with no energy gained. A budget spent is no verdict at all.
+  // Stable: the contact ends, with no energy gained, from every onset phase. A budget spent is no
+  // verdict at all.
   auto stable = [&](double dt) {
-    const solvers::Result<double> r = solve_unchecked(config, in, solvers::want_e, limits, {}, dt);
-    if (r.outcome == solvers::Outcome::step_limit || r.outcome == solvers::Outcome::time_limit) {
-      found.limit = fmt::format("{} at dt = {:.4g}", solvers::outcome_name(r.outcome), dt);
+    constexpr double inf = std::numeric_limits<double>::infinity();
+    auto evaluate = [&](double phase) {
+      const solvers::Result<double> r =
+          solve_unchecked(config, in, solvers::want_e, limits, {}, dt, phase);
+      if (r.outcome == solvers::Outcome::step_limit || r.outcome == solvers::Outcome::time_limit) {
+        found.limit = fmt::format("{} at dt = {:.4g}, onset phase {:.17g}",
+                                  solvers::outcome_name(r.outcome), dt, phase);
+      }
+      const bool returned = r.outcome == solvers::Outcome::exited && r.e;
+      return PhasePoint{.phase = phase, .piece = r.steps, .scores = {returned ? *r.e : inf}};
+    };
+    std::vector<PhasePoint> points;
+    for (const double phase : sampled_phases(8)) {
+      points.push_back(evaluate(phase));
+      if (!(points.back().scores.front() <= 1)) {
+        return false;
+      }
     }
-    return r.outcome == solvers::Outcome::exited && r.e && *r.e <= 1;
+    refine_to_supremum(points, evaluate);
+    return std::all_of(points.begin(), points.end(),
+                       [](const PhasePoint& p) { return p.scores.front() <= 1; });
   };
   double lo = tau / 1000, hi = lo;
   if (!stable(lo)) {

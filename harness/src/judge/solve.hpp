@@ -19,10 +19,11 @@ struct Inputs {
 };
 
 // Solves once, whatever the outcome. A fixed step, when given, replaces the configuration's steps
-// per contact.
+// per contact; the contact begins at `onset_phase` of a step (fixed-step solvers).
 solvers::Result<double> solve_unchecked(const SolverConfig& config, const Inputs& in, unsigned want,
                                         const Limits& limits, std::vector<double> sample_times = {},
-                                        std::optional<double> fixed_step = std::nullopt);
+                                        std::optional<double> fixed_step = std::nullopt,
+                                        double onset_phase = 0);
 
 // Solves once; throws std::runtime_error on step_limit, time_limit or unstable.
 solvers::Result<double> solve_once(const SolverConfig& config, const Inputs& in, unsigned want,
@@ -34,9 +35,10 @@ double solved_value(const SolverConfig& config, const Inputs& in, unsigned want,
                     std::optional<double> solvers::Result<double>::*value, const char* name,
                     const Limits& limits);
 
-// The largest Δt at which a fixed-step scheme's contact ends with no energy gained (e <= 1), at
-// onset phase 0: scanned up from τ/1000 by factors 1.5 to 50 τ, then bisected twelve times (to
-// 1.5^(1/4096)). Used by the stability claim and `pldamp timestep`.
+// The largest Δt at which a fixed-step scheme's contact ends with no energy gained (e <= 1) at
+// every onset phase (the supremum of e over the phases, run/phase_supremum.hpp, from 8 sampled):
+// scanned up from τ/1000 by factors 1.5 to 50 τ, then bisected twelve times (to 1.5^(1/4096)).
+// Used by the stability claim and `pldamp timestep`.
 struct StableStep {
   double dt = 0;      // 0: unstable even at τ/1000
   bool below = false; // still stable at 50 τ: dt is a lower bound

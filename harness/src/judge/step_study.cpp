@@ -71,7 +71,7 @@ Search study_search(const Scene& scene, const std::vector<SolverConfig>& configs
                     const StepSweep& sweep, double p, const Damping& damping) {
   SolverConfig config = configs[sweep.configs.front()];
   config.steps_per_contact.reset();
-  const int phases = Search{}.onset_phases; // doubled where the answer needs more
+  const int phases = Search{}.onset_phases; // sampled, then every phase sought
   Search search{
       .name = sweep.line,
       .where = {},

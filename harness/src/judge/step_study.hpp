@@ -9,9 +9,8 @@
 // step, τ ÷ Δt, is called tau_over_dt (τ under the configuration's end rule: t_cut when capped).
 //
 // The steps needed are the answers of [[search]]'s engine (judge/search.hpp) over the sweep's
-// range, one search per point, worst over 8 onset phases (or the sweep's own, if more) and checked
-// at twice as many, then at a prime count beyond: the same question asked as a [[search]] gets the
-// same answer. An external program is not searched (each run can cost milliseconds): its answer is
+// range, one search per point, each trial the worst over every onset phase (sought from 8): the
+// same question asked as a [[search]] gets the same answer. An external program is not searched (each run can cost milliseconds): its answer is
 // read off its sweep, the coarsest sweep value from which every finer one holds (an upper bound,
 // `from_sweep`).
 #pragma once

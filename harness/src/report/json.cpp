@@ -211,10 +211,13 @@ ordered_json search_json(const SearchResult& search) {
                       {key::failing, number_or_null(group.failing)},
                       {key::measured, number_or_null(group.measured)},
                       {key::worst, group.worst},
+                      {key::worst_onset_phase, number_or_null(group.worst_onset_phase)},
+                      {key::failing_measured, number_or_null(group.failing_measured)},
+                      {key::failing_onset_phase, number_or_null(group.failing_onset_phase)},
                       {key::trials, group.trials},
                       {key::scanned, group.scanned},
                       {key::onset_phases, group.onset_phases},
-                      {key::phases_checked, group.phases_checked},
+                      {key::every_phase, group.every_phase},
                       {key::solver_runs, group.solver_runs},
                       {key::note, group.note}});
   }

@@ -108,12 +108,13 @@ std::string step_study_description(const StepStudy& study) {
       "set (δ_u the undamped peak overlap); τ/Δt, each answer's true contact duration per step, "
       "is in report.json beside it. Each (p, damping) point's answer is that of a [[search]] over "
       "the sweep's range (judge/search.hpp): scanned from the finest step, 8 values a decade, then "
-      "bisected at the first failure, each value's error the worst over 8 onset phases, the answer "
-      "checked at twice as many and sought again there until it moves by less than 1 %, then at a "
-      "prime count beyond{}, and 16 values up to twice as tight checked, the answer sought again "
-      "past any that fails{}. Per p, the worst over the grid's dampings. The order is the slope "
+      "bisected at the first failure, each value's error the worst over every onset phase (sought "
+      "from {} sampled: the jumps where the exit step changes bisected to 2^-52, each smooth "
+      "maximum by Brent's method), and 16 values up to twice as tight checked, the answer sought "
+      "again past any that fails{}. Per p, the worst over the grid's dampings. The order is the "
+      "slope "
       "of the worst error in e against Δt over the finest half of the sweep.",
-      phases > 0 ? fmt::format(" (up to {} phases here)", phases) : std::string(),
+      phases > 0 ? phases : 8,
       from_sweep ? "; an external program's answer is read off its sweep (≤: the coarsest sweep "
                    "value from which every finer one held)"
                  : "");
@@ -230,6 +231,13 @@ std::string budget_table_note(const Plan& plan) {
       short_number(mean_analytic_seconds(plan) * 1e6, 2));
 }
 
+namespace {
+// ", onset phase 0.33585" (17 digits: `solve --onset-phase` reproduces it), or nothing.
+std::string phase_text(const std::optional<double>& phase) {
+  return phase ? fmt::format(", onset phase {:.17g}", *phase) : std::string();
+}
+} // namespace
+
 MapTable search_table(const RunReport& report) {
   MapTable table;
   table.header = {
@@ -241,8 +249,14 @@ MapTable search_table(const RunReport& report) {
           {search.name, group.group,
            group.loosest ? fmt::format("{} = {:.3g}", search.parameter, *group.loosest)
                          : "none in the range",
-           group.failing ? fmt::format("{:.3g}", *group.failing) : "–",
-           short_number(group.measured, 2) + (group.worst.empty() ? "" : " at " + group.worst),
+           group.failing
+               ? fmt::format("{:.3g}", *group.failing) +
+                     (group.failing_measured ? " (" + short_number(group.failing_measured, 3) +
+                                                   phase_text(group.failing_onset_phase) + ")"
+                                             : "")
+               : "–",
+           short_number(group.measured, 3) + phase_text(group.worst_onset_phase) +
+               (group.worst.empty() ? "" : " at " + group.worst),
            short_number(search.bound), std::to_string(group.trials),
            std::to_string(group.solver_runs), group.note.empty() ? "–" : group.note});
     }

@@ -5,6 +5,7 @@
 #include "common/parallel.hpp"
 #include "common/record_consistency.hpp"
 #include "run/external.hpp"
+#include "run/phase_supremum.hpp"
 #include "run/shard.hpp"
 #include "truth/reference_solve.hpp"
 
@@ -152,6 +153,7 @@ void compare_with_replica(const Plan& plan, const SolverConfig& config,
 // One onset phase of a record: its result (the first run's) and the times of its repeats.
 template <SupportedReal Real>
 struct PhaseRun {
+  double phase = 0;
   solvers::Result<Real> result;
   RepeatTimes wall, cpu;
 };
@@ -170,6 +172,7 @@ run_phases(const Plan& plan, const SolverConfig& config, ExternalSolver* externa
   for (int phase = 0; phase < config.onset_phases; ++phase) {
     options.onset_phase = Real(phase) / Real(config.onset_phases);
     PhaseRun<Real> run;
+    run.phase = double(phase) / double(config.onset_phases);
     double cpu_start = thread_cpu_seconds();
     ++record.runs; // counted if it throws too
     run.result = solve_with(config, external, problem, options);
@@ -177,6 +180,7 @@ run_phases(const Plan& plan, const SolverConfig& config, ExternalSolver* externa
     if (!config.replica.empty()) {
       compare_with_replica(plan, config, problem, options, run.result, record);
     }
+    time_contact_as(run.result, config.tau_as);
     run.wall.add(run.result.wall_seconds);
     for (int repeat = 1; repeat < (external != nullptr ? 1 : plan.scene.repeats) &&
                          run.cpu.fastest < plan.scene.repeat_below;
@@ -327,7 +331,9 @@ std::vector<std::vector<PhaseRun<double>>> run_cells_batched(const SolverConfig&
       run.cpu.add(batch_cpu * weight[lane] / weights);
       run.wall.add(batch_wall * weight[lane] / weights);
       if (repeat == 0) {
+        run.phase = lanes[lane].onset_phase;
         run.result = std::move(results[lane]);
+        time_contact_as(run.result, config.tau_as);
       }
     }
   }
@@ -351,10 +357,10 @@ void judge_record(const Plan& plan, Record& record, const RecordTruth& truth,
       highest(observables, -std::numeric_limits<double>::infinity());
   double steps = 0, rhs_evals = 0, fastest_seconds = 0, slowest_seconds = 0, fastest_cpu = 0,
          slowest_cpu = 0;
-  for (int phase = 0; phase < config.onset_phases; ++phase) {
-    const solvers::Result<Real>& result = phase_runs[static_cast<std::size_t>(phase)].result;
-    const RepeatTimes& times = phase_runs[static_cast<std::size_t>(phase)].wall;
-    const RepeatTimes& cpu = phase_runs[static_cast<std::size_t>(phase)].cpu;
+  for (std::size_t phase = 0; phase < phase_runs.size(); ++phase) {
+    const solvers::Result<Real>& result = phase_runs[phase].result;
+    const RepeatTimes& times = phase_runs[phase].wall;
+    const RepeatTimes& cpu = phase_runs[phase].cpu;
     // A failed phase fails the record; the outcome kept is the worst seen.
     if (!record.outcome || solvers::failing(result.outcome)) {
       record.outcome = result.outcome;
@@ -397,11 +403,11 @@ void judge_record(const Plan& plan, Record& record, const RecordTruth& truth,
         record.error[o] = m.error;
         record.abs_error[o] = m.abs_error;
         record.rel_error[o] = m.rel_error;
-        record.worst_phase[o] = double(phase) / double(config.onset_phases);
+        record.worst_phase[o] = phase_runs[phase].phase;
       }
     }
   }
-  const double runs = double(config.onset_phases);
+  const double runs = double(phase_runs.size());
   record.steps = std::lround(steps / runs);
   record.rhs_evals = std::lround(rhs_evals / runs);
   record.wall_seconds = fastest_seconds / runs;
@@ -417,6 +423,55 @@ void judge_record(const Plan& plan, Record& record, const RecordTruth& truth,
         record.spread[o] = static_cast<double>(Exact(highest[o] - lowest[o]) / abs(*reference));
       }
     }
+  }
+}
+
+// SolverConfig::every_phase: the sampled phases refined to the worst over every onset phase of each
+// observable's relative error (run/phase_supremum.hpp), the runs it takes appended; a supremum not
+// resolved within the refinement's budget is said in the record's note (its worst is then a lower
+// bound).
+template <SupportedReal Real>
+void seek_every_phase(const SolverConfig& config, ExternalSolver* external,
+                      RecordSetup<Real>& setup, Record& record,
+                      std::vector<PhaseRun<Real>>& phase_runs) {
+  if (!config.every_phase) {
+    return;
+  }
+  constexpr double inf = std::numeric_limits<double>::infinity();
+  auto point_of = [&](const PhaseRun<Real>& run) {
+    PhasePoint point{.phase = run.phase, .piece = run.result.steps, .scores = {}};
+    const bool failed = solvers::failing(run.result.outcome);
+    for (const Measured& m : measure(setup.truth, run.result)) {
+      point.scores.push_back(failed ? inf : m.rel_error.value_or(-inf));
+    }
+    return point;
+  };
+  std::vector<PhasePoint> points;
+  for (const PhaseRun<Real>& run : phase_runs) {
+    points.push_back(point_of(run));
+  }
+  auto evaluate = [&](double phase) {
+    setup.options.onset_phase = Real(phase);
+    PhaseRun<Real> run;
+    run.phase = phase;
+    const double cpu_start = thread_cpu_seconds();
+    ++record.runs;
+    run.result = solve_with(config, external, setup.problem, setup.options);
+    run.cpu.add(thread_cpu_seconds() - cpu_start);
+    run.wall.add(run.result.wall_seconds);
+    time_contact_as(run.result, config.tau_as);
+    phase_runs.push_back(std::move(run));
+    return point_of(phase_runs.back());
+  };
+  const double last = sampled_phases(1).back(); // the largest phase below 1
+  if (std::none_of(points.begin(), points.end(),
+                   [&](const PhasePoint& p) { return p.phase == last; })) {
+    points.push_back(evaluate(last));
+  }
+  if (!refine_to_supremum(points, evaluate)) {
+    record.note += std::string(record.note.empty() ? "" : "; ") +
+                   "the worst onset phase is not resolved within the refinement's budget: its "
+                   "error is a lower bound";
   }
 }
 
@@ -436,6 +491,7 @@ void solve_record(const Plan& plan, Record& record, ExternalSolver* external) {
   if (phase_runs.empty()) {
     phase_runs = run_phases(plan, config, external, setup.problem, setup.options, record);
   }
+  seek_every_phase(config, external, setup, record, phase_runs);
   judge_record(plan, record, setup.truth, phase_runs, external != nullptr);
 }
 
@@ -646,9 +702,10 @@ std::vector<Record> PlanRunner::run_cells(std::span<const std::size_t> cells,
           setups.emplace_back(plan, *record, nullptr);
         }
         const SolverConfig& config = plan.configs[group[0]->config];
-        const std::vector<std::vector<PhaseRun<double>>> runs =
+        std::vector<std::vector<PhaseRun<double>>> runs =
             run_cells_batched(config, setups, plan.scene, group);
         for (std::size_t g = 0; g < group.size(); ++g) {
+          seek_every_phase(config, nullptr, setups[g], *group[g], runs[g]);
           judge_record(plan, *group[g], setups[g].truth, runs[g], false);
         }
       } catch (const std::exception&) {

@@ -22,7 +22,7 @@ inline constexpr auto grid = std::to_array<std::string_view>(
     {"p", "e", "alpha", "alpha_eff", "v0", "m", "k", "damping_exponent"});
 
 inline constexpr auto solver = std::to_array<std::string_view>(
-    {"name", "rtol", "atol", "precision", "steps_per_contact", "end", "onset_phases"});
+    {"name", "rtol", "atol", "precision", "steps_per_contact", "end", "onset_phases", "tau_as"});
 
 inline constexpr auto external_solver = std::to_array<std::string_view>(
     {"command", "label", "options", "replica", "rtol", "atol", "steps_per_contact", "dt", "end",
@@ -36,26 +36,18 @@ inline constexpr auto claim =
 inline constexpr auto bound_claim_grid =
     std::to_array<std::string_view>({"p", "e", "alpha", "alpha_eff", "v0", "m", "k"});
 
-inline constexpr auto bound_claim = std::to_array<std::string_view>({"observable",
-                                                                     "solver",
-                                                                     "rtol",
-                                                                     "atol",
-                                                                     "precision",
-                                                                     "steps_per_contact",
-                                                                     "end",
-                                                                     "onset_phases",
-                                                                     "bound",
-                                                                     "bound_rel",
-                                                                     "quantile",
-                                                                     "denser",
-                                                                     "allow_missing",
-                                                                     "p",
-                                                                     "e",
-                                                                     "alpha",
-                                                                     "alpha_eff",
-                                                                     "v0",
-                                                                     "m",
-                                                                     "k"});
+inline constexpr auto bound_claim =
+    std::to_array<std::string_view>({"observable", "solver",
+                                     "rtol",       "atol",
+                                     "precision",  "steps_per_contact",
+                                     "end",        "onset_phases",
+                                     "tau_as",     "bound",
+                                     "bound_rel",  "quantile",
+                                     "denser",     "allow_missing",
+                                     "p",          "e",
+                                     "alpha",      "alpha_eff",
+                                     "v0",         "m",
+                                     "k"});
 
 inline constexpr auto convention_claim =
     std::to_array<std::string_view>({"observable", "convention", "limit_damping", "bound",
@@ -81,7 +73,7 @@ inline constexpr auto search =
                                      "parameter", "range",        "observable", "bound",
                                      "bound_rel", "quantile",     "group_by",   "p",
                                      "e",         "alpha_eff",    "v0",         "m",
-                                     "k",         "onset_phases", "end"});
+                                     "k",         "onset_phases", "end",        "tau_as"});
 
 inline constexpr auto figure =
     std::to_array<std::string_view>({"kind", "solver", "rtol", "atol", "p", "e", "alpha_eff"});

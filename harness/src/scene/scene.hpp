@@ -6,6 +6,7 @@
 
 #include "common/input.hpp"
 #include "common/names.hpp"
+#include "common/tau_as.hpp"
 
 #include "pldamp/analytic/seed.hpp"
 #include "pldamp/solvers/problem.hpp"
@@ -44,6 +45,10 @@ struct SolverConfig {
   std::optional<double> dt;             // fixed-step solvers: a fixed step instead (searches)
   std::optional<solvers::End> end;      // the contact-end rule, when not the scene's
   int onset_phases = 1; // fixed-step solvers: evenly spaced onset phases k/n, worst reported
+  // Fixed-step solvers: the worst over every onset phase (run/phase_supremum.hpp), sought from
+  // the onset_phases sampled; searches set it. A reported sweep samples.
+  bool every_phase = false;
+  TauAs tau_as = TauAs::first_step_out; // the contact time as the user's code measures it
   // An external solver (run/external.hpp): the program and its arguments, started once per
   // configuration; `name` is then the [[solver]]'s label. `options` is its [[solver]] options
   // table as JSON text, passed through in every problem.
@@ -249,8 +254,8 @@ struct Search {
   double quantile = 1;   // over the group's cells (1: the worst)
   SearchGroups group_by = SearchGroups::p;
   ClaimGrid grid;
-  // steps_per_contact and dt: the onset phases k/n each trial takes its worst over
-  // (judge/search.hpp checks the answer at twice as many, then at a prime count beyond).
+  // steps_per_contact and dt: the onset phases k/n each trial samples before seeking its worst
+  // over every phase (judge/search.hpp, run/phase_supremum.hpp).
   int onset_phases = 8;
 };
 

@@ -33,8 +33,13 @@ std::string SolverConfig::label() const {
   if (end) {
     out += " end=" + std::string(name_of(contact_ends, *end));
   }
-  if (onset_phases > 1) {
+  if (every_phase) {
+    out += " phases=every";
+  } else if (onset_phases > 1) {
     out += fmt::format(" phases={}", onset_phases);
+  }
+  if (tau_as != TauAs::first_step_out) {
+    out += " tau=" + std::string(name_of(tau_as_names, tau_as));
   }
   return out;
 }
@@ -116,6 +121,15 @@ SolverConfig base_config(const Reader& reader, const toml::table& entry, const c
                   "onset_phases is for fixed-step solvers (got " + config.name + ")");
     }
     config.onset_phases = *phases;
+  }
+  if (const toml::node* tau_as = entry.get("tau_as")) {
+    const TauAs as = reader.choice(*tau_as, tau_as_names, "tau_as");
+    if (!info.fixed_step) {
+      reader.fail(*tau_as, "tau_as is for fixed-step solvers, whose contact time is counted on "
+                           "steps (got " +
+                               config.name + ")");
+    }
+    config.tau_as = as;
   }
   if ((config.atol = read_atol(reader, entry))) {
     reader.require(info.takes_atol, *entry.get("atol"),
