@@ -210,6 +210,27 @@ TEST(Timestep, TheContactTimeAsTheCodeCountsIt) {
   EXPECT_NE(refused.err.find("not a fixed-step solver"), std::string::npos) << refused.err;
 }
 
+// Asked for the force, the answer gives the peak as the code reports it (its largest force at a
+// step, at the answer and its worst phase) beside the exact peak: their difference is the error.
+TEST(Timestep, ThePeakForceAsTheCodeReportsItBesideTheExactOne) {
+  const nlohmann::json answer =
+      answer_of({"timestep", "--scheme", "dem-verlet", "--p", "1.5", "--e", "0.5", "--v0", "1",
+                 "--observables", "e,normal_force_max", "--json"});
+  const double exact = answer["normal_force_max_exact"].get<double>();
+  EXPECT_EQ(exact, closed_forms({"--p", "1.5", "--e", "0.5", "--v0", "1"})["normal_force_max"]
+                       .get<double>());
+  const double reported = answer["normal_force_max_at_worst_phase"].get<double>();
+  EXPECT_LE(std::abs(reported / exact - 1), answer["worst_error"].get<double>() * (1 + 1e-12));
+  const nlohmann::json force_only =
+      answer_of({"timestep", "--scheme", "dem-verlet", "--p", "1.5", "--e", "0.5", "--v0", "1",
+                 "--observables", "normal_force_max", "--json"});
+  EXPECT_NEAR(std::abs(force_only["normal_force_max_at_worst_phase"].get<double>() / exact - 1),
+              force_only["worst_error"].get<double>(), 1e-12);
+  EXPECT_FALSE(answer_of({"timestep", "--scheme", "dem-verlet", "--p", "1.5", "--e", "0.5",
+                          "--v0", "1", "--json"})
+                   .contains("normal_force_max_exact"));
+}
+
 // The error is not monotone in Δt: Hertz e = 0.5, dem-verlet, e within 0.6 % over 64 onset
 // phases fails at τ/Δt = 63.6 yet holds again at 60.2 and 48.3 (0.56 %, 0.60 %), so a bisection
 // between the range's ends could answer there. The search scans up from the tightest step and

@@ -247,9 +247,20 @@ void run_timestep(const TimestepArgs& args, std::ostream& out) {
           ? q.damping
           : seed_alpha(q.p, q.damping_key == "e" ? Damping::Kind::e : Damping::Kind::alpha_eff,
                        q.damping, parse_end(q.end));
-  const StableStep stable =
-      largest_stable_dt(config, {.p = q.p, .alpha = alpha_sent, .v0 = q.v0, .m = q.m, .k = q.k},
-                        scene.limits, contact_time);
+  const Inputs inputs{.p = q.p, .alpha = alpha_sent, .v0 = q.v0, .m = q.m, .k = q.k};
+  if (std::find(q.observables.begin(), q.observables.end(), "normal_force_max") !=
+          q.observables.end() &&
+      group.loosest && group.worst_onset_phase) {
+    // The peak force as the code reports it, the largest force it evaluated at a step (at the
+    // answer and its worst phase), beside the exact peak it is judged against.
+    const solvers::Result<double> at_worst =
+        solve_unchecked(config, inputs, solvers::want_normal_force, scene.limits, {},
+                        *group.loosest, *group.worst_onset_phase);
+    put_number(o, "normal_force_max_at_worst_phase", at_worst.normal_force_max);
+    o["normal_force_max_exact"] = exact_number(
+        *analytic::observables(contact, analytic::want_normal_force).normal_force_max);
+  }
+  const StableStep stable = largest_stable_dt(config, inputs, scene.limits, contact_time);
   put_number(o, "dt_stability",
              stable.limit.empty() && stable.dt > 0 ? std::optional<double>(stable.dt)
                                                    : std::nullopt);
