@@ -257,8 +257,8 @@ void run_timestep(const TimestepArgs& args, std::ostream& out) {
         solve_unchecked(config, inputs, solvers::want_normal_force, scene.limits, {},
                         *group.loosest, *group.worst_onset_phase);
     put_number(o, "normal_force_max_at_worst_phase", at_worst.normal_force_max);
-    o["normal_force_max_exact"] = exact_number(
-        *analytic::observables(contact, analytic::want_normal_force).normal_force_max);
+    o["normal_force_max_exact"] =
+        exact_number(*analytic::observables(contact, analytic::want_normal_force).normal_force_max);
   }
   const StableStep stable = largest_stable_dt(config, inputs, scene.limits, contact_time);
   put_number(o, "dt_stability",
