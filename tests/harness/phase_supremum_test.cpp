@@ -8,6 +8,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -93,6 +94,27 @@ TEST(PhaseSupremum, FindsTheJumpOfTheExitStep) {
     }
   }
   EXPECT_GE(jumps, 1);
+}
+
+// A budget spent before the supremum is found is said (the caller fails the record rather than
+// report a lower bound as the worst); a run that failed at a sampled phase ends the search at once.
+TEST(PhaseSupremum, SaysWhenItsBudgetIsSpent) {
+  const CoarseContact contact;
+  std::vector<PhasePoint> points;
+  for (const double phase : sampled_phases(8)) {
+    points.push_back(contact.point(phase));
+  }
+  const std::vector<PhasePoint> sampled = points;
+  EXPECT_FALSE(refine_to_supremum(points, [&](double phase) { return contact.point(phase); }, 5));
+  EXPECT_EQ(points.size(), sampled.size() + 5);
+  points = sampled;
+  points.front().scores[0] = std::numeric_limits<double>::infinity();
+  int evaluations = 0;
+  EXPECT_TRUE(refine_to_supremum(points, [&](double phase) {
+    ++evaluations;
+    return contact.point(phase);
+  }));
+  EXPECT_EQ(evaluations, 0);
 }
 
 } // namespace

@@ -184,7 +184,8 @@ const GroupTrials::Trial& GroupTrials::trial(double value, int phases) {
   for (const Record& record : records) {
     const std::string cell = cell_text(plan_, plan_.cells[record.cell]);
     if (record.failed()) {
-      trial.failure = fmt::format("{} at {}", record.outcome_name(), cell);
+      trial.failure = fmt::format("{} at {}{}", record.outcome_name(), cell,
+                                  record.failure.empty() ? "" : " (" + record.failure + ")");
       break;
     }
     std::optional<double> largest, phase;
@@ -336,7 +337,7 @@ std::string search_measure(const Search& search) {
                      search.quantile == 1 ? std::string("largest")
                                           : fmt::format("{:g} quantile of the", search.quantile),
                      search.relative ? "relative" : "absolute", search.observable,
-                     fixed_step(search) ? " and onset phases" : "");
+                     fixed_step(search) ? " and every onset phase" : "");
 }
 
 double search_runs_estimate(const Search& search) {

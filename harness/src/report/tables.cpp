@@ -232,9 +232,9 @@ std::string budget_table_note(const Plan& plan) {
 }
 
 namespace {
-// ", onset phase 0.33585" (17 digits: `solve --onset-phase` reproduces it), or nothing.
+// ", phase 0.3359" (report.json has every digit, which `solve --onset-phase` takes), or nothing.
 std::string phase_text(const std::optional<double>& phase) {
-  return phase ? fmt::format(", onset phase {:.17g}", *phase) : std::string();
+  return phase ? fmt::format(", phase {:.4g}", *phase) : std::string();
 }
 } // namespace
 
@@ -274,9 +274,11 @@ std::string search_table_note(const RunReport& report) {
   }
   return out + (out.empty()
                     ? ""
-                    : " By bisection on the parameter's logarithm, assuming the error grows "
-                      "as it loosens: the loosest value kept the bound, the next one "
-                      "tried broke it.");
+                    : " Scanned from the range's tight end at 8 values a decade and bisected on "
+                      "the parameter's logarithm at the first failure, then 16 values up to "
+                      "twice as tight checked: the loosest value kept the bound, the next one "
+                      "tried broke it (its error and onset phase in brackets; report.json has "
+                      "the phases to the last digit).");
 }
 
 MapTable trajectory_table(const RunReport& report) {

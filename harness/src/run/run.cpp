@@ -427,9 +427,8 @@ void judge_record(const Plan& plan, Record& record, const RecordTruth& truth,
 }
 
 // SolverConfig::every_phase: the sampled phases refined to the worst over every onset phase of each
-// observable's relative error (run/phase_supremum.hpp), the runs it takes appended; a supremum not
-// resolved within the refinement's budget is said in the record's note (its worst is then a lower
-// bound).
+// observable's relative error (run/phase_supremum.hpp), the runs it takes appended. A supremum not
+// resolved within the refinement's budget fails the record: its worst would only be a lower bound.
 template <SupportedReal Real>
 void seek_every_phase(const SolverConfig& config, ExternalSolver* external,
                       RecordSetup<Real>& setup, Record& record,
@@ -468,10 +467,9 @@ void seek_every_phase(const SolverConfig& config, ExternalSolver* external,
                    [&](const PhasePoint& p) { return p.phase == last; })) {
     points.push_back(evaluate(last));
   }
-  if (!refine_to_supremum(points, evaluate)) {
-    record.note += std::string(record.note.empty() ? "" : "; ") +
-                   "the worst onset phase is not resolved within the refinement's budget: its "
-                   "error is a lower bound";
+  if (!refine_to_supremum(points, evaluate) && record.failure.empty()) {
+    record.failure = "the worst onset phase is not resolved within the refinement's budget: its "
+                     "error would be a lower bound";
   }
 }
 
