@@ -105,7 +105,8 @@ TEST(PhaseSupremum, SaysWhenItsBudgetIsSpent) {
     points.push_back(contact.point(phase));
   }
   const std::vector<PhasePoint> sampled = points;
-  EXPECT_FALSE(refine_to_supremum(points, [&](double phase) { return contact.point(phase); }, 5));
+  EXPECT_FALSE(refine_to_supremum(
+      points, [&](double phase) { return contact.point(phase); }, 5));
   EXPECT_EQ(points.size(), sampled.size() + 5);
   points = sampled;
   points.front().scores[0] = std::numeric_limits<double>::infinity();
