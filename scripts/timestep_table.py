@@ -69,7 +69,7 @@ def main():
         "§5.2), for τ as the user's code measures it (`--tau-as`, §5.1): the first step position out",
         "of contact / the steps in contact times Δt / δ = 0 interpolated. The search scans up from",
         "τ/min(10⁵, 30/tolerance) at 8 values a decade, bisects the first failure to 2 % and checks",
-        "16 steps down to half the answer (the error is not monotone in Δt): every Δt it tried below",
+        "8 steps down to half the answer (the error is not monotone in Δt): every Δt it tried below",
         "the answer held at every phase, and the first that failed (≤ 2 % beyond) fails at a phase",
         "the answer names (`dt_failing`, `failing_onset_phase`). Counting steps makes τ's error a",
         "sawtooth in τ/Δt, so `steps-in-contact` can ask for more steps than the interpolated",

@@ -110,6 +110,9 @@ public:
   // at max_steps; time_limit past max_seconds or on a stop request, looked at every 256 steps (a
   // clock read costs ~20 ns, a DEM code's step ~60 ns) or, with `every_call`, at each call.
   std::optional<Outcome> out_of_budget(long steps, bool every_call = false) const;
+  // Whether out_of_budget(steps) can say anything: a fixed-step loop asks after every step, and
+  // the call with its std::optional through memory was 40 % of a scalar DEM solve.
+  bool budget_due(long steps) const { return steps >= options_.max_steps || steps % 256 == 0; }
   // A lane of a batch (batch_lanes.hpp, SharedClock): `others`, the time the batch spent on the
   // other lanes, is not this solve's, and max_seconds does not count it.
   void discount_time(std::chrono::steady_clock::duration others) { start_ += others; }

@@ -115,9 +115,11 @@ public:
       outcome = Outcome::unstable;
       return true;
     }
-    if (const auto spent = collision_.out_of_budget(steps)) {
-      outcome = *spent;
-      return true;
+    if (collision_.budget_due(steps)) {
+      if (const auto spent = collision_.out_of_budget(steps)) {
+        outcome = *spent;
+        return true;
+      }
     }
     return false;
   }

@@ -56,7 +56,8 @@ Result<double> solve_verlet(const Problem<double>& problem, const Options<double
   double power = dashpot_power(y[0], y[1]);
   long steps = 0;
   for (;;) {
-    if (const auto spent = collision.out_of_budget(steps)) {
+    if (const auto spent =
+            collision.budget_due(steps) ? collision.out_of_budget(steps) : std::nullopt) {
       return collision.finish(*spent, steps);
     }
     const State y_old = y;

@@ -584,7 +584,7 @@ bound_rel = 1e-4
   const int answer = static_cast<int>(*group.loosest);
   EXPECT_GT(answer, 688);
   SolverConfig config = scene.searches.front().config;
-  for (int n = answer; n <= std::max(answer + 20, 700); ++n) {
+  for (int n = answer; n <= answer + 150; ++n) {
     config.steps_per_contact = n;
     EXPECT_LE(e_error(config, 1.5, 0.8, 61), 1e-4) << n << " steps per contact";
   }

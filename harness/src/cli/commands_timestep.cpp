@@ -6,6 +6,7 @@
 #include "cli/contact_args.hpp"
 #include "cli/materials.hpp"
 #include "common/observables.hpp"
+#include "common/parallel.hpp"
 #include "judge/search.hpp"
 #include "judge/solve.hpp"
 #include "truth/plan.hpp"
@@ -204,7 +205,9 @@ void run_timestep(const TimestepArgs& args, std::ostream& out) {
   Scene scene = parse_scene(timestep_scene_text(q), "timestep");
   Search& search = scene.searches.front();
   search.more_observables.assign(q.observables.begin() + 1, q.observables.end());
-  GroupTrials trials("timestep", search_groups_of(scene, search).front().second, search, 1);
+  // One cell: the trials themselves side by side on the cores (the scan's next values, the band).
+  GroupTrials trials("timestep", search_groups_of(scene, search).front().second, search,
+                     all_cores());
   const SearchGroup group = trials.answer();
 
   o["scheme"] = args.scheme;

@@ -71,6 +71,14 @@ std::vector<std::string> search_observable_keys(const Search& search) {
   return keys;
 }
 
+unsigned judged_want(const Search& search) {
+  unsigned want = 0;
+  for (const std::string& key : search_observable_keys(search)) {
+    want |= find_observable(key)->solver_want;
+  }
+  return want;
+}
+
 std::vector<std::pair<std::string, Scene>> search_groups_of(const Scene& scene,
                                                             const Search& search) {
   Scene base = with_cells(scene, search.grid);
@@ -80,10 +88,11 @@ std::vector<std::pair<std::string, Scene>> search_groups_of(const Scene& scene,
   base.figures.clear();
   base.repeats = 1;
   base.configs = {search.config};
-  // Only what the search judges is solved for (and its worst sought over every onset phase).
-  base.want = 0;
-  for (const std::string& key : search_observable_keys(search)) {
-    base.want |= find_observable(key)->solver_want;
+  // Only what the search judges is solved for (and its worst sought over every onset phase), and
+  // with δ_max the peak's time: where its step changes, δ_max has a kink (phase_supremum.hpp).
+  base.want = judged_want(search);
+  if ((base.want & solvers::want_delta_max) != 0) {
+    base.want |= solvers::want_t_peak;
   }
   std::vector<std::pair<std::string, Scene>> groups;
   const bool by_p = search.group_by == SearchGroups::p || search.group_by == SearchGroups::point;
@@ -153,36 +162,84 @@ std::vector<double> search_scan(const Search& search) {
 
 GroupTrials::GroupTrials(std::string name, const Scene& group_scene, const Search& search,
                          const Workers& workers)
-    : name_(std::move(name)), plan_(make_plan(group_scene)), search_(search), workers_(workers) {}
+    : name_(std::move(name)), plan_(make_plan(group_scene)), search_(search),
+      judged_want_(judged_want(search)), workers_(workers) {}
 
-const GroupTrials::Trial& GroupTrials::trial(double value, int phases) {
-  const auto key = std::make_pair(value, phases);
-  if (const auto found = trials_.find(key); found != trials_.end()) {
-    return found->second;
+const GroupTrials::Trial* GroupTrials::kept(double value, int phases, double bound) const {
+  const auto found = trials_.find(std::make_pair(value, phases));
+  if (found == trials_.end()) {
+    return nullptr;
   }
-  SolverConfig& config = plan_.configs.front();
+  const Trial& trial = found->second;
+  const bool usable = !trial.measured || *trial.measured <= trial.enough || *trial.measured > bound;
+  return usable ? &trial : nullptr;
+}
+
+const GroupTrials::Trial& GroupTrials::trial(double value, int phases, double bound) {
+  if (const Trial* known = kept(value, phases, bound)) {
+    return *known;
+  }
+  long runs = 0;
+  Trial computed = compute(plan_, workers_, value, phases, bound, runs);
+  solver_runs_ += runs;
+  return trials_.insert_or_assign(std::make_pair(value, phases), std::move(computed)).first->second;
+}
+
+void GroupTrials::prefetch(const std::vector<double>& values, int phases, double bound) {
+  std::vector<double> missing;
+  for (const double value : values) {
+    if (kept(value, phases, bound) == nullptr &&
+        std::find(missing.begin(), missing.end(), value) == missing.end()) {
+      missing.push_back(value);
+    }
+  }
+  // Trials side by side: each on a copy of the plan, one thread each. Not with MPI ranks (their
+  // trials must follow one another alike) nor an external program (one process per plan).
+  if (missing.size() < 2 || workers_.jobs < 2 || workers_.shared() ||
+      plan_.configs.front().external()) {
+    return;
+  }
+  std::vector<long> runs(missing.size(), 0);
+  std::vector<Trial> computed =
+      map_indices<Trial>(missing.size(), workers_.jobs, [&](std::size_t i) {
+        Plan copy = plan_;
+        return compute(copy, Workers(1), missing[i], phases, bound, runs[i]);
+      });
+  for (std::size_t i = 0; i < missing.size(); ++i) {
+    solver_runs_ += runs[i];
+    trials_.insert_or_assign(std::make_pair(missing[i], phases), std::move(computed[i]));
+  }
+}
+
+GroupTrials::Trial GroupTrials::compute(Plan& plan, const Workers& workers, double value,
+                                        int phases, double bound, long& runs) const {
+  SolverConfig& config = plan.configs.front();
   set_parameter(config, search_.parameter, value);
   config.onset_phases = phases;
-  config.every_phase = fixed_step(search_);
+  config.every_phase = fixed_step(search_) ? judged_want_ : 0;
+  // A relative bound: the worst of a relative error is sought no further than past it (the value
+  // fails whatever the worst is). The seeking maximizes relative errors, so an absolute bound
+  // does not stop it.
+  config.every_phase_enough = search_.relative ? bound : std::numeric_limits<double>::infinity();
   RunTotals totals;
-  const std::vector<Record> records = run_plan(plan_, workers_, totals);
-  solver_runs_ += totals.solver_runs;
+  const std::vector<Record> records = run_plan(plan, workers, totals);
+  runs = totals.solver_runs;
   // The observables judged: the search's, then any more (`pldamp timestep`); a cell's error is
   // the largest over them, and its onset phase that observable's worst.
   const std::vector<std::string> keys = search_observable_keys(search_);
   std::vector<std::size_t> columns;
   for (const std::string& wanted : keys) {
     columns.push_back(static_cast<std::size_t>(
-        std::find_if(plan_.observables.begin(), plan_.observables.end(),
+        std::find_if(plan.observables.begin(), plan.observables.end(),
                      [&](const Observable* o) { return o->key == wanted; }) -
-        plan_.observables.begin()));
+        plan.observables.begin()));
   }
   Trial trial;
   std::vector<double> errors;
   std::vector<std::string> where;
   std::vector<std::optional<double>> phase_of;
   for (const Record& record : records) {
-    const std::string cell = cell_text(plan_, plan_.cells[record.cell]);
+    const std::string cell = cell_text(plan, plan.cells[record.cell]);
     if (record.failed()) {
       trial.failure = fmt::format("{} at {}{}", record.outcome_name(), cell,
                                   record.failure.empty() ? "" : " (" + record.failure + ")");
@@ -213,7 +270,8 @@ const GroupTrials::Trial& GroupTrials::trial(double value, int phases) {
     trial.worst = where[at];
     trial.worst_phase = phase_of[at];
   }
-  return trials_.emplace(key, trial).first->second;
+  trial.enough = config.every_phase_enough;
+  return trial;
 }
 
 bool GroupTrials::holds(const Trial& trial, double bound) const {
@@ -233,7 +291,7 @@ SearchGroup GroupTrials::answer(std::optional<double> bound_given) {
     if (std::find(tried.begin(), tried.end(), value) == tried.end()) {
       tried.push_back(value);
     }
-    return trial(value, phases);
+    return trial(value, phases, bound);
   };
   // Bisects between a value that held and one that failed; returns the loosest that held and sets
   // group.failing.
@@ -261,7 +319,13 @@ SearchGroup GroupTrials::answer(std::optional<double> bound_given) {
   };
   // The scan from the tightest end to the first failure, then the bisection there.
   std::size_t first_failure = scan.size();
+  const auto threads = static_cast<std::size_t>(std::max(workers_.jobs, 1));
   for (std::size_t i = 0; i < scan.size(); ++i) {
+    if (i % threads == 0) { // the next values side by side (the scan stops at a failure)
+      prefetch({scan.begin() + static_cast<std::ptrdiff_t>(i),
+                scan.begin() + static_cast<std::ptrdiff_t>(std::min(scan.size(), i + threads))},
+               phases, bound);
+    }
     ++group.scanned;
     if (!holds(attempt(scan[i]), bound)) {
       first_failure = i;
@@ -269,7 +333,7 @@ SearchGroup GroupTrials::answer(std::optional<double> bound_given) {
     }
   }
   if (first_failure == 0) {
-    const Trial& tight = trial(scan[0], phases);
+    const Trial& tight = trial(scan[0], phases, bound);
     group.failing = scan[0];
     group.measured = tight.measured;
     group.worst = tight.worst;
@@ -286,16 +350,19 @@ SearchGroup GroupTrials::answer(std::optional<double> bound_given) {
   // The scan sees the error at 8 values a decade, and between two of them it could rise above the
   // bound and fall again (when the phases were sampled it did: a report answered 546 steps per
   // contact for e within 1e-4 where counts from 548 to 600 failed). So values up to twice as tight
-  // as the answer are checked too (each step count when there are at most 32, else 16
-  // log-spaced; a first-order error is half the bound there), and where one fails the answer is
-  // sought again tighter than the tightest that fails, until the band holds.
+  // as the answer are checked too (each step count when there are at most 16, else 8 log-spaced;
+  // a first-order error is half the bound there; 16 before the worst was over every phase, 8 now
+  // to keep `timestep` under a second), and where one fails the answer is sought again tighter
+  // than the tightest that fails, until the band holds.
   while (fixed_step(search_) && group.loosest) {
     const bool steps = search_.parameter == SearchParameter::steps_per_contact;
     const double answer = *group.loosest;
     const double edge = steps ? std::min(2 * answer, scan.front()) // the range's tight end
                               : std::max(answer / 2, scan.front());
     std::optional<double> failed; // the tightest value of the band that fails
-    for (const double value : band_between(search_.parameter, answer, edge)) {
+    const std::vector<double> band = band_between(search_.parameter, answer, edge);
+    prefetch(band, phases, bound);
+    for (const double value : band) {
       if (!holds(attempt(value), bound) &&
           (!failed || (steps ? value > *failed : value < *failed))) {
         failed = value;
@@ -314,13 +381,13 @@ SearchGroup GroupTrials::answer(std::optional<double> bound_given) {
     }
   }
   if (group.loosest) {
-    const Trial& best = trial(*group.loosest, phases);
+    const Trial& best = trial(*group.loosest, phases, bound);
     group.measured = best.measured;
     group.worst = best.worst;
     group.worst_onset_phase = best.worst_phase;
   }
   if (group.failing) {
-    const Trial& beyond = trial(*group.failing, phases);
+    const Trial& beyond = trial(*group.failing, phases, bound);
     group.failing_measured = beyond.measured;
     group.failing_onset_phase = beyond.worst_phase;
     if (!beyond.failure.empty() && first_failure > 0) {

@@ -13,8 +13,8 @@
 // simulation does not control): every trial of a steps_per_contact or dt search takes each cell's
 // worst over every onset phase (SolverConfig::every_phase, run/phase_supremum.hpp), sought from
 // `onset_phases` sampled phases k/n (default 8). Last, the values between the answer and twice as
-// tight are checked (every step count there, or 16 log-spaced), and the answer sought again
-// tighter than any that fails.
+// tight are checked (every step count there when there are at most 16, or 8 log-spaced), and the
+// answer sought again tighter than any that fails.
 //
 // Each trial solves every cell of the group once, through a plan of its own (truth/plan.hpp: the
 // same references and errors as the run's records); the solver runs are counted. A record that
@@ -74,21 +74,32 @@ private:
     std::optional<double> measured;
     std::string worst, failure;
     std::optional<double> worst_phase;
+    double enough = 0; // its worst was sought until an error passed this (the bound then asked)
   };
-  const Trial& trial(double value, int phases);
+  // At one value, judged against `bound`: a trial kept from another bound serves when its worst is
+  // complete (at most the bound it was sought under) or already beyond `bound`.
+  const Trial& trial(double value, int phases, double bound);
+  const Trial* kept(double value, int phases, double bound) const;
+  // The trials of `values` not kept yet, side by side on the workers' threads.
+  void prefetch(const std::vector<double>& values, int phases, double bound);
+  Trial compute(Plan& plan, const Workers& workers, double value, int phases, double bound,
+                long& runs) const;
   bool holds(const Trial& trial, double bound) const;
   std::vector<double> scan_values() const;
 
   std::string name_;
   Plan plan_; // the group's cells and the search's configuration, its references computed once
   const Search& search_;
-  Workers workers_; // each trial's cells: threads, and ranks when shared
+  unsigned judged_want_; // the observables judged (solvers::Want bits)
+  Workers workers_;      // each trial's cells: threads, and ranks when shared
   std::map<std::pair<double, int>, Trial> trials_;
   long solver_runs_ = 0;
 };
 
-// The observables a search judges: its own, then any more (`pldamp timestep`).
+// The observables a search judges: its own, then any more (`pldamp timestep`); as solvers::Want
+// bits.
 std::vector<std::string> search_observable_keys(const Search& search);
+unsigned judged_want(const Search& search);
 
 // The groups of cells a search answers for, each as a scene of its own: its grid split by p,
 // damping, both, or not at all, with the search's configuration alone.

@@ -99,7 +99,8 @@ StableStep largest_stable_dt(const SolverConfig& config, const Inputs& in, const
                                   solvers::outcome_name(r.outcome), dt, phase);
       }
       const bool returned = r.outcome == solvers::Outcome::exited && r.e;
-      return PhasePoint{.phase = phase, .piece = r.steps, .scores = {returned ? *r.e : inf}};
+      return PhasePoint{
+          .phase = phase, .piece = piece_of(r, phase), .scores = {returned ? *r.e : inf}};
     };
     std::vector<PhasePoint> points;
     for (const double phase : sampled_phases(8)) {

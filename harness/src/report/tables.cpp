@@ -110,7 +110,7 @@ std::string step_study_description(const StepStudy& study) {
       "the sweep's range (judge/search.hpp): scanned from the finest step, 8 values a decade, then "
       "bisected at the first failure, each value's error the worst over every onset phase (sought "
       "from {} sampled: the jumps where the exit step changes bisected to 2^-52, each smooth "
-      "maximum by Brent's method), and 16 values up to twice as tight checked, the answer sought "
+      "maximum by Brent's method), and 8 values up to twice as tight checked, the answer sought "
       "again past any that fails{}. Per p, the worst over the grid's dampings. The order is the "
       "slope "
       "of the worst error in e against Δt over the finest half of the sweep.",
@@ -275,7 +275,7 @@ std::string search_table_note(const RunReport& report) {
   return out + (out.empty()
                     ? ""
                     : " Scanned from the range's tight end at 8 values a decade and bisected on "
-                      "the parameter's logarithm at the first failure, then 16 values up to "
+                      "the parameter's logarithm at the first failure, then 8 values up to "
                       "twice as tight checked: the loosest value kept the bound, the next one "
                       "tried broke it (its error and onset phase in brackets; report.json has "
                       "the phases to the last digit).");

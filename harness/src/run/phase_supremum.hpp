@@ -1,14 +1,14 @@
 // The worst over every onset phase φ ∈ [0, 1) of a fixed-step scheme's errors, not over a sample
 // of phases (docs/MATH.md §5.2). For a fixed step the scheme's results are piecewise smooth in φ:
-// the pieces change where the step position leaving the contact changes (its count of steps), and
-// there e and τ jump. So, from values at sampled phases (k/n, and the largest double below 1):
+// the pieces change where the step position leaving the contact changes (there e and τ jump) or
+// the one holding a peak does (there δ_max and the peak force have a kink). So, from values at
+// sampled phases (k/n, and the largest double below 1):
 //   1. every change of the piece between two neighbouring phases is bisected to the double's
 //      resolution in φ (2^-52), both sides evaluated: the supremum at a jump is approached from
-//      one side and reached there to that resolution (a phase at which another piece begins in
-//      between is bisected on both sides);
+//      one side and reached there to that resolution, a kink's at it (a phase at which another
+//      piece begins in between is bisected on both sides);
 //   2. every sampled local maximum of a score inside a piece is sought by Brent's method between
-//      its neighbours: a smooth maximum, or a kink where the step holding the peak changes (the
-//      maximum of a unimodal function either way);
+//      its neighbours;
 //   3. a piece found in between by step 2 sends the search back to step 1.
 // Every point evaluated is a real phase: the worst found is reached at a phase the caller reports,
 // and a user reproduces it with `solve --onset-phase`. A score is what to maximize (a relative
@@ -27,9 +27,28 @@ namespace pldamp::harness {
 
 struct PhasePoint {
   double phase = 0;
-  long piece = 0;             // the scheme's steps to the exit (any id of a smooth piece)
+  long piece = 0;             // which smooth piece it lies on (piece_of)
   std::vector<double> scores; // one per quantity maximized
 };
+
+// Which smooth piece a fixed-step run at `phase` lies on: its steps to the exit, and the step
+// positions holding the overlap's and the force's peaks (a kink where either changes, located by
+// bisection like a jump). A peak time on the step grid (the DEM loops report the position) is
+// that position; between positions (verlet-predicted interpolates) the interval's start.
+template <class Result>
+long piece_of(const Result& result, double phase) {
+  long piece = result.steps;
+  for (const auto& time : {result.t_peak, result.t_normal_force_max}) {
+    long index = -1;
+    if (time && result.fixed_step) {
+      const double steps = static_cast<double>(*time / *result.fixed_step) - phase;
+      const double nearest = std::round(steps);
+      index = static_cast<long>(std::abs(steps - nearest) < 1e-6 ? nearest : std::floor(steps));
+    }
+    piece = piece * 1000003 + index;
+  }
+  return piece;
+}
 
 // The phases a search begins with: k/n and the largest double below 1 (φ → 1 is not φ = 0: at
 // φ = 0 a step position falls on the moment of contact).
@@ -43,22 +62,27 @@ inline std::vector<double> sampled_phases(int n) {
 }
 
 // Refines `points` (at least the sampled phases, any order) with evaluate(φ) -> PhasePoint until
-// the supremum of every score is found, or `budget` evaluations are spent (returns false then:
-// the worst found is a lower bound).
+// the supremum of every score is found, or a score exceeds `enough` (a search's bound: the value
+// fails whatever the supremum), or `budget` evaluations are spent (returns false then: the worst
+// found is a lower bound).
 template <class Evaluate>
-bool refine_to_supremum(std::vector<PhasePoint>& points, Evaluate&& evaluate, int budget = 4000) {
+bool refine_to_supremum(std::vector<PhasePoint>& points, Evaluate&& evaluate, int budget = 4000,
+                        double enough = std::numeric_limits<double>::infinity()) {
   constexpr double resolution = 0x1p-52;
   constexpr double inf = std::numeric_limits<double>::infinity();
   int spent = 0;
-  auto failed = [&] {
-    return std::any_of(points.begin(), points.end(), [](const PhasePoint& p) {
-      return std::any_of(p.scores.begin(), p.scores.end(),
-                         [](double s) { return !(s < inf); }); // +inf or NaN
-    });
+  bool beyond = false; // a score above `enough`, +inf or NaN: nothing more to seek
+  auto note = [&](const PhasePoint& point) {
+    for (const double score : point.scores) {
+      beyond = beyond || !(score < inf && score <= enough);
+    }
   };
+  std::for_each(points.begin(), points.end(), note);
+  auto failed = [&] { return beyond; };
   auto at = [&](double phase) -> const PhasePoint& {
     ++spent;
     points.push_back(evaluate(phase));
+    note(points.back());
     return points.back();
   };
   auto by_phase = [&] {
@@ -67,7 +91,7 @@ bool refine_to_supremum(std::vector<PhasePoint>& points, Evaluate&& evaluate, in
   };
   // Step 1 between two phases of different pieces.
   auto bisect = [&](auto&& self, double a, long piece_a, double b, long piece_b) -> void {
-    while (b - a > resolution && spent < budget) {
+    while (b - a > resolution && spent < budget && !failed()) {
       const double mid = a + (b - a) / 2;
       if (mid <= a || mid >= b) {
         return;
@@ -123,20 +147,23 @@ bool refine_to_supremum(std::vector<PhasePoint>& points, Evaluate&& evaluate, in
       }
     }
     for (const Bracket& bracket : brackets) {
-      if (spent >= budget) {
+      if (spent >= budget || failed()) {
         break;
       }
       sought.emplace_back(bracket.a, bracket.b);
       std::uintmax_t iterations = 30;
       boost::math::tools::brent_find_minima(
           [&](double phase) {
+            if (failed()) {
+              return 0.0; // nothing more is sought
+            }
             const PhasePoint& point = at(phase);
             const double score = point.scores[bracket.score];
             return score > -inf ? -score : inf;
           },
           bracket.a, bracket.b, 20, iterations);
     }
-    if (points.size() == before || spent >= budget) {
+    if (points.size() == before || spent >= budget || failed()) {
       break;
     }
     // Another round only finds something where step 2 met a piece between two of the same.

@@ -426,22 +426,26 @@ void judge_record(const Plan& plan, Record& record, const RecordTruth& truth,
   }
 }
 
-// SolverConfig::every_phase: the sampled phases refined to the worst over every onset phase of each
-// observable's relative error (run/phase_supremum.hpp), the runs it takes appended. A supremum not
-// resolved within the refinement's budget fails the record: its worst would only be a lower bound.
+// SolverConfig::every_phase: the sampled phases refined to the worst over every onset phase of the
+// relative error of each observable it names (run/phase_supremum.hpp), the runs it takes appended.
+// A supremum not resolved within the refinement's budget fails the record: its worst would only be
+// a lower bound.
 template <SupportedReal Real>
 void seek_every_phase(const SolverConfig& config, ExternalSolver* external,
                       RecordSetup<Real>& setup, Record& record,
                       std::vector<PhaseRun<Real>>& phase_runs) {
-  if (!config.every_phase) {
+  if (config.every_phase == 0) {
     return;
   }
+  const std::vector<const Observable*>& observables = setup.truth.plan.observables;
   constexpr double inf = std::numeric_limits<double>::infinity();
   auto point_of = [&](const PhaseRun<Real>& run) {
-    PhasePoint point{.phase = run.phase, .piece = run.result.steps, .scores = {}};
+    PhasePoint point{.phase = run.phase, .piece = piece_of(run.result, run.phase), .scores = {}};
     const bool failed = solvers::failing(run.result.outcome);
-    for (const Measured& m : measure(setup.truth, run.result)) {
-      point.scores.push_back(failed ? inf : m.rel_error.value_or(-inf));
+    const std::vector<Measured> measured = measure(setup.truth, run.result);
+    for (std::size_t o = 0; o < measured.size(); ++o) {
+      const bool sought = (observables[o]->solver_want & config.every_phase) != 0;
+      point.scores.push_back(failed ? inf : sought ? measured[o].rel_error.value_or(-inf) : -inf);
     }
     return point;
   };
@@ -467,7 +471,8 @@ void seek_every_phase(const SolverConfig& config, ExternalSolver* external,
                    [&](const PhasePoint& p) { return p.phase == last; })) {
     points.push_back(evaluate(last));
   }
-  if (!refine_to_supremum(points, evaluate) && record.failure.empty()) {
+  if (!refine_to_supremum(points, evaluate, 4000, config.every_phase_enough) &&
+      record.failure.empty()) {
     record.failure = "the worst onset phase is not resolved within the refinement's budget: its "
                      "error would be a lower bound";
   }

@@ -12,6 +12,7 @@
 #include "pldamp/solvers/problem.hpp"
 
 #include <array>
+#include <limits>
 #include <optional>
 #include <string>
 #include <string_view>
@@ -45,9 +46,12 @@ struct SolverConfig {
   std::optional<double> dt;             // fixed-step solvers: a fixed step instead (searches)
   std::optional<solvers::End> end;      // the contact-end rule, when not the scene's
   int onset_phases = 1; // fixed-step solvers: evenly spaced onset phases k/n, worst reported
-  // Fixed-step solvers: the worst over every onset phase (run/phase_supremum.hpp), sought from
-  // the onset_phases sampled; searches set it. A reported sweep samples.
-  bool every_phase = false;
+  // Fixed-step solvers: the observables (solvers::Want bits) whose worst over every onset phase is
+  // sought from the onset_phases sampled (run/phase_supremum.hpp); searches set it to theirs. 0:
+  // the worst over the samples (a reported sweep).
+  unsigned every_phase = 0;
+  // The seeking may stop once one of their errors passes this (a search's bound: the value fails).
+  double every_phase_enough = std::numeric_limits<double>::infinity();
   TauAs tau_as = TauAs::first_step_out; // the contact time as the user's code measures it
   // An external solver (run/external.hpp): the program and its arguments, started once per
   // configuration; `name` is then the [[solver]]'s label. `options` is its [[solver]] options

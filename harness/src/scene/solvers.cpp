@@ -33,7 +33,7 @@ std::string SolverConfig::label() const {
   if (end) {
     out += " end=" + std::string(name_of(contact_ends, *end));
   }
-  if (every_phase) {
+  if (every_phase != 0) {
     out += " phases=every";
   } else if (onset_phases > 1) {
     out += fmt::format(" phases={}", onset_phases);
