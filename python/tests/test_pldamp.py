@@ -273,6 +273,23 @@ def test_solve_calibrate_and_timestep_answer_as_the_command_line():
     assert step["tau_over_dt"] > 50
 
 
+def test_tau_as_the_code_counts_it():
+    # The answer names how tau is counted, and holds at the phase it names as worst: `solve` there
+    # gives its error again, counted the same way.
+    step = pldamp.timestep("dem-verlet", p=1.5, e=0.5, v0=1.0, observables="tau",
+                           tau_as="crossing")
+    assert step["tau_as"] == "crossing" and step["worst_error"] <= 0.01
+    at = pldamp.solve("dem-verlet", p=1.5, e=0.5, v0=1.0, dt=step["dt"],
+                      onset_phase=step["worst_onset_phase"], tau_as="crossing")
+    assert at["tau"] == at["tau_crossing"]
+    assert abs(relative(at["tau"], step["tau"]) - step["worst_error"]) < 1e-12
+    counted = pldamp.solve("dem-verlet", p=1.5, e=0.5, v0=1.0, dt=0.05, onset_phase=0.3,
+                           tau_as="steps-in-contact")
+    assert counted["tau"] == counted["steps_in_contact"] * 0.05
+    with pytest.raises(ValueError, match="--tau-as must be"):
+        pldamp.timestep("dem-verlet", p=1.5, e=0.5, tau_as="rounded")
+
+
 def test_run_returns_the_report(tmp_path):
     scene = os.path.join(DATA, "scenes", "quick.toml")
     report = pldamp.run(scene, out=tmp_path)
