@@ -232,7 +232,8 @@ void run_timestep(const TimestepArgs& args, std::ostream& out) {
                group.loosest ? std::optional<double>(contact_time / *group.loosest) : std::nullopt);
   }
   // How tight: the worst error at the answer over every onset phase and the phase it is reached
-  // at; the next Δt tried beyond it (within the search's 2 %) and its failing phase and error.
+  // at; the next Δt tried beyond it (within the search's 2 %), a phase where it fails and the
+  // error there (the first found beyond the tolerance: the seeking stops there).
   put_number(o, "worst_error", group.measured);
   put_number(o, "worst_onset_phase", group.worst_onset_phase);
   put_number(o, "dt_failing", group.failing);
