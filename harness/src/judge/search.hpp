@@ -46,8 +46,9 @@ struct SearchGroup {
   int onset_phases = 1;     // the phases each fixed-step trial sampled before seeking every phase
   bool every_phase = false; // a fixed step: each trial's worst is over every onset phase
   int band_refinements = 0; // times a value between the answer and the scan failed, and moved it
-  std::optional<double> failing_measured;    // the error at `failing`
-  std::optional<double> failing_onset_phase; // and the onset phase it comes from
+  // The error at `failing` (a relative bound: the first found beyond it, where the seeking stops)
+  // and the onset phase it comes from.
+  std::optional<double> failing_measured, failing_onset_phase;
   long solver_runs = 0;
   std::string note; // a failed record, the bound held over the whole range, ...
 };
