@@ -217,8 +217,9 @@ TEST(Timestep, ThePeakForceAsTheCodeReportsItBesideTheExactOne) {
       answer_of({"timestep", "--scheme", "dem-verlet", "--p", "1.5", "--e", "0.5", "--v0", "1",
                  "--observables", "e,normal_force_max", "--json"});
   const double exact = answer["normal_force_max_exact"].get<double>();
-  EXPECT_EQ(exact, closed_forms({"--p", "1.5", "--e", "0.5", "--v0", "1"})["normal_force_max"]
-                       .get<double>());
+  EXPECT_EQ(
+      exact,
+      closed_forms({"--p", "1.5", "--e", "0.5", "--v0", "1"})["normal_force_max"].get<double>());
   const double reported = answer["normal_force_max_at_worst_phase"].get<double>();
   EXPECT_LE(std::abs(reported / exact - 1), answer["worst_error"].get<double>() * (1 + 1e-12));
   const nlohmann::json force_only =
@@ -226,8 +227,8 @@ TEST(Timestep, ThePeakForceAsTheCodeReportsItBesideTheExactOne) {
                  "--observables", "normal_force_max", "--json"});
   EXPECT_NEAR(std::abs(force_only["normal_force_max_at_worst_phase"].get<double>() / exact - 1),
               force_only["worst_error"].get<double>(), 1e-12);
-  EXPECT_FALSE(answer_of({"timestep", "--scheme", "dem-verlet", "--p", "1.5", "--e", "0.5",
-                          "--v0", "1", "--json"})
+  EXPECT_FALSE(answer_of({"timestep", "--scheme", "dem-verlet", "--p", "1.5", "--e", "0.5", "--v0",
+                          "1", "--json"})
                    .contains("normal_force_max_exact"));
 }
 

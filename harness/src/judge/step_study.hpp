@@ -10,9 +10,9 @@
 //
 // The steps needed are the answers of [[search]]'s engine (judge/search.hpp) over the sweep's
 // range, one search per point, each trial the worst over every onset phase (sought from 8): the
-// same question asked as a [[search]] gets the same answer. An external program is not searched (each run can cost milliseconds): its answer is
-// read off its sweep, the coarsest sweep value from which every finer one holds (an upper bound,
-// `from_sweep`).
+// same question asked as a [[search]] gets the same answer. An external program is not searched
+// (each run can cost milliseconds): its answer is read off its sweep, the coarsest sweep value from
+// which every finer one holds (an upper bound, `from_sweep`).
 #pragma once
 
 #include "run/record_store.hpp"
