@@ -55,6 +55,13 @@ v0 = [9223372036854775807]
 )",
        "5: v0 is an integer beyond 2^53, which no double holds exactly: write it as a float (got "
        "9223372036854775807)"},
+      // Decimal only, as on the command line: TOML's other bases read 0x10 as 16 m/s.
+      {"name = \"t\"\n[grid]\np = [1.5]\ne = [0.5]\nv0 = [0x10]\n",
+       "5: v0 must be written in decimal (got 0x10)"},
+      {"name = \"t\"\n[grid]\np = [1.5]\ne = [0.5]\nv0 = [0o17]\n",
+       "5: v0 must be written in decimal (got 0o17)"},
+      {"name = \"t\"\n[grid]\np = [0b1]\ne = [0.5]\nv0 = [1.0]\n",
+       "3: p must be written in decimal (got 0b1)"},
       {R"([grid]
 p = []
 e = [0.5]

@@ -80,6 +80,17 @@ void Reader::only(const toml::table& table, std::initializer_list<scene_keys::Ke
 }
 
 double Reader::number(const toml::node& node, const std::string& what) const {
+  // Numbers are decimal, as on the command line: TOML's 0x10, 0o20 and 0b10000 read as 16 (a v0
+  // of 0x10 was a run at 16 m/s).
+  if (const toml::value<std::int64_t>* integer = node.as_integer();
+      integer != nullptr && integer->flags() != toml::value_flags::none) {
+    const std::int64_t v = integer->get(); // TOML's are non-negative
+    const std::string typed =
+        integer->flags() == toml::value_flags::format_as_hexadecimal ? fmt::format("0x{:x}", v)
+        : integer->flags() == toml::value_flags::format_as_octal     ? fmt::format("0o{:o}", v)
+                                                                     : fmt::format("0b{:b}", v);
+    fail(node, what + " must be written in decimal (got " + typed + ")");
+  }
   if (const auto value = node.value<double>();
       value && (node.is_floating_point() || node.is_integer())) {
     if (!std::isfinite(*value)) {
