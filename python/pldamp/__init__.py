@@ -30,6 +30,7 @@ RuntimeError. docs/python.md is the guide.
 from __future__ import annotations
 
 import decimal
+import difflib
 import json
 import numbers
 import os
@@ -80,9 +81,40 @@ def _text(name: str, value: Any) -> str:
 SWITCHES = {"limit_damping", "strict", "verbose", "allow_scene_change"}
 
 
+# Words a newcomer reaches for, and the keyword that means it.
+_MEANT = {"mass": "m", "stiffness": "k", "velocity": "v0", "speed": "v0", "restitution": "e",
+          "exponent": "p", "damping": "alpha"}
+_KEYWORDS: dict = {}
+
+
+def _keywords(command: str) -> list:
+    """The keywords `command` takes: its --help's options, as Python spells them."""
+    if command not in _KEYWORDS:
+        _, out, _ = _pldamp.cli([command, "--help"])
+        names = re.findall(r"^\s+(?:-\w,)?--([a-z0-9-]+)", out, flags=re.MULTILINE)
+        _KEYWORDS[command] = [n.replace("-", "_") for n in names if n not in ("help", "json")]
+    return _KEYWORDS[command]
+
+
+def _refuse_unknown(command: str, name: str) -> None:
+    """An unknown keyword is Python's TypeError, naming it and the nearest one taken (the command
+    line's 'unknown argument (got --mass 5.0)' named neither)."""
+    known = _keywords(command)
+    if name in known:
+        return
+    meant = [_MEANT[word] for word in difflib.get_close_matches(name, list(_MEANT), n=1,
+                                                                cutoff=0.75)]
+    near = [word for word in meant if word in known] or \
+        difflib.get_close_matches(name, known, n=1, cutoff=0.5)
+    raise TypeError("%s() got an unexpected keyword argument %r%s" % (
+        command, name, "; did you mean %r?" % near[0] if near else
+        " (it takes %s)" % ", ".join(known)))
+
+
 def _arguments(command: str, positional: Iterable[str], options: dict) -> list:
     args = [command, *(_no_nul(command, str(item)) for item in positional)]
     for name, value in options.items():
+        _refuse_unknown(command, name)
         flag = "--" + name.replace("_", "-")
         if name in SWITCHES:
             if not isinstance(value, bool) and value is not None:

@@ -400,3 +400,15 @@ def test_arrays_take_plain_real_numbers_only_and_text_must_be_utf8():
         pldamp.cli("observables", "--p", "\udcff")
     with pytest.raises(ValueError, match="give it alone"):
         pldamp.solve("taylor", p=1.5, e=0.5, v0=1.0, want="all,e")
+
+
+def test_an_unknown_keyword_is_a_type_error_naming_the_nearest():
+    # The command line said "unknown argument (got --mass 5.0)" and, for vo=1, "--v0 is required".
+    with pytest.raises(TypeError, match=r"unexpected keyword argument 'mass'; did you mean 'm'\?"):
+        pldamp.observables(p=1.5, e=0.5, v0=1.0, mass=5.0)
+    with pytest.raises(TypeError, match=r"'vo'; did you mean 'v0'\?"):
+        pldamp.observables(p=1.5, e=0.5, vo=1.0)
+    with pytest.raises(TypeError, match=r"'rtl'; did you mean 'rtol'\?"):
+        pldamp.solve("cvode-bdf", p=1.5, e=0.5, v0=1.0, rtl=1e-8)
+    with pytest.raises(TypeError, match=r"'colour' \(it takes p, e, end"):
+        pldamp.observables(p=1.5, e=0.5, v0=1.0, colour="red")
