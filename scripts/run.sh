@@ -1,6 +1,8 @@
 #!/usr/bin/env bash
 # The one entry point of the README's Quick start and of CI.
-#   scripts/run.sh main   install what is missing, build, run the main job (the nightly scene)
+#   scripts/run.sh main   install what is missing, build the CLI and the Python module (so that
+#                         `import pldamp` and `cmake --install build` work), run the main job
+#                         (the nightly scene)
 #   scripts/run.sh test   install what is missing, build with -Werror and run every test, play the
 #                         nightly gate on a second checkout with an injected regression, rebuild
 #                         and rerun the tests under ASan+UBSan, check the reference table
@@ -61,10 +63,12 @@ case "${1:-}" in
 main)
   echo "== 1/3 installing what is missing (apt)"
   install_missing "${packages[@]}"
-  echo "== 2/3 building pldamp (about 3 minutes on 2 cores the first time; a line per target)"
+  echo "== 2/3 building pldamp and its Python module (about 4 minutes on 2 cores the first time; a line per target)"
   mkdir -p build
   set +o pipefail
-  BUILD_TARGET=pldamp build build "$unity" 2>&1 | tee build/build.log |
+  # The command line and the Python module: after this command, `import pldamp` from build/python
+  # and `cmake --install build` (the libraries, headers, pldampConfig.cmake and the module) work.
+  BUILD_TARGET="pldamp pldamp_python" build build "$unity" 2>&1 | tee build/build.log |
     grep --line-buffered -E '^\[ *[0-9]+%\] Built target'
   status=${PIPESTATUS[0]}
   set -o pipefail
@@ -73,7 +77,7 @@ main)
     echo "the build failed; the whole log is build/build.log" >&2
     exit "$status"
   fi
-  echo "== 3/3 the nightly scene (about 45 s on 2 cores)"
+  echo "== 3/3 the nightly scene (about 30 s on 2 cores)"
   # The nightly scene; its last lines name the report files (report/report.html to read).
   build/harness/pldamp run data/scenes/nightly.toml --out report
   ;;
