@@ -109,7 +109,11 @@ StableStep largest_stable_dt(const SolverConfig& config, const Inputs& in, const
         return false;
       }
     }
-    refine_to_supremum(points, evaluate);
+    // Sought no further than an e above 1; a worst not resolved within the budget is no verdict.
+    if (!refine_to_supremum(points, evaluate, 4000, 1.0)) {
+      found.limit = fmt::format("the worst onset phase not resolved at dt = {:.4g}", dt);
+      return false;
+    }
     return std::all_of(points.begin(), points.end(),
                        [](const PhasePoint& p) { return p.scores.front() <= 1; });
   };
