@@ -63,6 +63,49 @@ TEST(Plan, PeakOnlyScenesStopAtThePeak) {
   }
 }
 
+// A scene's tau_as takes effect: each fixed-step record's tau is the contact time counted that way
+// (solve --tau-as gives the three), and e is the same whatever the count; refused for a solver
+// that does not step.
+TEST(Plan, TauAsCountsTheContactTimeOfEachRecord) {
+  auto tau_and_e = [](const std::string& tau_as) {
+    const Plan plan = make_plan(load_scene(write_file(
+        "tau_as.toml", fmt::format(R"(want = ["e", "tau"]
+[grid]
+p = [1.5]
+e = [0.5]
+v0 = [1.0]
+[[solver]]
+name = "dem-verlet"
+steps_per_contact = [20]
+onset_phases = 4
+{})",
+                                   tau_as.empty() ? "" : "tau_as = \"" + tau_as + "\""))));
+    RunTotals totals;
+    const Record record = run_plan(plan, 1, totals).front();
+    return std::make_pair(*record.value[1], *record.value[0]);
+  };
+  const auto [out, e] = tau_and_e("");
+  EXPECT_EQ(tau_and_e("first-step-out"), std::make_pair(out, e));
+  const auto [counted, e_counted] = tau_and_e("steps-in-contact");
+  const auto [crossing, e_crossing] = tau_and_e("crossing");
+  EXPECT_EQ(e_counted, e);
+  EXPECT_EQ(e_crossing, e);
+  EXPECT_NE(counted, out);
+  EXPECT_NE(crossing, out);
+  EXPECT_NE(crossing, counted);
+  EXPECT_THROW(load_scene(write_file("tau_as_bdf.toml", R"(want = ["tau"]
+[grid]
+p = [1.5]
+e = [0.5]
+v0 = [1.0]
+[[solver]]
+name = "cvode-bdf"
+rtol = [1e-8]
+tau_as = "crossing"
+)")),
+               SceneError);
+}
+
 TEST(Plan, ReferencesScaleExactlyAcrossUnits) {
   // MATH.md §7: the reference at (v0, m, k) is the unit one scaled; against a direct evaluation.
   const std::string path = write_file("scale.toml", R"([grid]

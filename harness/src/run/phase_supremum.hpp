@@ -78,7 +78,6 @@ bool refine_to_supremum(std::vector<PhasePoint>& points, Evaluate&& evaluate, in
     }
   };
   std::for_each(points.begin(), points.end(), note);
-  auto failed = [&] { return beyond; };
   auto at = [&](double phase) -> const PhasePoint& {
     ++spent;
     points.push_back(evaluate(phase));
@@ -91,7 +90,7 @@ bool refine_to_supremum(std::vector<PhasePoint>& points, Evaluate&& evaluate, in
   };
   // Step 1 between two phases of different pieces.
   auto bisect = [&](auto&& self, double a, long piece_a, double b, long piece_b) -> void {
-    while (b - a > resolution && spent < budget && !failed()) {
+    while (b - a > resolution && spent < budget && !beyond) {
       const double mid = a + (b - a) / 2;
       if (mid <= a || mid >= b) {
         return;
@@ -109,7 +108,7 @@ bool refine_to_supremum(std::vector<PhasePoint>& points, Evaluate&& evaluate, in
     }
   };
   std::vector<std::pair<double, double>> bisected, sought;
-  for (int round = 0; round < 4 && !failed(); ++round) {
+  for (int round = 0; round < 4 && !beyond; ++round) {
     by_phase();
     std::vector<PhasePoint> ends; // copies: bisect appends to points
     for (std::size_t i = 1; i < points.size(); ++i) {
@@ -147,14 +146,14 @@ bool refine_to_supremum(std::vector<PhasePoint>& points, Evaluate&& evaluate, in
       }
     }
     for (const Bracket& bracket : brackets) {
-      if (spent >= budget || failed()) {
+      if (spent >= budget || beyond) {
         break;
       }
       sought.emplace_back(bracket.a, bracket.b);
       std::uintmax_t iterations = 30;
       boost::math::tools::brent_find_minima(
           [&](double phase) {
-            if (failed()) {
+            if (beyond) {
               return 0.0; // nothing more is sought
             }
             const PhasePoint& point = at(phase);
@@ -163,7 +162,7 @@ bool refine_to_supremum(std::vector<PhasePoint>& points, Evaluate&& evaluate, in
           },
           bracket.a, bracket.b, 20, iterations);
     }
-    if (points.size() == before || spent >= budget || failed()) {
+    if (points.size() == before || spent >= budget || beyond) {
       break;
     }
     // Another round only finds something where step 2 met a piece between two of the same.
@@ -179,7 +178,7 @@ bool refine_to_supremum(std::vector<PhasePoint>& points, Evaluate&& evaluate, in
       break;
     }
   }
-  return spent < budget || failed();
+  return spent < budget || beyond;
 }
 
 } // namespace pldamp::harness

@@ -466,7 +466,7 @@ void seek_every_phase(const SolverConfig& config, ExternalSolver* external,
     phase_runs.push_back(std::move(run));
     return point_of(phase_runs.back());
   };
-  const double last = sampled_phases(1).back(); // the largest phase below 1
+  const double last = std::nextafter(1.0, 0.0); // the largest phase, the far side of the onset
   if (std::none_of(points.begin(), points.end(),
                    [&](const PhasePoint& p) { return p.phase == last; })) {
     points.push_back(evaluate(last));
