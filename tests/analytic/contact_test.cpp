@@ -1,6 +1,8 @@
 // Validation messages, the calibrations of MATH.md §3 and §4, and their identities.
 #include "support.hpp"
 
+#include <cmath>
+#include <random>
 #include <string>
 
 namespace pldamp::analytic {
@@ -82,6 +84,63 @@ TYPED_TEST(ContactTest, CalibrationIsTheUniversalFormula) {
   using std::signbit;
   EXPECT_FALSE(signbit(Contact<Real>::from_e(Real(3) / 2, Real(1), Real(1)).alpha()));
   EXPECT_FALSE(signbit(damping_from_e(Real(1)).z));
+}
+
+// One α everywhere (MATH.md §3 "One α"): a contact narrower than the calibration type holds α,
+// α_eff and μ correctly rounded from the 50-digit calibration, at both ends, so the α a user's
+// code gets from the library is the one `pldamp calibrate` prints (precision_paths_test.cpp).
+// Calibrated in double, 10 of 18 (p, e) came one ulp off.
+TYPED_TEST(ContactTest, CalibrationFromERoundsTheWideOneOnce) {
+  using Real = TypeParam;
+  if constexpr (std::numeric_limits<Real>::digits <
+                std::numeric_limits<CalibrationReal<Real>>::digits) {
+    int cases = 0;
+    for (const Real& p :
+         {Real(1), Real(5) / 4, Real(3) / 2, Real(2), Real(5) / 2, Real(3), Real(7)}) {
+      for (const Real& e :
+           {Real(1) / 1000, Real(1) / 20, Real(1) / 10, Real(3) / 10, Real(1) / 2, Real(61) / 100,
+            Real(7) / 10, Real(9) / 10, Real(99) / 100, Real(999999) / 1000000}) {
+        for (const ContactEnd end : {ContactEnd::overlap, ContactEnd::force}) {
+          const Contact<Real> narrow = Contact<Real>::from_e(p, e, Real(1), Real(1), Real(1), end);
+          const Contact<bin50> wide =
+              Contact<bin50>::from_e(bin50(p), bin50(e), bin50(1), bin50(1), bin50(1), end);
+          EXPECT_EQ(narrow.alpha(), static_cast<Real>(wide.alpha())) << "p " << p << " e " << e;
+          EXPECT_EQ(narrow.alpha_eff(), static_cast<Real>(wide.alpha_eff()))
+              << "p " << p << " e " << e;
+          EXPECT_EQ(narrow.mu(), static_cast<Real>(wide.mu())) << "p " << p << " e " << e;
+          ++cases;
+        }
+      }
+    }
+    EXPECT_EQ(cases, 140);
+    // From α_eff, α is formed wide and rounded once too.
+    const Real z = Real(3) / 10;
+    EXPECT_EQ(Contact<Real>::from_alpha_eff(Real(3) / 2, z, Real(1)).alpha(),
+              static_cast<Real>(bin50(z) * sqrt(bin50(5))));
+  }
+  // From α, α is the one given, not its round trip through α_eff.
+  EXPECT_EQ(Contact<Real>::from_alpha(Real(3) / 2, Real(7) / 10, Real(1)).alpha(), Real(7) / 10);
+}
+
+// Contact<double>::from_e decides the rounding in long double where it can (contact.hpp): over
+// 10^5 random (p, e), e spread over [1e-12, 1] in log and near 1, it must give exactly what the
+// float128 calibration rounded once gives, which itself is tested against 50 digits above.
+TEST(ContactFromE, TheLongDoublePassRoundsAsFloat128Does) {
+  if constexpr (std::numeric_limits<CalibrationReal<double>>::digits >= 113) {
+    using Wide = CalibrationReal<double>;
+    std::mt19937_64 random(20261129);
+    std::uniform_real_distribution<double> unit(0, 1);
+    for (int i = 0; i < 100000; ++i) {
+      const double p = 1 + 9 * unit(random);
+      const double e = i % 4 == 0 ? 1 - std::exp(-36 * unit(random)) // near 1: 1 − e down to 2e-16
+                                  : std::exp(-27.6 * unit(random));  // 1e-12 to 1
+      const Contact<double> c = Contact<double>::from_e(p, e, 1.0);
+      const Contact<Wide> w = Contact<Wide>::from_e(Wide(p), Wide(e), Wide(1));
+      ASSERT_EQ(c.alpha(), static_cast<double>(w.alpha())) << "p " << p << " e " << e;
+      ASSERT_EQ(c.alpha_eff(), static_cast<double>(w.alpha_eff())) << "p " << p << " e " << e;
+      ASSERT_EQ(c.mu(), static_cast<double>(w.mu())) << "p " << p << " e " << e;
+    }
+  }
 }
 
 // e → α → e. The condition number of e(z) is |ln e|·(1/μ): bounds scale with it.

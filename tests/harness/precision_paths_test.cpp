@@ -141,6 +141,32 @@ TEST(PrecisionPaths, SolveRunsAtTheAlphaCalibratePrints) {
   });
 }
 
+// The α a user's C++ gets from the library (Contact::from_e) is the one `calibrate` prints, bit
+// for bit, at both ends, in every precision (issue 48: calibrated in double, 10 of 18 came one
+// ulp off the command line's float128 rounded once).
+TEST(PrecisionPaths, LibraryAlphaIsCalibratesAlpha) {
+  for_each_precision([&]<SupportedReal Real>() {
+    const std::string precision(precision_name<Real>());
+    for (const char* p : {"1", "1.5", "2", "2.5", "3", "4"}) {
+      for (const char* e : {"0.05", "0.3", "0.61", "0.9", "0.999"}) {
+        for (const char* end : {"overlap", "force"}) {
+          const CliRun calibrated = run(
+              {"calibrate", "--p", p, "--e", e, "--end", end, "--precision", precision, "--json"});
+          ASSERT_EQ(calibrated.code, 0) << calibrated.err;
+          const auto library = analytic::Contact<Real>::from_e(
+              parse_real<Real>("p", p), parse_real<Real>("e", e), Real(1), Real(1), Real(1),
+              std::string_view(end) == "force" ? analytic::ContactEnd::force
+                                               : analytic::ContactEnd::overlap);
+          EXPECT_EQ(to_string_full(library.alpha()), raw_number(calibrated.out, "alpha"))
+              << "p " << p << " e " << e << " " << end << " in " << precision;
+          EXPECT_EQ(to_string_full(library.alpha_eff()), raw_number(calibrated.out, "alpha_eff"))
+              << "p " << p << " e " << e << " " << end << " in " << precision;
+        }
+      }
+    }
+  });
+}
+
 // `observables --damping-exponent B`: the truth of that dashpot, which depends on v0 (MATH.md
 // §12.1), from the reference solve: the viscoelastic Hertz contact at α = 0.3 gives e = 0.714 at
 // v0 = 1 (issue 27's figure, from `solve --solver taylor`), not the seed's 0.6536, and another e

@@ -130,21 +130,20 @@ Real alpha_as_received(const Exact& alpha) {
 }
 
 // The α `pldamp calibrate` and `pldamp solve` use in Real for a target e (or an α_eff): the
-// plan's for the same p and damping (seed_contact, rounded once), so that `calibrate`, `solve` and
-// `run` agree to the last bit. A Real wider than Exact calibrates in Real (a run gives such a
-// solver the float128 α instead).
+// contact's own, calibrated in Exact (analytic::CalibrationReal) and rounded once, so that the
+// library, `calibrate`, `solve` and `run` (seed_contact, rounded once) agree to the last bit. A
+// Real wider than Exact calibrates in Real (a run gives such a solver the float128 α instead).
 template <SupportedReal Real>
 Real seed_alpha(const Real& p, Damping::Kind kind, const Real& value, analytic::ContactEnd end) {
-  if (kind == Damping::Kind::alpha) {
+  switch (kind) {
+  case Damping::Kind::alpha:
     return value;
+  case Damping::Kind::e:
+    return analytic::Contact<Real>::from_e(p, value, Real(1), Real(1), Real(1), end).alpha();
+  case Damping::Kind::alpha_eff:
+    break;
   }
-  if constexpr (std::numeric_limits<Real>::digits > std::numeric_limits<Exact>::digits) {
-    return kind == Damping::Kind::e
-               ? analytic::Contact<Real>::from_e(p, value, Real(1), Real(1), Real(1), end).alpha()
-               : analytic::Contact<Real>::from_alpha_eff(p, value, Real(1)).alpha();
-  } else {
-    return alpha_as_received<Real>(seed_contact(Exact(p), kind, Exact(value), end).alpha());
-  }
+  return analytic::Contact<Real>::from_alpha_eff(p, value, Real(1)).alpha();
 }
 
 // α_eff as seed_alpha gives α: for a target e (or α) formed in Exact and rounded once to Real; a
@@ -152,14 +151,16 @@ Real seed_alpha(const Real& p, Damping::Kind kind, const Real& value, analytic::
 template <SupportedReal Real>
 Real seed_alpha_eff(const Real& p, Damping::Kind kind, const Real& value,
                     analytic::ContactEnd end) {
-  if (kind == Damping::Kind::alpha_eff) {
+  switch (kind) {
+  case Damping::Kind::alpha_eff:
     return value;
+  case Damping::Kind::e:
+    return analytic::Contact<Real>::from_e(p, value, Real(1), Real(1), Real(1), end).alpha_eff();
+  case Damping::Kind::alpha:
+    break;
   }
   if constexpr (std::numeric_limits<Real>::digits > std::numeric_limits<Exact>::digits) {
-    return kind == Damping::Kind::e
-               ? analytic::Contact<Real>::from_e(p, value, Real(1), Real(1), Real(1), end)
-                     .alpha_eff()
-               : analytic::Contact<Real>::from_alpha(p, value, Real(1)).alpha_eff();
+    return analytic::Contact<Real>::from_alpha(p, value, Real(1)).alpha_eff();
   } else {
     return static_cast<Real>(seed_contact(Exact(p), kind, Exact(value), end).alpha_eff());
   }
