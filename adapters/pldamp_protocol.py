@@ -1,4 +1,4 @@
-"""The adapter's side of pldamp's external-solver protocol, version 1 (README "Your code in the loop").
+"""The adapter's side of pldamp's external-solver protocol, version 1 (docs/external.md "Your code in the loop").
 
 An adapter calls serve() with its handshake facts and a function that solves one problem (a dict,
 as pldamp wrote it) and returns the result's keys (outcome and observables; the id is added here).
@@ -41,7 +41,7 @@ def serve(solver, run_problem, *, p=None, ends=None, damping_exponent="seed", un
     """Answers pldamp's handshake, then every problem line until standard input closes.
 
     solver: the adapter's name for what it runs (shown in reports).
-    p, ends, damping_exponent, unavailable, honours: the handshake's optional keys (README);
+    p, ends, damping_exponent, unavailable, honours: the handshake's optional keys (docs/external.md);
     honours lists the settings the adapter acts on (pldamp refuses a scene that sets another).
     """
     hello = sys.stdin.readline()

@@ -1,6 +1,6 @@
-// The cheapest adapter the external-solver protocol allows (README "Your code in the loop"): it
-// answers the handshake, then every problem at once with a fixed result. harness_bench runs a plan
-// through it to measure what the protocol itself costs per record.
+// The cheapest adapter the external-solver protocol allows (docs/external.md "Your code in the
+// loop"): it answers the handshake, then every problem at once with a fixed result. harness_bench
+// runs a plan through it to measure what the protocol itself costs per record.
 #include <cstdio>
 #include <iostream>
 #include <string>

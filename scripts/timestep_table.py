@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
-"""Writes docs/timestep.md: `pldamp timestep` over p, e, tolerance, --tau-as and every scheme.
+"""Writes docs/timestep_table.md: `pldamp timestep` over p, e, tolerance, --tau-as and every scheme.
 
-    python3 scripts/timestep_table.py build/harness/pldamp [docs/timestep.md] [--tolerances 1e-2,1e-3]
+    python3 scripts/timestep_table.py build/harness/pldamp [docs/timestep_table.md] [--tolerances 1e-2,1e-3]
 
 Each cell is one `pldamp timestep --json` (a program started with an argument vector, no shell);
 the document is written to a temporary name beside it and renamed into place.
@@ -43,7 +43,7 @@ def main():
     if not arguments:
         sys.exit(__doc__)
     pldamp = arguments[0]
-    target = arguments[1] if len(arguments) > 1 else "docs/timestep.md"
+    target = arguments[1] if len(arguments) > 1 else "docs/timestep_table.md"
     started = time.monotonic()
     results = {}
     for scheme in SCHEMES:

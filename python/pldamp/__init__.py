@@ -4,7 +4,7 @@
 
 the normal contact of discrete-element (DEM) simulations, in closed form and integrated.
 
-Every function mirrors a command of the `pldamp` command line (README "The command line") and
+Every function mirrors a command of the `pldamp` command line (docs/cli.md) and
 takes its flags as keyword arguments, named as the flags with `_` for `-`: ``alpha_eff=0.2`` is
 ``--alpha-eff 0.2``. It runs that command in-process and returns its JSON answer as a dict, so its
 values, its precisions and its refusals are the command line's, word for word:

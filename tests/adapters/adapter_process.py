@@ -1,6 +1,6 @@
 """What the adapter tests share: an adapter run as pldamp runs it, and pldamp's own answers.
 
-An adapter is a process spoken to one JSON line at a time each way (README "The protocol,
+An adapter is a process spoken to one JSON line at a time each way (docs/external.md "The protocol,
 version 1"); `pldamp(...)` runs the CLI with --json for the value an adapter is compared with.
 """
 

@@ -16,7 +16,7 @@ from adapter_process import run_scene_strictly
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 SCENE = os.path.join(HERE, "..", "..", "data", "scenes", "dem-codes-smoke.toml")
-ROUNDING = 1e-12  # measured: 1.2e-14 (README "LAMMPS adapter")
+ROUNDING = 1e-12  # measured: 1.2e-14 (docs/external.md "LAMMPS adapter")
 
 
 def main():

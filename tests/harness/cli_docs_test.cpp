@@ -1,6 +1,6 @@
-// What the README says of the command line against what the command line says of itself: the
-// synopsis under "The command line" lists exactly the options of each command's --help, and every
-// --code the README names is taken by calibrate and listed in its --help. So they cannot drift.
+// What docs/cli.md says of the command line against what the command line says of itself: its
+// synopsis lists exactly the options of each command's --help, and every --code the docs name is
+// taken by calibrate and listed in its --help. So they cannot drift.
 // And every document the sources and the docs cite (a name ending in .md) is in the repository.
 #include "cli_run.hpp"
 
@@ -23,28 +23,28 @@ using testing::help_options;
 using testing::options_in;
 using testing::run;
 
-std::string readme() {
+std::string document(const char* name) {
   // A path, not a std::string sum: GCC 12 warns falsely (-Warray-bounds) on that sum here.
-  std::ifstream in(std::filesystem::path(PLDAMP_DATA_DIR) / ".." / "README.md");
+  std::ifstream in(std::filesystem::path(PLDAMP_DATA_DIR) / ".." / "docs" / name);
   std::ostringstream text;
   text << in.rdbuf();
   return text.str();
 }
 
 // The synopsis: the block of `pldamp <command> ...` lines (and their continuation lines) under
-// "## The command line", before "Examples:".
+// docs/cli.md's "## Synopsis", before "Examples:".
 std::map<std::string, std::set<std::string>> synopsis() {
-  const std::string text = readme();
-  const std::size_t from = text.find("## The command line");
+  const std::string text = document("cli.md");
+  const std::size_t from = text.find("## Synopsis");
   const std::size_t to = text.find("Examples:", from);
   std::istringstream block(text.substr(from, to - from));
   std::map<std::string, std::set<std::string>> out;
   std::string command;
   for (std::string line; std::getline(block, line);) {
-    if (line.rfind("    pldamp ", 0) == 0) {
-      std::istringstream words(line.substr(11));
+    if (line.rfind("pldamp ", 0) == 0) {
+      std::istringstream words(line.substr(7));
       words >> command;
-      line = line.substr(11 + command.size());
+      line = line.substr(7 + command.size());
     } else if (line.rfind("        ", 0) != 0) {
       continue; // prose, blank lines
     }
@@ -56,7 +56,7 @@ std::map<std::string, std::set<std::string>> synopsis() {
   return out;
 }
 
-TEST(CliDocs, TheReadmeSynopsisListsExactlyTheOptionsOfEachCommandsHelp) {
+TEST(CliDocs, TheSynopsisListsExactlyTheOptionsOfEachCommandsHelp) {
   const auto documented = synopsis();
   const std::set<std::string> commands{"calibrate", "observables", "solve", "timestep", "run",
                                        "merge",     "diff",        "check", "showcase"};
@@ -67,24 +67,24 @@ TEST(CliDocs, TheReadmeSynopsisListsExactlyTheOptionsOfEachCommandsHelp) {
   EXPECT_EQ(seen, commands);
   for (const std::string& command : commands) {
     const std::set<std::string> helped = help_options(command);
-    const std::set<std::string>& readme_options =
+    const std::set<std::string>& documented_options =
         documented.count(command) != 0 ? documented.at(command) : std::set<std::string>{};
     EXPECT_FALSE(helped.empty()) << command;
     for (const std::string& option : helped) {
-      EXPECT_EQ(readme_options.count(option), 1u)
-          << "pldamp " << command << " --help lists " << option << "; the README's synopsis does "
+      EXPECT_EQ(documented_options.count(option), 1u)
+          << "pldamp " << command << " --help lists " << option << "; docs/cli.md's synopsis does "
           << "not";
     }
-    for (const std::string& option : readme_options) {
-      EXPECT_EQ(helped.count(option), 1u) << "the README's synopsis gives pldamp " << command << " "
-                                          << option << "; its --help does not";
+    for (const std::string& option : documented_options) {
+      EXPECT_EQ(helped.count(option), 1u) << "docs/cli.md's synopsis gives pldamp " << command
+                                          << " " << option << "; its --help does not";
     }
   }
 }
 
-// Every `--code NAME` (or `--code A | B | C`, across lines) the README writes.
-std::set<std::string> readme_codes() {
-  const std::string text = readme();
+// Every `--code NAME` (or `--code A | B | C`, across lines) docs/calibrate.md writes.
+std::set<std::string> documented_codes() {
+  const std::string text = document("calibrate.md");
   std::set<std::string> out;
   for (std::size_t at = text.find("--code "); at != std::string::npos;
        at = text.find("--code ", at + 7)) {
@@ -103,8 +103,8 @@ std::set<std::string> readme_codes() {
   return out;
 }
 
-TEST(CliDocs, EveryCodeTheReadmeNamesIsTakenByCalibrateAndListedInItsHelp) {
-  const std::set<std::string> codes = readme_codes();
+TEST(CliDocs, EveryCodeTheDocsNameIsTakenByCalibrateAndListedInItsHelp) {
+  const std::set<std::string> codes = documented_codes();
   EXPECT_GE(codes.size(), 12u); // the 9 conventions and LAMMPS's 3 velocity-dependent models
   const CliRun help = run({"calibrate", "--help"});
   const std::size_t at = help.out.find("--code");

@@ -1350,7 +1350,7 @@ std::vector<Case> solve_cases() {
   }
   for (const char* s : {"cvode-bdf", "odeint-bs", "taylor"}) {
     add(t, std::string(s) + "_dt", cat(solve_args(s), {"--dt", "0.01"}), refused());
-    // an option the solver does not take is refused (README), steps per contact included
+    // an option the solver does not take is refused (docs/cli.md), steps per contact included
     add(t, std::string(s) + "_steps_per_contact",
         cat(solve_args(s), {"--steps-per-contact", "100"}), refused());
   }
@@ -1485,7 +1485,7 @@ std::vector<Case> solve_cases() {
   const std::vector<std::pair<std::string, Expect>> es{
       {"1", ok()},
       // alpha_eff = 1 - 1e-5 and tau = 3.7e60 (observables): the return comes long after the
-      // horizon, the README's "returns too late to resolve", so no_exit is honest here
+      // horizon, docs/solve.md's "outcome", so no_exit is honest here
       {"1e-300", ok_no_exit()},
       {"5e-324", {Class::ok_or_refused, {}, false, true}},
       {"0", refused()},
@@ -1884,7 +1884,7 @@ std::vector<Case> check_cases() {
   add(t, "damping_exponent", check({"--damping-exponent", "0.5"}), refused(),
       err_mentions({"damping-exponent"}));
   add(t, "precision", check({"--precision", "quad"}), refused());
-  // The file against its arguments (README "pldamp check"): another v0, a forgotten m or k.
+  // The file against its arguments (docs/check.md): another v0, a forgotten m or k.
   add(t, "v0_contradicts", {"check", file, "--p", "1.5", "--e", "0.5", "--v0", "2"}, refused(),
       err_mentions({"incoming speed"}));
   add(t, "k_contradicts", check({"--k", "7e9"}), refused(), err_mentions({"give --m and --k"}));

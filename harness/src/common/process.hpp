@@ -27,12 +27,12 @@ ProgramRun run_program(const std::vector<std::string>& argv, const std::string& 
 
 namespace pldamp::harness {
 
-// A program kept running and spoken to in lines (the external-solver protocol, README "Your code
-// in the loop"): lines written to its standard input, lines read from its standard output within a
-// time limit, the last line of its standard error kept for messages. Started with an argument
-// vector, never a shell, in a process group of its own: finish() stops the group, so what the
-// program forked (and left running, holding its pipes) goes with it. Killed when destroyed if it
-// has not exited by then.
+// A program kept running and spoken to in lines (the external-solver protocol, docs/external.md
+// "Your code in the loop"): lines written to its standard input, lines read from its standard
+// output within a time limit, the last line of its standard error kept for messages. Started with
+// an argument vector, never a shell, in a process group of its own: finish() stops the group, so
+// what the program forked (and left running, holding its pipes) goes with it. Killed when destroyed
+// if it has not exited by then.
 class LineProgram {
 public:
   // Starts argv (argv[0] looked up on PATH unless it names a path); started() tells. While

@@ -1,5 +1,5 @@
 // What a record's numbers say of each other, as run/run.cpp makes them (Record, run/run.hpp) and
-// report.json writes them (README "Reports"). Per observable: the signed error is value −
+// report.json writes them (docs/run.md "Reports"). Per observable: the signed error is value −
 // reference and the relative error |error| / |reference| (|error| where the reference is 0 or
 // infinite, and for e compared absolutely on a late return), both computed in Exact from the
 // solver's value and the truth and rounded once to double, as the value and the reference are;

@@ -4,7 +4,7 @@
 // (`pldamp diff`, and whatever else reads a report) spells a key through here, never as a string
 // literal of its own.
 //
-// report.json, schema 3 (README "Reports"; `?`: only when there is something to say):
+// report.json, schema 3 (docs/run.md "Reports"; `?`: only when there is something to say):
 //   schema        2
 //   scene         end, observables, grid {p, v0, m, k, damping_exponent?, contacts? [{name,
 //                 geometry, R_eff, E_eff, m, k, v0 [], rayleigh_time}], units? {KEY: SI unit},

@@ -1,5 +1,5 @@
 // Reading a trajectory file (`pldamp check`, a scene's [[trajectory]]): the CSV format of
-// README "pldamp check", refused line by line with the file's name and line number.
+// docs/check.md, refused line by line with the file's name and line number.
 #include "judge/trajectory.hpp"
 
 #include "common/files.hpp"

@@ -1,5 +1,5 @@
-// What an external program's answers and handshake are held to (README "The protocol, version
-// 1"): the invariants pldamp's own solvers are held to (solvers/src/collision.cpp,
+// What an external program's answers and handshake are held to (docs/external.md "The protocol,
+// version 1"): the invariants pldamp's own solvers are held to (solvers/src/collision.cpp,
 // BasicCollision::violated_invariant), and the settings of a configuration it says it honours.
 #pragma once
 

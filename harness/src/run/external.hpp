@@ -1,4 +1,4 @@
-// External solvers (README "Your code in the loop: external solvers"): a scene's [[solver]] that
+// External solvers (docs/external.md "Your code in the loop"): a scene's [[solver]] that
 // names a program. pldamp starts it once per [[solver]] entry (the configurations of its sweep
 // share it) with an argument vector (never a shell)
 // and speaks the pldamp-solver protocol, version 1, to it: a handshake line each way, then one

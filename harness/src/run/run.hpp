@@ -53,8 +53,8 @@ struct Record {
   std::vector<std::optional<double>> value, reference, error, abs_error, rel_error, spread;
   // Per observable, the onset phase (a fraction of a step, k/n) whose error is the one kept.
   std::vector<std::optional<double>> worst_phase;
-  // An external solver's record it does not run (README "Your code in the loop"): why. Such a
-  // record is neither failed nor counted in budgets and costs.
+  // An external solver's record it does not run (docs/external.md "Your code in the loop"): why.
+  // Such a record is neither failed nor counted in budgets and costs.
   std::string skip_reason;
   // How the truth of an external solver whose dashpot is not the point's was found (the
   // reference solve of its own β, MATH.md §12.2), or why it has none.

@@ -1,5 +1,5 @@
-// The parameter domain every layer accepts (README "Domain"): one definition, checked by the
-// analytic contact, the solvers' Problem, the command line and the scenes alike. Outside it the
+// The parameter domain every layer accepts (docs/accuracy.md "Domain"): one definition, checked by
+// the analytic contact, the solvers' Problem, the command line and the scenes alike. Outside it the
 // answer is a refusal naming the range, never a computation that overflows, hangs or silently
 // loses its digits:
 // - p ≤ 1000: the Gauss–Jacobi rules of the time quadrature (weight exponent q − 1 = −(p−1)/(p+1))

@@ -7,7 +7,7 @@
 // type list (typed tests iterate it), for_each_precision and with_precision (runtime dispatch by
 // name), precision_names() for messages, and the explicit instantiations of the compiled
 // templates (`PLDAMP_FOR_EACH_PRECISION(INSTANTIATE)` in each .cpp). Adding a precision is one
-// line here (README "Adding a precision").
+// line here (docs/design.md "Adding a precision").
 #pragma once
 
 #include <boost/multiprecision/cpp_bin_float.hpp>
