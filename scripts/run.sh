@@ -63,7 +63,7 @@ case "${1:-}" in
 main)
   echo "== 1/3 installing what is missing (apt)"
   install_missing "${packages[@]}"
-  echo "== 2/3 building pldamp and its Python module (about 4 minutes on 2 cores the first time; a line per target)"
+  echo "== 2/3 building pldamp and its Python module (about 2 minutes on 2 cores the first time; a line per target)"
   mkdir -p build
   set +o pipefail
   # The command line and the Python module: after this command, `import pldamp` from build/python
