@@ -15,6 +15,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <map>
 #include <sstream>
 
 namespace pldamp::harness {
@@ -184,16 +185,78 @@ TEST(Report, PlotsAndFormatsMadeOnThreadsGiveTheSamePagesInTheSameOrder) {
                         ReportFormat::csv};
   const fs::path out = scratch() / "formats-on-threads";
   fs::remove_all(out);
-  fs::create_directories(out / "report.md"); // cannot be replaced by a file
   const WrittenReports files = write_reports({plan, h.records, b, totals, {}}, out.string(), 3);
-  EXPECT_EQ(files.written, (std::vector<std::string>{(out / "report.html").string(),
-                                                     (out / "report.json").string(),
-                                                     (out / "report.csv").string()}));
-  ASSERT_EQ(files.failures.size(), 1u);
-  EXPECT_EQ(files.failures[0].rfind("cannot write " + (out / "report.md").string(), 0), 0u)
-      << files.failures[0];
+  EXPECT_TRUE(files.failures.empty());
+  // In the scene's order, report.json last (the file a nightly diffs is new only if all are).
+  EXPECT_EQ(files.written, (std::vector<std::string>{
+                               (out / "report.html").string(), (out / "report.md").string(),
+                               (out / "report.json").string(), (out / "report.csv").string()}));
   EXPECT_EQ(read(out / "report.html"), alone);
   EXPECT_EQ(read(out / "report.json"), report_json_text({plan, h.records, b, totals, {}}));
+}
+
+// The files in a folder, by name.
+std::vector<std::string> names_in(const fs::path& folder) {
+  std::vector<std::string> names;
+  for (const auto& entry : fs::directory_iterator(folder)) {
+    names.push_back(entry.path().filename().string());
+  }
+  std::sort(names.begin(), names.end());
+  return names;
+}
+
+// A report set is a set: whichever format fails (a full disk, a file-size limit, an error), every
+// file of the folder is the previous run's, and no temporary is left (a 1 MiB tmpfs once left
+// report.csv, .md and .html new beside the old report.json). The same for a target that is a
+// directory, found before anything is renamed.
+TEST(Report, AFormatThatCannotBeWrittenLeavesEveryFileAsItWas) {
+  const HandMade h = hand_made();
+  Plan plan = h.plan;
+  plan.scene.formats = {ReportFormat::json, ReportFormat::csv, ReportFormat::md,
+                        ReportFormat::html};
+  const Budgets b = make_budgets(plan, h.records);
+  const RunReport before{plan, h.records, b, RunTotals{400, 4, 1.0, {}}, {}};
+  const RunReport after{plan, h.records, b, RunTotals{800, 8, 2.0, {}}, {}};
+  const fs::path out = scratch() / "report-set";
+  const std::vector<std::string> names{"report.csv", "report.html", "report.json", "report.md"};
+  for (const std::string& failing : names) {
+    fs::remove_all(out);
+    ASSERT_TRUE(write_reports(before, out.string()).failures.empty());
+    std::map<std::string, std::string> old;
+    for (const std::string& name : names) {
+      old[name] = read(out / name);
+    }
+    const WrittenReports files = write_reports(after, out.string(), 2, [&](const fs::path& path) {
+      if (path.filename() == failing) {
+        throw InputError("cannot write " + path.string() + " (File too large)");
+      }
+    });
+    ASSERT_EQ(files.failures.size(), 1u) << failing;
+    EXPECT_EQ(files.failures[0], "cannot write " + (out / failing).string() + " (File too large)");
+    EXPECT_TRUE(files.written.empty()) << failing;
+    EXPECT_EQ(files.kept.size(), 4u) << failing;
+    EXPECT_EQ(names_in(out), names) << failing; // no temporary left beside them
+    for (const std::string& name : names) {
+      EXPECT_EQ(read(out / name), old[name]) << name << " after " << failing << " failed";
+    }
+  }
+  // A report.md that is a directory: refused before any rename, the others as they were.
+  fs::remove_all(out);
+  ASSERT_TRUE(write_reports(before, out.string()).failures.empty());
+  const std::string json = read(out / "report.json");
+  fs::remove(out / "report.md");
+  fs::create_directories(out / "report.md");
+  const WrittenReports files = write_reports(after, out.string(), 2);
+  ASSERT_EQ(files.failures.size(), 1u);
+  EXPECT_EQ(files.failures[0],
+            "cannot write " + (out / "report.md").string() + " (Is a directory)");
+  EXPECT_TRUE(files.written.empty());
+  EXPECT_EQ(read(out / "report.json"), json);
+  // And the set written whole once it can be.
+  fs::remove(out / "report.md");
+  const WrittenReports whole = write_reports(after, out.string(), 2);
+  EXPECT_TRUE(whole.failures.empty());
+  EXPECT_EQ(read(out / "report.json"), report_json_text(after));
 }
 
 TEST(Diff, AWorkPointMustBeItsRecordsLargestAndAReportBeforeThemStillReads) {

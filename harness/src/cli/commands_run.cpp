@@ -354,6 +354,23 @@ void print_plan_size(const Scene& scene, std::ostream& out) {
 // From the records on: budgets, claims, figures, trajectories, the reports and the summary.
 // Under MPI (`workers` shared) every rank judges the claims, searches and step study with rank 0
 // (make_budgets, run/workers.hpp); rank 0 alone then goes on, on `jobs` threads.
+// After a failed write, exactly what the folder holds: every file as it was (no report was put
+// in place unless all could be), or, a rename having failed, which files are this run's.
+std::string what_is_on_disk(const WrittenReports& files, const std::string& folder) {
+  const auto names = [](const std::vector<std::string>& paths) {
+    std::string text;
+    for (const std::string& path : paths) {
+      text += (text.empty() ? "" : ", ") + std::filesystem::path(path).filename().string();
+    }
+    return text;
+  };
+  if (files.written.empty()) {
+    return "no report file was changed: " + one_line(folder) + " holds the previous run's, if any";
+  }
+  return names(files.written) + (files.written.size() == 1 ? " is" : " are") + " this run's; " +
+         names(files.kept) + (files.kept.size() == 1 ? " is" : " are") + " as before";
+}
+
 int report_records(const Plan& plan, RecordRange records, const RunTotals& totals,
                    const Workers& workers, int jobs, const std::string& folder, bool strict,
                    const StopOnSignals& signals, std::ostream& out, std::ostream& err) {
@@ -414,8 +431,7 @@ int report_records(const Plan& plan, RecordRange records, const RunTotals& total
     out << "report: " << one_line(file) << "\n";
   }
   if (!files.failures.empty()) {
-    throw InputError(files.failures.front() +
-                     (files.written.empty() ? "" : "; the other formats were written"));
+    throw InputError(files.failures.front() + "; " + what_is_on_disk(files, folder));
   }
   if (strict && unexpected > 0) {
     err << "--strict: " << unexpected << " claim"

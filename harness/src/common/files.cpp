@@ -8,6 +8,7 @@
 #include <fcntl.h>
 #include <sys/stat.h>
 #include <unistd.h>
+#include <utility>
 #include <vector>
 
 namespace pldamp::harness {
@@ -71,20 +72,27 @@ void write_file_atomically(const std::filesystem::path& path, std::string_view c
 
 void write_file_atomically(const std::filesystem::path& path,
                            const std::function<void(const TextSink&)>& produce) {
+  StagedFile(path, produce).commit();
+}
+
+StagedFile::StagedFile(std::filesystem::path path,
+                       const std::function<void(const TextSink&)>& produce)
+    : path_(std::move(path)) {
   // Where the filesystem allows it (O_TMPFILE: ext4, xfs, btrfs, tmpfs), the file has no name
   // while it is written, so a process killed meanwhile leaves nothing behind; it is linked to a
-  // temporary name and renamed into place when whole. Elsewhere, a temporary name from the start.
-  const std::filesystem::path folder = path.has_parent_path() ? path.parent_path() : ".";
+  // temporary name when whole, and renamed into place by commit(). Elsewhere, a temporary name
+  // from the start.
+  const std::filesystem::path folder = path_.has_parent_path() ? path_.parent_path() : ".";
   Descriptor file(::access("/proc/self/fd", F_OK) == 0
                       ? ::open(folder.c_str(), O_TMPFILE | O_WRONLY | O_CLOEXEC, 0600)
                       : -1);
   const bool unnamed = file.get() >= 0;
   std::string temporary;
   if (!unnamed) {
-    temporary = create_temporary(path, file, "cannot write " + path.string());
+    temporary = create_temporary(path_, file, "cannot write " + path_.string());
   }
   const auto fail = [&](int error) {
-    throw InputError("cannot write " + path.string() + " (" + std::strerror(error) + ")");
+    throw InputError("cannot write " + path_.string() + " (" + std::strerror(error) + ")");
   };
   // The permissions a new file of this user gets (mkstemp's are 0600). The umask can only be
   // read by setting it, for the whole process: read once, under the lock of a function-local
@@ -127,15 +135,14 @@ void write_file_atomically(const std::filesystem::path& path,
     if (::fsync(file.get()) != 0) {
       fail(errno);
     }
-    if (unnamed) { // a name beside the target, then the target's: the rename below
-      temporary = link_temporary(path, file.get());
+    if (unnamed) { // kept open and nameless until commit(): a process killed first leaves nothing
+      unnamed_ = file.get();
+      file.release();
+      return;
     }
     const int descriptor = file.get();
     file.release();
     if (::close(descriptor) != 0) {
-      fail(errno);
-    }
-    if (::rename(temporary.c_str(), path.c_str()) != 0) {
       fail(errno);
     }
   } catch (...) { // a failed write, or `produce`'s own exception: no temporary is left behind
@@ -144,6 +151,40 @@ void write_file_atomically(const std::filesystem::path& path,
     }
     throw;
   }
+  temporary_ = std::move(temporary);
+}
+
+StagedFile::StagedFile(StagedFile&& other) noexcept
+    : path_(std::move(other.path_)), temporary_(std::move(other.temporary_)),
+      unnamed_(other.unnamed_) {
+  other.temporary_.clear();
+  other.unnamed_ = -1;
+}
+
+StagedFile::~StagedFile() {
+  if (!temporary_.empty()) {
+    ::unlink(temporary_.c_str());
+  }
+  if (unnamed_ >= 0) {
+    ::close(unnamed_);
+  }
+}
+
+void StagedFile::commit() {
+  if (unnamed_ >= 0) { // a name beside the target, then the target's
+    temporary_ = link_temporary(path_, unnamed_);
+    const int descriptor = unnamed_;
+    unnamed_ = -1;
+    if (::close(descriptor) != 0) {
+      const int error = errno;
+      throw InputError("cannot write " + path_.string() + " (" + std::strerror(error) + ")");
+    }
+  }
+  if (::rename(temporary_.c_str(), path_.c_str()) != 0) {
+    const int error = errno;
+    throw InputError("cannot write " + path_.string() + " (" + std::strerror(error) + ")");
+  }
+  temporary_.clear();
 }
 
 std::string gather_text(const std::function<void(const TextSink&)>& produce) {

@@ -33,11 +33,35 @@ private:
 inline constexpr std::uint64_t fnv1a_basis = 14695981039346656037ULL;
 std::uint64_t fnv1a(std::string_view bytes, std::uint64_t hash = fnv1a_basis);
 
-// Throws InputError "cannot write PATH (reason)"; the temporary is removed on failure.
-void write_file_atomically(const std::filesystem::path& path, std::string_view content);
-
 // Where a text made piece by piece goes, each piece as soon as it is made.
 using TextSink = std::function<void(std::string_view)>;
+
+// A file written whole, flushed to the disk, under a temporary name beside its target, and put
+// in place only by commit() (a rename: the target is the old file or the new one, never a torn
+// one). Dropped uncommitted, its temporary is removed. Files that must change together (a run's
+// report set) are all staged first and committed only when every one was written.
+class StagedFile {
+public:
+  // Throws InputError "cannot write PATH (reason)", leaving nothing behind.
+  StagedFile(std::filesystem::path path, const std::function<void(const TextSink&)>& produce);
+  StagedFile(StagedFile&& other) noexcept;
+  StagedFile& operator=(StagedFile&&) = delete;
+  StagedFile(const StagedFile&) = delete;
+  StagedFile& operator=(const StagedFile&) = delete;
+  ~StagedFile();
+  // Renames the temporary onto the target; throws InputError "cannot write PATH (reason)".
+  void commit();
+  const std::filesystem::path& path() const { return path_; }
+
+private:
+  std::filesystem::path path_;
+  std::string temporary_; // its name, where it has one; empty once committed or moved from
+  int unnamed_ = -1;      // or its open descriptor (O_TMPFILE), named only by commit()
+};
+
+// A StagedFile committed at once. Throws InputError "cannot write PATH (reason)"; the temporary
+// is removed on failure.
+void write_file_atomically(const std::filesystem::path& path, std::string_view content);
 // The same, of a content `produce` hands to its sink in pieces, written as they come (through a
 // buffer of 1 MiB): a report of 10^6 records is never held whole. An exception from `produce`
 // removes the temporary and goes on.

@@ -6,7 +6,10 @@
 #include "common/files.hpp"
 #include "common/parallel.hpp"
 
+#include <algorithm>
 #include <filesystem>
+#include <numeric>
+#include <optional>
 
 namespace pldamp::harness {
 
@@ -33,43 +36,75 @@ void put_record_lines(RecordRange records, int jobs, const TextSink& put,
   }
 }
 
-WrittenReports write_reports(const RunReport& report, const std::string& folder, int jobs) {
+WrittenReports
+write_reports(const RunReport& report, const std::string& folder, int jobs,
+              const std::function<void(const std::filesystem::path&)>& before_stage) {
   namespace fs = std::filesystem;
   require_writable_folder(folder);
   const std::vector<ReportFormat>& formats = report.plan.scene.formats;
-  std::vector<std::string> paths(formats.size()), failures(formats.size());
+  const auto path_of = [&](ReportFormat format) {
+    return fs::path(folder) / ("report." + std::string(name_of(report_formats, format)));
+  };
+  // Every format written whole under a temporary name first; none is put in place unless all
+  // are, so the folder holds one run's reports (docs/run.md "Reports").
+  std::vector<std::optional<StagedFile>> staged(formats.size());
+  std::vector<std::string> failures(formats.size());
   for_each_index(formats.size(), jobs, [&](std::size_t i) {
-    const fs::path path =
-        fs::path(folder) / ("report." + std::string(name_of(report_formats, formats[i])));
+    const fs::path path = path_of(formats[i]);
     try {
+      // What a rename cannot replace, found before anything is put in place.
+      if (fs::is_directory(fs::symlink_status(path))) {
+        throw InputError("cannot write " + path.string() + " (Is a directory)");
+      }
+      if (before_stage) {
+        before_stage(path);
+      }
       switch (formats[i]) {
       case ReportFormat::json:
-        write_file_atomically(path,
-                              [&](const TextSink& put) { write_report_json(report, put, jobs); });
+        staged[i].emplace(path, [&](const TextSink& put) { write_report_json(report, put, jobs); });
         break;
       case ReportFormat::csv:
-        write_file_atomically(path,
-                              [&](const TextSink& put) { write_report_csv(report, put, jobs); });
+        staged[i].emplace(path, [&](const TextSink& put) { write_report_csv(report, put, jobs); });
         break;
       case ReportFormat::md:
-        write_file_atomically(path, report_markdown(report));
+        staged[i].emplace(path, [&](const TextSink& put) { put(report_markdown(report)); });
         break;
       case ReportFormat::html:
-        write_file_atomically(path, report_html(report, "gnuplot", jobs));
+        staged[i].emplace(path,
+                          [&](const TextSink& put) { put(report_html(report, "gnuplot", jobs)); });
         break;
       }
-      paths[i] = path.string();
-    } catch (const InputError& e) { // the other formats are still written
+    } catch (const InputError& e) {
       failures[i] = e.what();
     }
   });
   WrittenReports out;
   for (std::size_t i = 0; i < formats.size(); ++i) {
-    if (failures[i].empty()) {
-      out.written.push_back(paths[i]);
-    } else {
+    if (!failures[i].empty()) {
       out.failures.push_back(failures[i]);
     }
+  }
+  // report.json last: the file a nightly diffs and merge reads is the new one only when every
+  // other is. Renames alone remain, each atomic, microseconds apart; a machine that dies between
+  // two of them leaves the formats before report.json new and report.json old.
+  std::vector<std::size_t> order(formats.size());
+  std::iota(order.begin(), order.end(), std::size_t{0});
+  std::stable_partition(order.begin(), order.end(),
+                        [&](std::size_t i) { return formats[i] != ReportFormat::json; });
+  std::vector<bool> committed(formats.size(), false);
+  for (const std::size_t i : order) {
+    if (!out.failures.empty()) {
+      break;
+    }
+    try {
+      staged[i]->commit();
+      committed[i] = true;
+    } catch (const InputError& e) {
+      out.failures.push_back(e.what());
+    }
+  }
+  for (std::size_t i = 0; i < formats.size(); ++i) { // listed in the scene's order
+    (committed[i] ? out.written : out.kept).push_back(path_of(formats[i]).string());
   }
   return out;
 }

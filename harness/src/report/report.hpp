@@ -16,6 +16,8 @@
 
 #include <nlohmann/json.hpp>
 
+#include <filesystem>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -50,14 +52,19 @@ std::string report_markdown(const RunReport& report);
 std::string report_html(const RunReport& report, const std::string& gnuplot, int jobs = 1);
 
 struct WrittenReports {
-  std::vector<std::string> written;  // the files now in place
-  std::vector<std::string> failures; // "cannot write PATH (reason)", one per format that failed
+  std::vector<std::string> written;  // the files now this run's, in the scene's order
+  std::vector<std::string> kept;     // the files left as they were (the previous run's, or none)
+  std::vector<std::string> failures; // "cannot write PATH (reason)", one per file that failed
 };
 
-// Writes the scene's formats into `folder` (created if needed), each atomically
-// (common/files.hpp): a format that fails leaves its previous file and the others are written.
-// The formats are made on up to `jobs` threads (report.json and report.html take a second or
-// more each for a nightly), the files listed in the scene's order whatever the threads do.
-WrittenReports write_reports(const RunReport& report, const std::string& folder, int jobs = 1);
+// Writes the scene's formats into `folder` (created if needed) as one set: each is written whole
+// under a temporary name, and only when all are, they are renamed into place, report.json last
+// (common/files.hpp, StagedFile). A format that cannot be written (a full disk, a file-size
+// limit, an error) leaves every file as it was. The formats are made on up to `jobs` threads
+// (report.json and report.html take a second or more each for a nightly). `before_stage`, for
+// tests, is called with each file's path before it is written: what it throws fails that file.
+WrittenReports
+write_reports(const RunReport& report, const std::string& folder, int jobs = 1,
+              const std::function<void(const std::filesystem::path&)>& before_stage = {});
 
 } // namespace pldamp::harness

@@ -43,8 +43,11 @@ void RecordStore::flush() {
       if (errno == EINTR) {
         continue;
       }
+      // Before any report is written: the folder is as it was (a full disk, a file-size limit).
+      const int error = errno;
       throw InputError("cannot write the records' file in " + folder_.string() + " (" +
-                       std::strerror(errno) + ")");
+                       std::strerror(error) + "); no report file was changed: " + folder_.string() +
+                       " holds the previous run's, if any");
     }
     done += static_cast<std::size_t>(n);
   }
