@@ -38,7 +38,16 @@ import re
 import tempfile
 from typing import Any, Iterable, Optional
 
-import numpy as np
+try:
+    import numpy as np
+except ImportError as missing:  # a Python other than the one the module was built for
+    import sys as _sys
+
+    raise ImportError(
+        "pldamp needs numpy, which this Python (%s) does not have: run the Python the build "
+        "found (Debian's /usr/bin/python3, with python3-numpy), or install numpy into this one"
+        % _sys.executable
+    ) from missing
 
 from . import _pldamp
 

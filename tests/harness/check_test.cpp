@@ -399,10 +399,10 @@ TEST(CheckCli, BadInputIsOneLineAndExitTwo) {
            {{"check", good, "--p", "1.5", "--v0", "1"},
             "give exactly one of --e, --alpha, --alpha-eff (got 0)"},
            {{"check", good, "--p", "1.5", "--e", "0.5", "--v0", "1", "--precision", "quad"},
-            "unknown argument (got --precision quad)"},
+            "unknown option --precision for check (got --precision)"},
            // The truth is the seed's closed forms: check once took this and ignored it.
            {{"check", good, "--p", "1.5", "--e", "0.5", "--v0", "1", "--damping-exponent", "0.5"},
-            "unknown argument (got --damping-exponent 0.5)"},
+            "unknown option --damping-exponent for check (got --damping-exponent)"},
            {{"check", good, "--p", "1.5", "--e", "0.5", "--v0", "1", "--end", "force"},
             "the force end needs an F column, or a v column to compute F from (got the columns "
             "t, delta)"},

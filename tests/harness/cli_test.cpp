@@ -386,8 +386,26 @@ TEST(Cli, BadInputIsOneLineAndExitTwo) {
       {{"observables", "--p", "2", "--e", "0.5", "--v0", "1", "--precision", "float"},
        "unknown precision, expected " + precision_names() + " (got float)"},
       {{"observables", "--p", "2", "--e", "0.5", "--v0", "1", "--frobnicate"},
-       "unknown argument (got --frobnicate)"},
+       "unknown option --frobnicate for observables (got --frobnicate)"},
       {{"observables", "--p", "2", "--e", "0.5"}, "--v0 is required (got nothing)"},
+      // A typo is named, with the option meant, before what it leaves missing (a new user read
+      // "--v0 is required" for --vo, and "unknown argument" without a suggestion).
+      {{"observables", "--p", "2", "--e", "0.5", "--vo", "1"},
+       "unknown option --vo for observables; did you mean --v0? (got --vo)"},
+      {{"timestep", "--schem", "dem-verlet", "--p", "1.5", "--e", "0.5"},
+       "unknown option --schem for timestep; did you mean --scheme? (got --schem)"},
+      {{"observables", "--p", "2", "--e", "0.5", "--v0", "1", "--precison=quad"},
+       "unknown option --precison for observables; did you mean --precision? (got "
+       "--precison=quad)"},
+      // Given twice: once CLI11's "At Most 1 required but received 2", or, for a list, the last
+      // value kept silently.
+      {{"observables", "--p", "2", "--e", "0.5", "--v0", "0.5", "--v0", "0.6"},
+       "--v0 is given 2 times: give it once (a list's items comma-separated) (got --v0 0.5 --v0 "
+       "0.6)"},
+      {{"observables", "--geometry", "sphere-sphere", "--radius", "0.01", "--young", "7e10",
+        "--poisson", "0.3", "--poisson", "0.2", "--density", "2700", "--e", "0.5", "--v0", "1"},
+       "--poisson is given 2 times: give it once (a list's items comma-separated) (got "
+       "--poisson 0.3 --poisson 0.2)"},
       {{"observables", "--p", "2", "--v0", "1"},
        "give exactly one of --e, --alpha, --alpha-eff (got 0)"},
       {{"calibrate", "--p", "2", "--e", "0.5", "--end", "sideways"},
@@ -524,11 +542,10 @@ TEST(Cli, WhatIsNotARegularFileIsRefusedBeforeItIsRead) {
        "error: cannot read the trajectory: a character device, not a regular file (got "
        "/dev/zero)"},
       {{"run", fifo},
-       fifo.string() + ":0: cannot read the scene: a FIFO (a named pipe), not a "
-                       "regular file"},
+       "error: cannot read the scene: a FIFO (a named pipe), not a regular file (got " +
+           fifo.string() + ")"},
       {{"run", "/dev/zero"},
-       "/dev/zero:0: cannot read the scene: a character device, not a "
-       "regular file"},
+       "error: cannot read the scene: a character device, not a regular file (got /dev/zero)"},
       {{"diff", fifo, report},
        "error: cannot read report: a FIFO (a named pipe), not a regular file (got " +
            fifo.string() + ")"},

@@ -14,6 +14,8 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <map>
+#include <numeric>
 #include <string>
 #include <vector>
 
@@ -77,6 +79,68 @@ void settle_material_options(const CLI::App& command, ContactArgs& a) {
     }
   }
   settle_materials(a, mass_options_given);
+}
+
+// Levenshtein distance, for the option nearest a mistyped one.
+std::size_t edit_distance(std::string_view a, std::string_view b) {
+  std::vector<std::size_t> row(b.size() + 1);
+  std::iota(row.begin(), row.end(), std::size_t{0});
+  for (std::size_t i = 1; i <= a.size(); ++i) {
+    std::size_t diagonal = row[0];
+    row[0] = i;
+    for (std::size_t j = 1; j <= b.size(); ++j) {
+      const std::size_t above = row[j];
+      row[j] = std::min({row[j] + 1, row[j - 1] + 1, diagonal + (a[i - 1] == b[j - 1] ? 0 : 1)});
+      diagonal = above;
+    }
+  }
+  return row[b.size()];
+}
+
+// What a command's words say before CLI11 judges them: an option it does not take (named, with
+// the nearest it takes: a typo once read "--v0 is required"), or one given twice (CLI11 said
+// "At Most 1 required but received 2", or kept the last value of a list such as --poisson).
+void refuse_unknown_or_repeated_options(const CLI::App& command,
+                                        const std::vector<std::string>& words) {
+  std::vector<std::string> names{"--help"};
+  for (const CLI::Option* option : command.get_options()) {
+    for (const std::string& name : option->get_lnames()) {
+      names.push_back("--" + name);
+    }
+  }
+  std::map<std::string, std::vector<std::string>> given;
+  for (std::size_t i = 0; i < words.size(); ++i) {
+    if (words[i].rfind("--", 0) != 0 || words[i] == "--") {
+      continue;
+    }
+    const std::string name = words[i].substr(0, words[i].find('='));
+    if (std::find(names.begin(), names.end(), name) == names.end()) {
+      std::string nearest;
+      std::size_t best = 3; // at most two edits away, or no suggestion
+      for (const std::string& candidate : names) {
+        if (const std::size_t d = edit_distance(name, candidate); d < best) {
+          best = d;
+          nearest = candidate;
+        }
+      }
+      throw InputError("unknown option " + name + " for " + command.get_name() +
+                       (nearest.empty() ? "" : "; did you mean " + nearest + "?") + " (got " +
+                       words[i] + ")");
+    }
+    const bool has_value = words[i].find('=') == std::string::npos && i + 1 < words.size() &&
+                           words[i + 1].rfind("--", 0) != 0;
+    given[name].push_back(has_value ? name + " " + words[i + 1] : words[i]);
+  }
+  for (const auto& [name, uses] : given) {
+    if (uses.size() > 1) {
+      std::string all;
+      for (const std::string& use : uses) {
+        all += (all.empty() ? "" : " ") + use;
+      }
+      throw InputError(name + " is given " + std::to_string(uses.size()) +
+                       " times: give it once (a list's items comma-separated) (got " + all + ")");
+    }
+  }
 }
 
 // CLI11's own errors, rewritten to the contract's one line "<what> (got <value>)".
@@ -294,6 +358,11 @@ int run_cli(int argc, const char* const* argv, std::ostream& out, std::ostream& 
       throw InputError("unknown command, expected "
                        "calibrate|observables|solve|timestep|run|merge|diff|check|showcase (got " +
                        arguments.front() + ")");
+    }
+    if (!arguments.empty() && arguments.front().rfind('-', 0) != 0) {
+      refuse_unknown_or_repeated_options(
+          *app.get_subcommand(arguments.front()),
+          std::vector<std::string>(arguments.begin() + 1, arguments.end()));
     }
     try {
       app.parse(argc, argv);

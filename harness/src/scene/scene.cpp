@@ -211,11 +211,13 @@ bool solves_with_pldamp(const Scene& scene) {
 
 Scene load_scene(const std::string& path) {
   if (const std::optional<std::string> why = unreadable_file(path)) {
-    throw SceneError(path + ":0: cannot read the scene: " + *why);
+    // Not "file:line: message": there is no line (it read "PATH:0: ..."); the one-line error.
+    throw InputError("cannot read the scene: " + *why + " (got " + path + ")");
   }
   std::ifstream in(path, std::ios::binary);
   if (!in) {
-    throw SceneError(path + ":0: cannot read the scene (" + std::strerror(errno) + ")");
+    throw InputError("cannot read the scene: " + std::string(std::strerror(errno)) + " (got " +
+                     path + ")");
   }
   std::string text;
   char buffer[65536];
