@@ -4,6 +4,9 @@
 #include "fixtures.hpp"
 #include "pldamp/analytic.hpp"
 
+#include "common/files.hpp"
+
+#include <fmt/format.h>
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
@@ -668,6 +671,67 @@ TEST(Cli, TextFromFilesIsShownEscaped) {
     EXPECT_EQ(text.find("\xe2\x80\xae"), std::string::npos) << file;
   }
   EXPECT_EQ(ran.out.find("\xe2\x80\xae"), std::string::npos) << ran.out;
+}
+
+} // namespace
+} // namespace pldamp::harness
+
+namespace pldamp::harness {
+namespace {
+
+namespace fs = std::filesystem;
+using testing::CliRun;
+using testing::run;
+
+std::string text_of(const fs::path& path) {
+  std::ifstream in(path);
+  std::ostringstream text;
+  text << in.rdbuf();
+  return text.str();
+}
+
+// Every report names what made it (issue 49): `pldamp --version` prints the build, report.json's
+// `run` holds it with the date, host, command line and the scene text's checksum, report.md and
+// report.html say it in their first lines, and diff says when two reports come from two builds.
+TEST(Cli, EveryReportNamesTheBuildAndTheCommandThatMadeIt) {
+  const CliRun version = run({"--version"});
+  EXPECT_EQ(version.code, 0);
+  ASSERT_EQ(version.out.rfind("pldamp 0.", 0), 0u) << version.out;
+  const std::string build = version.out.substr(7, version.out.size() - 8);
+  EXPECT_NE(build.find('+'), std::string::npos) << build; // VERSION+COMMIT
+
+  const std::string scene = testing::write_file("made.toml", testing::valid_scene);
+  const fs::path out = testing::scratch() / "made";
+  fs::remove_all(out);
+  const CliRun ran = run({"run", scene, "--out", out.string(), "--jobs", "1"});
+  ASSERT_EQ(ran.code, 0) << ran.err;
+  const auto report = nlohmann::json::parse(text_of(out / "report.json"));
+  const nlohmann::json& made = report.at("run");
+  EXPECT_EQ(made.at("build"), build);
+  EXPECT_EQ(made.at("command"),
+            (nlohmann::json{"pldamp", "run", scene, "--out", out.string(), "--jobs", "1"}));
+  EXPECT_EQ(made.at("scene_checksum"), fmt::format("{:016x}", fnv1a(text_of(scene))));
+  const std::string date = made.at("date");
+  EXPECT_EQ(date.size(), 20u) << date; // 2026-11-29T02:13:30Z
+  EXPECT_EQ(date.substr(0, 2), "20");
+  EXPECT_EQ(date.back(), 'Z');
+  EXPECT_FALSE(made.at("host").get<std::string>().empty());
+  const std::string line = "pldamp " + build + " on " + made.at("host").get<std::string>() + ", " +
+                           date + ": pldamp run " + scene;
+  EXPECT_NE(text_of(out / "report.md").find("Made by " + line), std::string::npos);
+  EXPECT_NE(text_of(out / "report.html").find("Made by <code>" + line), std::string::npos);
+
+  // The same report as another build's: diff says so first, and judges the rest as before.
+  nlohmann::json other = report;
+  other["run"]["build"] = "0.0.9+0123456789ab";
+  std::ofstream(testing::scratch() / "other-build.json") << other.dump(1);
+  const CliRun diff = run(
+      {"diff", (testing::scratch() / "other-build.json").string(), (out / "report.json").string()});
+  EXPECT_EQ(diff.code, 0) << diff.err;
+  EXPECT_EQ(diff.out.rfind("BUILD 0.0.9+0123456789ab -> " + build + "\n", 0), 0u) << diff.out;
+  EXPECT_NE(diff.out.find("0 regressions, 0 changes"), std::string::npos) << diff.out;
+  const CliRun same = run({"diff", (out / "report.json").string(), (out / "report.json").string()});
+  EXPECT_EQ(same.out.find("BUILD"), std::string::npos) << same.out;
 }
 
 } // namespace

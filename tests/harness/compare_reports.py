@@ -1,13 +1,14 @@
 #!/usr/bin/env python3
 """Two report.json compared key by key but for what timing decides (times, the runs repeats
-made, the timestamp): exit 1 and the first differences when they differ.
+made, the timestamp) and what made them (`run`): exit 1 and the first differences when they differ.
     compare_reports.py A/report.json B/report.json"""
 import json
 import sys
 
 
 def timing(key):
-    return "second" in key or key in ("runs", "solver_runs", "x_analytic", "generated")
+    # `run`: what made the report (date, host, command line), not what it computed.
+    return "second" in key or key in ("runs", "solver_runs", "x_analytic", "generated", "run")
 
 
 def differences(a, b, path, found):

@@ -225,13 +225,14 @@ TEST(Shards, CellsAreSplitOnceEachInEveryShareOfTheGrid) {
   }
 }
 
-// report.json without what timing decides: times, and the runs the repeats made.
+// report.json without what timing decides: times, the runs the repeats made, and what made it
+// (`run`: the date and the command line differ; its build is checked apart).
 nlohmann::json without_times(const nlohmann::json& j) {
   if (j.is_object()) {
     nlohmann::json out = nlohmann::json::object();
     for (const auto& [key, value] : j.items()) {
       if (key.find("second") == std::string::npos && key != "runs" && key != "solver_runs" &&
-          key != "x_analytic" && key != "generated") {
+          key != "x_analytic" && key != "generated" && key != "run") {
         out[key] = without_times(value);
       }
     }
@@ -347,6 +348,11 @@ TEST(Shards, MergedShardsGiveTheSerialReport) {
     ASSERT_EQ(merging.code, 0) << merging.err;
     EXPECT_NE(merging.out.find("claim dp5 e: holds"), std::string::npos) << merging.out;
     EXPECT_EQ(without_times(report_at(merged)), expected) << count << " shards";
+    // The merged report names the build that ran the shards, and the merge that made it.
+    const nlohmann::json made = report_at(merged)["run"];
+    EXPECT_EQ(made["build"], report_at(base / "serial")["run"]["build"]);
+    EXPECT_EQ(made["command"][1], "merge");
+    EXPECT_EQ(made["scene_checksum"], report_at(base / "serial")["run"]["scene_checksum"]);
     const CliRun diff = run(
         {"diff", (base / "serial" / "report.json").string(), (merged / "report.json").string()});
     EXPECT_EQ(diff.code, 0) << diff.out;

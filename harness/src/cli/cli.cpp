@@ -4,6 +4,7 @@
 #include "cli/materials.hpp"
 #include "common/input.hpp"
 #include "common/observables.hpp"
+#include "common/provenance.hpp"
 #include "judge/trajectory.hpp"
 #include "scene/scene.hpp"
 
@@ -177,6 +178,10 @@ int run_cli(int argc, const char* const* argv, std::ostream& out, std::ostream& 
   CLI::App app{"pldamp: closed forms and validation harness for the power-law damped contact "
                "oscillator m d'' + alpha sqrt(mk) d^((p-1)/2) d' + k d^p = 0"};
   app.require_subcommand(1);
+  // The build every report names (report.json's run.build): version and commit.
+  app.set_version_flag("--version", "pldamp " + std::string(build_id()),
+                       "the pldamp version and the commit it was built from");
+  remember_command_line(std::vector<std::string>(argv, argv + argc));
 
   ContactArgs calibrate_args;
   CLI::App* calibrate = app.add_subcommand("calibrate", "alpha for a target restitution e");
@@ -369,6 +374,9 @@ int run_cli(int argc, const char* const* argv, std::ostream& out, std::ostream& 
     } catch (const CLI::CallForHelp&) {
       const auto parsed = app.get_subcommands();
       out << (parsed.empty() ? app.help() : parsed.front()->help());
+      return 0;
+    } catch (const CLI::CallForVersion&) {
+      out << "pldamp " << build_id() << "\n";
       return 0;
     } catch (const CLI::CallForAllHelp&) {
       out << app.help("", CLI::AppFormatMode::All);

@@ -384,7 +384,8 @@ int report_records(const Plan& plan, RecordRange records, const RunTotals& total
   for (const TrajectorySpec& spec : scene.trajectories) {
     trajectories.push_back(check_trajectory(spec, scene.end));
   }
-  const RunReport report{plan, records, budgets, totals, figures, &trajectories};
+  const Provenance made = provenance_of(scene.text);
+  const RunReport report{plan, records, budgets, totals, figures, &trajectories, &made};
   if (const std::optional<int> code = signals.exit_code()) {
     err << "stopped by a signal: no report written, " << one_line(folder) << " left as it was\n";
     return *code;

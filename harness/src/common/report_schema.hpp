@@ -6,6 +6,8 @@
 //
 // report.json, schema 3 (docs/run.md "Reports"; `?`: only when there is something to say):
 //   schema        2
+//   run?          build, date, host, command [argv], scene_checksum (what made the report:
+//                 common/provenance.hpp; a reader takes a report without it as before)
 //   scene         end, observables, grid {p, v0, m, k, damping_exponent?, contacts? [{name,
 //                 geometry, R_eff, E_eff, m, k, v0 [], rayleigh_time}], units? {KEY: SI unit},
 //                 damping [{label, alpha_eff, overdamped}]}, configs [{label, solver, precision,
@@ -75,6 +77,7 @@ inline constexpr int version = 3;
 namespace key {
 // The top level.
 inline constexpr const char* schema = "schema";
+inline constexpr const char* run = "run";
 inline constexpr const char* scene = "scene";
 inline constexpr const char* totals = "totals";
 inline constexpr const char* external_solvers = "external_solvers";
@@ -84,6 +87,11 @@ inline constexpr const char* searches = "searches";
 inline constexpr const char* budgets = "budgets";
 inline constexpr const char* records = "records";
 inline constexpr const char* figures = "figures";
+// run (what made the report: common/provenance.hpp); its command line is `command`
+inline constexpr const char* build = "build";
+inline constexpr const char* date = "date";
+inline constexpr const char* host = "host";
+inline constexpr const char* scene_checksum = "scene_checksum";
 // scene
 inline constexpr const char* end = "end";
 inline constexpr const char* observables = "observables";

@@ -183,6 +183,14 @@ DiffResult diff_facts(const diff::Report& old_facts, const diff::Report& new_fac
     }
     result.lines = change.lines;
   }
+  // Another build may compute other values: said first, judged as the rest is.
+  const std::string old_build = string_in(member_or_null(old_report, key::run), key::build);
+  const std::string new_build = string_in(member_or_null(new_report, key::run), key::build);
+  if (old_build != new_build) {
+    result.lines.insert(result.lines.begin(),
+                        fmt::format("BUILD {} -> {}", old_build.empty() ? "unknown" : old_build,
+                                    new_build.empty() ? "unknown" : new_build));
+  }
   diff::Findings findings;
   diff::compare_claims(findings, old_report, new_report, change, result.thresholds);
   diff::compare_records(findings, old_facts, new_facts, change, result.thresholds);

@@ -19,6 +19,7 @@
 // error, 10 % for an order, gap or ratio) or disappeared, a search that no longer finds a value.
 //
 // Output: one line per group (kind of finding, configuration, observable), then a summary.
+//   BUILD <old build> -> <new build>    (first, when the reports' run.build differ or one has none)
 //   REGRESSION <what> | <configuration, claim or search> | <subject> | <n> <unit>(s) | <worst>
 //              [at <cell>]          (the cell for records and the closed forms' points only)
 //   CHANGE <what> | ...                                   (the same fields; not a regression)

@@ -416,11 +416,16 @@ std::string page(const RunReport& report, const Gnuplot& gnuplot) {
          "ul.claims{max-width:75em;line-height:1.35}ul.claims li{margin:0.4em 0}"
          "@media print{body{margin:0;max-width:none}figure{break-inside:avoid}"
          "h2{break-after:avoid}}</style></head><body>\n";
-  out << "<h1>pldamp report: " << escape(plan.scene.name) << "</h1>\n<p>Scene <code>"
-      << escape(plan.scene.path) << "</code>: " << plan.cells.size() << " cells × "
-      << plan.configs.size() << " solver configurations, " << report.totals.solver_runs
-      << " solver runs, " << report.totals.rhs_evals << " rhs evaluations, "
-      << short_number(report.totals.wall_seconds, 3) << " s; " << budgets.failed_records
+  out << "<h1>pldamp report: " << escape(plan.scene.name) << "</h1>\n";
+  if (report.made != nullptr) {
+    out << "<p class='made'>Made by <code>" << escape(provenance_line(*report.made))
+        << "</code> (scene text " << report.made->scene_checksum << ").</p>\n";
+  }
+  out << "<p>Scene <code>" << escape(plan.scene.path) << "</code>: " << plan.cells.size()
+      << " cells × " << plan.configs.size() << " solver configurations, "
+      << report.totals.solver_runs << " solver runs, " << report.totals.rhs_evals
+      << " rhs evaluations, " << short_number(report.totals.wall_seconds, 3) << " s; "
+      << budgets.failed_records
       << " failed records.</p>\n<p class='read'><strong>How to read this report.</strong> "
       << escape(how_to_read) << "</p>\n";
   if (!gnuplot.available()) {

@@ -272,6 +272,13 @@ ordered_json report_sections(const RunReport& report, bool with_records) {
   const Budgets& budgets = report.budgets;
   ordered_json out;
   out[key::schema] = schema::version;
+  if (report.made != nullptr) {
+    out[key::run] = {{key::build, report.made->build},
+                     {key::date, report.made->date},
+                     {key::host, report.made->host},
+                     {key::command, report.made->command},
+                     {key::scene_checksum, report.made->scene_checksum}};
+  }
   out[key::scene] = scene_json(plan);
   out[key::totals] = {{key::rhs_evals, report.totals.rhs_evals},
                       {key::solver_runs, report.totals.solver_runs},

@@ -100,6 +100,10 @@ std::string report_markdown(const RunReport& report) {
   const Budgets& budgets = report.budgets;
   std::ostringstream out;
   out << "# pldamp report: " << md(plan.scene.name) << "\n\n";
+  if (report.made != nullptr) {
+    out << "Made by " << md(provenance_line(*report.made)) << " (scene text "
+        << report.made->scene_checksum << ").\n\n";
+  }
   out << "Scene `" << md(plan.scene.path) << "`, end " << name_of(contact_ends, plan.scene.end)
       << ": " << plan.cells.size() << " cells × " << plan.configs.size()
       << " solver configurations, " << report.totals.solver_runs << " solver runs, "

@@ -9,6 +9,7 @@
 #pragma once
 
 #include "common/files.hpp"
+#include "common/provenance.hpp"
 #include "judge/budget.hpp"
 #include "judge/figures.hpp"
 #include "judge/trajectory.hpp"
@@ -30,6 +31,7 @@ struct RunReport {
   const RunTotals& totals;
   const std::vector<Figure>& figures;
   const std::vector<TrajectoryCheck>* trajectories = nullptr; // the scene's [[trajectory]], checked
+  const Provenance* made = nullptr; // what made it (report.json's `run`, the pages' first lines)
 };
 
 // Each format on its own (json.cpp, csv.cpp, markdown.cpp, html.cpp); common/report_schema.hpp

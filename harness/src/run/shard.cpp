@@ -1,7 +1,6 @@
 // Shard files on disk (run/shard.hpp); their bytes are shard_bytes.cpp's.
 #include "run/shard.hpp"
 
-#include "build_id.hpp"
 #include "common/bytes.hpp"
 #include "common/files.hpp"
 #include "common/input.hpp"
@@ -16,10 +15,6 @@
 #include <unistd.h>
 
 namespace pldamp::harness {
-
-std::string_view build_id() {
-  return PLDAMP_BUILD_ID;
-}
 
 std::vector<std::size_t> shard_cells(std::size_t cells, std::size_t index, std::size_t count) {
   std::vector<std::size_t> mine;

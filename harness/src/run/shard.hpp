@@ -4,6 +4,7 @@
 #pragma once
 
 #include "common/bytes.hpp"
+#include "common/provenance.hpp"
 #include "run/record_store.hpp"
 #include "run/run.hpp"
 
@@ -15,10 +16,6 @@
 #include <vector>
 
 namespace pldamp::harness {
-
-// What pldamp build made a file: its version and the commit it was built from (a shard set is
-// merged only by the build that ran it: another build may compute other values).
-std::string_view build_id();
 
 // Appends `records` to `bytes`; read_records reads them back (InputError naming `source` when the
 // bytes end early or hold what no writer writes).
