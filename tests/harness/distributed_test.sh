@@ -109,16 +109,22 @@ precision = "50"
 formats = ["json"]
 SCENE
 interrupted() { # interrupted WHAT: starts the run in the background; $run is mpirun's pid
-  rm -rf "$work/$1"
-  "${mpi[@]}" -n 3 "$pldamp" run "$long" --out "$work/$1" --jobs 1 \
-    >"$work/$1.out" 2>"$work/$1.err" &
+  rm -rf "$work/$1" "$work/$1".status.*
+  # Each rank's own exit status in WHAT.status.RANK (mpirun's is one rank's, whichever failed
+  # first). With $2 = each-rank-ends, mpirun does not end the job at the first non-zero status, so
+  # that every rank ends by itself and says how (a rank killed -9 would then hang the others).
+  local abort=true
+  [[ ${2:-} != each-rank-ends ]] || abort=false
+  OMPI_MCA_orte_abort_on_non_zero_status=$abort "${mpi[@]}" -n 3 sh -c 'code=0; "$0" run "$1" --out "$2" --jobs 1 || code=$?
+    echo "$code" >"$3.status.$OMPI_COMM_WORLD_RANK"; exit "$code"' \
+    "$pldamp" "$long" "$work/$1" "$work/$1" >"$work/$1.out" 2>"$work/$1.err" &
   run=$!
   for _ in $(seq 300); do # until rank 0 has records (its first progress line)
     grep -q 'records, about' "$work/$1.err" 2>/dev/null && break
     sleep 0.1
   done
 }
-ended_cleanly() { # ended_cleanly WHAT: mpirun ends within 60 s, non-zero, and no report exists
+ended_cleanly() { # ended_cleanly WHAT [each-rank-ends]: mpirun ends within 60 s, non-zero, no report
   local status=0
   for _ in $(seq 600); do
     kill -0 "$run" 2>/dev/null || break
@@ -130,22 +136,37 @@ ended_cleanly() { # ended_cleanly WHAT: mpirun ends within 60 s, non-zero, and n
     exit 1
   fi
   wait "$run" || status=$?
-  ((status != 0)) || { echo "$1: exit status 0" >&2; exit 1; }
+  # (told to let each rank end, mpirun exits 0 whatever they did: their statuses say it)
+  [[ ${2:-} == each-rank-ends ]] || ((status != 0)) || { echo "$1: exit status 0" >&2; exit 1; }
   [[ -z $(ls -A "$work/$1") ]] || { ls -la "$work/$1" >&2; echo "$1: a file was left" >&2; exit 1; }
   echo "$1: exit status $status, no report"
 }
 
+rank_one() { # the rank-1 process: the pldamp whose environment says OMPI_COMM_WORLD_RANK=1
+  victim=""
+  for pid in $(pgrep -f "pldamp run $long" || true); do
+    if tr '\0' '\n' <"/proc/$pid/environ" 2>/dev/null | grep -qx 'OMPI_COMM_WORLD_RANK=1'; then
+      victim=$pid
+    fi
+  done
+  [[ -n $victim ]] || { echo "rank 1 not found" >&2; kill -9 "$run"; exit 1; }
+}
+
 interrupted killed
-# The rank-1 process: the pldamp whose environment says OMPI_COMM_WORLD_RANK=1.
-victim=""
-for pid in $(pgrep -f "pldamp run $long" || true); do
-  if tr '\0' '\n' <"/proc/$pid/environ" 2>/dev/null | grep -qx 'OMPI_COMM_WORLD_RANK=1'; then
-    victim=$pid
-  fi
-done
-[[ -n $victim ]] || { echo "killed: rank 1 not found" >&2; kill -9 "$run"; exit 1; }
+rank_one
 kill -9 "$victim"
 ended_cleanly killed
+
+# SIGTERM to one rank alone: the run stops on every rank and exits 143, as a serial run does (it
+# exited 130, SIGINT's code, from the ranks that learnt of the stop from another).
+interrupted terminated each-rank-ends
+rank_one
+kill -TERM "$victim"
+ended_cleanly terminated each-rank-ends
+for rank in 0 1 2; do
+  code=$(cat "$work/terminated.status.$rank" 2>/dev/null || echo none)
+  [[ $code == 143 ]] || { echo "terminated: rank $rank exited $code, not 143" >&2; exit 1; }
+done
 
 interrupted interrupted
 kill -INT "$run"

@@ -75,13 +75,21 @@ std::atomic<int> caught_signal{0};
 
 extern "C" void on_stop_signal(int signal) {
   caught_signal.store(signal);
+  stop_signal().store(signal);
   stop_requested().store(true);
+}
+
+// 128 + the signal that stopped the run on another rank (SIGINT's when it is not known).
+int stopped_elsewhere_code() {
+  const int signal = stop_signal().load();
+  return 128 + (signal > 0 ? signal : SIGINT);
 }
 
 class StopOnSignals {
 public:
   StopOnSignals() {
     caught_signal = 0;
+    stop_signal() = 0;
     stop_requested() = false;
     struct sigaction action {};
     action.sa_handler = on_stop_signal;
@@ -393,7 +401,7 @@ int report_records(const Plan& plan, RecordRange records, const RunTotals& total
   if (stop_requested()) { // under MPI: a signal on another rank, in the shared work
     err << "stopped by a signal on another rank: no report written, " << one_line(folder)
         << " left as it was\n";
-    return 128 + SIGINT;
+    return stopped_elsewhere_code();
   }
   const WrittenReports files = write_reports(report, folder, jobs);
   out << one_line(scene.name) << ": " << plan.cells.size() << " cells x " << plan.configs.size()
@@ -599,11 +607,17 @@ int run_scene(const RunArgs& args, std::ostream& out, std::ostream& err,
   bool stopped_elsewhere = false;
   if (distributed) {
     distribution->run(*plan, *runner, store.get(), progress, stopped_elsewhere);
-    // Whether any rank was stopped, on every rank: then none goes on to the shared judging.
-    const std::vector<std::string> stops =
-        distribution->all_gather(stop_requested() || stopped_elsewhere ? "1" : "");
+    // Whether any rank was stopped, on every rank: then none goes on to the shared judging. Each
+    // says by which signal (0: by another rank's), and the first rank's signal is every rank's.
+    const std::vector<std::string> stops = distribution->all_gather(
+        stop_requested() || stopped_elsewhere ? std::to_string(stop_signal().load()) : "");
     const bool stopped =
         std::any_of(stops.begin(), stops.end(), [](auto& s) { return !s.empty(); });
+    for (const std::string& said : stops) {
+      if (!said.empty() && said != "0" && stop_signal().load() == 0) {
+        stop_signal() = std::stoi(said);
+      }
+    }
     stopped_elsewhere = stopped && !signals.exit_code();
     if (stopped) {
       distribution->shared_work_done(false);
@@ -614,7 +628,10 @@ int run_scene(const RunArgs& args, std::ostream& out, std::ostream& err,
         make_budgets(*plan, none, Workers(jobs, distribution));
         distribution->shared_work_done(false);
       }
-      return signals.exit_code().value_or(0);
+      if (const std::optional<int> code = signals.exit_code()) {
+        return *code;
+      }
+      return stopped || stop_requested() ? stopped_elsewhere_code() : 0;
     }
   } else {
     solve_into(*plan, *runner, shard_cells(plan->cells.size(), 1, 1), *store, jobs, progress);
@@ -627,7 +644,7 @@ int run_scene(const RunArgs& args, std::ostream& out, std::ostream& err,
   if (stopped_elsewhere) {
     err << "stopped by a signal on another rank: no report written, " << args.out
         << " left as it was\n";
-    return 128 + SIGINT;
+    return stopped_elsewhere_code();
   }
   store->seal();
   RunTotals totals;

@@ -60,7 +60,9 @@ std::vector<std::string> exchange_pieces(Distribution& ranks, const std::string&
   }
   std::string bytes;
   ByteWriter out(bytes);
-  out.put<std::uint8_t>(stop_requested() ? 1 : 0);
+  // Stopped: by which signal (1 when by another rank's, not known here).
+  out.put<std::uint8_t>(
+      stop_requested() ? static_cast<std::uint8_t>(std::clamp(stop_signal().load(), 1, 255)) : 0);
   out.put(kind);
   out.put<std::uint64_t>(failed_at);
   out.put(why);
@@ -71,8 +73,12 @@ std::vector<std::string> exchange_pieces(Distribution& ranks, const std::string&
   std::string first_why;
   for (std::size_t r = 0; r < shares.size(); ++r) {
     ByteReader in(shares[r], "rank " + std::to_string(r) + "'s results");
-    if (in.get<std::uint8_t>() != 0) {
+    if (const std::uint8_t stopped = in.get<std::uint8_t>(); stopped != 0) {
       stop_requested() = true;
+      int none = 0;
+      if (stopped > 1) { // the first rank's signal, kept once known
+        stop_signal().compare_exchange_strong(none, stopped);
+      }
     }
     const auto said_kind = in.get<std::uint8_t>();
     const auto at = in.get<std::uint64_t>();

@@ -604,6 +604,12 @@ std::atomic<bool>& stop_requested() {
   return stop;
 }
 
+std::atomic<int>& stop_signal() {
+  static std::atomic<int> signal{0};
+  static_assert(std::atomic<int>::is_always_lock_free);
+  return signal;
+}
+
 struct PlanRunner::Programs {
   std::vector<std::unique_ptr<ExternalSolver>> owned;
   std::vector<ExternalSolver*> of_config; // per configuration: its program, or none

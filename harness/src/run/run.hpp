@@ -96,6 +96,9 @@ using Progress = std::function<void(std::size_t done, std::size_t total)>;
 // the solves in flight end within 256 steps, as time_limit. Whoever installs the handler clears
 // it first (cli/commands_run.cpp).
 std::atomic<bool>& stop_requested();
+// The signal that asked for the stop, here or on another rank (0: none known): a run stopped by
+// SIGTERM on any rank exits 143 on every rank, by SIGINT 130 (distribution.cpp passes it on).
+std::atomic<int>& stop_signal();
 
 // The lanes of one batch (solvers::solve_batch) when a fixed-step configuration's records are
 // solved together: 16 contacts (docs/performance.md, "Batch mode", the cells of a scene).
