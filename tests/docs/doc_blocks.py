@@ -16,6 +16,9 @@ A block is a fenced block whose info string names its kind, and optionally attri
 - cpp: compiled by CMake (target doc_blocks_cpp, from `extract-cpp`), each page's blocks in order
   in one function, as a notebook runs; a `text {output}` block after one is what it must print.
 - toml: a scene, run by `pldamp run`; {fragment} adds the grid it leaves out.
+- bash {slurm=array|step|merge}: a Slurm batch script, run with Slurm's variables set and pldamp
+  and srun stood in for: an array's every task (as written and 0-based, in the array and rerun
+  alone) runs its own --shard of the set; a step starts pldamp by srun --mpi=pmix; a merge merges.
 - sh: each line a command; build/harness/pldamp and python3 lines are run (status 0), and a block
   holding other commands (an install, a build, a cluster job) names the ctest that runs them
   ({ran-by=NAME}, checked to exist; `ci` is the CI job itself) or why none can ({norun=why}).
@@ -202,6 +205,94 @@ def check_sh(block, context):
         if code != 0:
             errors.append(f"{block.where()}: `{line.strip()}` exited {code}:\n{printed[:2000]}")
     return errors
+
+
+STUB = """#!/bin/sh
+# Stands in for a program a Slurm script starts: writes its arguments, one per line, then a blank.
+printf '%s\\n' "$(basename "$0")" "$@" "" >>"$STUB_LOG"
+"""
+
+
+def run_slurm_script(text, env_extra):
+    """Runs a Slurm batch script as Slurm would start it, with build/harness/pldamp and srun
+    replaced by stubs that record their arguments: the commands it would run, as argv lists."""
+    with tempfile.TemporaryDirectory() as work:
+        for stub in ("build/harness/pldamp", "bin/srun"):
+            os.makedirs(os.path.join(work, os.path.dirname(stub)), exist_ok=True)
+            with open(os.path.join(work, stub), "w") as out:
+                out.write(STUB)
+            os.chmod(os.path.join(work, stub), 0o755)
+        script = os.path.join(work, "job.sh")
+        open(script, "w").write(text)
+        log = os.path.join(work, "log")
+        env = {"PATH": os.path.join(work, "bin") + ":/usr/bin:/bin", "STUB_LOG": log,
+               "SLURM_JOB_ID": "4242", "SLURM_CPUS_PER_TASK": "8", **env_extra}
+        result = subprocess.run(["bash", script], cwd=work, env=env, capture_output=True,
+                                text=True, timeout=60)
+        if result.returncode != 0:
+            raise AssertionError(f"exited {result.returncode}: {result.stderr}")
+        calls = open(log).read().split("\n\n") if os.path.exists(log) else []
+        return [call.split("\n") for call in calls if call.strip()]
+
+
+def shard_of(call):
+    return call[call.index("--shard") + 1], call[call.index("--out") + 1]
+
+
+def check_slurm_array(block, text):
+    """Every task of the array runs its own shard of the whole set, and a task rerun alone
+    (sbatch --array=K) the same one: for the array as written, and made 0-based."""
+    errors = []
+    m = re.search(r"^#SBATCH --array=(\d+)-(\d+)\s*$", text, re.M)
+    if not m:
+        return [f"{block.where()}: an array script without '#SBATCH --array=A-B'"]
+    low, high = int(m.group(1)), int(m.group(2))
+    count = high - low + 1
+    zero_based = text.replace(m.group(0), f"#SBATCH --array=0-{count - 1}")
+    zero_based = re.sub(r"^first=\d+$", "first=0", zero_based, flags=re.M)
+    for variant, script, first in (("as written", text, low), ("0-based", zero_based, 0)):
+        shards, outs = {}, set()
+        for task in range(first, first + count):
+            whole = {"SLURM_ARRAY_TASK_ID": str(task), "SLURM_ARRAY_TASK_COUNT": str(count),
+                     "SLURM_ARRAY_TASK_MIN": str(first),
+                     "SLURM_ARRAY_TASK_MAX": str(first + count - 1)}
+            alone = {"SLURM_ARRAY_TASK_ID": str(task), "SLURM_ARRAY_TASK_COUNT": "1",
+                     "SLURM_ARRAY_TASK_MIN": str(task), "SLURM_ARRAY_TASK_MAX": str(task)}
+            try:
+                [call] = run_slurm_script(script, whole)
+                [rerun] = run_slurm_script(script, alone)
+            except (AssertionError, ValueError) as error:
+                return [f"{block.where()}: {variant}, task {task}: {error}"]
+            shards[task], out = shard_of(call)
+            outs.add(out)
+            if shard_of(rerun) != shard_of(call):
+                errors.append(f"{block.where()}: {variant}, task {task} rerun alone runs "
+                              f"{shard_of(rerun)}, in the array {shard_of(call)}")
+        want = {f"{k}/{count}" for k in range(1, count + 1)}
+        if set(shards.values()) != want or len(outs) != count:
+            errors.append(f"{block.where()}: {variant}: the tasks run shards "
+                          f"{sorted(set(shards.values()))[:5]}... into {len(outs)} folders, not "
+                          f"each of 1/{count} ... {count}/{count} once")
+    return errors
+
+
+def check_slurm(block, context):
+    kind = block.attributes.get("slurm")
+    if kind == "array":
+        return check_slurm_array(block, block.text)
+    try:
+        calls = run_slurm_script(block.text, {"SLURM_NTASKS": "16"})
+    except AssertionError as error:
+        return [f"{block.where()}: {error}"]
+    if kind == "step":
+        ok = len(calls) == 1 and calls[0][0] == "srun" and "--mpi=pmix" in calls[0] and \
+            "build/harness/pldamp" in calls[0] and "run" in calls[0]
+        return [] if ok else [f"{block.where()}: the step must start pldamp run by srun "
+                              f"--mpi=pmix (it ran {calls})"]
+    if kind == "merge":
+        ok = len(calls) == 1 and calls[0][:2] == ["pldamp", "merge"]
+        return [] if ok else [f"{block.where()}: the script must run pldamp merge (it ran {calls})"]
+    return [f"{block.where()}: slurm={kind}, expected array, step or merge"]
 
 
 def check_cmake(block, context):
@@ -394,6 +485,8 @@ def main(argv):
                      "bash": check_sh, "cmake": check_cmake, "yaml": check_yaml}.get(block.kind)
             if block.kind == "python":
                 errors += check_python(block, context, globs)
+            elif block.kind == "bash" and "slurm" in block.attributes:
+                errors += check_slurm(block, context)
             elif check:
                 errors += check(block, context)
     errors += check_cpp(cpp_blocks(files), context)

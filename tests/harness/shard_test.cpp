@@ -1212,3 +1212,53 @@ TEST(Shards, ThePlanGuardCountsOneShardsRuns) {
 
 } // namespace
 } // namespace pldamp::harness
+
+namespace pldamp::harness {
+namespace {
+
+// Sets an environment variable for a scope.
+class ScopedVariable {
+public:
+  ScopedVariable(const char* name, const char* value) : name_(name) { ::setenv(name, value, 1); }
+  ~ScopedVariable() { ::unsetenv(name_); }
+  ScopedVariable(const ScopedVariable&) = delete;
+  ScopedVariable& operator=(const ScopedVariable&) = delete;
+
+private:
+  const char* name_;
+};
+
+// `srun -n 4 pldamp run ...` without --mpi=pmix started 4 serial runs of the whole scene into one
+// folder, all exiting 0 (issue 49): a task of several that is not an MPI rank is refused, unless
+// it runs its own --shard.
+TEST(Shards, SrunTasksThatAreNotRanksAreRefusedUnlessSharded) {
+  const std::string scene = write_file("srun.toml", sharded_scene);
+  const fs::path out = scratch() / "srun";
+  fs::remove_all(out);
+  const ScopedVariable task("SLURM_PROCID", "1");
+  const ScopedVariable tasks("SLURM_STEP_NUM_TASKS", "4");
+  const CliRun plain = run({"run", scene, "--out", out.string()});
+  EXPECT_EQ(plain.code, 2);
+  EXPECT_EQ(plain.err,
+            "error: started by srun as task 1 of 4 but not as an MPI rank: each task would run "
+            "the whole scene into one folder; add --mpi=pmix to srun for MPI ranks, or give each "
+            "task its own --shard K/N and --out (got SLURM_PROCID=1 SLURM_STEP_NUM_TASKS=4)\n");
+  EXPECT_FALSE(fs::exists(out / "report.json"));
+  {
+    const ScopedVariable pmix("PMIX_RANK", "1"); // a PMIx launch this build cannot join
+    const CliRun without_mpi = run({"run", scene, "--out", out.string()});
+    EXPECT_EQ(without_mpi.code, 2);
+    EXPECT_NE(without_mpi.err.find("this pldamp was built without MPI"), std::string::npos)
+        << without_mpi.err;
+  }
+  const CliRun merge = run({"merge", out.string()});
+  EXPECT_EQ(merge.code, 2);
+  EXPECT_NE(merge.err.find("merge is one process's work"), std::string::npos) << merge.err;
+  const CliRun sharded = run({"run", scene, "--shard", "2/4", "--out", out.string()});
+  EXPECT_EQ(sharded.code, 0) << sharded.err;
+  const ScopedVariable one("SLURM_STEP_NUM_TASKS", "1"); // one task: an ordinary run
+  EXPECT_EQ(run({"run", scene, "--out", (scratch() / "srun-one").string()}).code, 0);
+}
+
+} // namespace
+} // namespace pldamp::harness

@@ -17,6 +17,7 @@
 #include <algorithm>
 #include <chrono>
 #include <csignal>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <iostream>
@@ -498,10 +499,43 @@ int write_shard_run(const RunArgs& args, const Plan& plan, std::size_t index, st
   return 0;
 }
 
+// srun -n N without an MPI plugin (docs/cluster.md's example once omitted --mpi=pmix) starts N
+// serial processes: each would run the whole scene into the one folder, N times the work and N
+// writers of one report, all exiting 0. One that srun started as one of several tasks and that is
+// not an MPI rank is refused (a task given its --shard is a job array's, and fine).
+void refuse_tasks_that_are_not_ranks(const std::string& command) {
+  const char* task = std::getenv("SLURM_PROCID");
+  const char* tasks = std::getenv("SLURM_STEP_NUM_TASKS");
+  if (task == nullptr || tasks == nullptr || std::atol(tasks) <= 1) {
+    return;
+  }
+  const bool mpi_environment = std::getenv("PMIX_RANK") != nullptr ||
+                               std::getenv("PMI_RANK") != nullptr ||
+                               std::getenv("OMPI_COMM_WORLD_RANK") != nullptr;
+  if (command == "merge") {
+    throw InputError(fmt::format("started by srun as task {} of {}: merge is one process's work, "
+                                 "each task would write the same report; run it as one task (got "
+                                 "SLURM_PROCID={} SLURM_STEP_NUM_TASKS={})",
+                                 task, tasks, task, tasks));
+  }
+  throw InputError(fmt::format(
+      "started by srun as task {} of {} but not as an MPI rank: each task would run the whole "
+      "scene into one folder; {} (got SLURM_PROCID={} SLURM_STEP_NUM_TASKS={})",
+      task, tasks,
+      mpi_environment ? "this pldamp was built without MPI: give each task its own --shard K/N "
+                        "and --out, or run one task"
+                      : "add --mpi=pmix to srun for MPI ranks, or give each task its own "
+                        "--shard K/N and --out",
+      task, tasks));
+}
+
 } // namespace
 
 int run_scene(const RunArgs& args, std::ostream& out, std::ostream& err,
               Distribution* distribution) {
+  if (distribution == nullptr && !args.shard) {
+    refuse_tasks_that_are_not_ranks("run");
+  }
   const bool distributed = distribution != nullptr && distribution->size() > 1;
   const bool prints = !distributed || distribution->rank() == 0;
   std::optional<std::pair<std::size_t, std::size_t>> shard;
@@ -662,6 +696,7 @@ int run_scene(const RunArgs& args, std::ostream& out, std::ostream& err,
 }
 
 int merge_shards(const MergeArgs& args, std::ostream& out, std::ostream& err) {
+  refuse_tasks_that_are_not_ranks("merge");
   const int jobs = jobs_of(args.jobs, 1);
   for (const std::string& folder : args.shards) {
     std::error_code error;
