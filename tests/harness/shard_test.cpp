@@ -1260,5 +1260,33 @@ TEST(Shards, SrunTasksThatAreNotRanksAreRefusedUnlessSharded) {
   EXPECT_EQ(run({"run", scene, "--out", (scratch() / "srun-one").string()}).code, 0);
 }
 
+// merge refuses only what changes records: shards run under different --max-runs (a guard on
+// the plan's size) merge; other step budgets are refused, the line naming both (issue 49: both
+// read "shards of different runs (another scene, another scene text or other limits)").
+TEST(Shards, ShardsDifferingOnlyInTheirGuardMergeAndABudgetThatChangesRecordsIsNamed) {
+  const std::string scene = write_file("guards.toml", sharded_scene);
+  const fs::path base = scratch() / "guards";
+  fs::remove_all(base);
+  const auto shard = [&](const std::string& k, const std::string& name,
+                         std::vector<std::string> extra) {
+    std::vector<std::string> args{"run", scene, "--shard", k, "--out", (base / name).string()};
+    args.insert(args.end(), extra.begin(), extra.end());
+    const CliRun r = run(args);
+    EXPECT_EQ(r.code, 0) << r.err;
+    return (base / name).string();
+  };
+  const std::string one = shard("1/2", "1", {"--max-runs", "100000"});
+  const std::string two = shard("2/2", "2", {"--max-runs", "200000"});
+  const CliRun merged = run({"merge", one, two, "--out", (base / "merged").string()});
+  EXPECT_EQ(merged.code, 0) << merged.err;
+  const std::string budget = shard("2/2", "2-steps", {"--max-steps", "50000"});
+  const CliRun refused = run({"merge", one, budget, "--out", (base / "refused").string()});
+  EXPECT_EQ(refused.code, 2);
+  EXPECT_EQ(refused.err, "error: " + one + " and " + budget +
+                             " are shards of different runs: each solve's step budget "
+                             "(--max-steps, [limits] max_steps) is 1000000 and 50000 (got " +
+                             budget + ")\n");
+}
+
 } // namespace
 } // namespace pldamp::harness

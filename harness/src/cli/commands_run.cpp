@@ -725,12 +725,25 @@ int merge_shards(const MergeArgs& args, std::ostream& out, std::ostream& err) {
                                    folder, h.build, build_id(), folder));
     }
     // The scene's text, not its path: one file typed as ./map.toml or /abs/map.toml, or a copy
-    // beside the rerun of a failed task, is the same scene.
-    if (h.scene_text != first.scene_text || h.max_steps != first.max_steps ||
-        h.max_runs != first.max_runs || !(h.max_seconds == first.max_seconds)) {
-      throw InputError(fmt::format("{} and {} are shards of different runs (another scene, "
-                                   "another scene text or other limits) (got {})",
-                                   args.shards[0], folder, folder));
+    // beside the rerun of a failed task, is the same scene. Of the limits, those that change
+    // records (a solve's step and time budgets); --max-runs is a guard on the plan's size and
+    // changes none: shards run under different ones merge.
+    const auto differ = [&](const std::string& what, const std::string& mine,
+                            const std::string& theirs) {
+      throw InputError(fmt::format("{} and {} are shards of different runs: {} {} and {} (got {})",
+                                   args.shards[0], folder, what, mine, theirs, folder));
+    };
+    if (h.scene_text != first.scene_text) {
+      differ("their scene texts differ, checksums", fmt::format("{:016x}", fnv1a(first.scene_text)),
+             fmt::format("{:016x}", fnv1a(h.scene_text)));
+    }
+    if (h.max_steps != first.max_steps) {
+      differ("each solve's step budget (--max-steps, [limits] max_steps) is",
+             std::to_string(first.max_steps), std::to_string(h.max_steps));
+    }
+    if (!(h.max_seconds == first.max_seconds)) {
+      differ("each solve's time budget (--max-seconds, [limits] max_seconds) is",
+             to_string_full(first.max_seconds), to_string_full(h.max_seconds));
     }
     if (h.count != first.count) {
       throw InputError(fmt::format("{} is shard {}/{} and {} is shard {}/{}: one run's shards "
@@ -760,7 +773,12 @@ int merge_shards(const MergeArgs& args, std::ostream& out, std::ostream& err) {
   }
   Scene scene = parse_scene(first.scene_text, first.scene_path);
   scene.limits.max_steps = first.max_steps;
-  scene.limits.max_runs = first.max_runs;
+  // The largest guard of the set: each shard's run passed its own.
+  scene.limits.max_runs = std::max_element(shards.begin(), shards.end(),
+                                           [](const ShardHeader& a, const ShardHeader& b) {
+                                             return a.max_runs < b.max_runs;
+                                           })
+                              ->max_runs;
   scene.limits.max_seconds = first.max_seconds;
   // Before the plan is made, what the shards' header says is held to their scene and to their
   // files' bytes: a hand-made header (its checksum is easy to recompute) of a 10^7-cell grid with
