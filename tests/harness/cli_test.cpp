@@ -11,6 +11,7 @@
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
+#include <cmath>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -732,6 +733,59 @@ TEST(Cli, EveryReportNamesTheBuildAndTheCommandThatMadeIt) {
   EXPECT_NE(diff.out.find("0 regressions, 0 changes"), std::string::npos) << diff.out;
   const CliRun same = run({"diff", (out / "report.json").string(), (out / "report.json").string()});
   EXPECT_EQ(same.out.find("BUILD"), std::string::npos) << same.out;
+}
+
+// diff --exact, the reproducibility check (issue 49): two runs of one scene on other thread
+// counts are identical but for timings and provenance (exit 0); one bit of one value, a budget,
+// a record gone, each listed (exit 1); the gate's thresholds refused beside it.
+TEST(Cli, DiffExactFindsOneBitAndNothingElse) {
+  std::string text = testing::valid_scene;
+  text.replace(text.find("p = [1.5]"), 9, "p = [1.5, 2.0, 2.5]");
+  const std::string scene = testing::write_file("exact.toml", text);
+  const fs::path base = testing::scratch() / "exact";
+  fs::remove_all(base);
+  for (const char* jobs : {"1", "2"}) {
+    const CliRun ran = run({"run", scene, "--out", (base / jobs).string(), "--jobs", jobs});
+    ASSERT_EQ(ran.code, 0) << ran.err;
+  }
+  const std::string one = (base / "1" / "report.json").string();
+  const std::string two = (base / "2" / "report.json").string();
+  const CliRun same = run({"diff", "--exact", one, two});
+  EXPECT_EQ(same.code, 0) << same.err;
+  EXPECT_EQ(same.out, "0 differences: identical but for timings and provenance\n");
+
+  nlohmann::json edited = nlohmann::json::parse(text_of(two));
+  std::size_t which = 0;
+  while (!edited["records"][which]["value"]["e"].is_number()) { // the last is erased below
+    ASSERT_LT(which + 2, edited["records"].size());
+    ++which;
+  }
+  nlohmann::json& record = edited["records"][which];
+  const double e = record["value"]["e"];
+  record["value"]["e"] = std::nextafter(e, 2.0); // one bit
+  const std::string key = record["key"];
+  edited["budgets"]["worst"][0]["max_abs"] = 123.0;
+  const std::string last = edited["records"].back()["key"];
+  edited["records"].erase(edited["records"].size() - 1);
+  const fs::path changed = base / "changed.json";
+  std::ofstream(changed) << edited.dump(1);
+  const CliRun differs = run({"diff", "--exact", one, changed.string()});
+  EXPECT_EQ(differs.code, 1) << differs.err;
+  EXPECT_NE(differs.out.find(fmt::format("DIFFERS record | {} | value.e: {} -> {}\n", key,
+                                         nlohmann::json(e).dump(),
+                                         nlohmann::json(std::nextafter(e, 2.0)).dump())),
+            std::string::npos)
+      << differs.out;
+  EXPECT_NE(differs.out.find("DIFFERS record | " + last + " | only in old\n"), std::string::npos)
+      << differs.out;
+  EXPECT_NE(differs.out.find("DIFFERS budgets | worst | [0].max_abs: "), std::string::npos)
+      << differs.out;
+  EXPECT_NE(differs.out.find("3 differences (2 records, 1 other)\n"), std::string::npos)
+      << differs.out;
+  const CliRun gate = run({"diff", "--exact", "--time-factor", "3", one, two});
+  EXPECT_EQ(gate.code, 2);
+  EXPECT_EQ(gate.err, "error: --time-factor goes with the regression gate, not --exact, which "
+                      "compares every value to the last bit (got --time-factor with --exact)\n");
 }
 
 } // namespace

@@ -328,6 +328,9 @@ int run_cli(int argc, const char* const* argv, std::ostream& out, std::ostream& 
                  "compare reports of different scenes on what they share, listing what was added "
                  "and removed");
   diff->add_flag("--verbose", diff_args.verbose, "every record under its group's line");
+  diff->add_flag("--exact", diff_args.exact,
+                 "the reproducibility check: exit 1 listing every record, claim, search or budget "
+                 "that differs by one bit, timings and provenance aside (judge/diff_exact.hpp)");
 
   CheckArgs check_args;
   CLI::App* check = app.add_subcommand(

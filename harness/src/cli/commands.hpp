@@ -126,6 +126,7 @@ struct DiffArgs {
   std::string old_path, new_path;
   std::optional<std::string> error_factor, work_factor, time_factor, time_floor;
   bool allow_scene_change = false, verbose = false;
+  bool exact = false; // judge/diff_exact.hpp: every value to the last bit, timings aside
 };
 // Returns the exit code: 1 if NEW regressed against OLD, else 0 (judge/diff.hpp).
 int run_diff(const DiffArgs& args, std::ostream& out);

@@ -5,6 +5,7 @@
 #include "common/report_schema.hpp"
 #include "judge/claims.hpp"
 #include "judge/diff.hpp"
+#include "judge/diff_exact.hpp"
 #include "judge/step_study.hpp"
 #include "report/report.hpp"
 #include "run/record_check.hpp"
@@ -852,6 +853,29 @@ int merge_shards(const MergeArgs& args, std::ostream& out, std::ostream& err) {
 }
 
 int run_diff(const DiffArgs& args, std::ostream& out) {
+  if (args.exact) {
+    // The gate's thresholds and scene changes mean nothing to a comparison of every bit.
+    for (const auto& [flag, given] : {std::pair{"--error-factor", args.error_factor.has_value()},
+                                      std::pair{"--work-factor", args.work_factor.has_value()},
+                                      std::pair{"--time-factor", args.time_factor.has_value()},
+                                      std::pair{"--time-floor", args.time_floor.has_value()},
+                                      std::pair{"--allow-scene-change", args.allow_scene_change}}) {
+      if (given) {
+        throw InputError(std::string(flag) +
+                         " goes with the regression gate, not --exact, which compares every "
+                         "value to the last bit (got " +
+                         flag + " with --exact)");
+      }
+    }
+    std::ifstream old_report = open_report(args.old_path);
+    std::ifstream new_report = open_report(args.new_path);
+    const ExactResult result =
+        diff_exact(old_report, args.old_path, new_report, args.new_path, args.verbose);
+    for (const std::string& line : result.lines) {
+      out << line << "\n";
+    }
+    return result.differences > 0 ? 1 : 0;
+  }
   DiffOptions options;
   options.allow_scene_change = args.allow_scene_change;
   options.verbose = args.verbose;
