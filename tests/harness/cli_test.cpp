@@ -4,6 +4,7 @@
 #include "fixtures.hpp"
 #include "pldamp/analytic.hpp"
 
+#include "cli/commands.hpp"
 #include "common/files.hpp"
 
 #include <fmt/format.h>
@@ -786,6 +787,16 @@ TEST(Cli, DiffExactFindsOneBitAndNothingElse) {
   EXPECT_EQ(gate.code, 2);
   EXPECT_EQ(gate.err, "error: --time-factor goes with the regression gate, not --exact, which "
                       "compares every value to the last bit (got --time-factor with --exact)\n");
+}
+
+// A run's progress says the time left only once the rate means something (issue 49: the first
+// line of a 10^6-run map said "1/400000 records, about 486584 s left").
+TEST(Cli, ProgressEstimatesTheTimeLeftOnlyFromEnoughRecords) {
+  EXPECT_EQ(time_left_text(1.0, 1, 400000), "time left not known yet");
+  EXPECT_EQ(time_left_text(1.0, 3999, 400000), "time left not known yet");
+  EXPECT_EQ(time_left_text(10.0, 4000, 400000), "about 990 s left");
+  EXPECT_EQ(time_left_text(1.0, 15, 20), "time left not known yet");
+  EXPECT_EQ(time_left_text(2.0, 16, 20), "about 0 s left");
 }
 
 } // namespace

@@ -120,7 +120,7 @@ interrupted() { # interrupted WHAT: starts the run in the background; $run is mp
     "$pldamp" "$long" "$work/$1" "$work/$1" >"$work/$1.out" 2>"$work/$1.err" &
   run=$!
   for _ in $(seq 300); do # until rank 0 has records (its first progress line)
-    grep -q 'records, about' "$work/$1.err" 2>/dev/null && break
+    grep -q ' records, ' "$work/$1.err" 2>/dev/null && break
     sleep 0.1
   done
 }

@@ -394,7 +394,8 @@ rtol = 1e-6
                {"diff", old_path, other_path},
                {"diff", old_path, other_path, "--allow-scene-change"},
                ""},
-              {"--verbose", base, with(base, {"--verbose"}), ""}},
+              {"--verbose", base, with(base, {"--verbose"}), ""},
+              {"--exact", base, with(base, {"--exact"}), ""}},
              [](const Args& args) { return shown(run(args)); });
 }
 

@@ -1288,5 +1288,14 @@ TEST(Shards, ShardsDifferingOnlyInTheirGuardMergeAndABudgetThatChangesRecordsIsN
                              budget + ")\n");
 }
 
+// A shard's --out is its folder, not a report's (issue 49: the error said "report folder").
+TEST(Shards, AShardsFolderThatCannotBeMadeIsNamedAsSuch) {
+  const std::string scene = write_file("folder.toml", sharded_scene);
+  const std::string file = write_file("a-file", "not a folder");
+  const CliRun r = run({"run", scene, "--shard", "1/2", "--out", file + "/shard"});
+  EXPECT_EQ(r.code, 2);
+  EXPECT_EQ(r.err.rfind("error: cannot create the shard's folder, ", 0), 0u) << r.err;
+}
+
 } // namespace
 } // namespace pldamp::harness

@@ -122,6 +122,11 @@ int run_scene(const RunArgs& args, std::ostream& out, std::ostream& err,
               Distribution* distribution = nullptr);
 int merge_shards(const MergeArgs& args, std::ostream& out, std::ostream& err);
 // `pldamp diff OLD NEW`: the thresholds as typed (each overrides the new report's [diff]).
+// A run's progress line's time left at the rate so far, once the rate means something: at least
+// 1 % of the records and 16 of them ("time left not known yet" before; a 10^6-run map's first
+// line said "1/400000 records, about 486584 s left").
+std::string time_left_text(double elapsed_seconds, std::size_t done, std::size_t total);
+
 struct DiffArgs {
   std::string old_path, new_path;
   std::optional<std::string> error_factor, work_factor, time_factor, time_floor;

@@ -31,6 +31,14 @@
 #include <variant>
 
 namespace pldamp::harness {
+
+std::string time_left_text(double elapsed_seconds, std::size_t done, std::size_t total) {
+  if (done < 16 || done * 100 < total) {
+    return "time left not known yet";
+  }
+  return fmt::format("about {:.0f} s left", elapsed_seconds / double(done) * double(total - done));
+}
+
 namespace {
 
 // Progress on stderr: a bar redrawn in place on a terminal; otherwise (a CI log) a line every
@@ -45,8 +53,8 @@ public:
       const int filled = static_cast<int>(width * done / total);
       std::cerr << "\r[" << std::string(static_cast<std::size_t>(filled), '#')
                 << std::string(static_cast<std::size_t>(width - filled), ' ') << "] " << done << "/"
-                << total << fmt::format(", about {:.0f} s left  ", left(done, total))
-                << (done == total ? "\n" : "") << std::flush;
+                << total << ", " << left(done, total) << "  " << (done == total ? "\n" : "")
+                << std::flush;
       return;
     }
     const double elapsed = seconds_since(start_);
@@ -54,14 +62,14 @@ public:
       return;
     }
     last_ = elapsed;
-    std::cerr << fmt::format("{:.0f} s: {}/{} records, about {:.0f} s left\n", elapsed, done, total,
+    std::cerr << fmt::format("{:.0f} s: {}/{} records, {}\n", elapsed, done, total,
                              left(done, total))
               << std::flush;
   }
 
 private:
-  double left(std::size_t done, std::size_t total) const {
-    return seconds_since(start_) / double(done) * double(total - done);
+  std::string left(std::size_t done, std::size_t total) const {
+    return time_left_text(seconds_since(start_), done, total);
   }
   static double seconds_since(std::chrono::steady_clock::time_point t) {
     return std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
@@ -328,12 +336,12 @@ void check_plan_size(const Scene& scene, const std::string& scene_path, double s
 void print_plan_size(const Scene& scene, std::ostream& out) {
   const double runs = planned_runs(scene);
   const double cells = grid_cells(scene);
-  const double configs = double(scene.configs.size() + scene.claims.size());
-  const double megabytes =
-      (cells * configs *
-           (sizeof(Record) + 4 * sizeof(std::optional<double>) * observable_table().size()) +
-       cells * sizeof(Cell)) /
-      1e6;
+  // report.json's size, a record a line: about 500 bytes and 125 more per observable wanted
+  // (measured: 875 bytes a record for 3 observables, 1 165 for the nightly's 7). The records live
+  // in a file that is unlinked as it is made, not in memory (run/record_store.hpp). It said
+  // "about 602 MB of records", an in-memory size no run had since.
+  const double megabytes = cells * double(scene.configs.size()) *
+                           (500 + 125 * double(observables_of(scene.want).size())) / 1e6;
   const auto grid_claims =
       std::count_if(scene.claims.begin(), scene.claims.end(), [](const Claim& c) {
         const BoundClaim* bound = std::get_if<BoundClaim>(&c.kind);
@@ -345,7 +353,7 @@ void print_plan_size(const Scene& scene, std::ostream& out) {
   // grow where its answer does not settle).
   const bool searches = !scene.searches.empty() || step_study_runs_estimate(scene) > 0;
   out << fmt::format("{}: {:.0f} cells x {:.0f} solver configurations{}: {}{:.0f} solver runs "
-                     "(onset phases, repeats{} included), about {:.3g} MB of records\n",
+                     "(onset phases, repeats{} included); report.json about {:.3g} MB\n",
                      one_line(scene.name), cells, double(scene.configs.size()),
                      grid_claims > 0 ? fmt::format(", {} claims on grids of their own", grid_claims)
                                      : "",
@@ -563,7 +571,7 @@ int run_scene(const RunArgs& args, std::ostream& out, std::ostream& err,
     check_plan_size(*scene, args.scene, shares, distributed && !shard);
     if (prints) {
       // A folder that cannot be written fails before the work (a shard's too: it is written).
-      require_writable_folder(args.out);
+      require_writable_folder(args.out, shard ? "shard's folder" : "report folder");
       print_plan_size(*scene, out);
     }
   } catch (const std::exception& e) {

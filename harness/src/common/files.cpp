@@ -212,16 +212,16 @@ std::optional<std::string> unreadable_file(const std::filesystem::path& path) {
          ", not a regular file";
 }
 
-void require_writable_folder(const std::filesystem::path& folder) {
+void require_writable_folder(const std::filesystem::path& folder, std::string_view what) {
   std::error_code failed;
   std::filesystem::create_directories(folder, failed);
   if (failed) {
-    throw InputError("cannot create the report folder, " + failed.message() + " (got " +
+    throw InputError("cannot create the " + std::string(what) + ", " + failed.message() + " (got " +
                      folder.string() + ")");
   }
   Descriptor probe;
-  const std::string name = create_temporary(folder / "report", probe,
-                                            "cannot write in the report folder " + folder.string());
+  const std::string name = create_temporary(
+      folder / "report", probe, "cannot write in the " + std::string(what) + " " + folder.string());
   ::unlink(name.c_str());
 }
 

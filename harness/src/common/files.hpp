@@ -80,6 +80,8 @@ std::optional<std::string> unreadable_file(const std::filesystem::path& path);
 // Creates `folder` if needed and checks that a file can be created in it (and removes that
 // file): a read-only mount or a folder of another user fails here, before any work. Throws
 // InputError.
-void require_writable_folder(const std::filesystem::path& folder);
+// `what` names it in the message: "report folder", or "shard's folder" for a shard's --out.
+void require_writable_folder(const std::filesystem::path& folder,
+                             std::string_view what = "report folder");
 
 } // namespace pldamp::harness
