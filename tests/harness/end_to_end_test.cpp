@@ -60,8 +60,8 @@ TEST(EndToEnd, QuickSceneWritesEveryReportWithItsPlots) {
   for (const auto& [key, value] : report.items()) {
     keys.push_back(key);
   }
-  EXPECT_EQ(keys, (std::vector<std::string>{"schema", "scene", "totals", "claims", "searches",
-                                            "budgets", "records", "figures"}));
+  EXPECT_EQ(keys, (std::vector<std::string>{"schema", "run", "scene", "totals", "claims",
+                                            "searches", "budgets", "records", "figures"}));
   EXPECT_EQ(report["claims"][0]["verdict"], "holds");
   EXPECT_LT(report["claims"][0]["measured"].get<double>(), 1e-5);
   EXPECT_EQ(report["totals"]["failed_records"], 0);
