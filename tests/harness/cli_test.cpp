@@ -685,13 +685,6 @@ namespace fs = std::filesystem;
 using testing::CliRun;
 using testing::run;
 
-std::string text_of(const fs::path& path) {
-  std::ifstream in(path);
-  std::ostringstream text;
-  text << in.rdbuf();
-  return text.str();
-}
-
 // Every report names what made it (issue 49): `pldamp --version` prints the build, report.json's
 // `run` holds it with the date, host, command line and the scene text's checksum, report.md and
 // report.html say it in their first lines, and diff says when two reports come from two builds.
@@ -707,12 +700,12 @@ TEST(Cli, EveryReportNamesTheBuildAndTheCommandThatMadeIt) {
   fs::remove_all(out);
   const CliRun ran = run({"run", scene, "--out", out.string(), "--jobs", "1"});
   ASSERT_EQ(ran.code, 0) << ran.err;
-  const auto report = nlohmann::json::parse(text_of(out / "report.json"));
+  const auto report = nlohmann::json::parse(testing::read_file(out / "report.json"));
   const nlohmann::json& made = report.at("run");
   EXPECT_EQ(made.at("build"), build);
   EXPECT_EQ(made.at("command"),
             (nlohmann::json{"pldamp", "run", scene, "--out", out.string(), "--jobs", "1"}));
-  EXPECT_EQ(made.at("scene_checksum"), fmt::format("{:016x}", fnv1a(text_of(scene))));
+  EXPECT_EQ(made.at("scene_checksum"), fmt::format("{:016x}", fnv1a(testing::read_file(scene))));
   const std::string date = made.at("date");
   EXPECT_EQ(date.size(), 20u) << date; // 2026-11-29T02:13:30Z
   EXPECT_EQ(date.substr(0, 2), "20");
@@ -720,8 +713,9 @@ TEST(Cli, EveryReportNamesTheBuildAndTheCommandThatMadeIt) {
   EXPECT_FALSE(made.at("host").get<std::string>().empty());
   const std::string line = "pldamp " + build + " on " + made.at("host").get<std::string>() + ", " +
                            date + ": pldamp run " + scene;
-  EXPECT_NE(text_of(out / "report.md").find("Made by " + line), std::string::npos);
-  EXPECT_NE(text_of(out / "report.html").find("Made by <code>" + line), std::string::npos);
+  EXPECT_NE(testing::read_file(out / "report.md").find("Made by " + line), std::string::npos);
+  EXPECT_NE(testing::read_file(out / "report.html").find("Made by <code>" + line),
+            std::string::npos);
 
   // The same report as another build's: diff says so first, and judges the rest as before.
   nlohmann::json other = report;
@@ -755,7 +749,7 @@ TEST(Cli, DiffExactFindsOneBitAndNothingElse) {
   EXPECT_EQ(same.code, 0) << same.err;
   EXPECT_EQ(same.out, "0 differences: identical but for timings and provenance\n");
 
-  nlohmann::json edited = nlohmann::json::parse(text_of(two));
+  nlohmann::json edited = nlohmann::json::parse(testing::read_file(two));
   std::size_t which = 0;
   while (!edited["records"][which]["value"]["e"].is_number()) { // the last is erased below
     ASSERT_LT(which + 2, edited["records"].size());

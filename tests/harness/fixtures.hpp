@@ -33,6 +33,13 @@ inline fs::path scratch() {
   return dir;
 }
 
+inline std::string read_file(const fs::path& path) {
+  std::ifstream in(path);
+  std::ostringstream text;
+  text << in.rdbuf();
+  return text.str();
+}
+
 inline std::string write_file(const std::string& name, const std::string& text) {
   const fs::path path = scratch() / name;
   std::ofstream(path) << text;

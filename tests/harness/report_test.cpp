@@ -23,13 +23,6 @@ namespace {
 
 using namespace testing;
 
-std::string read(const fs::path& path) {
-  std::ifstream in(path);
-  std::stringstream text;
-  text << in.rdbuf();
-  return text.str();
-}
-
 TEST(Figures, OneThatFailsIsReportedAndTheOthersStand) {
   Scene scene;
   FigureSpec good{FigureKind::delta_max_vs_e, {}, {1.5}, {0.5, 0.9}, {}};
@@ -57,11 +50,11 @@ TEST(Figures, OneThatFailsIsReportedAndTheOthersStand) {
   EXPECT_EQ(files.written, (std::vector<std::string>{(out / "report.json").string(),
                                                      (out / "report.md").string()}));
   EXPECT_FALSE(fs::exists(out / "report.html"));
-  const auto json = nlohmann::json::parse(read(out / "report.json"));
+  const auto json = nlohmann::json::parse(read_file(out / "report.json"));
   EXPECT_EQ(json["figures"][0]["failure"], "p must be in [1, 1000] (got 0.5)");
   EXPECT_TRUE(json["figures"][0]["max_deviation"].is_null());
   EXPECT_FALSE(json["figures"][1].contains("failure"));
-  EXPECT_NE(read(out / "report.md").find("failed: p must be in [1, 1000] (got 0.5)"),
+  EXPECT_NE(read_file(out / "report.md").find("failed: p must be in [1, 1000] (got 0.5)"),
             std::string::npos);
 }
 
@@ -191,8 +184,8 @@ TEST(Report, PlotsAndFormatsMadeOnThreadsGiveTheSamePagesInTheSameOrder) {
   EXPECT_EQ(files.written, (std::vector<std::string>{
                                (out / "report.html").string(), (out / "report.md").string(),
                                (out / "report.json").string(), (out / "report.csv").string()}));
-  EXPECT_EQ(read(out / "report.html"), alone);
-  EXPECT_EQ(read(out / "report.json"), report_json_text({plan, h.records, b, totals, {}}));
+  EXPECT_EQ(read_file(out / "report.html"), alone);
+  EXPECT_EQ(read_file(out / "report.json"), report_json_text({plan, h.records, b, totals, {}}));
 }
 
 // The files in a folder, by name.
@@ -224,7 +217,7 @@ TEST(Report, AFormatThatCannotBeWrittenLeavesEveryFileAsItWas) {
     ASSERT_TRUE(write_reports(before, out.string()).failures.empty());
     std::map<std::string, std::string> old;
     for (const std::string& name : names) {
-      old[name] = read(out / name);
+      old[name] = read_file(out / name);
     }
     const WrittenReports files = write_reports(after, out.string(), 2, [&](const fs::path& path) {
       if (path.filename() == failing) {
@@ -237,13 +230,13 @@ TEST(Report, AFormatThatCannotBeWrittenLeavesEveryFileAsItWas) {
     EXPECT_EQ(files.kept.size(), 4u) << failing;
     EXPECT_EQ(names_in(out), names) << failing; // no temporary left beside them
     for (const std::string& name : names) {
-      EXPECT_EQ(read(out / name), old[name]) << name << " after " << failing << " failed";
+      EXPECT_EQ(read_file(out / name), old[name]) << name << " after " << failing << " failed";
     }
   }
   // A report.md that is a directory: refused before any rename, the others as they were.
   fs::remove_all(out);
   ASSERT_TRUE(write_reports(before, out.string()).failures.empty());
-  const std::string json = read(out / "report.json");
+  const std::string json = read_file(out / "report.json");
   fs::remove(out / "report.md");
   fs::create_directories(out / "report.md");
   const WrittenReports files = write_reports(after, out.string(), 2);
@@ -251,12 +244,12 @@ TEST(Report, AFormatThatCannotBeWrittenLeavesEveryFileAsItWas) {
   EXPECT_EQ(files.failures[0],
             "cannot write " + (out / "report.md").string() + " (Is a directory)");
   EXPECT_TRUE(files.written.empty());
-  EXPECT_EQ(read(out / "report.json"), json);
+  EXPECT_EQ(read_file(out / "report.json"), json);
   // And the set written whole once it can be.
   fs::remove(out / "report.md");
   const WrittenReports whole = write_reports(after, out.string(), 2);
   EXPECT_TRUE(whole.failures.empty());
-  EXPECT_EQ(read(out / "report.json"), report_json_text(after));
+  EXPECT_EQ(read_file(out / "report.json"), report_json_text(after));
 }
 
 TEST(Diff, AWorkPointMustBeItsRecordsLargestAndAReportBeforeThemStillReads) {
@@ -642,7 +635,7 @@ TEST(Diff, ASolverLabelHoldingTheFieldSeparatorKeepsItsRecordsApart) {
   // and their cells apart, never the key split at its first " | ".
   const fs::path out = reports_of_a_labelled_program("fake | v2", "v0 = [1, 2]", ReportFormat::json,
                                                      "separator-label");
-  const std::string written = read(out / "report.json");
+  const std::string written = read_file(out / "report.json");
   const nlohmann::json old_report = schema::read_report(written, "report.json");
   ASSERT_EQ(old_report["records"].size(), 2u);
   const nlohmann::json& first = old_report["records"][0];
@@ -673,7 +666,7 @@ TEST(Report, ACsvFieldHoldingACommaOrAQuoteIsQuoted) {
   // A label with a comma would shift every later column of its rows; RFC 4180 quotes it.
   const fs::path out = reports_of_a_labelled_program("fake, \\\"v2\\\"", "v0 = [1]",
                                                      ReportFormat::csv, "comma-label");
-  std::istringstream csv(read(out / "report.csv"));
+  std::istringstream csv(read_file(out / "report.csv"));
   std::string header, row;
   ASSERT_TRUE(std::getline(csv, header));
   ASSERT_TRUE(std::getline(csv, row));

@@ -372,23 +372,6 @@ void print_plan_size(const Scene& scene, std::ostream& out) {
 // From the records on: budgets, claims, figures, trajectories, the reports and the summary.
 // Under MPI (`workers` shared) every rank judges the claims, searches and step study with rank 0
 // (make_budgets, run/workers.hpp); rank 0 alone then goes on, on `jobs` threads.
-// After a failed write, exactly what the folder holds: every file as it was (no report was put
-// in place unless all could be), or, a rename having failed, which files are this run's.
-std::string what_is_on_disk(const WrittenReports& files, const std::string& folder) {
-  const auto names = [](const std::vector<std::string>& paths) {
-    std::string text;
-    for (const std::string& path : paths) {
-      text += (text.empty() ? "" : ", ") + std::filesystem::path(path).filename().string();
-    }
-    return text;
-  };
-  if (files.written.empty()) {
-    return "no report file was changed: " + one_line(folder) + " holds the previous run's, if any";
-  }
-  return names(files.written) + (files.written.size() == 1 ? " is" : " are") + " this run's; " +
-         names(files.kept) + (files.kept.size() == 1 ? " is" : " are") + " as before";
-}
-
 int report_records(const Plan& plan, RecordRange records, const RunTotals& totals,
                    const Workers& workers, int jobs, const std::string& folder, bool strict,
                    const StopOnSignals& signals, std::ostream& out, std::ostream& err) {
@@ -506,36 +489,6 @@ int write_shard_run(const RunArgs& args, const Plan& plan, std::size_t index, st
                      one_line((std::filesystem::path(args.out) / shard_file_name).string()),
                      count == 1 ? "this folder" : fmt::format("the {} shards' folders", count));
   return 0;
-}
-
-// srun -n N without an MPI plugin (docs/cluster.md's example once omitted --mpi=pmix) starts N
-// serial processes: each would run the whole scene into the one folder, N times the work and N
-// writers of one report, all exiting 0. One that srun started as one of several tasks and that is
-// not an MPI rank is refused (a task given its --shard is a job array's, and fine).
-void refuse_tasks_that_are_not_ranks(const std::string& command) {
-  const char* task = std::getenv("SLURM_PROCID");
-  const char* tasks = std::getenv("SLURM_STEP_NUM_TASKS");
-  if (task == nullptr || tasks == nullptr || std::atol(tasks) <= 1) {
-    return;
-  }
-  const bool mpi_environment = std::getenv("PMIX_RANK") != nullptr ||
-                               std::getenv("PMI_RANK") != nullptr ||
-                               std::getenv("OMPI_COMM_WORLD_RANK") != nullptr;
-  if (command == "merge") {
-    throw InputError(fmt::format("started by srun as task {} of {}: merge is one process's work, "
-                                 "each task would write the same report; run it as one task (got "
-                                 "SLURM_PROCID={} SLURM_STEP_NUM_TASKS={})",
-                                 task, tasks, task, tasks));
-  }
-  throw InputError(fmt::format(
-      "started by srun as task {} of {} but not as an MPI rank: each task would run the whole "
-      "scene into one folder; {} (got SLURM_PROCID={} SLURM_STEP_NUM_TASKS={})",
-      task, tasks,
-      mpi_environment ? "this pldamp was built without MPI: give each task its own --shard K/N "
-                        "and --out, or run one task"
-                      : "add --mpi=pmix to srun for MPI ranks, or give each task its own "
-                        "--shard K/N and --out",
-      task, tasks));
 }
 
 } // namespace

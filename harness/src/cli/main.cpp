@@ -1,4 +1,5 @@
 #include "pldamp/harness/cli.hpp"
+#include "pldamp/harness/distribution.hpp"
 
 #ifdef PLDAMP_WITH_MPI
 #include "mpi/mpi_main.hpp"

@@ -212,6 +212,10 @@ std::optional<std::string> unreadable_file(const std::filesystem::path& path) {
          ", not a regular file";
 }
 
+std::string unchanged_reports(const std::filesystem::path& folder) {
+  return "no report file was changed: " + folder.string() + " holds the previous run's, if any";
+}
+
 void require_writable_folder(const std::filesystem::path& folder, std::string_view what) {
   std::error_code failed;
   std::filesystem::create_directories(folder, failed);

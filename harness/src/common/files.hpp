@@ -77,6 +77,11 @@ std::string gather_text(const std::function<void(const TextSink&)>& produce);
 // system's ("No such file or directory").
 std::optional<std::string> unreadable_file(const std::filesystem::path& path);
 
+// What a run that stopped before renaming any report says of its folder: "no report file was
+// changed: FOLDER holds the previous run's, if any" (the records' file, or a report that could
+// not be written).
+std::string unchanged_reports(const std::filesystem::path& folder);
+
 // Creates `folder` if needed and checks that a file can be created in it (and removes that
 // file): a read-only mount or a folder of another user fails here, before any work. Throws
 // InputError.

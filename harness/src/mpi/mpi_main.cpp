@@ -258,16 +258,6 @@ private:
 
 } // namespace
 
-bool launched_by_mpi() {
-  // What Open MPI's mpirun (OMPI_*), PMIx launchers (srun --mpi=pmix) and PMI-1/2 ones set.
-  for (const char* name : {"OMPI_COMM_WORLD_SIZE", "PMIX_RANK", "PMI_RANK", "PMI_SIZE"}) {
-    if (std::getenv(name) != nullptr) {
-      return true;
-    }
-  }
-  return false;
-}
-
 int run_under_mpi(int argc, char** argv) {
   int provided = 0;
   MPI_Init_thread(&argc, &argv, MPI_THREAD_FUNNELED, &provided);

@@ -36,6 +36,21 @@ void put_record_lines(RecordRange records, int jobs, const TextSink& put,
   }
 }
 
+std::string what_is_on_disk(const WrittenReports& files, const std::string& folder) {
+  const auto names = [](const std::vector<std::string>& paths) {
+    std::string text;
+    for (const std::string& path : paths) {
+      text += (text.empty() ? "" : ", ") + std::filesystem::path(path).filename().string();
+    }
+    return text;
+  };
+  if (files.written.empty()) {
+    return unchanged_reports(folder);
+  }
+  return names(files.written) + (files.written.size() == 1 ? " is" : " are") + " this run's; " +
+         names(files.kept) + (files.kept.size() == 1 ? " is" : " are") + " as before";
+}
+
 WrittenReports
 write_reports(const RunReport& report, const std::string& folder, int jobs,
               const std::function<void(const std::filesystem::path&)>& before_stage) {

@@ -59,6 +59,10 @@ struct WrittenReports {
   std::vector<std::string> failures; // "cannot write PATH (reason)", one per file that failed
 };
 
+// After a failed write_reports, exactly what `folder` holds: every file as it was (none was put
+// in place unless all could be), or, a rename having failed, which files are this run's.
+std::string what_is_on_disk(const WrittenReports& files, const std::string& folder);
+
 // Writes the scene's formats into `folder` (created if needed) as one set: each is written whole
 // under a temporary name, and only when all are, they are renamed into place, report.json last
 // (common/files.hpp, StagedFile). A format that cannot be written (a full disk, a file-size

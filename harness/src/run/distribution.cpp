@@ -8,12 +8,48 @@
 #include "scene/scene.hpp"
 #include "truth/point_bytes.hpp"
 
+#include <fmt/format.h>
+
 #include <algorithm>
+#include <cstdlib>
 #include <exception>
 #include <limits>
 #include <stdexcept>
 
 namespace pldamp::harness {
+
+bool launched_by_mpi() {
+  for (const char* name : {"OMPI_COMM_WORLD_SIZE", "PMIX_RANK", "PMI_RANK", "PMI_SIZE"}) {
+    if (std::getenv(name) != nullptr) {
+      return true;
+    }
+  }
+  return false;
+}
+
+void refuse_tasks_that_are_not_ranks(std::string_view command) {
+  const char* task = std::getenv("SLURM_PROCID");
+  const char* tasks = std::getenv("SLURM_STEP_NUM_TASKS");
+  if (task == nullptr || tasks == nullptr || std::atol(tasks) <= 1) {
+    return;
+  }
+  if (command == "merge") {
+    throw InputError(fmt::format("started by srun as task {} of {}: merge is one process's work, "
+                                 "each task would write the same report; run it as one task (got "
+                                 "SLURM_PROCID={} SLURM_STEP_NUM_TASKS={})",
+                                 task, tasks, task, tasks));
+  }
+  // Under an MPI launch yet not a rank here: this build has no MPI.
+  throw InputError(fmt::format(
+      "started by srun as task {} of {} but not as an MPI rank: each task would run the whole "
+      "scene into one folder; {} (got SLURM_PROCID={} SLURM_STEP_NUM_TASKS={})",
+      task, tasks,
+      launched_by_mpi() ? "this pldamp was built without MPI: give each task its own --shard K/N "
+                          "and --out, or run one task"
+                        : "add --mpi=pmix to srun for MPI ranks, or give each task its own "
+                          "--shard K/N and --out",
+      task, tasks));
+}
 
 NotReady not_ready_message(int rank, const std::vector<std::string>& failures) {
   if (rank != 0) {

@@ -1,5 +1,6 @@
 #include "run/record_store.hpp"
 
+#include "common/files.hpp"
 #include "common/input.hpp"
 #include "run/shard.hpp"
 
@@ -46,8 +47,7 @@ void RecordStore::flush() {
       // Before any report is written: the folder is as it was (a full disk, a file-size limit).
       const int error = errno;
       throw InputError("cannot write the records' file in " + folder_.string() + " (" +
-                       std::strerror(error) + "); no report file was changed: " + folder_.string() +
-                       " holds the previous run's, if any");
+                       std::strerror(error) + "); " + unchanged_reports(folder_));
     }
     done += static_cast<std::size_t>(n);
   }

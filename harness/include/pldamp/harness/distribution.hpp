@@ -6,9 +6,22 @@
 
 #include <functional>
 #include <string>
+#include <string_view>
 #include <vector>
 
 namespace pldamp::harness {
+
+// Whether an MPI launcher started this process, by what mpirun (OMPI_*), PMIx launchers (srun
+// --mpi=pmix) and PMI-1/2 ones set: only then does a build with MPI initialise it.
+bool launched_by_mpi();
+
+// srun -n N without an MPI plugin (docs/cluster.md's example once omitted --mpi=pmix) starts N
+// serial processes: each would run the whole scene (`command` "run") or write the same report
+// ("merge") into one folder, N times the work and N writers, all exiting 0. Throws
+// std::invalid_argument (the one-line error) for a process srun started as one of several tasks
+// that is no MPI rank; call it only where the process is not one (a task given its own --shard
+// is a job array's, and fine).
+void refuse_tasks_that_are_not_ranks(std::string_view command);
 
 struct Plan;
 struct Point;
