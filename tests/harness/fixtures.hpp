@@ -16,6 +16,7 @@
 #include <optional>
 #include <sstream>
 #include <string>
+#include <system_error>
 #include <vector>
 
 #include <unistd.h>
@@ -25,12 +26,26 @@ namespace pldamp::harness::testing {
 namespace fs = std::filesystem;
 
 // One folder per test process: ctest runs each test case as a process of its own, in parallel, and
-// two writing hand.toml into one folder read each other's half-written file.
+// two writing hand.toml into one folder read each other's half-written file. It is removed when
+// the process ends (by its creator alone, never by a forked child): left behind, a CI run's
+// 2 000 test processes left 8.8 GB in /tmp over a day.
 inline fs::path scratch() {
-  const fs::path dir =
-      fs::temp_directory_path() / ("pldamp-harness-test-" + std::to_string(::getpid()));
-  fs::create_directories(dir);
-  return dir;
+  struct Folder {
+    pid_t owner = ::getpid();
+    fs::path path = fs::temp_directory_path() / ("pldamp-harness-test-" + std::to_string(owner));
+    Folder(const Folder&) = delete;
+    Folder& operator=(const Folder&) = delete;
+    Folder() = default;
+    ~Folder() {
+      if (::getpid() == owner) {
+        std::error_code ignored;
+        fs::remove_all(path, ignored);
+      }
+    }
+  };
+  static const Folder folder;
+  fs::create_directories(folder.path);
+  return folder.path;
 }
 
 inline std::string read_file(const fs::path& path) {
