@@ -116,7 +116,8 @@ test)
   # solves, runs here in Timestep.*, Search.TheTimeStepStudyAnswersAsTheSearchDoes and Plan.*.
   # The nightly scene's diff against itself (half a minute in Release) too: diff reads every
   # record of the quick and paper scenes' reports here.
-  ctest --test-dir build-sanitize -j "$(nproc)" --output-on-failure -LE 'adapters|install|docs' \
+  # Peak memory (diff_memory_test) measures the sanitizers' shadow memory there: left out too.
+  ctest --test-dir build-sanitize -j "$(nproc)" --output-on-failure -LE 'adapters|install|docs|memory' \
     -E 'EndToEnd\.(DemSceneGivesTheTableADemUserQuotes|ViscoelasticSceneJudgesEverythingAgainstTheReferenceSolve|EveryOtherShippedSceneDiffsCleanlyAgainstItself)'
   echo "== fuzzing the scene, report, external-reply and shard readers (libFuzzer)"
   # Clang, the three fuzz targets and what they link (the readers, the solvers) under ASan+UBSan

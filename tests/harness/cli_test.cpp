@@ -777,6 +777,22 @@ TEST(Cli, DiffExactFindsOneBitAndNothingElse) {
       << differs.out;
   EXPECT_NE(differs.out.find("3 differences (2 records, 1 other)\n"), std::string::npos)
       << differs.out;
+  // A record gone from the middle is named alone: the records after it are matched by their
+  // keys, not their places (each of them differed before).
+  const std::string two_text = testing::read_file(two);
+  std::vector<std::string> lines;
+  for (std::size_t i = 0; !testing::record_line(two_text, i).empty(); ++i) {
+    lines.push_back(testing::record_line(two_text, i));
+  }
+  ASSERT_GE(lines.size(), 3u);
+  const std::string middle = nlohmann::json::parse(lines[1])["key"];
+  lines.erase(lines.begin() + 1);
+  const fs::path gone = base / "gone.json";
+  std::ofstream(gone) << testing::with_records(two_text, lines);
+  const CliRun alone = run({"diff", "--exact", one, gone.string()});
+  EXPECT_EQ(alone.code, 1) << alone.err;
+  EXPECT_EQ(alone.out, "DIFFERS record | " + middle + " | only in old\n" +
+                           "1 difference (1 record, 0 other)\n");
   const CliRun gate = run({"diff", "--exact", "--time-factor", "3", one, two});
   EXPECT_EQ(gate.code, 2);
   EXPECT_EQ(gate.err, "error: --time-factor goes with the regression gate, not --exact, which "

@@ -298,6 +298,58 @@ TEST(DiffReader, DiffOfStreamsEqualsDiffOfTreesSeekableOrNot) {
             trees.lines);
 }
 
+// Two reports in pldamp's layout are compared as they are read, a record of each at a time: the
+// lines are those of the reports read whole, their records in one order or not, gone or added;
+// two reports in one order hold one record at a time. Before, diff held every record of both
+// (770 MB for a 10^6-run map's report against itself, docs/scaling.md "Diff at size").
+TEST(DiffReader, ReportsInPldampsLayoutAreComparedAsTheyAreRead) {
+  const std::string text = report_text();
+  std::vector<std::string> lines;
+  for (std::size_t i = 0; !record_line(text, i).empty(); ++i) {
+    lines.push_back(record_line(text, i));
+  }
+  ASSERT_EQ(lines.size(), 4u);
+  nlohmann::json worse_record = nlohmann::json::parse(lines[1]);
+  set_rel_error(worse_record, "delta_max", 3e-4);
+  std::vector<std::string> worse = lines;
+  worse[1] = worse_record.dump();
+  const std::vector<std::string> reversed(lines.rbegin(), lines.rend());
+  const std::vector<std::string> one_gone{lines[0], lines[2], lines[3]};
+  const std::vector<std::string> swapped{lines[1], lines[0], lines[3], lines[2]};
+  DiffOptions verbose;
+  verbose.verbose = true;
+  struct Case {
+    std::string name;
+    std::vector<std::string> old_lines, new_lines;
+    std::size_t held; // when streamed
+  };
+  // Held when streamed: one record in the plan order, and as many as wait out of step (read one
+  // of each in turn: the reversed report's first two of each wait for their matches).
+  for (const Case& c : {Case{"itself", lines, lines, 1}, Case{"worse", lines, worse, 1},
+                        Case{"better", worse, lines, 1}, Case{"reversed", lines, reversed, 4},
+                        Case{"one gone", lines, one_gone, 2}, Case{"one added", one_gone, lines, 3},
+                        Case{"swapped", swapped, lines, 2}}) {
+    const std::string old_text = with_records(text, c.old_lines);
+    const std::string new_text = with_records(text, c.new_lines);
+    const DiffResult trees =
+        diff_reports(nlohmann::json::parse(old_text), nlohmann::json::parse(new_text), verbose);
+    EXPECT_EQ(trees.records_held, c.old_lines.size() + c.new_lines.size()) << c.name;
+    std::istringstream old_in(old_text), new_in(new_text);
+    const DiffResult streamed = diff_reports(old_in, "old.json", new_in, "new.json", verbose);
+    EXPECT_EQ(streamed.lines, trees.lines) << c.name;
+    EXPECT_EQ(streamed.records_held, c.held) << c.name;
+  }
+  // What the cases found, that the comparison above is not of two empty lists.
+  std::istringstream old_in(text), new_in(with_records(text, one_gone));
+  const DiffResult gone = diff_reports(old_in, "old.json", new_in, "new.json");
+  // The record gone, and the new report's budgets held to the records that streamed past.
+  ASSERT_EQ(gone.regressions, 3) << ::testing::PrintToString(gone.lines);
+  EXPECT_TRUE(gone.lines[0].starts_with("REGRESSION record_gone | ")) << gone.lines[0];
+  EXPECT_TRUE(gone.lines[1].starts_with("REGRESSION budget_inconsistent | ")) << gone.lines[1];
+  EXPECT_TRUE(gone.lines[2].starts_with("REGRESSION work_precision_inconsistent | "))
+      << gone.lines[2];
+}
+
 } // namespace
 // What cannot be a report is refused by what diff reads first, and nothing it reads is held whole
 // beyond its limits (diff.hpp, ReportLimits; small ones here, the command's in Cli tests): blanks

@@ -129,6 +129,24 @@ inline std::string with_record_line(const std::string& text, std::size_t index,
   return out;
 }
 
+// The text with its record lines replaced by `lines`, in their order (commas as pldamp writes).
+inline std::string with_records(const std::string& text, const std::vector<std::string>& lines) {
+  std::istringstream in(text);
+  std::string out;
+  bool replaced = false;
+  for (std::string l; std::getline(in, l);) {
+    if (l.rfind("  {\"key\":", 0) != 0) {
+      out += l + "\n";
+    } else if (!replaced) {
+      replaced = true;
+      for (std::size_t i = 0; i < lines.size(); ++i) {
+        out += "  " + lines[i] + (i + 1 < lines.size() ? ",\n" : "\n");
+      }
+    }
+  }
+  return out;
+}
+
 inline HandMade hand_made() {
   const std::string path = write_file("hand.toml", R"(want = ["e", "delta_max"]
 [grid]

@@ -1,11 +1,15 @@
 #include "judge/diff_parts.hpp"
 
 #include "common/input.hpp"
+#include "judge/bounded_queue.hpp"
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <exception>
 #include <future>
+#include <optional>
+#include <variant>
 
 namespace pldamp::harness {
 namespace diff {
@@ -103,6 +107,123 @@ namespace {
 
 using diff::json;
 
+// What diff settles before the records: the thresholds, what the two scenes do not share, the
+// lines said first, and whether the reports may be compared at all.
+struct Setup {
+  DiffThresholds thresholds;
+  diff::SceneChange change;
+  std::vector<std::string> lines; // BUILD, then SCENE
+  std::optional<InputError> refusal;
+};
+
+Setup setup_of(const json& old_report, const json& new_report, const DiffOptions& options) {
+  using diff::member_or_null;
+  using diff::string_in;
+  namespace key = diff::key;
+  Setup setup{.thresholds = diff::thresholds_of(new_report, options),
+              .change = diff::scene_change(old_report, new_report),
+              .lines = {},
+              .refusal = std::nullopt};
+  const json& was = member_or_null(old_report, key::scene);
+  const json& now = member_or_null(new_report, key::scene);
+  const std::string old_print = string_in(was, key::fingerprint);
+  const std::string new_print = string_in(now, key::fingerprint);
+  if (old_print != new_print) {
+    if (!options.allow_scene_change) {
+      setup.refusal = InputError(fmt::format(
+          "the two reports come from different scenes ({} configurations, observables, grid "
+          "values, claims, searches or contact ends added, removed or changed); "
+          "--allow-scene-change compares what they share (got {} {}, now {} {})",
+          setup.change.lines.size(), string_in(was, key::name),
+          old_print.empty() ? "unknown" : old_print, string_in(now, key::name),
+          new_print.empty() ? "unknown" : new_print));
+    }
+    setup.lines = setup.change.lines;
+  }
+  // Another build may compute other values: said first, judged as the rest is.
+  const std::string old_build = string_in(member_or_null(old_report, key::run), key::build);
+  const std::string new_build = string_in(member_or_null(new_report, key::run), key::build);
+  if (old_build != new_build) {
+    setup.lines.insert(setup.lines.begin(),
+                       fmt::format("BUILD {} -> {}", old_build.empty() ? "unknown" : old_build,
+                                   new_build.empty() ? "unknown" : new_build));
+  }
+  return setup;
+}
+
+// One diff, fed as the reports are read: the claims and the setup from everything but the
+// records (all of which comes before them in pldamp's layout, but the figures, which diff does
+// not read), then the records of both as they come, then the budgets.
+class Comparison {
+public:
+  Comparison(json old_report, json new_report, const DiffOptions& options)
+      : options_(options), old_(std::move(old_report)), new_(std::move(new_report)),
+        setup_(setup_of(old_, new_, options)), findings_(options.verbose),
+        records_(findings_, setup_.change, diff::Noise(new_), setup_.thresholds) {
+    if (!setup_.refusal) {
+      diff::compare_claims(findings_, old_, new_, setup_.change, setup_.thresholds);
+    }
+  }
+  Comparison(const Comparison&) = delete;
+  Comparison& operator=(const Comparison&) = delete;
+
+  // Records of reports that may not be compared are read (a damaged one is still refused as
+  // such) and dropped.
+  void take_old(diff::RecordFacts&& record) {
+    if (!setup_.refusal) {
+      records_.take_old(std::move(record));
+    }
+  }
+  void take_new(diff::RecordFacts&& record) {
+    if (!setup_.refusal) {
+      records_.take_new(std::move(record));
+    }
+  }
+
+  DiffResult finish() {
+    if (setup_.refusal) {
+      throw *setup_.refusal;
+    }
+    DiffResult result;
+    result.thresholds = setup_.thresholds;
+    result.lines = setup_.lines;
+    records_.finish();
+    diff::compare_budgets(findings_, old_, new_, records_.new_largest(), setup_.change,
+                          setup_.thresholds);
+    result.records_held = records_.most_waiting();
+    findings_.write(result, options_.verbose);
+    result.lines.push_back(fmt::format("{} regression{}, {} change{}", result.regressions,
+                                       result.regressions == 1 ? "" : "s", result.changes,
+                                       result.changes == 1 ? "" : "s"));
+    return result;
+  }
+
+private:
+  DiffOptions options_;
+  json old_, new_;
+  Setup setup_;
+  diff::Findings findings_;
+  diff::RecordComparison records_;
+};
+
+// Two reports read whole: their records fed a pair at a time, as they would stream.
+DiffResult diff_facts(diff::Report old_facts, diff::Report new_facts, const DiffOptions& options) {
+  Comparison comparison(std::move(old_facts.rest), std::move(new_facts.rest), options);
+  const std::size_t held = old_facts.records.size() + new_facts.records.size();
+  const std::size_t count = std::max(old_facts.records.size(), new_facts.records.size());
+  for (std::size_t i = 0; i < count; ++i) {
+    if (i < old_facts.records.size()) {
+      comparison.take_old(std::move(old_facts.records[i]));
+    }
+    if (i < new_facts.records.size()) {
+      comparison.take_new(std::move(new_facts.records[i]));
+    }
+  }
+  DiffResult result = comparison.finish();
+  result.records_held = held;
+  return result;
+}
+
 // A report read whole (read_report's tree) as diff reads it: its records' facts beside the rest.
 diff::Report facts_of(const json& report) {
   diff::Report out{.rest = json::object(), .records = {}};
@@ -118,24 +239,28 @@ diff::Report facts_of(const json& report) {
   return out;
 }
 
-// A report streamed (read_report of a stream): its records' facts taken one record at a time.
-// One in pldamp's layout is read fast (diff::read_record_lines); any other, or one the fast reader
-// doubts, is read again from the start (a stream it cannot go back in is read by this reader
-// alone).
-diff::Report facts_of(std::istream& in, const std::string& path, const ReportLimits& limits) {
-  const auto not_a_report = [&] { return InputError("not a JSON report (got " + path + ")"); };
-  // Its first bytes: '{' after a little white space, or it is not a report.
+// A report's first bytes: '{' after a little white space, or it is not a report. Returns where
+// the '{' stands (-1 in a stream that cannot tell).
+std::istream::pos_type report_start(std::istream& in, const std::string& path,
+                                    const ReportLimits& limits) {
   for (std::size_t blank = 0;; ++blank) {
     const int c = in.peek();
     if (c == '{') {
-      break;
+      return in.tellg();
     }
     if (blank == limits.leading_space || !(c == ' ' || c == '\n' || c == '\t' || c == '\r')) {
-      throw not_a_report();
+      throw InputError("not a JSON report (got " + path + ")");
     }
     in.get();
   }
-  if (const std::istream::pos_type start = in.tellg(); start != std::istream::pos_type(-1)) {
+}
+
+// A report read whole, its records' facts taken one record at a time. One in pldamp's layout is
+// read fast (diff::read_record_lines); any other, or one the fast reader doubts, is read again
+// from the start (a stream it cannot go back in is read by this reader alone).
+diff::Report facts_of(std::istream& in, const std::string& path, const ReportLimits& limits) {
+  if (const std::istream::pos_type start = report_start(in, path, limits);
+      start != std::istream::pos_type(-1)) {
     if (std::optional<diff::Report> fast = diff::read_record_lines(in, path, limits)) {
       return std::move(*fast);
     }
@@ -158,48 +283,110 @@ diff::Report facts_of(std::istream& in, const std::string& path, const ReportLim
   return out;
 }
 
-DiffResult diff_facts(const diff::Report& old_facts, const diff::Report& new_facts,
-                      const DiffOptions& options) {
-  using diff::member_or_null;
-  using diff::string_in;
-  namespace key = diff::key;
-  DiffResult result;
-  const json& old_report = old_facts.rest;
-  const json& new_report = new_facts.rest;
-  result.thresholds = diff::thresholds_of(new_report, options);
-  const diff::SceneChange change = diff::scene_change(old_report, new_report);
-  const std::string old_print = string_in(member_or_null(old_report, key::scene), key::fingerprint);
-  const std::string new_print = string_in(member_or_null(new_report, key::scene), key::fingerprint);
-  if (old_print != new_print) {
-    if (!options.allow_scene_change) {
-      const json& was = member_or_null(old_report, key::scene);
-      const json& now = member_or_null(new_report, key::scene);
-      throw InputError(fmt::format(
-          "the two reports come from different scenes ({} configurations, observables, grid "
-          "values, claims, searches or contact ends added, removed or changed); "
-          "--allow-scene-change compares what they share (got {} {}, now {} {})",
-          change.lines.size(), string_in(was, key::name), old_print.empty() ? "unknown" : old_print,
-          string_in(now, key::name), new_print.empty() ? "unknown" : new_print));
+// Two reports read whole, a thread each: reading is most of diff's time. The old report's error,
+// if both are bad, is the one said (as when read one after the other).
+DiffResult diff_read_whole(std::istream& old_report, const std::string& old_path,
+                           std::istream& new_report, const std::string& new_path,
+                           const DiffOptions& options, const ReportLimits& limits) {
+  std::future<diff::Report> old_facts =
+      std::async(std::launch::async, [&] { return facts_of(old_report, old_path, limits); });
+  std::exception_ptr new_failed;
+  diff::Report new_facts;
+  try {
+    new_facts = facts_of(new_report, new_path, limits);
+  } catch (...) {
+    new_failed = std::current_exception();
+  }
+  diff::Report old_read = old_facts.get();
+  if (new_failed) {
+    std::rethrow_exception(new_failed);
+  }
+  return diff_facts(std::move(old_read), std::move(new_facts), options);
+}
+
+// What a report's reading thread hands over: everything before its records, then each record's
+// facts; or Doubted, when the fast reader declines the report.
+using StreamItem = std::variant<json, diff::RecordFacts>;
+using StreamQueue = diff::BoundedQueue<StreamItem>;
+using diff::Doubted;
+using diff::doubted;
+
+// The reading of a report in pldamp's layout, a record at a time into a queue.
+diff::SideBySide<StreamItem>::Read stream_of(std::istream& in, const std::string& path,
+                                             const ReportLimits& limits) {
+  return [&in, &path, &limits](StreamQueue& queue) {
+    if (!diff::stream_record_lines(
+            in, path, limits, [&](json&& head) { queue.push(StreamItem(std::move(head))); },
+            [&](diff::RecordFacts&& facts) { queue.push(StreamItem(std::move(facts))); })) {
+      throw Doubted{};
     }
-    result.lines = change.lines;
+  };
+}
+
+// Two reports in pldamp's layout compared as they are read, a record of each at a time: the
+// memory of `pldamp diff` does not grow with the reports (docs/scaling.md, "Diff at size"). None
+// when either is not in that layout, or the fast reader doubts it: both are then read whole.
+std::optional<DiffResult> diff_streamed(std::istream& old_report, const std::string& old_path,
+                                        std::istream& new_report, const std::string& new_path,
+                                        const DiffOptions& options, const ReportLimits& limits) {
+  diff::SideBySide<StreamItem> reading(stream_of(old_report, old_path, limits),
+                                       stream_of(new_report, new_path, limits));
+  StreamQueue& old_queue = reading.old_queue();
+  StreamQueue& new_queue = reading.new_queue();
+  std::exception_ptr old_failed, new_failed, failed;
+  const auto take = [](StreamQueue& queue, std::exception_ptr& failure) {
+    std::optional<StreamItem> item;
+    if (!failure) {
+      try {
+        item = queue.pop();
+      } catch (...) {
+        failure = std::current_exception();
+      }
+    }
+    return item;
+  };
+  std::optional<Comparison> comparison;
+  try {
+    // Each stream's first item is its head, the next ones its records. After a failure of the
+    // new report, the old one is read on, unjudged: its own error, if it has one, is said first.
+    std::optional<StreamItem> old_item = take(old_queue, old_failed);
+    std::optional<StreamItem> new_item = take(new_queue, new_failed);
+    if (old_item && new_item) {
+      comparison.emplace(std::get<json>(std::move(*old_item)), std::get<json>(std::move(*new_item)),
+                         options);
+    }
+    while (!old_failed) {
+      old_item = take(old_queue, old_failed);
+      new_item = take(new_queue, new_failed);
+      if (!old_item && !new_item) {
+        break;
+      }
+      if (comparison && !new_failed) {
+        if (old_item) {
+          comparison->take_old(std::get<diff::RecordFacts>(std::move(*old_item)));
+        }
+        if (new_item) {
+          comparison->take_new(std::get<diff::RecordFacts>(std::move(*new_item)));
+        }
+      }
+    }
+  } catch (...) {
+    failed = std::current_exception();
   }
-  // Another build may compute other values: said first, judged as the rest is.
-  const std::string old_build = string_in(member_or_null(old_report, key::run), key::build);
-  const std::string new_build = string_in(member_or_null(new_report, key::run), key::build);
-  if (old_build != new_build) {
-    result.lines.insert(result.lines.begin(),
-                        fmt::format("BUILD {} -> {}", old_build.empty() ? "unknown" : old_build,
-                                    new_build.empty() ? "unknown" : new_build));
+  reading.stop();
+  if (failed) {
+    std::rethrow_exception(failed);
   }
-  diff::Findings findings;
-  diff::compare_claims(findings, old_report, new_report, change, result.thresholds);
-  diff::compare_records(findings, old_facts, new_facts, change, result.thresholds);
-  diff::compare_budgets(findings, old_report, new_facts, change, result.thresholds);
-  findings.write(result, options.verbose);
-  result.lines.push_back(fmt::format("{} regression{}, {} change{}", result.regressions,
-                                     result.regressions == 1 ? "" : "s", result.changes,
-                                     result.changes == 1 ? "" : "s"));
-  return result;
+  if (old_failed && !doubted(old_failed)) {
+    std::rethrow_exception(old_failed);
+  }
+  if ((old_failed && doubted(old_failed)) || (new_failed && doubted(new_failed))) {
+    return std::nullopt;
+  }
+  if (new_failed) {
+    std::rethrow_exception(new_failed);
+  }
+  return comparison->finish();
 }
 
 } // namespace
@@ -212,22 +399,24 @@ DiffResult diff_reports(const json& old_report, const json& new_report,
 DiffResult diff_reports(std::istream& old_report, const std::string& old_path,
                         std::istream& new_report, const std::string& new_path,
                         const DiffOptions& options, const ReportLimits& limits) {
-  // The two read at once, a thread each: reading is most of diff's time. The old report's error,
-  // if both are bad, is the one said (as when read one after the other).
-  std::future<diff::Report> old_facts =
-      std::async(std::launch::async, [&] { return facts_of(old_report, old_path, limits); });
-  std::exception_ptr new_failed;
-  diff::Report new_facts;
+  // Streamed when both can be read again from their start should the fast reader doubt them.
+  const std::istream::pos_type unknown(-1);
+  const std::istream::pos_type old_start = report_start(old_report, old_path, limits);
+  std::istream::pos_type new_start = unknown;
   try {
-    new_facts = facts_of(new_report, new_path, limits);
-  } catch (...) {
-    new_failed = std::current_exception();
+    new_start = report_start(new_report, new_path, limits);
+  } catch (const InputError&) {
+    // Not a report: said once the old one is read, whose own error, if any, comes first.
   }
-  const diff::Report old_read = old_facts.get();
-  if (new_failed) {
-    std::rethrow_exception(new_failed);
+  if (old_start != unknown && new_start != unknown) {
+    if (std::optional<DiffResult> streamed =
+            diff_streamed(old_report, old_path, new_report, new_path, options, limits)) {
+      return std::move(*streamed);
+    }
+    diff::read_again(old_report, old_start, old_path);
+    diff::read_again(new_report, new_start, new_path);
   }
-  return diff_facts(old_read, new_facts, options);
+  return diff_read_whole(old_report, old_path, new_report, new_path, options, limits);
 }
 
 std::vector<std::string> regressions(const json& old_report, const json& new_report) {

@@ -60,6 +60,10 @@ struct DiffResult {
   std::vector<std::string> lines; // the output, summary last
   long regressions = 0, changes = 0;
   DiffThresholds thresholds; // as applied
+  // The most records diff held at once: all of both reports' when it read them whole (another
+  // layout than pldamp's, or streams it cannot read again), and when it streamed them only those
+  // waiting for the other report's record of their key (one for two reports in one order).
+  std::size_t records_held = 0;
 };
 
 // Compares two reports, each as schema::read_report (common/report_schema.hpp) checked it. Throws
@@ -87,8 +91,12 @@ struct ReportLimits {
 };
 
 // The same of two reports read from streams (report.json files), each checked as
-// schema::read_report checks it and kept only as far as diff compares it: a record is read, its
-// facts kept, and the record dropped (two nightly reports of 62 MB took 560 MB read whole).
+// schema::read_report checks it. Two in pldamp's layout are compared as they are read, a record
+// of each at a time on a thread each, matched by key (only records out of step wait for their
+// match): diff's memory does not grow with them (24 MB for two reports of a 10^6-run map, where
+// keeping every record's facts took 770 MB; docs/scaling.md, "Diff at size"). Any other layout,
+// or a stream that cannot be read again should the fast reader doubt it, is read whole, each
+// record's facts kept.
 DiffResult diff_reports(std::istream& old_report, const std::string& old_path,
                         std::istream& new_report, const std::string& new_path,
                         const DiffOptions& options = {}, const ReportLimits& limits = {});

@@ -13,22 +13,6 @@ namespace pldamp::harness::diff {
 
 namespace {
 
-// Per observable, the largest relative error of some records.
-using LargestErrors = std::map<std::string, std::optional<double>>;
-// Folds a record's relative errors into `largest` (an observable it has, even as null, is there).
-void take_largest(LargestErrors& largest, const RecordFacts& record) {
-  for (const RecordFacts::Observed& observed : record.observed) {
-    const Number& error = observed.fields[rel_error_field];
-    if (error.state == Number::State::absent) {
-      continue;
-    }
-    std::optional<double>& slot = largest[observed.name];
-    if (error.state == Number::State::number && (!slot || error.value > *slot)) {
-      slot = error.value;
-    }
-  }
-}
-
 // Where a configuration's work-precision point or a record stands: its configuration and p.
 std::pair<std::string, std::optional<double>> config_and_p(const json& object) {
   return {string_in(object, key::config), number_in(object, key::p)};
@@ -40,13 +24,11 @@ std::pair<std::string, std::optional<double>> config_and_p(const RecordFacts& re
 // budgets.work_precision: each point's error per observable is the largest of its records' at
 // its configuration and p (a point that shows another observable's error, or a stale one, is a
 // bug). A point without by_observable (a report before it) has nothing to check.
-void compare_work_points(Findings& findings, const Report& new_report) {
-  std::map<std::pair<std::string, std::optional<double>>, LargestErrors> largest;
-  for (const RecordFacts& record : new_report.records) {
-    take_largest(largest[config_and_p(record)], record);
-  }
+void compare_work_points(Findings& findings, const json& new_report,
+                         const RecordsLargest& new_records) {
+  const auto& largest = new_records.by_config_and_p;
   for (const json& point :
-       array_in(member_or_null(new_report.rest, key::budgets), key::work_precision)) {
+       array_in(member_or_null(new_report, key::budgets), key::work_precision)) {
     const json& by_observable = member_or_null(point, key::by_observable);
     if (!by_observable.is_object()) {
       continue;
@@ -130,16 +112,34 @@ void compare_analytic(Findings& findings, const json& old_budgets, const json& n
 
 } // namespace
 
+void RecordsLargest::take(const RecordFacts& record) {
+  LargestErrors& per_config = by_config[record.config.value_or("")];
+  LargestErrors& per_point = by_config_and_p[config_and_p(record)];
+  for (const RecordFacts::Observed& observed : record.observed) {
+    const Number& error = observed.fields[rel_error_field];
+    if (error.state == Number::State::absent) {
+      continue;
+    }
+    for (LargestErrors* largest : {&per_config, &per_point}) {
+      std::optional<double>& slot = (*largest)[observed.name];
+      if (error.state == Number::State::number && (!slot || error.value > *slot)) {
+        slot = error.value;
+      }
+    }
+  }
+}
+
 // budgets.worst: each configuration's largest error per observable, against the old report's,
 // and against the new report's own records (a budget that no longer matches them is a bug).
-void compare_budgets(Findings& findings, const json& old_report, const Report& new_report,
-                     const SceneChange& change, const DiffThresholds& t) {
-  const Noise noise(new_report.rest);
+void compare_budgets(Findings& findings, const json& old_report, const json& new_report,
+                     const RecordsLargest& new_records, const SceneChange& change,
+                     const DiffThresholds& t) {
+  const Noise noise(new_report);
   const auto config_and_observable = [](const json& entry) {
     return std::pair(string_in(entry, key::config), string_in(entry, key::observable));
   };
   const json& old_budgets = member_or_null(old_report, key::budgets);
-  const json& new_budgets = member_or_null(new_report.rest, key::budgets);
+  const json& new_budgets = member_or_null(new_report, key::budgets);
   std::map<std::pair<std::string, std::string>, const json*> now;
   for (const json& entry : array_in(new_budgets, key::worst)) {
     now[config_and_observable(entry)] = &entry;
@@ -170,10 +170,7 @@ void compare_budgets(Findings& findings, const json& old_report, const Report& n
     }
   }
   // Consistency: a budget's number is the largest of its records' relative errors.
-  std::map<std::string, LargestErrors> largest;
-  for (const RecordFacts& record : new_report.records) {
-    take_largest(largest[record.config.value_or("")], record);
-  }
+  const auto& largest = new_records.by_config;
   for (const json& entry : array_in(new_budgets, key::worst)) {
     const std::optional<double> budget = number_in(entry, key::max_rel);
     const auto [config, observable] = config_and_observable(entry);
@@ -196,7 +193,7 @@ void compare_budgets(Findings& findings, const json& old_report, const Report& n
                     .detail = worst});
     }
   }
-  compare_work_points(findings, new_report);
+  compare_work_points(findings, new_report, new_records);
   compare_analytic(findings, old_budgets, new_budgets, change, t);
 }
 

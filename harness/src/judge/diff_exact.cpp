@@ -2,16 +2,17 @@
 
 #include "common/input.hpp"
 #include "common/report_schema.hpp"
+#include "judge/bounded_queue.hpp"
+#include "judge/diff_parts.hpp"
 
 #include <fmt/format.h>
 
-#include <atomic>
-#include <condition_variable>
-#include <deque>
+#include <algorithm>
 #include <exception>
-#include <mutex>
 #include <optional>
-#include <thread>
+#include <string_view>
+#include <unordered_map>
+#include <utility>
 
 namespace pldamp::harness {
 namespace {
@@ -83,74 +84,42 @@ void differing_paths(const json& a, const json& b, const std::string& path,
   }
 }
 
-// Records handed from a reading thread to the comparing one, a bounded number at a time.
-class RecordQueue {
-public:
-  void push(json&& record) {
-    std::unique_lock lock(mutex_);
-    room_.wait(lock, [&] { return items_.size() < capacity || abandoned_; });
-    items_.push_back(std::move(record));
-    ready_.notify_one();
-  }
-  void close(std::exception_ptr failure = nullptr) {
-    const std::lock_guard lock(mutex_);
-    closed_ = true;
-    failure_ = failure;
-    ready_.notify_one();
-  }
-  void abandon() { // the reader stops waiting for room: nothing will be taken any more
-    const std::lock_guard lock(mutex_);
-    abandoned_ = true;
-    room_.notify_one();
-  }
-  // The next record, or none at the end (rethrowing the reader's failure).
-  std::optional<json> pop() {
-    std::unique_lock lock(mutex_);
-    ready_.wait(lock, [&] { return !items_.empty() || closed_; });
-    if (!items_.empty()) {
-      json record = std::move(items_.front());
-      items_.pop_front();
-      room_.notify_one();
-      return record;
-    }
-    if (failure_) {
-      std::rethrow_exception(failure_);
-    }
-    return std::nullopt;
-  }
+using RecordQueue = diff::BoundedQueue<json>;
 
-private:
-  static constexpr std::size_t capacity = 256;
-  std::mutex mutex_;
-  std::condition_variable ready_, room_;
-  std::deque<json> items_;
-  bool closed_ = false, abandoned_ = false;
-  std::exception_ptr failure_;
-};
-
-struct AbandonedRead {};
-
-// Reads a report on a thread of its own, its records into `queue`, the rest into `rest`.
-std::thread reader(std::istream& in, const std::string& path, RecordQueue& queue, json& rest,
-                   std::atomic<bool>& abandoned, const ReportLimits& limits) {
-  return std::thread([&in, &path, &queue, &rest, &abandoned, &limits] {
-    try {
+// The reading of a report, its records into a queue and the rest into `rest`. With `by_lines`, a
+// report in pldamp's layout is read a record line at a time (diff::read_report_lines: each record
+// checked as read_report checks it, its key's hash kept where read_report keeps the key: 23 MB
+// for a 10^6-run map where the keys took 144 MB); the reading ends with Doubted where that
+// reader declines.
+diff::SideBySide<json>::Read reading_of(std::istream& in, const std::string& path, json& rest,
+                                        const ReportLimits& limits, bool by_lines) {
+  return [&in, &path, &rest, &limits, by_lines](RecordQueue& queue) {
+    if (!by_lines) {
       rest = schema::read_report(
-          in, path,
-          [&](json&& record) {
-            if (abandoned) {
-              throw AbandonedRead{};
-            }
-            queue.push(std::move(record));
-          },
-          limits.values);
-      queue.close();
-    } catch (const AbandonedRead&) {
-      queue.close();
-    } catch (...) {
-      queue.close(std::current_exception());
+          in, path, [&](json&& record) { queue.push(std::move(record)); }, limits.values);
+      return;
     }
-  });
+    std::optional<json> read = diff::read_report_lines(
+        in, path, limits, nullptr,
+        [&](std::string& line, std::size_t length,
+            std::size_t index) -> std::optional<std::size_t> {
+          json record;
+          try {
+            record = schema::read_record(std::string_view(line).substr(0, length), path,
+                                         fmt::format("{}[{}]", key::records, index));
+          } catch (const std::exception&) {
+            return std::nullopt; // the general reader says what is wrong
+          }
+          const std::size_t key_hash =
+              std::hash<std::string_view>{}(record.at(key::key).get_ref<const std::string&>());
+          queue.push(std::move(record));
+          return key_hash;
+        });
+    if (!read) {
+      throw diff::Doubted{};
+    }
+    rest = std::move(*read);
+  };
 }
 
 std::string record_key(const json& record) {
@@ -159,56 +128,84 @@ std::string record_key(const json& record) {
              : "?";
 }
 
-} // namespace
-
-ExactResult diff_exact(std::istream& old_report, const std::string& old_path,
-                       std::istream& new_report, const std::string& new_path, bool verbose,
-                       const ReportLimits& limits) {
-  RecordQueue old_queue, new_queue;
+// One reading of both reports; none when read `by_lines` and the fast reader declined either.
+std::optional<ExactResult> exact_pass(std::istream& old_report, const std::string& old_path,
+                                      std::istream& new_report, const std::string& new_path,
+                                      bool verbose, const ReportLimits& limits, bool by_lines) {
   json old_rest, new_rest;
-  std::atomic<bool> abandoned{false};
-  std::thread old_reader = reader(old_report, old_path, old_queue, old_rest, abandoned, limits);
-  std::thread new_reader = reader(new_report, new_path, new_queue, new_rest, abandoned, limits);
+  diff::SideBySide<json> reading(reading_of(old_report, old_path, old_rest, limits, by_lines),
+                                 reading_of(new_report, new_path, new_rest, limits, by_lines));
+  RecordQueue& old_queue = reading.old_queue();
+  RecordQueue& new_queue = reading.new_queue();
   ExactResult result;
   long record_differences = 0;
   const std::size_t shown_records = verbose ? SIZE_MAX : 20;
   std::exception_ptr failed;
   try {
-    for (;;) {
+    const auto differs = [&](const std::string& key, const std::vector<std::string>& paths) {
+      ++record_differences;
+      if (static_cast<std::size_t>(record_differences) <= shown_records) {
+        for (const std::string& path : paths) {
+          result.lines.push_back(fmt::format("DIFFERS record | {} | {}", one_line(key), path));
+        }
+      }
+    };
+    const auto compare = [&](const std::string& key, json& a, json& b) {
+      std::vector<std::string> paths;
+      drop_timing(a);
+      drop_timing(b);
+      differing_paths(a, b, "", paths, 3);
+      if (!paths.empty()) {
+        differs(key, paths);
+      }
+    };
+    // Records are matched by key: two reports in one order hold a record of each at a time, and
+    // a record gone or added is named alone rather than shifting every record after it. Those
+    // out of step wait for their match; whatever is still waiting at the end is only in one.
+    std::unordered_map<std::string, std::pair<std::size_t, json>> waiting_old, waiting_new;
+    for (std::size_t index = 0;; ++index) {
       std::optional<json> a = old_queue.pop();
       std::optional<json> b = new_queue.pop();
       if (!a && !b) {
         break;
       }
-      std::vector<std::string> paths;
-      std::string key;
-      if (!a || !b) {
-        key = record_key(a ? *a : *b);
-        paths.push_back(std::string("only in ") + (a ? "old" : "new"));
-      } else {
-        key = record_key(*a);
-        drop_timing(*a);
-        drop_timing(*b);
-        differing_paths(*a, *b, "", paths, 3);
-      }
-      if (!paths.empty()) {
-        ++record_differences;
-        if (static_cast<std::size_t>(record_differences) <= shown_records) {
-          for (const std::string& path : paths) {
-            result.lines.push_back(fmt::format("DIFFERS record | {} | {}", one_line(key), path));
-          }
+      if (a) {
+        std::string key = record_key(*a);
+        if (const auto match = waiting_new.find(key); match != waiting_new.end()) {
+          compare(key, *a, match->second.second);
+          waiting_new.erase(match);
+        } else {
+          waiting_old.insert_or_assign(std::move(key), std::pair(index, std::move(*a)));
         }
+      }
+      if (b) {
+        std::string key = record_key(*b);
+        if (const auto match = waiting_old.find(key); match != waiting_old.end()) {
+          compare(key, match->second.second, *b);
+          waiting_old.erase(match);
+        } else {
+          waiting_new.insert_or_assign(std::move(key), std::pair(index, std::move(*b)));
+        }
+      }
+    }
+    for (const auto& [waiting, side] : {std::pair{&waiting_old, "old"}, {&waiting_new, "new"}}) {
+      std::vector<std::pair<std::size_t, const std::string*>> alone;
+      for (const auto& [key, record] : *waiting) {
+        alone.emplace_back(record.first, &key);
+      }
+      std::sort(alone.begin(), alone.end());
+      for (const auto& [index, key] : alone) {
+        differs(*key, {std::string("only in ") + side});
       }
     }
   } catch (...) {
     failed = std::current_exception();
   }
-  abandoned = true;
-  old_queue.abandon();
-  new_queue.abandon();
-  old_reader.join();
-  new_reader.join();
+  reading.stop();
   if (failed) {
+    if (diff::doubted(failed)) {
+      return std::nullopt;
+    }
     std::rethrow_exception(failed);
   }
   if (static_cast<std::size_t>(record_differences) > shown_records) {
@@ -286,6 +283,24 @@ ExactResult diff_exact(std::istream& old_report, const std::string& old_path,
                         result.differences == 1 ? "" : "s", record_differences,
                         record_differences == 1 ? "" : "s", other));
   return result;
+}
+
+} // namespace
+
+ExactResult diff_exact(std::istream& old_report, const std::string& old_path,
+                       std::istream& new_report, const std::string& new_path, bool verbose,
+                       const ReportLimits& limits) {
+  // A record line at a time where both can be read again from their start.
+  const std::istream::pos_type old_start = old_report.tellg(), new_start = new_report.tellg();
+  if (old_start != std::istream::pos_type(-1) && new_start != std::istream::pos_type(-1)) {
+    if (std::optional<ExactResult> result =
+            exact_pass(old_report, old_path, new_report, new_path, verbose, limits, true)) {
+      return std::move(*result);
+    }
+    diff::read_again(old_report, old_start, old_path);
+    diff::read_again(new_report, new_start, new_path);
+  }
+  return *exact_pass(old_report, old_path, new_report, new_path, verbose, limits, false);
 }
 
 } // namespace pldamp::harness

@@ -22,7 +22,9 @@ void Findings::add(Finding finding) {
   if (finding.rank > group.worst.rank) {
     group.worst = finding;
   }
-  group.details.push_back(finding.detail);
+  if (keep_details_) {
+    group.details.push_back(finding.detail);
+  }
 }
 
 void Findings::write(DiffResult& result, bool verbose) const {

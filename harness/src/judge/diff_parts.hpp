@@ -12,12 +12,15 @@
 
 #include <array>
 #include <cstdint>
+#include <functional>
 #include <map>
 #include <optional>
 #include <set>
 #include <string>
 #include <string_view>
 #include <tuple>
+#include <unordered_map>
+#include <utility>
 #include <vector>
 
 namespace pldamp::harness::diff {
@@ -92,6 +95,28 @@ std::string describe(const RecordFacts& facts);
 std::optional<Report> read_record_lines(std::istream& in, const std::string& path,
                                         const ReportLimits& limits = {});
 
+// The same a record at a time, for a reader that holds none of them: `at_records` (if any) is
+// given everything before the records, checked as read_report checks a report (its records
+// empty), when the records begin; each record's line is handed to `each` (the line, its length
+// without the comma, and its index; the line's buffer has room for simdjson's padding), which
+// returns the hash of the record's key, or none when it doubts the line. Returns the text outside
+// the records checked whole, or none when read_record_lines would: the caller then drops
+// whatever it was handed, and the general reader reads the report again.
+using HeadSink = std::function<void(json&& head)>;
+using RecordLineSink = std::function<std::optional<std::size_t>(
+    std::string& line, std::size_t length, std::size_t index)>;
+std::optional<json> read_report_lines(std::istream& in, const std::string& path,
+                                      const ReportLimits& limits, const HeadSink& at_records,
+                                      const RecordLineSink& each);
+// A stream put back at `start` (where its report begins) for the general reader, after the fast
+// one declined it; InputError when it cannot be.
+void read_again(std::istream& in, std::istream::pos_type start, const std::string& path);
+
+// read_report_lines with each record read as read_record_lines reads it, its facts handed over.
+std::optional<json> stream_record_lines(std::istream& in, const std::string& path,
+                                        const ReportLimits& limits, const HeadSink& at_records,
+                                        const std::function<void(RecordFacts&&)>& each);
+
 enum class Severity { regression, change };
 
 // One thing that changed. Findings of one kind (`what`), owner (a configuration, claim or
@@ -107,6 +132,9 @@ struct Finding {
 // Findings gathered into groups; each group remembers its worst member.
 class Findings {
 public:
+  // `keep_details`: each finding's line kept for --verbose (which then holds one per finding);
+  // without it a group holds its worst finding and a count, whatever the reports' size.
+  explicit Findings(bool keep_details = true) : keep_details_(keep_details) {}
   void add(Finding finding);
   // Each group's line, regressions first, and with `verbose` every finding under its group.
   void write(DiffResult& result, bool verbose) const;
@@ -117,6 +145,7 @@ private:
     long count;
     std::vector<std::string> details;
   };
+  bool keep_details_;
   std::vector<Group> groups_;
   std::map<std::tuple<Severity, std::string, std::string, std::string>, std::size_t> index_;
 };
@@ -174,13 +203,60 @@ struct SceneChange {
 };
 SceneChange scene_change(const json& old_report, const json& new_report);
 
-// The comparators: records (errors, numbers, outcomes, work, time), budgets (budgets.worst,
-// work-precision points and the analytic layer, each also against the new report's own records),
-// claims and searches.
-void compare_records(Findings& findings, const Report& old_report, const Report& new_report,
-                     const SceneChange& change, const DiffThresholds& t);
-void compare_budgets(Findings& findings, const json& old_report, const Report& new_report,
-                     const SceneChange& change, const DiffThresholds& t);
+// Per observable, the largest relative error of some records (an observable a record has, even
+// as null, is there).
+using LargestErrors = std::map<std::string, std::optional<double>>;
+// What the budgets of the new report are held to of its records: the largest errors per
+// configuration (budgets.worst) and per configuration and p (a work-precision point).
+struct RecordsLargest {
+  std::map<std::string, LargestErrors> by_config;
+  std::map<std::pair<std::string, std::optional<double>>, LargestErrors> by_config_and_p;
+  void take(const RecordFacts& record);
+};
+
+// A configuration's time on each night: the sums of its records' fastest and slowest repeats.
+struct TimeSums {
+  double before = 0, before_slowest = 0, after = 0, after_slowest = 0;
+  long records = 0;
+  bool cpu = true; // every record timed by its thread's CPU clock, on both nights
+};
+
+// The comparator of records (errors, numbers, outcomes, work, time), fed the records of both
+// reports as they are read: each old record is compared with the new one of its key as soon as
+// both have come, so two reports in one order (a scene's plan order, as pldamp writes them) are
+// compared holding a record of each, and only records out of step wait.
+class RecordComparison {
+public:
+  RecordComparison(Findings& findings, const SceneChange& change, Noise noise,
+                   const DiffThresholds& t);
+  void take_old(RecordFacts&& record);
+  void take_new(RecordFacts&& record);
+  // After the last record of each: old records without a new one (gone), and each
+  // configuration's time.
+  void finish();
+  const RecordsLargest& new_largest() const { return new_largest_; }
+  // The most records that waited at once for the other report's record of their key.
+  std::size_t most_waiting() const { return most_waiting_; }
+
+private:
+  void compare(const RecordFacts& was, const RecordFacts& now);
+  Findings& findings_;
+  const SceneChange& change_;
+  Noise noise_;
+  DiffThresholds t_;
+  std::unordered_map<std::string, std::pair<std::size_t, RecordFacts>> waiting_old_; // by key
+  std::unordered_map<std::string, RecordFacts> waiting_new_;
+  std::size_t old_records_ = 0, most_waiting_ = 0;
+  std::map<std::string, TimeSums> time_; // per configuration
+  std::vector<std::string> time_order_;  // its configurations in the old report's order
+  RecordsLargest new_largest_;
+};
+
+// The other comparators: budgets (budgets.worst, work-precision points and the analytic layer,
+// each also against the new report's own records), claims and searches.
+void compare_budgets(Findings& findings, const json& old_report, const json& new_report,
+                     const RecordsLargest& new_records, const SceneChange& change,
+                     const DiffThresholds& t);
 void compare_claims(Findings& findings, const json& old_report, const json& new_report,
                     const SceneChange& change, const DiffThresholds& t);
 

@@ -432,13 +432,12 @@ std::string describe(const RecordFacts& facts) {
   return out;
 }
 
-std::optional<Report> read_record_lines(std::istream& in, const std::string& path,
-                                        const ReportLimits& limits) {
+std::optional<json> read_report_lines(std::istream& in, const std::string& path,
+                                      const ReportLimits& limits, const HeadSink& at_records,
+                                      const RecordLineSink& each) {
   // The lines report_json_text writes around the records, and each record's indent.
   constexpr std::string_view records_open = R"( "records": [)", record_indent = "  ";
   std::string rest; // the report without its records' lines: read_report checks it
-  std::vector<RecordFacts> records;
-  dom::parser parser;
   std::string line;
   // Lines are read a chunk at a time up to limits.line bytes: a longer one (a report on one line,
   // or no report at all) is not pldamp's layout, and is never held whole here. `too_long` says
@@ -468,22 +467,42 @@ std::optional<Report> read_record_lines(std::istream& in, const std::string& pat
       }
     }
   };
+  // The general reader's words when the text outside the records holds too many values (the
+  // records, read or not, were not amiss); none for any other refusal (it says what is wrong).
+  const auto checked = [&](const std::string& text) -> std::optional<json> {
+    try {
+      return schema::read_report(text, path, limits.values);
+    } catch (const std::exception& e) {
+      if (schema::too_many_values(e)) {
+        throw;
+      }
+      return std::nullopt;
+    }
+  };
   enum class Where { before, inside, after } where = Where::before; // the records
   Depth depth;                   // of the text before the records
   bool comma_after_last = false; // whether the last record line ended with one
   // Whether the schema comes before the records, as pldamp writes it: the general reader keeps
   // records read before it, which count among the values it holds at most (limits.values).
   bool schema_first = false;
-  Scratch scratch; // for facts_from_dom
+  std::size_t records = 0;
+  // Each record's key once, as the general reader requires, told by the keys' hashes: 8 bytes a
+  // record rather than its key. Two equal hashes, of equal keys or not, are left to the general
+  // reader (among the 4·10^6 records of a 10^7-run map, unequal keys share a hash with odds of
+  // about 1 in 2 million).
+  std::vector<std::size_t> key_hashes;
+  // The sections before the records: a reader given them has all but the figures (what
+  // follows the records in pldamp's layout); a report with more after its records is left to
+  // the general reader.
+  std::vector<std::string> head_sections;
   while (next_line()) {
     if (line.find('\0') != std::string::npos) {
       return std::nullopt; // nlohmann ends its input at a NUL, simdjson refuses it
     }
     if (where != Where::inside) {
+      bool records_begin = false;
       if (where == Where::before) {
-        if (line == records_open && depth.top_level()) {
-          where = Where::inside;
-        }
+        records_begin = line == records_open && depth.top_level();
         schema_first = schema_first || (depth.top_level() && line.starts_with(R"( "schema":)"));
         depth.read(line);
       }
@@ -499,6 +518,24 @@ std::optional<Report> read_record_lines(std::istream& in, const std::string& pat
                                      "not a report pldamp wrote",
                                      one_line(path), double(limits.rest) / (1 << 20)));
       }
+      if (records_begin) {
+        if (!schema_first) {
+          return std::nullopt;
+        }
+        // Everything before the records, checked as the whole will be: what a reader of the
+        // records needs first (the scene, its thresholds).
+        std::optional<json> head = checked(rest + "]}");
+        if (!head) {
+          return std::nullopt;
+        }
+        where = Where::inside;
+        for (const auto& [name, value] : head->items()) {
+          head_sections.push_back(name);
+        }
+        if (at_records) {
+          at_records(std::move(*head));
+        }
+      }
       continue;
     }
     if (line == " ]" || line == " ],") {
@@ -510,57 +547,85 @@ std::optional<Report> read_record_lines(std::istream& in, const std::string& pat
       rest += '\n';
       continue;
     }
-    if (!line.starts_with(record_indent) || (!records.empty() && !comma_after_last)) {
+    if (!line.starts_with(record_indent) || (records > 0 && !comma_after_last)) {
       return std::nullopt; // not pldamp's layout: the general reader reads it
     }
     comma_after_last = line.ends_with(',');
     const std::size_t length = line.size() - (comma_after_last ? 1 : 0);
     // simdjson reads up to SIMDJSON_PADDING bytes past the end.
     line.reserve(line.size() + simdjson::SIMDJSON_PADDING);
-    std::optional<RecordFacts> facts;
-    dom::element record;
-    if (parser.parse(line.data(), length, false).get(record) == simdjson::SUCCESS) {
-      facts = facts_from_dom(record, scratch);
+    const std::optional<std::size_t> key_hash = each(line, length, records);
+    if (!key_hash) {
+      return std::nullopt;
     }
-    if (!facts) { // a record simdjson refuses or doubts: read as the general reader reads it
-      try {
-        facts = RecordFacts::of(schema::read_record(std::string_view(line).substr(0, length), path,
-                                                    std::string(key::records) + "[" +
-                                                        std::to_string(records.size()) + "]"));
-      } catch (const std::exception&) {
-        return std::nullopt; // the general reader says what is wrong
-      }
-    }
-    records.push_back(std::move(*facts));
+    key_hashes.push_back(*key_hash);
+    ++records;
   }
-  if (where != Where::after || in.bad() || too_long || !schema_first) {
+  if (where != Where::after || in.bad() || too_long) {
     return std::nullopt;
   }
-  // Each record's key once, as the general reader requires: the keys sorted by their hashes
-  // (then by themselves, should hashes meet), two equal keys side by side. A hash set of them
-  // cost 0.15 s of CPU for the 400 000 records of a 10^6-run map; sorted, less than its noise.
-  std::vector<std::pair<std::size_t, std::string_view>> keys;
-  keys.reserve(records.size());
-  for (const RecordFacts& record : records) {
-    keys.emplace_back(std::hash<std::string_view>{}(record.key), record.key);
-  }
-  std::sort(keys.begin(), keys.end());
-  if (std::adjacent_find(keys.begin(), keys.end()) != keys.end()) {
+  std::sort(key_hashes.begin(), key_hashes.end());
+  if (std::adjacent_find(key_hashes.begin(), key_hashes.end()) != key_hashes.end()) {
     return std::nullopt;
   }
-  Report report;
-  try {
-    report.rest = schema::read_report(rest, path, limits.values);
-  } catch (const std::exception& e) {
-    if (schema::too_many_values(e)) {
-      throw; // the general reader's words: the records, all read, were not amiss
-    }
-    return std::nullopt;
-  }
-  if (!report.rest.at(key::records).empty()) {
+  std::optional<json> whole = checked(rest);
+  if (!whole || !whole->at(key::records).empty()) {
     return std::nullopt; // another records array in the rest (a key named twice)
   }
-  report.records = std::move(records);
+  for (const auto& [name, value] : whole->items()) {
+    if (name != key::figures &&
+        std::find(head_sections.begin(), head_sections.end(), name) == head_sections.end()) {
+      return std::nullopt;
+    }
+  }
+  return whole;
+}
+
+std::optional<json> stream_record_lines(std::istream& in, const std::string& path,
+                                        const ReportLimits& limits, const HeadSink& at_records,
+                                        const std::function<void(RecordFacts&&)>& each) {
+  dom::parser parser;
+  Scratch scratch; // for facts_from_dom
+  return read_report_lines(
+      in, path, limits, at_records,
+      [&](std::string& line, std::size_t length, std::size_t index) -> std::optional<std::size_t> {
+        std::optional<RecordFacts> facts;
+        dom::element record;
+        if (parser.parse(line.data(), length, false).get(record) == simdjson::SUCCESS) {
+          facts = facts_from_dom(record, scratch);
+        }
+        if (!facts) { // a record simdjson refuses or doubts: read as the general reader reads it
+          try {
+            facts = RecordFacts::of(
+                schema::read_record(std::string_view(line).substr(0, length), path,
+                                    std::string(key::records) + "[" + std::to_string(index) + "]"));
+          } catch (const std::exception&) {
+            return std::nullopt; // the general reader says what is wrong
+          }
+        }
+        const std::size_t key_hash = std::hash<std::string_view>{}(facts->key);
+        each(std::move(*facts));
+        return key_hash;
+      });
+}
+
+void read_again(std::istream& in, std::istream::pos_type start, const std::string& path) {
+  in.clear();
+  if (!in.seekg(start)) {
+    throw InputError("cannot read " + path + " again");
+  }
+}
+
+std::optional<Report> read_record_lines(std::istream& in, const std::string& path,
+                                        const ReportLimits& limits) {
+  Report report;
+  std::optional<json> rest =
+      stream_record_lines(in, path, limits, nullptr,
+                          [&](RecordFacts&& facts) { report.records.push_back(std::move(facts)); });
+  if (!rest) {
+    return std::nullopt;
+  }
+  report.rest = std::move(*rest);
   return report;
 }
 

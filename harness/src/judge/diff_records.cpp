@@ -116,17 +116,10 @@ void compare_work(Findings& findings, const Finding& base, const RecordFacts& wa
   }
 }
 
-// A configuration's time on each night: the sums of its records' fastest and slowest repeats.
-struct Time {
-  double before = 0, before_slowest = 0, after = 0, after_slowest = 0;
-  long records = 0;
-  bool cpu = true; // every record timed by its thread's CPU clock, on both nights
-};
-
 // Time per configuration: the ratio of the sums of the fastest repeats, judged above the floor
 // against the larger of time_factor and the noise of both nights (each night's slowest over its
 // fastest: a ratio within what the repeats of one night already differ by is no finding).
-void compare_time(Findings& findings, const std::string& config, const Time& sums,
+void compare_time(Findings& findings, const std::string& config, const TimeSums& sums,
                   const DiffThresholds& t) {
   if (sums.before < t.time_floor || sums.before <= 0 || sums.after <= 0) {
     return;
@@ -150,106 +143,139 @@ void compare_time(Findings& findings, const std::string& config, const Time& sum
   }
 }
 
+// What every finding about an old record says: its configuration and cell as its fields hold
+// them, never split out of its key (a label may hold " | "); a record without them (not one
+// pldamp wrote) is named by its key.
+Finding base_finding(const RecordFacts& old_record) {
+  const std::optional<schema::RecordId> id = old_record.id();
+  return {.severity = Severity::regression,
+          .owner = id ? id->config : old_record.key,
+          .unit = "record",
+          .cell = id ? schema::cell_text(*id) : "",
+          .detail = old_record.key};
+}
+
 } // namespace
 
-void compare_records(Findings& findings, const Report& old_report, const Report& new_report,
-                     const SceneChange& change, const DiffThresholds& t) {
-  std::unordered_map<std::string_view, const RecordFacts*> new_records;
-  new_records.reserve(new_report.records.size());
-  for (const RecordFacts& record : new_report.records) {
-    new_records[record.key] = &record;
+RecordComparison::RecordComparison(Findings& findings, const SceneChange& change, Noise noise,
+                                   const DiffThresholds& t)
+    : findings_(findings), change_(change), noise_(std::move(noise)), t_(t) {}
+
+void RecordComparison::take_old(RecordFacts&& record) {
+  const std::size_t index = old_records_++;
+  if (const auto now = waiting_new_.find(record.key); now != waiting_new_.end()) {
+    compare(record, now->second);
+    waiting_new_.erase(now);
+  } else {
+    std::string key = record.key;
+    waiting_old_.insert_or_assign(std::move(key), std::pair(index, std::move(record)));
+    most_waiting_ = std::max(most_waiting_, waiting_old_.size() + waiting_new_.size());
   }
-  const Noise noise(new_report.rest);
-  std::map<std::string, Time> time; // per configuration, in the old report's order
-  std::vector<std::string> time_order;
-  for (const RecordFacts& old_record : old_report.records) {
-    // Its configuration and cell as its fields hold them, never split out of its key (a label
-    // may hold " | "); a record without them (not one pldamp wrote) is named by its key.
-    const std::optional<schema::RecordId> id = old_record.id();
-    const std::string config = id ? id->config : old_record.key;
-    Finding base{.severity = Severity::regression,
-                 .owner = config,
-                 .unit = "record",
-                 .cell = id ? schema::cell_text(*id) : "",
-                 .detail = old_record.key};
-    const auto found = new_records.find(old_record.key);
-    if (found == new_records.end()) {
-      if (!outside(change, old_record)) {
-        base.what = "record_gone";
-        base.subject = "record";
-        base.worst = "present -> missing";
-        base.rank = 1;
-        findings.add(base);
-      }
+}
+
+void RecordComparison::take_new(RecordFacts&& record) {
+  new_largest_.take(record);
+  if (const auto was = waiting_old_.find(record.key); was != waiting_old_.end()) {
+    compare(was->second.second, record);
+    waiting_old_.erase(was);
+  } else {
+    std::string key = record.key;
+    waiting_new_.insert_or_assign(std::move(key), std::move(record));
+    most_waiting_ = std::max(most_waiting_, waiting_old_.size() + waiting_new_.size());
+  }
+}
+
+void RecordComparison::finish() {
+  // The old records no new one matched, in the old report's order.
+  std::vector<const std::pair<std::size_t, RecordFacts>*> gone;
+  gone.reserve(waiting_old_.size());
+  for (const auto& [key, waiting] : waiting_old_) {
+    gone.push_back(&waiting);
+  }
+  std::sort(gone.begin(), gone.end(),
+            [](const auto* a, const auto* b) { return a->first < b->first; });
+  for (const auto* waiting : gone) {
+    const RecordFacts& old_record = waiting->second;
+    if (outside(change_, old_record)) {
       continue;
     }
-    const RecordFacts& now = *found->second;
-    const auto outcomes = [&] { return old_record.outcome + " -> " + now.outcome; };
-    if (now.failed && !old_record.failed) {
-      base.what = "now_fails";
+    Finding base = base_finding(old_record);
+    base.what = "record_gone";
+    base.subject = "record";
+    base.worst = "present -> missing";
+    base.rank = 1;
+    findings_.add(base);
+  }
+  for (const std::string& config : time_order_) {
+    compare_time(findings_, config, time_.at(config), t_);
+  }
+}
+
+void RecordComparison::compare(const RecordFacts& old_record, const RecordFacts& now) {
+  Finding base = base_finding(old_record);
+  const std::string& config = base.owner;
+  const auto outcomes = [&] { return old_record.outcome + " -> " + now.outcome; };
+  if (now.failed && !old_record.failed) {
+    base.what = "now_fails";
+    base.subject = key::outcome;
+    base.worst = outcomes();
+    base.detail += ": " + base.worst + (now.failure.empty() ? "" : " (" + now.failure + ")");
+    base.rank = 1;
+    findings_.add(base);
+    return;
+  }
+  if (old_record.failed) {
+    if (!now.failed) {
+      base.severity = Severity::change;
+      base.what = "now_passes";
       base.subject = key::outcome;
       base.worst = outcomes();
-      base.detail += ": " + base.worst + (now.failure.empty() ? "" : " (" + now.failure + ")");
-      base.rank = 1;
-      findings.add(base);
+      findings_.add(base);
+    }
+    return;
+  }
+  // Numbers lost or appeared: one finding per observable of the record, however many of its
+  // fields (value, reference, error, ...) went.
+  for (const RecordFacts::Observed& was : old_record.observed) {
+    if (change_.removed_observables.contains(was.name)) {
       continue;
     }
-    if (old_record.failed) {
-      if (!now.failed) {
-        base.severity = Severity::change;
-        base.what = "now_passes";
-        base.subject = key::outcome;
-        base.worst = outcomes();
-        findings.add(base);
-      }
-      continue;
-    }
-    // Numbers lost or appeared: one finding per observable of the record, however many of its
-    // fields (value, reference, error, ...) went.
-    for (const RecordFacts::Observed& was : old_record.observed) {
-      if (change.removed_observables.contains(was.name)) {
-        continue;
-      }
-      const RecordFacts::Observed* is = now.find(was.name);
-      std::vector<FieldNow> fields;
-      for (std::size_t f = 0; f < observed_fields.size(); ++f) {
-        if (was.fields[f].state != Number::State::absent) {
-          fields.push_back({.field = observed_fields[f],
-                            .before = was.fields[f],
-                            .after = is != nullptr ? is->fields[f].number() : std::nullopt});
-        }
-      }
-      compare_fields(findings, base, was.name, fields);
-    }
-    for (const RecordFacts::Observed& was : old_record.observed) {
-      const Number& before = was.fields[rel_error_field];
-      const RecordFacts::Observed* is = now.find(was.name);
-      const std::optional<double> after =
-          is != nullptr ? is->fields[rel_error_field].number() : std::nullopt;
-      if (before.state == Number::State::number && after) {
-        Finding f = base;
-        f.what = "error";
-        f.subject = was.name;
-        compare_error(findings, f, before.value, *after, noise.of(config), t.error_factor);
+    const RecordFacts::Observed* is = now.find(was.name);
+    std::vector<FieldNow> fields;
+    for (std::size_t f = 0; f < observed_fields.size(); ++f) {
+      if (was.fields[f].state != Number::State::absent) {
+        fields.push_back({.field = observed_fields[f],
+                          .before = was.fields[f],
+                          .after = is != nullptr ? is->fields[f].number() : std::nullopt});
       }
     }
-    compare_work(findings, base, old_record, now, t.work_factor);
-    if (old_record.seconds && now.seconds) {
-      const auto [at, fresh] = time.try_emplace(config);
-      if (fresh) {
-        time_order.push_back(config);
-      }
-      Time& sums = at->second;
-      sums.before += *old_record.seconds;
-      sums.before_slowest += old_record.seconds_slowest.value_or(*old_record.seconds);
-      sums.after += *now.seconds;
-      sums.after_slowest += now.seconds_slowest.value_or(*now.seconds);
-      sums.cpu = sums.cpu && old_record.cpu && now.cpu;
-      ++sums.records;
+    compare_fields(findings_, base, was.name, fields);
+  }
+  for (const RecordFacts::Observed& was : old_record.observed) {
+    const Number& before = was.fields[rel_error_field];
+    const RecordFacts::Observed* is = now.find(was.name);
+    const std::optional<double> after =
+        is != nullptr ? is->fields[rel_error_field].number() : std::nullopt;
+    if (before.state == Number::State::number && after) {
+      Finding f = base;
+      f.what = "error";
+      f.subject = was.name;
+      compare_error(findings_, f, before.value, *after, noise_.of(config), t_.error_factor);
     }
   }
-  for (const std::string& config : time_order) {
-    compare_time(findings, config, time.at(config), t);
+  compare_work(findings_, base, old_record, now, t_.work_factor);
+  if (old_record.seconds && now.seconds) {
+    const auto [at, fresh] = time_.try_emplace(config);
+    if (fresh) {
+      time_order_.push_back(config);
+    }
+    TimeSums& sums = at->second;
+    sums.before += *old_record.seconds;
+    sums.before_slowest += old_record.seconds_slowest.value_or(*old_record.seconds);
+    sums.after += *now.seconds;
+    sums.after_slowest += now.seconds_slowest.value_or(*now.seconds);
+    sums.cpu = sums.cpu && old_record.cpu && now.cpu;
+    ++sums.records;
   }
 }
 
