@@ -5,6 +5,7 @@
 #include "cli_run.hpp"
 #include "fixtures.hpp"
 #include "judge/trajectory.hpp"
+#include "judge/trajectory_check.hpp"
 #include "sampled_trajectories.hpp"
 
 #include "pldamp/analytic.hpp"

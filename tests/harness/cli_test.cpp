@@ -6,6 +6,7 @@
 
 #include "cli/commands.hpp"
 #include "common/files.hpp"
+#include "pipeline/pipeline.hpp"
 
 #include <fmt/format.h>
 #include <gtest/gtest.h>

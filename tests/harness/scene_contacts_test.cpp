@@ -4,6 +4,7 @@
 // the contacts' cells, and every bad contact refused at its line before any work.
 #include "cli/commands.hpp"
 #include "fixtures.hpp"
+#include "judge/trajectory_check.hpp"
 #include "sampled_trajectories.hpp"
 
 #include <gtest/gtest.h>

@@ -1431,8 +1431,9 @@ std::vector<Case> solve_cases() {
     add(t, std::string("cvode-bdf_max_steps_") + (n[0] ? n : "empty"),
         cat(solve_args("cvode-bdf"), {"--max-steps", n}), refused());
   }
+  // As --help writes its default (issue 50: it was refused as "not an integer").
   add(t, "cvode-bdf_max_steps_1e6_word", cat(solve_args("cvode-bdf"), {"--max-steps", "1e6"}),
-      ok_or_refused()); // not an integer as written, the value a user means
+      ok());
   add(t, "cvode-bdf_max_steps_long_max",
       cat(solve_args("cvode-bdf"), {"--max-steps", "9223372036854775807"}), ok());
   // --want
@@ -1826,10 +1827,12 @@ p = )" + std::string(1000, '[') +
         base_scene + json_only + "[[solver]]\nname = \"odeint-bs\"\nrtol = 1e-6\n", refused(),
         err_lacks("unknown argument"), {"--max-runs", "1"});
   scene("max_runs_above_plan", base_scene + json_only, ok(), nullptr, {"--max-runs", "100"});
-  for (const char* n : {"0", "-1", "x", ""}) {
+  for (const char* n : {"0", "-1", "x", "", "1.5", "2e12", "1e99"}) {
     scene(std::string("max_runs_") + (n[0] ? n : "empty"), base_scene + json_only, refused(),
           err_lacks("unknown argument"), {"--max-runs", n});
   }
+  // As --help writes defaults (issue 50: "1e6" was refused as "not an integer").
+  scene("max_runs_1e6", base_scene + json_only, ok(), nullptr, {"--max-runs", "1e6"});
   // Where the report cannot be written.
   add(t, "out_under_regular_file", {"run", "{dir}/scene.toml", "--out", "{dir}/file/sub"},
       refused(), nullptr, [](const fs::path& dir) {

@@ -419,11 +419,11 @@ int run_cli(int argc, const char* const* argv, std::ostream& out, std::ostream& 
     } else if (showcase->parsed()) {
       run_showcase(showcase_precision, out);
     } else if (run->parsed()) {
-      return run_scene(run_args, out, err, distribution);
+      return run_command(run_args, out, err, distribution);
     } else if (merge->parsed()) {
-      return merge_shards(merge_args, out, err);
+      return merge_command(merge_args, out, err);
     } else if (diff->parsed()) {
-      return run_diff(diff_args, out);
+      return diff_command(diff_args, out);
     } else if (check->parsed()) {
       settle_material_options(*check, check_args.contact);
       return run_check(check_args, out);

@@ -90,10 +90,10 @@ struct RunArgs {
   // The scene's [limits], overridden.
   std::optional<std::string> max_steps, max_seconds, max_runs;
   bool strict = false; // exit 1 when a claim's verdict is not the one expected (a CI gate)
-  std::optional<std::string> shard; // "K/N": this run solves shard K of N (merged by merge_shards)
+  std::optional<std::string> shard; // "K/N": this run solves shard K of N (merged by merge)
 };
 
-// `pldamp merge DIR_1 ... DIR_N --out DIR`: the shards of one run (run_scene with --shard), one
+// `pldamp merge DIR_1 ... DIR_N --out DIR`: the shards of one run (run with --shard), one
 // report, the serial run's but for times.
 struct MergeArgs {
   std::vector<std::string> shards;
@@ -102,10 +102,6 @@ struct MergeArgs {
   bool strict = false;
 };
 
-// A scene's [[trajectory]] checked as `pldamp check` checks it (under the scene's end unless it
-// names one); a file that cannot be read or measured is a failed entry, not an error.
-TrajectoryCheck check_trajectory(const TrajectorySpec& spec, solvers::End scene_end);
-
 void run_calibrate(const ContactArgs& args, std::ostream& out);
 // "lammps-tsuji|...|lammps-mass-velocity": every --code calibrate takes (the DEM conventions of
 // analytic/conventions.hpp, then LAMMPS's velocity-dependent models), for its help and errors.
@@ -113,19 +109,11 @@ std::string calibrate_code_names();
 void run_observables(const ContactArgs& args, std::ostream& out);
 void run_showcase(const std::string& precision, std::ostream& out);
 void run_solve(const SolveArgs& args, std::ostream& out);
-// Returns the exit code: 0; 1 under --strict when a claim's verdict is not the one expected
-// (a failing claim is otherwise a finding, not an error); or 128 + the signal that stopped the run
-// (no report written then).
-// With a distribution of more than one rank (an MPI job), the ranks share the plan's cells and
-// rank 0 writes the report; the others print nothing unless they alone fail.
-int run_scene(const RunArgs& args, std::ostream& out, std::ostream& err,
-              Distribution* distribution = nullptr);
-int merge_shards(const MergeArgs& args, std::ostream& out, std::ostream& err);
-// `pldamp diff OLD NEW`: the thresholds as typed (each overrides the new report's [diff]).
-// A run's progress line's time left at the rate so far, once the rate means something: at least
-// 1 % of the records and 16 of them ("time left not known yet" before; a 10^6-run map's first
-// line said "1/400000 records, about 486584 s left").
-std::string time_left_text(double elapsed_seconds, std::size_t done, std::size_t total);
+// The commands of pipeline/pipeline.hpp and judge/diff.hpp, their flags parsed (cli/
+// commands_run.cpp): run_scene, merge_shards and diff_files' exit codes.
+int run_command(const RunArgs& args, std::ostream& out, std::ostream& err,
+                Distribution* distribution = nullptr);
+int merge_command(const MergeArgs& args, std::ostream& out, std::ostream& err);
 
 struct DiffArgs {
   std::string old_path, new_path;
@@ -133,8 +121,8 @@ struct DiffArgs {
   bool allow_scene_change = false, verbose = false;
   bool exact = false; // judge/diff_exact.hpp: every value to the last bit, timings aside
 };
-// Returns the exit code: 1 if NEW regressed against OLD, else 0 (judge/diff.hpp).
-int run_diff(const DiffArgs& args, std::ostream& out);
+// Returns the exit code: 1 if NEW regressed against OLD (or differs from it, --exact), else 0.
+int diff_command(const DiffArgs& args, std::ostream& out);
 
 // `pldamp check TRAJECTORY.csv`: one contact's time series against the closed forms
 // (judge/trajectory.hpp). The contact options without --precision and --damping-exponent: the

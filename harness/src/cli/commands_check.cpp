@@ -3,7 +3,7 @@
 // (judge/trajectory.hpp; MATH.md §10 "Measuring a sampled trajectory").
 #include "cli/contact_args.hpp"
 #include "common/observables.hpp"
-#include "judge/trajectory.hpp"
+#include "judge/trajectory_check.hpp"
 
 #include <fmt/format.h>
 
@@ -13,65 +13,6 @@
 
 namespace pldamp::harness {
 namespace {
-
-// The observables a file is judged on, in the table's order (overlap-end keys).
-constexpr std::array<const char*, 6> checked_keys{"e",   "delta_max",        "t_peak",
-                                                  "tau", "normal_force_max", "t_normal_force_max"};
-
-struct Row {
-  const Observable* observable;
-  Extracted measured;
-  std::optional<Exact> truth;
-  SampledJudgement judgement;
-  std::optional<double> tolerance; // --tolerance: judged against it
-  std::string failure;             // judged and failed: why
-};
-
-// A file read, measured and judged against the closed forms of `args`.
-struct Checked {
-  analytic::Contact<Exact> contact;
-  solvers::End end;
-  TrajectoryColumns columns;
-  TrajectoryObservables x;
-  std::vector<Row> rows;
-};
-
-Checked check(const ContactArgs& args, const std::string& path) {
-  Checked c{make_contact<Exact>(args),
-            parse_end(args.end) == ContactEnd::force ? solvers::End::force : solvers::End::overlap,
-            load_trajectory(path),
-            {},
-            {}};
-  ExtractOptions options;
-  options.v0 = double(c.contact.v0());
-  options.end = c.end;
-  options.force_law = ForceLaw{double(c.contact.p()), double(c.contact.m()), double(c.contact.k()),
-                               double(c.contact.alpha())};
-  options.force_jumps_at_contact = c.contact.p() == 1 && c.contact.alpha() > 0;
-  c.x = extract_observables(c.columns, options);
-  const StatedContact stated{.p = options.force_law->p,
-                             .m = options.force_law->m,
-                             .k = options.force_law->k,
-                             .v0 = options.v0};
-  if (const std::optional<std::string> why = contradiction(c.x, stated)) {
-    throw InputError(*why);
-  }
-  const unsigned want = solvers::want_e | solvers::want_delta_max | solvers::want_t_peak |
-                        solvers::want_tau | solvers::want_normal_force;
-  const analytic::Observables<Exact> closed =
-      analytic::observables(c.contact, analytic_want_of(want, c.end));
-  const std::array<const Extracted*, checked_keys.size()> measured_of{
-      &c.x.e,   &c.x.delta_max,        &c.x.t_peak,
-      &c.x.tau, &c.x.normal_force_max, &c.x.t_normal_force_max};
-  for (std::size_t i = 0; i < checked_keys.size(); ++i) {
-    const char* key = checked_keys[i];
-    const Extracted* measured = measured_of[i];
-    const Observable* observable = find_observable(key);
-    const std::optional<Exact> truth = observable->exact(closed, c.end);
-    c.rows.push_back({observable, *measured, truth, judge_extracted(*measured, truth), {}, {}});
-  }
-  return c;
-}
 
 // --tolerance: one relative tolerance for every observable ("1e-3"), or some observables' own
 // ("e=1e-3,tau=1e-2", named as the table names them under the contact end).
@@ -128,7 +69,7 @@ std::map<std::string, double> tolerances_of(const std::string& text,
 // A judged row passes when |rel error| <= its tolerance. The sampling estimate is not added to
 // the tolerance (a coarse file would then pass any tolerance); an estimate larger than the
 // tolerance fails the row instead: the file cannot tell the tolerance from its own sampling.
-std::string failure_of(const Row& row, double tolerance) {
+std::string failure_of(const CheckedRow& row, double tolerance) {
   const SampledJudgement& j = row.judgement;
   if (!j.relative_error) {
     return j.why_not;
@@ -152,7 +93,7 @@ Answer exact_or_null(const std::optional<double>& value) {
   return value ? exact_number(*value) : Answer(nullptr);
 }
 
-Answer json_row(const Row& row) {
+Answer json_row(const CheckedRow& row) {
   Answer o;
   o["value"] = exact_or_null(row.measured.value);
   o["sampling"] =
@@ -178,9 +119,9 @@ Answer json_row(const Row& row) {
 }
 
 // The judged rows that failed, by name: "t_peak, tau".
-std::string failing_of(const std::vector<Row>& rows, solvers::End end) {
+std::string failing_of(const std::vector<CheckedRow>& rows, solvers::End end) {
   std::string names;
-  for (const Row& row : rows) {
+  for (const CheckedRow& row : rows) {
     if (row.tolerance && !row.failure.empty()) {
       names += (names.empty() ? "" : ", ") + std::string(row.observable->key_at(end));
     }
@@ -189,9 +130,9 @@ std::string failing_of(const std::vector<Row>& rows, solvers::End end) {
 }
 
 // The judgement under --tolerance, after the table.
-std::string tolerance_text(const std::vector<Row>& rows, solvers::End end) {
+std::string tolerance_text(const std::vector<CheckedRow>& rows, solvers::End end) {
   std::string out = "\njudged: |rel error| <= tolerance (and the sampling estimate too)\n";
-  for (const Row& row : rows) {
+  for (const CheckedRow& row : rows) {
     if (row.tolerance) {
       out += fmt::format("{:<18} {:>9.3g}  {}\n", row.observable->key_at(end), *row.tolerance,
                          row.failure.empty() ? "pass" : "FAIL: " + row.failure);
@@ -204,7 +145,7 @@ std::string tolerance_text(const std::vector<Row>& rows, solvers::End end) {
 
 std::string text_of(const std::string& path, const TrajectoryColumns& columns,
                     const TrajectoryObservables& x, const analytic::Contact<Exact>& contact,
-                    solvers::End end, const std::vector<Row>& rows) {
+                    solvers::End end, const std::vector<CheckedRow>& rows) {
   auto general = [](const auto& value) { return fmt::format("{:.10g}", double(value)); };
   std::string out = fmt::format("pldamp check {}: {} rows ({}), {} in contact", path,
                                 columns.t.size(), columns_of(columns), x.contact_samples);
@@ -218,7 +159,7 @@ std::string text_of(const std::string& path, const TrajectoryColumns& columns,
   out += fmt::format("{:<18} {:>16} {:>16} {:>10} {:>9}  {}\n", "observable", "measured", "truth",
                      "rel error", "sampling", "verdict");
   std::string why;
-  for (const Row& row : rows) {
+  for (const CheckedRow& row : rows) {
     const std::string key(row.observable->key_at(end));
     const SampledJudgement& j = row.judgement;
     out += fmt::format("{:<18} {:>16} {:>16} {:>10} {:>9}  {}\n", key,
@@ -252,10 +193,14 @@ int run_check(const CheckArgs& args, std::ostream& out) {
     }
     tolerances = tolerances_of(*args.tolerance, keys);
   }
-  Checked checked = check(args.contact, args.trajectory);
+  CheckedTrajectory checked = check_trajectory_file(make_contact<Exact>(args.contact),
+                                                    parse_end(args.contact.end) == ContactEnd::force
+                                                        ? solvers::End::force
+                                                        : solvers::End::overlap,
+                                                    args.trajectory);
   const auto& [contact, end, columns, x, rows] = checked;
   if (args.tolerance) {
-    for (Row& row : checked.rows) {
+    for (CheckedRow& row : checked.rows) {
       const auto given = tolerances.find(std::string(row.observable->key_at(end)));
       if (given != tolerances.end()) {
         row.tolerance = given->second;
@@ -278,7 +223,7 @@ int run_check(const CheckArgs& args, std::ostream& out) {
   o["contact_samples"] = x.contact_samples;
   o["t_start"] = exact_or_null(x.start.value);
   o["t_end"] = exact_or_null(x.end.value);
-  for (const Row& row : rows) {
+  for (const CheckedRow& row : rows) {
     o[std::string(row.observable->key_at(end))] = json_row(row);
   }
   o["notes"] = x.notes;
@@ -287,35 +232,6 @@ int run_check(const CheckArgs& args, std::ostream& out) {
   }
   emit(o, true, out);
   return passed ? 0 : 1;
-}
-
-TrajectoryCheck check_trajectory(const TrajectorySpec& spec, solvers::End scene_end) {
-  TrajectoryCheck out{spec.label, spec.file, "", "", {}, {}};
-  ContactArgs args;
-  args.p = to_string_full(spec.p);
-  (spec.damping_key == "e"       ? args.e
-   : spec.damping_key == "alpha" ? args.alpha
-                                 : args.alpha_eff) = to_string_full(spec.damping);
-  args.v0 = to_string_full(spec.v0);
-  args.m = to_string_full(spec.m);
-  args.k = to_string_full(spec.k);
-  const solvers::End end = spec.end.value_or(scene_end);
-  args.end = end == solvers::End::force ? "force" : "overlap";
-  out.inputs = fmt::format("p = {:g}, {} = {:g}, v0 = {:g}, m = {:g}, k = {:g}, end {}", spec.p,
-                           spec.damping_key, spec.damping, spec.v0, spec.m, spec.k, args.end);
-  try {
-    const Checked checked = check(args, spec.file);
-    for (const Row& row : checked.rows) {
-      out.rows.push_back({std::string(row.observable->key_at(end)), row.measured.value,
-                          row.measured.value ? std::optional(row.measured.sampling) : std::nullopt,
-                          row.truth ? std::optional(static_cast<double>(*row.truth)) : std::nullopt,
-                          row.judgement});
-    }
-    out.notes = checked.x.notes;
-  } catch (const InputError& e) { // this file only: the run goes on
-    out.failure = e.what();
-  }
-  return out;
 }
 
 } // namespace pldamp::harness

@@ -98,7 +98,7 @@ void solve_in(const SolveArgs& args, const solvers::SolverInfo* solver, std::ost
     }
     options.steps_per_contact = int(steps_per_contact);
   }
-  options.max_steps = parse_integer("--max-steps", args.max_steps);
+  options.max_steps = parse_whole("--max-steps", args.max_steps); // "1e6", as --help writes it
   options.max_seconds = static_cast<double>(parse_real<double>("--max-seconds", args.max_seconds));
 
   const long repeats = parse_integer("--repeats", args.repeats);

@@ -248,4 +248,24 @@ inline long parse_integer(const std::string& option, const std::string& text) {
   return value;
 }
 
+// Parses the whole of `text` as a whole number: a decimal integer, or a number in the form help
+// texts write defaults in ("1e6") whose value is whole and within long's range.
+inline long parse_whole(const std::string& option, const std::string& text) {
+  try {
+    return parse_integer(option, text);
+  } catch (const InputError&) {
+    double value = 0;
+    try {
+      value = parse_real<double>(option, text);
+    } catch (const InputError&) {
+      throw InputError(option + " is not a whole number (got " + text + ")");
+    }
+    // 2^63 is the first double beyond long's range.
+    if (!(value == std::floor(value) && std::abs(value) < 9223372036854775808.0)) {
+      throw InputError(option + " is not a whole number (got " + text + ")");
+    }
+    return static_cast<long>(value);
+  }
+}
+
 } // namespace pldamp::harness

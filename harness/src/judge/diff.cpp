@@ -2,6 +2,7 @@
 
 #include "common/input.hpp"
 #include "judge/bounded_queue.hpp"
+#include "judge/diff_exact.hpp"
 
 #include <fmt/format.h>
 
@@ -417,6 +418,26 @@ DiffResult diff_reports(std::istream& old_report, const std::string& old_path,
     diff::read_again(new_report, new_start, new_path);
   }
   return diff_read_whole(old_report, old_path, new_report, new_path, options, limits);
+}
+
+int diff_files(const std::string& old_path, const std::string& new_path, const DiffOptions& options,
+               std::ostream& out) {
+  std::ifstream old_report = diff::open_report(old_path);
+  std::ifstream new_report = diff::open_report(new_path);
+  const auto put = [&](const std::vector<std::string>& lines) {
+    for (const std::string& line : lines) {
+      out << line << "\n";
+    }
+  };
+  if (options.exact) {
+    const ExactResult result =
+        diff_exact(old_report, old_path, new_report, new_path, options.verbose);
+    put(result.lines);
+    return result.differences > 0 ? 1 : 0;
+  }
+  const DiffResult result = diff_reports(old_report, old_path, new_report, new_path, options);
+  put(result.lines);
+  return result.regressions > 0 ? 1 : 0;
 }
 
 std::vector<std::string> regressions(const json& old_report, const json& new_report) {

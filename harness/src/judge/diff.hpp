@@ -42,6 +42,7 @@
 
 #include <istream>
 #include <optional>
+#include <ostream>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -54,6 +55,9 @@ struct DiffOptions {
   std::optional<double> error_factor, work_factor, time_factor, time_floor; // flags
   bool allow_scene_change = false; // compare what two different scenes share
   bool verbose = false;            // every record under its group's line
+  // diff_files: the reproducibility check of judge/diff_exact.hpp instead (every value to the
+  // last bit; the thresholds and scene changes above mean nothing to it).
+  bool exact = false;
 };
 
 struct DiffResult {
@@ -100,6 +104,12 @@ struct ReportLimits {
 DiffResult diff_reports(std::istream& old_report, const std::string& old_path,
                         std::istream& new_report, const std::string& new_path,
                         const DiffOptions& options = {}, const ReportLimits& limits = {});
+
+// `pldamp diff OLD NEW`: the two report files compared, the lines written to `out`; returns the
+// exit code, 1 when NEW regressed against OLD (with `exact`: differs from it), else 0.
+// InputError when either cannot be read or is not a report.
+int diff_files(const std::string& old_path, const std::string& new_path, const DiffOptions& options,
+               std::ostream& out);
 
 // The REGRESSION lines of diff_reports, scene changes allowed.
 std::vector<std::string> regressions(const nlohmann::json& old_report,

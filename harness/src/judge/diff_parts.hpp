@@ -12,6 +12,7 @@
 
 #include <array>
 #include <cstdint>
+#include <fstream>
 #include <functional>
 #include <map>
 #include <optional>
@@ -108,6 +109,9 @@ using RecordLineSink = std::function<std::optional<std::size_t>(
 std::optional<json> read_report_lines(std::istream& in, const std::string& path,
                                       const ReportLimits& limits, const HeadSink& at_records,
                                       const RecordLineSink& each);
+// The report at `path`, opened to be read (InputError naming it when it cannot be).
+std::ifstream open_report(const std::string& path);
+
 // A stream put back at `start` (where its report begins) for the general reader, after the fast
 // one declined it; InputError when it cannot be.
 void read_again(std::istream& in, std::istream::pos_type start, const std::string& path);

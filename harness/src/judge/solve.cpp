@@ -38,7 +38,7 @@ solvers::Result<double> solve_unchecked(const SolverConfig& config, const Inputs
   options.want = want;
   options.max_steps = limits.max_steps;
   options.max_seconds = limits.max_seconds;
-  options.stop = &stop_requested(); // a signal ends these solves too (cli/commands_run.cpp)
+  options.stop = &stop_requested(); // a signal ends these solves too (pipeline/watch.cpp)
   options.fixed_step = fixed_step;
   options.onset_phase = onset_phase;
   if (config.steps_per_contact && !fixed_step) {

@@ -94,7 +94,7 @@ using Progress = std::function<void(std::size_t done, std::size_t total)>;
 
 // A request to stop the run (a signal handler sets it, lock-free): workers take no new record and
 // the solves in flight end within 256 steps, as time_limit. Whoever installs the handler clears
-// it first (cli/commands_run.cpp).
+// it first (pipeline/watch.cpp: StopOnSignals).
 std::atomic<bool>& stop_requested();
 // The signal that asked for the stop, here or on another rank (0: none known): a run stopped by
 // SIGTERM on any rank exits 143 on every rank, by SIGINT 130 (distribution.cpp passes it on).

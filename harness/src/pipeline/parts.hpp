@@ -1,0 +1,54 @@
+// What run_scene and merge_shards share (pipeline/pipeline.hpp): how a run is watched and
+// stopped, its threads, and everything from its records to its reports.
+#pragma once
+
+#include "judge/budget.hpp"
+#include "run/run.hpp"
+#include "run/workers.hpp"
+#include "truth/plan.hpp"
+
+#include <csignal>
+#include <optional>
+#include <ostream>
+#include <string>
+
+namespace pldamp::harness {
+
+// SIGINT and SIGTERM while this lives: the handler only records the signal and asks the run to
+// stop (run/run.hpp); the previous handlers come back when it ends.
+class StopOnSignals {
+public:
+  StopOnSignals();
+  ~StopOnSignals();
+  StopOnSignals(const StopOnSignals&) = delete;
+  StopOnSignals& operator=(const StopOnSignals&) = delete;
+
+  // 128 + the signal once one came (the shell's convention: 130 for SIGINT, 143 for SIGTERM).
+  std::optional<int> exit_code() const;
+
+private:
+  struct sigaction previous_int_ {};
+  struct sigaction previous_term_ {};
+};
+
+// 128 + the signal that stopped the run on another rank (SIGINT's when it is not known).
+int stopped_elsewhere_code();
+
+// Progress on `err`: a bar redrawn in place on a terminal; otherwise (a CI log) a line every 5 s
+// with the rate so far and the time left at that rate.
+Progress progress_on(std::ostream& err);
+
+// `jobs`, or every core this process may use: the cores it is bound to (mpirun binds each of a
+// few ranks to a core, Slurm a task to its --cpus-per-task), or, unbound, the machine's cores
+// shared among the `ranks_on_node`.
+int jobs_or_cores(const std::optional<int>& jobs, int ranks_on_node);
+
+// From the records on: budgets, claims, figures, trajectories, the reports in `folder` and the
+// summary on `out`. Under MPI (`workers` shared) every rank judges the claims, searches and step
+// study with rank 0 (make_budgets, run/workers.hpp); rank 0 alone then goes on, on `jobs`
+// threads. Returns the exit code, as run_scene.
+int report_records(const Plan& plan, RecordRange records, const RunTotals& totals,
+                   const Workers& workers, int jobs, const std::string& folder, bool strict,
+                   const StopOnSignals& signals, std::ostream& out, std::ostream& err);
+
+} // namespace pldamp::harness
