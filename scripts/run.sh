@@ -95,6 +95,13 @@ test)
   cmp build/analytic.csv data/reference/analytic.csv
   echo "== clang-format"
   git ls-files '*.cpp' '*.hpp' | xargs clang-format --dry-run -Werror
+  echo "== no source in harness/ or python/ over 600 lines (docs/design.md: split by what it does)"
+  long_files=$(git ls-files harness python | grep -E '\.(cpp|hpp|py)$' | xargs wc -l |
+    awk '$2 != "total" && $1 > 600 {print $2 " (" $1 " lines)"}')
+  if [[ -n $long_files ]]; then
+    echo "over 600 lines: $long_files" >&2
+    exit 1
+  fi
   echo "== tests under AddressSanitizer + UndefinedBehaviorSanitizer, with assertions"
   # -O1 -g1: half the compile time of -O2 -g on the multiprecision units, line numbers kept. A unity
   # build too (19 min -> 11 on 2 cores, cold). (Test programs at -O0 halved their compile but

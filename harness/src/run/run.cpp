@@ -1,6 +1,7 @@
 #include "run/run.hpp"
 
 #include "run/record_store.hpp"
+#include "run/record_values.hpp"
 
 #include "common/parallel.hpp"
 #include "common/record_consistency.hpp"
@@ -34,85 +35,6 @@ double thread_cpu_seconds() {
   timespec now{};
   clock_gettime(CLOCK_THREAD_CPUTIME_ID, &now);
   return static_cast<double>(now.tv_sec) + 1e-9 * static_cast<double>(now.tv_nsec);
-}
-
-// One collision's value of an observable against its reference (see Record).
-struct Measured {
-  std::optional<double> value, reference, error, abs_error, rel_error;
-};
-
-// value − reference, its absolute and its relative size (see Record), into `m`.
-void compare(const Exact& value, const Exact& reference, Measured& m) {
-  if (isinf(reference) || isinf(value)) {
-    const double inf = std::numeric_limits<double>::infinity();
-    m.error = value == reference ? 0.0 : value > reference ? inf : -inf;
-    m.abs_error = m.rel_error = std::abs(*m.error);
-    return;
-  }
-  const Exact signed_error = value - reference;
-  const Exact relative = reference == 0 ? abs(signed_error) : abs(signed_error) / abs(reference);
-  m.error = static_cast<double>(signed_error);
-  m.abs_error = static_cast<double>(abs(signed_error));
-  m.rel_error = static_cast<double>(relative);
-}
-
-// The truth of a record: the plan's (reference_at), or, for an external code whose dashpot is not
-// the point's, the reference solve of the code's own β at this cell (MATH.md §12.2).
-struct RecordTruth {
-  const Plan& plan;
-  const Cell& cell;
-  const SolverConfig& config;
-  const solvers::Result<Exact>* own = nullptr; // the code's reference solve, v0 = m = k = 1
-  bool returns = true;                         // whether the contact returns (own truth)
-  Exact log_duration = 0;                      // ln τ at the overlap end (own truth)
-
-  std::optional<Exact> at(std::size_t observable) const {
-    if (own == nullptr) {
-      return reference_at(plan, cell, observable, config);
-    }
-    const std::optional<Exact> unit = plan.observables[observable]->measured(*own);
-    if (!unit || solvers::failing(own->outcome)) {
-      return std::nullopt;
-    }
-    return *unit * cell.scale(plan.observables[observable]->dimension);
-  }
-};
-
-template <SupportedReal Real>
-std::vector<Measured> measure(const RecordTruth& truth, const solvers::Result<Real>& result) {
-  const Plan& plan = truth.plan;
-  const Point& point = plan.points[truth.cell.point];
-  const bool overdamped = truth.own != nullptr ? !truth.returns : point.overdamped;
-  std::vector<Measured> out;
-  for (std::size_t i = 0; i < plan.observables.size(); ++i) {
-    const Observable& observable = *plan.observables[i];
-    const std::optional<Real> value = observable.measured(result);
-    std::optional<Exact> reference = truth.at(i);
-    Measured m;
-    if (value) {
-      m.value = static_cast<double>(*value);
-    }
-    if (reference) {
-      m.reference = static_cast<double>(*reference);
-    }
-    if (result.outcome == solvers::Outcome::no_exit && reference && !overdamped) {
-      // The contact returns, but too late or too slowly for the solver to tell: no_exit is its
-      // documented answer (common/observables.hpp, LateReturn).
-      if (observable.late_return == LateReturn::unresolved) {
-        reference.reset();
-      } else if (observable.late_return == LateReturn::absolute && value) {
-        compare(static_cast<Exact>(*value), *reference, m);
-        m.rel_error = m.abs_error;
-        out.push_back(m);
-        continue;
-      }
-    }
-    if (value && reference) {
-      compare(static_cast<Exact>(*value), *reference, m);
-    }
-    out.push_back(m);
-  }
-  return out;
 }
 
 // The registered solver of a configuration, or its external program (which runs in double).
@@ -149,14 +71,6 @@ void compare_with_replica(const Plan& plan, const SolverConfig& config,
     }
   }
 }
-
-// One onset phase of a record: its result (the first run's) and the times of its repeats.
-template <SupportedReal Real>
-struct PhaseRun {
-  double phase = 0;
-  solvers::Result<Real> result;
-  RepeatTimes wall, cpu;
-};
 
 // Every onset phase k/n, one solve at a time (repeats for the timing only, and only for runs
 // shorter than repeat_below: they remove the noise of a short run, a timer tick or a preemption,
@@ -340,92 +254,6 @@ std::vector<std::vector<PhaseRun<double>>> run_cells_batched(const SolverConfig&
   return runs;
 }
 
-// A record's values from its phases' runs: per observable the phase with the largest error, the
-// spread over the phases, the worst outcome, the mean steps and times.
-template <SupportedReal Real>
-void judge_record(const Plan& plan, Record& record, const RecordTruth& truth,
-                  const std::vector<PhaseRun<Real>>& phase_runs, bool external) {
-  const Cell& cell = plan.cells[record.cell];
-  const Point& point = plan.points[cell.point];
-  const SolverConfig& config = plan.configs[record.config];
-  const std::size_t observables = plan.observables.size();
-  record.phases = config.onset_phases;
-  record.value.assign(observables, std::nullopt);
-  record.reference = record.error = record.abs_error = record.rel_error = record.spread =
-      record.worst_phase = record.value;
-  std::vector<double> lowest(observables, std::numeric_limits<double>::infinity()),
-      highest(observables, -std::numeric_limits<double>::infinity());
-  double steps = 0, rhs_evals = 0, fastest_seconds = 0, slowest_seconds = 0, fastest_cpu = 0,
-         slowest_cpu = 0;
-  for (std::size_t phase = 0; phase < phase_runs.size(); ++phase) {
-    const solvers::Result<Real>& result = phase_runs[phase].result;
-    const RepeatTimes& times = phase_runs[phase].wall;
-    const RepeatTimes& cpu = phase_runs[phase].cpu;
-    // A failed phase fails the record; the outcome kept is the worst seen.
-    if (!record.outcome || solvers::failing(result.outcome)) {
-      record.outcome = result.outcome;
-    }
-    if (result.outcome == solvers::Outcome::unstable && record.failure.empty()) {
-      record.failure = result.invariant;
-    }
-    if (result.outcome == solvers::Outcome::no_exit && record.failure.empty()) {
-      // An honest no_exit is a return beyond the horizon (or none at all).
-      const Exact log_duration = truth.own != nullptr ? truth.log_duration : point.log_duration;
-      const Exact tau = exp(log_duration) * cell.scale(Dimension::time);
-      if (tau < Exact(result.horizon)) {
-        record.failure = fmt::format("no_exit, yet the contact returns at tau = {:.6g}, before "
-                                     "the horizon {:.6g}",
-                                     static_cast<double>(tau), static_cast<double>(result.horizon));
-      }
-    }
-    if (result.fixed_step) {
-      record.dt = static_cast<double>(*result.fixed_step);
-    }
-    steps += double(result.steps);
-    rhs_evals += double(result.rhs_evals + result.jacobian_evals);
-    fastest_seconds += times.fastest;
-    slowest_seconds += times.slowest;
-    fastest_cpu += cpu.fastest;
-    slowest_cpu += cpu.slowest;
-    const std::vector<Measured> measured = measure(truth, result);
-    for (std::size_t o = 0; o < observables; ++o) {
-      const Measured& m = measured[o];
-      if (m.value) {
-        lowest[o] = std::min(lowest[o], *m.value);
-        highest[o] = std::max(highest[o], *m.value);
-      }
-      const bool worse =
-          phase == 0 ||
-          (m.rel_error && (!record.rel_error[o] || !(*m.rel_error <= *record.rel_error[o])));
-      if (worse) {
-        record.value[o] = m.value;
-        record.reference[o] = m.reference;
-        record.error[o] = m.error;
-        record.abs_error[o] = m.abs_error;
-        record.rel_error[o] = m.rel_error;
-        record.worst_phase[o] = phase_runs[phase].phase;
-      }
-    }
-  }
-  const double runs = double(phase_runs.size());
-  record.steps = std::lround(steps / runs);
-  record.rhs_evals = std::lround(rhs_evals / runs);
-  record.wall_seconds = fastest_seconds / runs;
-  record.wall_seconds_slowest = slowest_seconds / runs;
-  if (!external) { // an external program's work is done in its own process
-    record.cpu_seconds = fastest_cpu / runs;
-    record.cpu_seconds_slowest = slowest_cpu / runs;
-  }
-  if (config.onset_phases > 1) {
-    for (std::size_t o = 0; o < observables; ++o) {
-      const std::optional<Exact> reference = truth.at(o);
-      if (highest[o] >= lowest[o] && reference && isfinite(*reference) && *reference != 0) {
-        record.spread[o] = static_cast<double>(Exact(highest[o] - lowest[o]) / abs(*reference));
-      }
-    }
-  }
-}
-
 // SolverConfig::every_phase: the sampled phases refined to the worst over every onset phase of the
 // relative error of each observable it names (run/phase_supremum.hpp), the runs it takes appended.
 // A supremum not resolved within the refinement's budget fails the record: its worst would only be
@@ -579,24 +407,6 @@ std::vector<std::vector<std::size_t>> group_records(const Plan& plan,
 }
 
 } // namespace
-
-bool Record::failed() const {
-  if (skipped()) {
-    return false;
-  }
-  if (!outcome || solvers::failing(*outcome) || !failure.empty()) {
-    return true;
-  }
-  return std::any_of(rel_error.begin(), rel_error.end(),
-                     [](const std::optional<double>& e) { return e && !std::isfinite(*e); });
-}
-
-std::string_view Record::outcome_name() const {
-  if (skipped()) {
-    return skipped_outcome;
-  }
-  return outcome ? solvers::outcome_name(*outcome) : threw_outcome;
-}
 
 std::atomic<bool>& stop_requested() {
   static std::atomic<bool> stop{false};
