@@ -141,6 +141,33 @@ TEST(SceneContacts, RunReportsEachContactInSIUnits) {
   EXPECT_NE(md.find("## Contacts from materials"), std::string::npos);
   EXPECT_NE(md.find("| aluminium pair | sphere-sphere | 0.005 |"), std::string::npos);
   EXPECT_NE(md.find("| soft on rigid | 2 | e=1 |"), std::string::npos);
+  // report.csv names each row's contact as report.json names its record's (issue 50: it had no
+  // such column), rows and records in one order.
+  std::ifstream csv(out / "report.csv");
+  std::string header;
+  ASSERT_TRUE(std::getline(csv, header));
+  std::vector<std::string> columns;
+  for (std::size_t from = 0; from <= header.size();) {
+    const std::size_t comma = std::min(header.find(',', from), header.size());
+    columns.push_back(header.substr(from, comma - from));
+    from = comma + 1;
+  }
+  const auto at = std::find(columns.begin(), columns.end(), "contact");
+  ASSERT_NE(at, columns.end()) << header;
+  const auto column = static_cast<std::size_t>(at - columns.begin());
+  std::size_t rows = 0;
+  for (std::string row; std::getline(csv, row); ++rows) {
+    std::vector<std::string> fields;
+    for (std::size_t from = 0; from <= row.size();) { // no field of these rows holds a comma
+      const std::size_t comma = std::min(row.find(',', from), row.size());
+      fields.push_back(row.substr(from, comma - from));
+      from = comma + 1;
+    }
+    ASSERT_EQ(fields.size(), columns.size()) << row;
+    ASSERT_LT(rows, report["records"].size());
+    EXPECT_EQ(fields[column], report["records"][rows]["contact"].get<std::string>()) << row;
+  }
+  EXPECT_EQ(rows, report["records"].size());
 }
 
 TEST(SceneContacts, ABadContactIsRefusedAtItsLine) {
@@ -173,11 +200,15 @@ rtol = 1e-8
       {with("radius = 0.01", "radius = [0.01, 0.02]"),
        "4: [[contact]] c: radius takes one value (the sphere's; the wall has none) (got radius "
        "0.01,0.02)"},
+      // A wall's mistakes at their key's line (issue 50: the entry's, line 1, before).
       {with("young = 7e10", "young = [7e10, 2e11]"),
-       "1: [[contact]] c: an elastic wall takes a second young and a second poisson (got young "
+       "5: [[contact]] c: an elastic wall takes a second young and a second poisson (got young "
        "7e+10,2e+11 poisson 0.3)"},
+      {with("poisson = 0.3", "poisson = [0.3, 0.25]"),
+       "6: [[contact]] c: an elastic wall takes a second young and a second poisson (got young "
+       "7e+10 poisson 0.3,0.25)"},
       {with("sphere-wall", "sphere-plane"),
-       "1: [[contact]] c: unknown geometry, expected sphere-sphere|sphere-wall (got sphere-plane)"},
+       "3: [[contact]] c: unknown geometry, expected sphere-sphere|sphere-wall (got sphere-plane)"},
       {with("density = 2700\n", ""), "1: [[contact]] needs density"},
       {with("v0 = 1.0", "v0 = 0.0"), "8: v0 must be in [1e-30, 1e30] (got 0)"},
       {contact + with("", ""), "9: [[contact]] names c twice"},

@@ -41,6 +41,7 @@ void write_report_csv(const RunReport& report, const TextSink& put, int jobs) {
                                key::v0,
                                key::m,
                                key::k,
+                               key::contact,
                                key::outcome,
                                key::steps,
                                key::rhs_evals,
@@ -63,13 +64,15 @@ void write_report_csv(const RunReport& report, const TextSink& put, int jobs) {
     const SolverConfig& config = plan.configs[record.config];
     const Cell& c = plan.cells[record.cell];
     const Point& point = plan.points[c.point];
-    std::string row =
-        fmt::format("{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{}", csv_field(config.name),
-                    config.precision, number(config.rtol), number(config.atol),
-                    config.steps_per_contact ? std::to_string(*config.steps_per_contact) : "",
-                    point.p, csv_field(point.damping.label()), point.alpha_eff, record.alpha, c.v0,
-                    c.m, c.k, record.outcome_name(), record.steps, record.rhs_evals,
-                    record.wall_seconds, record.wall_seconds_slowest);
+    // The scene's contact (materials) whose m and k the cell has, as report.json names it.
+    const MaterialContact* contact = contact_of(plan.scene, c.m, c.k);
+    std::string row = fmt::format(
+        "{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{}", csv_field(config.name),
+        config.precision, number(config.rtol), number(config.atol),
+        config.steps_per_contact ? std::to_string(*config.steps_per_contact) : "", point.p,
+        csv_field(point.damping.label()), point.alpha_eff, record.alpha, c.v0, c.m, c.k,
+        contact != nullptr ? csv_field(contact->name) : "", record.outcome_name(), record.steps,
+        record.rhs_evals, record.wall_seconds, record.wall_seconds_slowest);
     for (std::size_t o = 0; o < plan.observables.size(); ++o) {
       row += fmt::format(",{},{},{},{},{}", number(record.value[o]), number(record.reference[o]),
                          number(record.error[o]), number(record.abs_error[o]),

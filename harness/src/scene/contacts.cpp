@@ -92,13 +92,19 @@ void read_contacts(const Reader& reader, const toml::node& node, Scene& scene) {
       domain::require_scale("m", contact.m);
       domain::require_scale("k", contact.k);
     } catch (const std::invalid_argument& e) {
-      // At the line of the key the message names ("poisson must be ..."), else the entry's.
+      // At the line of the key the message names ("poisson must be ...", "unknown geometry"),
+      // or, for a wall given one of its two elastic constants, the one given (its second value
+      // is the mistake or the other's is missing: the line names both); else the entry's.
       const std::string what = e.what();
       const toml::node* at = &item;
       for (const char* key : {"geometry", "radius", "young", "poisson", "density"}) {
-        if (what.rfind(std::string(key) + " ", 0) == 0) {
+        if (what.rfind(std::string(key) + " ", 0) == 0 ||
+            what.rfind("unknown " + std::string(key) + ",", 0) == 0) {
           at = entry.get(key);
         }
+      }
+      if (what.rfind("an elastic wall", 0) == 0) {
+        at = input.young.size() > input.poisson.size() ? entry.get("young") : entry.get("poisson");
       }
       reader.fail(*at, "[[contact]] " + contact.name + ": " + what);
     }
