@@ -6,6 +6,7 @@ version 1"); `pldamp(...)` runs the CLI with --json for the value an adapter is 
 
 import json
 import os
+import re
 import subprocess
 import sys
 import tempfile
@@ -91,4 +92,26 @@ def run_scene_strictly(binary, scene, timeout):
     if diff.returncode != 0 or diff.stdout != "0 regressions, 0 changes\n":
         problems.append("diff against itself, exit %d: %s%s" % (diff.returncode, diff.stdout,
                                                                diff.stderr.strip()))
+    problems += plan_bound_problems(run.stdout)
     return problems, records, report
+
+
+def plan_bound_problems(out):
+    """The plan line's count of solver runs (the first line) bounds what the run made: the
+    summary's grid runs, or with the judging's solves "N in all" (tests/harness/end_to_end_test.cpp
+    holds the other shipped scenes to it)."""
+    lines = out.splitlines()
+    planned = re.search(r"(\d+) solver runs", lines[0] if lines else "")
+    made = None
+    for line in lines[1:]:
+        every = re.search(r"more solves for the claims.*, (\d+) in all", line)
+        grid = re.search(r"(\d+) solver runs, \d+ rhs evaluations", line)
+        if every:
+            made = int(every.group(1))
+        elif grid and made is None:
+            made = int(grid.group(1))
+    if not planned or made is None:
+        return ["no plan line or summary to compare: %s" % out[:300]]
+    if int(planned.group(1)) < made:
+        return ["the plan counted %s solver runs, the run made %d" % (planned.group(1), made)]
+    return []

@@ -344,4 +344,41 @@ name = "taylor"
 }
 
 } // namespace
+// Every solver run a process starts is counted, and one past the run's limit asks it to stop
+// (run/run.hpp): the guard holds whatever the plan's estimate said. 2 cells x 4 onset phases x 3
+// repeats: 24 runs.
+TEST(Plan, SolverRunsAreCountedAndTheLimitStopsTheRun) {
+  const Plan plan = make_plan(load_scene(write_file("counted.toml", R"(want = ["e"]
+[grid]
+p = [1.5]
+e = [0.5]
+v0 = [1.0, 2.0]
+[timing]
+repeats = 3
+[[solver]]
+name = "dem-verlet"
+steps_per_contact = [20]
+onset_phases = 4
+)")));
+  stop_requested() = false;
+  limit_solver_runs(0);
+  RunTotals totals;
+  (void)run_plan(plan, 1, totals);
+  EXPECT_EQ(solver_runs_made(), totals.solver_runs);
+  EXPECT_GT(totals.solver_runs, 8); // the repeats counted too
+  EXPECT_FALSE(solver_run_limit_reached());
+  EXPECT_FALSE(stop_requested());
+  limit_solver_runs(totals.solver_runs); // exactly enough
+  RunTotals again;
+  (void)run_plan(plan, 1, again);
+  EXPECT_FALSE(solver_run_limit_reached());
+  limit_solver_runs(totals.solver_runs - 1); // one short
+  RunTotals stopped;
+  (void)run_plan(plan, 1, stopped);
+  EXPECT_TRUE(solver_run_limit_reached());
+  EXPECT_TRUE(stop_requested());
+  stop_requested() = false;
+  limit_solver_runs(0);
+}
+
 } // namespace pldamp::harness

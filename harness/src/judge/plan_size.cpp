@@ -6,6 +6,7 @@
 #include "judge/claims.hpp"
 #include "judge/search.hpp"
 #include "judge/step_study.hpp"
+#include "truth/plan.hpp"
 
 #include <fmt/format.h>
 
@@ -28,8 +29,9 @@ double claim_grid_cells(const ClaimGrid& grid) {
 // The solver runs of a claim judged on cells of its own, at what each costs per cell
 // (claims.hpp): a bound on a solver over a grid of its own, or ten times denser, solved for it
 // alone; a solve or two per cell of a solver's relation (a closed-form evaluation, of about a
-// solve's cost, for the truth's), a bisection (about 20 solves) for a recovered α, a scan and
-// bisection (about 40) for a largest stable step.
+// solve's cost, for the truth's), a bisection (about 20 solves) for a recovered α, and for a
+// largest stable step a scan up from τ/1000 by 1.5 to 50 τ and 12 bisections (at most 40 steps
+// tried, each over 9 sampled onset phases and the refinement to every phase: judge/solve.cpp).
 double claim_runs(const Claim& claim) {
   const auto over = [&](auto&& cells) {
     return cells(claim.grid) + (claim.denser ? cells(denser_grid(claim.grid)) : 0);
@@ -56,7 +58,7 @@ double claim_runs(const Claim& claim) {
         } else if constexpr (std::is_same_v<Kind, RecoveredParameterClaim>) {
           return solves_over(20);
         } else {
-          return solves_over(40);
+          return solves_over(40 * (9 + phase_refinement_runs));
         }
       },
       claim.kind);
@@ -89,18 +91,12 @@ double claim_and_search_runs(const Scene& scene) {
 // The solver runs a scene asks for: cells × (each configuration's onset phases) × repeats, claim
 // configurations included; and claim_and_search_runs.
 double planned_runs(const Scene& scene) {
-  // Per cell: each configuration at each onset phase, pldamp's own solvers once per timing repeat
-  // (an external program answers once: run.cpp).
+  // Per cell: each configuration at each onset phase (claim configurations as make_plan adds
+  // them), pldamp's own solvers once per timing repeat (an external program answers once:
+  // run.cpp).
   double per_cell = 0;
-  for (const SolverConfig& config : scene.configs) {
+  for (const SolverConfig& config : plan_configs(scene)) {
     per_cell += config.onset_phases * (config.external() ? 1 : scene.repeats);
-  }
-  for (const Claim& claim : scene.claims) { // a configuration of its own, as make_plan adds it
-    const BoundClaim* bound = claim.on_plan();
-    const bool own = bound != nullptr && std::find(scene.configs.begin(), scene.configs.end(),
-                                                   bound->config) == scene.configs.end();
-    per_cell +=
-        own ? bound->config.onset_phases * (bound->config.external() ? 1 : scene.repeats) : 0;
   }
   return grid_cells(scene) * per_cell + claim_and_search_runs(scene);
 }
@@ -143,8 +139,9 @@ void print_plan_size(const Scene& scene, std::ostream& out) {
   // (measured: 875 bytes a record for 3 observables, 1 165 for the nightly's 7). The records live
   // in a file that is unlinked as it is made, not in memory (run/record_store.hpp). It said
   // "about 602 MB of records", an in-memory size no run had since.
-  const double megabytes = cells * double(scene.configs.size()) *
-                           (500 + 125 * double(observables_of(scene.want).size())) / 1e6;
+  const double configs = double(plan_configs(scene).size()); // as the summary counts them
+  const double megabytes =
+      cells * configs * (500 + 125 * double(observables_of(scene.want).size())) / 1e6;
   const auto grid_claims =
       std::count_if(scene.claims.begin(), scene.claims.end(), [](const Claim& c) {
         const BoundClaim* bound = std::get_if<BoundClaim>(&c.kind);
@@ -157,7 +154,7 @@ void print_plan_size(const Scene& scene, std::ostream& out) {
   const bool searches = !scene.searches.empty() || step_study_runs_estimate(scene) > 0;
   out << fmt::format("{}: {:.0f} cells x {:.0f} solver configurations{}: {}{:.0f} solver runs "
                      "(onset phases, repeats{} included); report.json about {:.3g} MB\n",
-                     one_line(scene.name), cells, double(scene.configs.size()),
+                     one_line(scene.name), cells, configs,
                      grid_claims > 0 ? fmt::format(", {} claims on grids of their own", grid_claims)
                                      : "",
                      searches            ? "about "

@@ -419,7 +419,7 @@ double search_runs_estimate(const Search& search) {
   if (!fixed_step(search)) {
     return cells * values;
   }
-  return cells * (search.onset_phases + 150) * (values + band_values);
+  return cells * (search.onset_phases + phase_refinement_runs) * (values + band_values);
 }
 
 // A group's answer as a piece of a map shared among MPI ranks (run/workers.hpp), every field.

@@ -118,6 +118,11 @@ std::string search_measure(const Search& search);
 // and a bisection of its range can take (and the checks at twice the phases and at a prime).
 double search_runs_estimate(const Search& search);
 
+// The solves a record's worst over every onset phase takes beyond its sampled phases, as plans
+// count them (run/phase_supremum.hpp: about two jumps bisected to 2^-52 and a Brent search per
+// score and maximum; its budget, 4000, is a safety net no shipped scene comes near).
+inline constexpr double phase_refinement_runs = 150;
+
 // The values a search's scan tries, tightest first.
 std::vector<double> search_scan(const Search& search);
 

@@ -45,6 +45,7 @@ solvers::Result<double> solve_unchecked(const SolverConfig& config, const Inputs
     options.steps_per_contact = *config.steps_per_contact;
   }
   options.sample_times = std::move(sample_times);
+  count_solver_runs(1); // a claim's solves count toward the run's (run/run.hpp)
   return solvers::solve(config.name, solvers::Problem<double>{in.p, in.m, in.k, in.v0, in.alpha},
                         options);
 }

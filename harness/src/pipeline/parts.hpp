@@ -38,6 +38,14 @@ int stopped_elsewhere_code();
 // with the rate so far and the time left at that rate.
 Progress progress_on(std::ostream& err);
 
+// The run's solver-run limit (run/run.hpp: limit_solver_runs), once past: an InputError saying
+// so, the folder left as it was. `estimated`: the plan's count (judge/plan_size.hpp).
+void refuse_past_run_limit(long most, double estimated, const std::string& folder);
+
+// The solves the judging made (claims, searches, time-step study): this process's since
+// `before`, or, under MPI, every rank's (each rank calls it once, after the shared work).
+long judged_solver_runs(long before, const Workers& workers);
+
 // `jobs`, or every core this process may use: the cores it is bound to (mpirun binds each of a
 // few ranks to a core, Slurm a task to its --cpus-per-task), or, unbound, the machine's cores
 // shared among the `ranks_on_node`.

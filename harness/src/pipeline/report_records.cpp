@@ -3,6 +3,7 @@
 #include "common/provenance.hpp"
 #include "judge/claims.hpp"
 #include "judge/figures.hpp"
+#include "judge/plan_size.hpp"
 #include "judge/search.hpp"
 #include "judge/trajectory_check.hpp"
 #include "pipeline/parts.hpp"
@@ -18,10 +19,13 @@ int report_records(const Plan& plan, RecordRange records, const RunTotals& total
                    const Workers& workers, int jobs, const std::string& folder, bool strict,
                    const StopOnSignals& signals, std::ostream& out, std::ostream& err) {
   const Scene& scene = plan.scene;
+  const long solves_before = solver_runs_made();
   const Budgets budgets = make_budgets(plan, records, workers);
   if (workers.shared()) {
     workers.ranks->shared_work_done(false);
   }
+  const long judged = judged_solver_runs(solves_before, workers);
+  refuse_past_run_limit(scene.limits.max_runs, planned_runs(scene), folder);
   const std::vector<Figure> figures = make_figures(scene, jobs);
   std::vector<TrajectoryCheck> trajectories;
   for (const TrajectorySpec& spec : scene.trajectories) {
@@ -43,6 +47,11 @@ int report_records(const Plan& plan, RecordRange records, const RunTotals& total
       << " solver configurations, " << totals.solver_runs << " solver runs, " << totals.rhs_evals
       << " rhs evaluations in " << totals.wall_seconds << " s; " << budgets.failed_records
       << " failed\n";
+  if (judged > 0) { // what the plan line counts beside the grid's runs
+    out << fmt::format("{}: {} more solves for the claims, searches and time-step study, {} in "
+                       "all\n",
+                       one_line(scene.name), judged, totals.solver_runs + judged);
+  }
   long unexpected = 0;
   for (const Verdict& v : budgets.claims) {
     unexpected += v.unexpected() ? 1 : 0;

@@ -54,6 +54,7 @@ int write_shard_run(const RunOptions& args, const Plan& plan, std::size_t index,
   const std::vector<std::size_t> cells = shard_cells(plan.cells.size(), index, count);
   RecordStore records(cells.size() * plan.configs.size(), args.out);
   solve_into(plan, runner, cells, records, jobs, progress);
+  refuse_past_run_limit(plan.scene.limits.max_runs, planned_runs(plan.scene), args.out);
   if (const std::optional<int> code = signals.exit_code()) {
     err << "stopped by a signal: no shard written, " << one_line(args.out) << " left as it was\n";
     return *code;
@@ -165,6 +166,7 @@ int run_scene(const RunOptions& args, std::ostream& out, std::ostream& err,
     return 2;
   }
   const StopOnSignals signals;
+  limit_solver_runs(scene->limits.max_runs);
   try {
     PointMap map_points;
     if (distributed) {
@@ -217,8 +219,11 @@ int run_scene(const RunOptions& args, std::ostream& out, std::ostream& err,
     if (distribution->rank() != 0) {
       if (!stopped) { // the claims, searches and step study with rank 0, which holds the records
         const std::vector<Record> none;
-        make_budgets(*plan, none, Workers(jobs, distribution));
+        const long solves_before = solver_runs_made();
+        const Workers workers(jobs, distribution);
+        make_budgets(*plan, none, workers);
         distribution->shared_work_done(false);
+        judged_solver_runs(solves_before, workers); // rank 0 counts every rank's
       }
       if (const std::optional<int> code = signals.exit_code()) {
         return *code;
@@ -229,6 +234,7 @@ int run_scene(const RunOptions& args, std::ostream& out, std::ostream& err,
     solve_into(*plan, *runner, shard_cells(plan->cells.size(), 1, 1), *store, jobs, progress);
   }
   // Stopped: some records were never solved (a store lacks them), so nothing reads them.
+  refuse_past_run_limit(scene->limits.max_runs, planned_runs(*scene), args.out);
   if (const std::optional<int> code = signals.exit_code()) {
     err << "stopped by a signal: no report written, " << one_line(args.out) << " left as it was\n";
     return *code;

@@ -1,4 +1,5 @@
 // How a run is watched and stopped (pipeline/parts.hpp): its progress, its signals, its threads.
+#include "common/input.hpp"
 #include "common/parallel.hpp"
 #include "pipeline/parts.hpp"
 #include "pipeline/pipeline.hpp"
@@ -97,6 +98,28 @@ StopOnSignals::~StopOnSignals() {
 std::optional<int> StopOnSignals::exit_code() const {
   const int signal = caught_signal.load();
   return signal != 0 ? std::optional<int>(128 + signal) : std::nullopt;
+}
+
+void refuse_past_run_limit(long most, double estimated, const std::string& folder) {
+  if (solver_run_limit_reached()) {
+    throw InputError(fmt::format(
+        "the run started more than {} solver runs, its limit ([limits] max_runs, --max-runs), "
+        "where the plan counted about {:.0f}: stopped, no report written, {} left as it was; "
+        "raise the limit or shrink the scene",
+        most, estimated, one_line(folder)));
+  }
+}
+
+long judged_solver_runs(long before, const Workers& workers) {
+  const long mine = solver_runs_made() - before;
+  if (!workers.shared()) {
+    return mine;
+  }
+  long all = 0;
+  for (const std::string& rank : workers.ranks->all_gather(std::to_string(mine))) {
+    all += std::stol(rank);
+  }
+  return all;
 }
 
 Progress progress_on(std::ostream& err) {

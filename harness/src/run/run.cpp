@@ -89,6 +89,7 @@ run_phases(const Plan& plan, const SolverConfig& config, ExternalSolver* externa
     run.phase = double(phase) / double(config.onset_phases);
     double cpu_start = thread_cpu_seconds();
     ++record.runs; // counted if it throws too
+    count_solver_runs(1);
     run.result = solve_with(config, external, problem, options);
     run.cpu.add(thread_cpu_seconds() - cpu_start);
     if (!config.replica.empty()) {
@@ -100,6 +101,7 @@ run_phases(const Plan& plan, const SolverConfig& config, ExternalSolver* externa
                          run.cpu.fastest < plan.scene.repeat_below;
          ++repeat) {
       cpu_start = thread_cpu_seconds();
+      count_solver_runs(1);
       run.wall.add(solvers::solve(config.name, problem, options).wall_seconds);
       run.cpu.add(thread_cpu_seconds() - cpu_start);
       ++record.runs;
@@ -227,6 +229,7 @@ std::vector<std::vector<PhaseRun<double>>> run_cells_batched(const SolverConfig&
     for (Record* record : records) {
       record->runs += static_cast<long>(n);
     }
+    count_solver_runs(static_cast<long>(group * n));
     std::vector<solvers::Result<double>> results =
         solvers::solve_batch(config.name, problems, lanes);
     batch_cpu = thread_cpu_seconds() - cpu_start;
@@ -287,6 +290,7 @@ void seek_every_phase(const SolverConfig& config, ExternalSolver* external,
     run.phase = phase;
     const double cpu_start = thread_cpu_seconds();
     ++record.runs;
+    count_solver_runs(1);
     run.result = solve_with(config, external, setup.problem, setup.options);
     run.cpu.add(thread_cpu_seconds() - cpu_start);
     run.wall.add(run.result.wall_seconds);
@@ -418,6 +422,34 @@ std::atomic<int>& stop_signal() {
   static std::atomic<int> signal{0};
   static_assert(std::atomic<int>::is_always_lock_free);
   return signal;
+}
+
+namespace {
+std::atomic<long> solver_runs_started{0};
+std::atomic<long> solver_run_limit{0};
+std::atomic<bool> solver_run_limit_passed{false};
+} // namespace
+
+void count_solver_runs(long runs) {
+  const long made = solver_runs_started.fetch_add(runs) + runs;
+  const long most = solver_run_limit.load();
+  if (most > 0 && made > most && !solver_run_limit_passed.exchange(true)) {
+    stop_requested() = true;
+  }
+}
+
+long solver_runs_made() {
+  return solver_runs_started.load();
+}
+
+void limit_solver_runs(long most) {
+  solver_runs_started = 0;
+  solver_run_limit = most;
+  solver_run_limit_passed = false;
+}
+
+bool solver_run_limit_reached() {
+  return solver_run_limit_passed.load();
 }
 
 struct PlanRunner::Programs {

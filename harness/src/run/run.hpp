@@ -100,6 +100,17 @@ std::atomic<bool>& stop_requested();
 // SIGTERM on any rank exits 143 on every rank, by SIGINT 130 (distribution.cpp passes it on).
 std::atomic<int>& stop_signal();
 
+// Every solver run this process starts (the grid's, its repeats, the onset-phase refinement, and
+// the claims', searches' and time-step study's solves), counted as it starts; and the most it may
+// start (`[limits] max_runs`, --max-runs): one past it asks the run to stop (stop_requested) and
+// solver_run_limit_reached() says why. The plan's estimate is held to the limit before anything
+// is built (judge/plan_size.hpp); this holds the guard whatever the estimate says.
+void count_solver_runs(long runs);
+long solver_runs_made();
+// Starts counting again from 0, with `most` the limit (0: none).
+void limit_solver_runs(long most);
+bool solver_run_limit_reached();
+
 // The lanes of one batch (solvers::solve_batch) when a fixed-step configuration's records are
 // solved together: 16 contacts (docs/performance.md, "Batch mode", the cells of a scene).
 inline constexpr std::size_t default_batch_lanes = 16;

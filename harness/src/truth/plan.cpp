@@ -183,18 +183,23 @@ Contact<Exact> seed_contact(const Exact& p, Damping::Kind kind, const Exact& val
   return Contact<Exact>::from_alpha_eff(p, value, Exact(1));
 }
 
+std::vector<SolverConfig> plan_configs(const Scene& scene) {
+  std::vector<SolverConfig> configs = scene.configs;
+  for (const Claim& claim : scene.claims) {
+    const BoundClaim* bound = claim.on_plan();
+    if (bound != nullptr &&
+        std::find(configs.begin(), configs.end(), bound->config) == configs.end()) {
+      configs.push_back(bound->config);
+    }
+  }
+  return configs;
+}
+
 Plan make_plan(const Scene& scene, int jobs, const PointMap& map_points) {
   Plan plan;
   plan.scene = scene;
   plan.observables = observables_of(scene.want);
-  plan.configs = scene.configs;
-  for (const Claim& claim : scene.claims) {
-    const BoundClaim* bound = claim.on_plan();
-    if (bound != nullptr &&
-        std::find(plan.configs.begin(), plan.configs.end(), bound->config) == plan.configs.end()) {
-      plan.configs.push_back(bound->config);
-    }
-  }
+  plan.configs = plan_configs(scene);
   std::set<std::string> precisions;
   std::set<solvers::End> ends{scene.end};
   for (const SolverConfig& config : plan.configs) {

@@ -103,6 +103,9 @@ struct Plan {
 using PointMap = std::function<std::vector<Point>(
     std::size_t count, const std::function<Point(std::size_t)>& point_at)>;
 
+// The plan's configurations: the scene's, then each bound claim's own that the scene lacks, once.
+std::vector<SolverConfig> plan_configs(const Scene& scene);
+
 // Expands the scene and computes the references (Exact work, once per point), the points on
 // `jobs` threads or by `map_points`: the same plan for any jobs and any map.
 Plan make_plan(const Scene& scene, int jobs = 1, const PointMap& map_points = {});
