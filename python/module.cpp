@@ -26,8 +26,44 @@ namespace {
 using pldamp::analytic::Contact;
 using pldamp::analytic::ContactEnd;
 
-// `pldamp ARGS...` in-process: (exit code, standard output, standard error).
-py::tuple cli(const std::vector<std::string>& args) {
+// Text written to Python's sys.stderr as it comes, a line at a time (the GIL taken for each): a
+// run's progress shown where a notebook or a script shows its own.
+class PythonStderr : public std::streambuf {
+protected:
+  int_type overflow(int_type c) override {
+    if (c != traits_type::eof()) {
+      line_ += traits_type::to_char_type(c);
+      if (c == '\n' || c == '\r') {
+        flush_line();
+      }
+    }
+    return c;
+  }
+  int sync() override {
+    flush_line();
+    return 0;
+  }
+
+private:
+  void flush_line() {
+    if (line_.empty()) {
+      return;
+    }
+    const py::gil_scoped_acquire locked;
+    try {
+      py::module_::import("sys").attr("stderr").attr("write")(line_);
+      py::module_::import("sys").attr("stderr").attr("flush")();
+    } catch (const py::error_already_set&) { // a closed stderr: the progress is lost, not the run
+    }
+    line_.clear();
+  }
+  std::string line_;
+};
+
+// `pldamp ARGS...` in-process: (exit code, standard output, standard error). `progress`: a run's
+// progress lines on sys.stderr as it goes; none by default (the command's stderr is returned, not
+// shown, and a notebook has no terminal to redraw a bar on).
+py::tuple cli(const std::vector<std::string>& args, bool progress) {
   std::vector<const char*> argv{"pldamp"};
   for (const std::string& arg : args) {
     if (arg.find('\0') != std::string::npos) { // C would read it as cut at the NUL
@@ -36,10 +72,14 @@ py::tuple cli(const std::vector<std::string>& args) {
     argv.push_back(arg.c_str());
   }
   std::ostringstream out, err;
+  PythonStderr to_python;
+  std::ostream shown(progress ? &to_python : nullptr); // no buffer: discards
   int code = 0;
   {
     py::gil_scoped_release unlocked; // a scene's run may take minutes on its own threads
-    code = pldamp::harness::run_cli(static_cast<int>(argv.size()), argv.data(), out, err);
+    code = pldamp::harness::run_cli(static_cast<int>(argv.size()), argv.data(), out, err, nullptr,
+                                    &shown);
+    shown.flush();
   }
   return py::make_tuple(code, out.str(), err.str());
 }
@@ -238,7 +278,7 @@ py::tuple trajectory_double(double p, const std::string& damping_kind, double da
 PYBIND11_MODULE(_pldamp, m) {
   m.doc() = "pldamp's compiled half: the command line in-process, and the closed forms over "
             "arrays (use the package `pldamp`)";
-  m.def("cli", &cli, py::arg("args"));
+  m.def("cli", &cli, py::arg("args"), py::arg("progress") = false);
   m.def("observables_double", &observables_double, py::arg("p"), py::arg("damping_kind"),
         py::arg("damping"), py::arg("v0"), py::arg("m"), py::arg("k"), py::arg("end"),
         py::arg("want"));

@@ -137,17 +137,21 @@ def _arguments(command: str, positional: Iterable[str], options: dict) -> list:
     return args
 
 
-def cli(*args: str) -> tuple:
-    """`pldamp ARGS...` in-process: (exit code, standard output, standard error)."""
-    return _pldamp.cli([_no_nul("an argument", str(a)) for a in args])
+def cli(*args: str, progress: bool = False) -> tuple:
+    """`pldamp ARGS...` in-process: (exit code, standard output, standard error).
+
+    progress=True shows a run's progress on sys.stderr as it goes (none by default)."""
+    if not isinstance(progress, bool):
+        raise TypeError("progress is a switch: True or False (got %r)" % (progress,))
+    return _pldamp.cli([_no_nul("an argument", str(a)) for a in args], progress)
 
 
 def _answer(command: str, positional: Iterable[str] = (), json_flag: bool = True,
-            **options) -> tuple:
+            progress: bool = False, **options) -> tuple:
     args = _arguments(command, positional, options)
     if json_flag:
         args.append("--json")
-    code, out, err = _pldamp.cli(args)
+    code, out, err = _pldamp.cli(args, progress)
     if code == 130:  # SIGINT (Ctrl-C) stopped the run, as the command exits 128 + 2
         raise KeyboardInterrupt(err.strip().removeprefix("error: "))
     if code == 2:
@@ -374,13 +378,18 @@ def check(t: Any, delta: Any, v: Any = None, F: Any = None, **options) -> dict:
                                                                  match.group(2))) from None
 
 
-def run(scene: str, out: Optional[str] = None, strict: bool = False, **options) -> dict:
+def run(scene: str, out: Optional[str] = None, strict: bool = False, progress: bool = False,
+        **options) -> dict:
     """Run a scene, as `pldamp run SCENE`, and return its report.json as a dict.
 
     out: the folder for the report files (report.json, .csv, .md, .html); a temporary one that is
     removed when None. strict=True raises RuntimeError when a claim's verdict is not the one
-    expected. jobs, max_steps, max_seconds, max_runs as the command's flags.
+    expected. progress=True writes the run's progress to sys.stderr as it goes (a line every 5 s
+    with the time left; none by default). jobs, max_steps, max_seconds, max_runs as the
+    command's flags.
     """
+    if not isinstance(progress, bool):
+        raise TypeError("progress is a switch: True or False (got %r)" % (progress,))
     if options.get("shard") is not None:
         raise ValueError("run() returns a report and a shard writes none: run the shards with "
                          "cli('run', scene, '--shard', 'K/N', '--out', DIR) and merge their "
@@ -388,8 +397,8 @@ def run(scene: str, out: Optional[str] = None, strict: bool = False, **options) 
                          % (options["shard"],))
 
     def run_into(folder: str) -> dict:
-        code, _, err = _answer("run", [os.fspath(scene)], json_flag=False, out=folder,
-                               strict=strict, **options)
+        code, _, err = _answer("run", [os.fspath(scene)], json_flag=False, progress=progress,
+                               out=folder, strict=strict, **options)
         if code == 1:
             raise RuntimeError(err.strip())
         path = os.path.join(folder, "report.json")

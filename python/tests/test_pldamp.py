@@ -8,6 +8,7 @@ import csv
 import decimal
 import math
 import os
+import re
 
 import numpy as np
 import pytest
@@ -303,6 +304,26 @@ def test_run_returns_the_report(tmp_path):
     assert (tmp_path / "report.html").exists()
     with pytest.raises(ValueError, match="cannot read the scene"):
         pldamp.run(tmp_path / "missing.toml")
+
+
+def test_a_run_shows_its_progress_on_sys_stderr_only_when_asked(tmp_path, capfd):
+    # A run of about 2.5 s on one thread (7 200 solves at rtol 1e-10): its progress went to the
+    # process's stderr (file descriptor 2) unasked, which a notebook does not show; now none
+    # unless progress=True, and then on sys.stderr, a line at a time.
+    e = ", ".join("%.4f" % (0.05 + 0.9 * i / 39) for i in range(40))
+    v0 = ", ".join("%.6g" % (10 ** (-2 + 4 * i / 59)) for i in range(60))
+    scene = tmp_path / "long.toml"
+    scene.write_text('want = ["e"]\n[grid]\np = [1.0, 1.5, 2.0]\ne = [%s]\nv0 = [%s]\n'
+                     '[[solver]]\nname = "cvode-bdf"\nrtol = 1e-10\n'
+                     '[report]\nformats = ["json"]\n' % (e, v0))
+    capfd.readouterr()
+    pldamp.run(scene, out=tmp_path / "quiet", jobs=1)
+    assert capfd.readouterr().err == ""
+    pldamp.run(scene, out=tmp_path / "shown", jobs=1, progress=True)
+    shown = capfd.readouterr().err
+    assert re.search(r"^\d+ s: \d+/7200 records, ", shown, re.M), shown
+    with pytest.raises(TypeError, match="progress is a switch"):
+        pldamp.run(scene, progress="yes")
 
 
 def test_ctrl_c_during_a_run_is_a_keyboard_interrupt(tmp_path):

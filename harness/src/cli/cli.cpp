@@ -174,7 +174,7 @@ std::string analytic_convention_names() {
 } // namespace
 
 int run_cli(int argc, const char* const* argv, std::ostream& out, std::ostream& err,
-            Distribution* distribution) {
+            Distribution* distribution, std::ostream* progress) {
   CLI::App app{"pldamp: closed forms and validation harness for the power-law damped contact "
                "oscillator m d'' + alpha sqrt(mk) d^((p-1)/2) d' + k d^p = 0"};
   app.require_subcommand(1);
@@ -419,7 +419,7 @@ int run_cli(int argc, const char* const* argv, std::ostream& out, std::ostream& 
     } else if (showcase->parsed()) {
       run_showcase(showcase_precision, out);
     } else if (run->parsed()) {
-      return run_command(run_args, out, err, distribution);
+      return run_command(run_args, out, err, distribution, progress != nullptr ? progress : &err);
     } else if (merge->parsed()) {
       return merge_command(merge_args, out, err);
     } else if (diff->parsed()) {

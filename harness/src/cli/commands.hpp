@@ -112,7 +112,7 @@ void run_solve(const SolveArgs& args, std::ostream& out);
 // The commands of pipeline/pipeline.hpp and judge/diff.hpp, their flags parsed (cli/
 // commands_run.cpp): run_scene, merge_shards and diff_files' exit codes.
 int run_command(const RunArgs& args, std::ostream& out, std::ostream& err,
-                Distribution* distribution = nullptr);
+                Distribution* distribution = nullptr, std::ostream* progress = nullptr);
 int merge_command(const MergeArgs& args, std::ostream& out, std::ostream& err);
 
 struct DiffArgs {

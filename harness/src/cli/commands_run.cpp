@@ -61,7 +61,7 @@ ShardIndex shard_of(const std::string& text) {
 } // namespace
 
 int run_command(const RunArgs& args, std::ostream& out, std::ostream& err,
-                Distribution* distribution) {
+                Distribution* distribution, std::ostream* progress) {
   if (distribution == nullptr && !args.shard) {
     refuse_tasks_that_are_not_ranks("run");
   }
@@ -72,7 +72,8 @@ int run_command(const RunArgs& args, std::ostream& out, std::ostream& err,
                      .max_runs = std::nullopt,
                      .max_seconds = std::nullopt,
                      .strict = args.strict,
-                     .shard = std::nullopt};
+                     .shard = std::nullopt,
+                     .progress = progress};
   if (args.shard) {
     options.shard = shard_of(*args.shard);
   }

@@ -34,9 +34,9 @@ private:
 // 128 + the signal that stopped the run on another rank (SIGINT's when it is not known).
 int stopped_elsewhere_code();
 
-// Progress on `err`: a bar redrawn in place on a terminal; otherwise (a CI log) a line every 5 s
-// with the rate so far and the time left at that rate.
-Progress progress_on(std::ostream& err);
+// Progress on `to`: a bar redrawn in place on a terminal; otherwise (a CI log, Python's stderr) a
+// line every 5 s with the rate so far and the time left at that rate. None without a stream.
+Progress progress_on(std::ostream* to);
 
 // The run's solver-run limit (run/run.hpp: limit_solver_runs), once past: an InputError saying
 // so, the folder left as it was. `estimated`: the plan's count (judge/plan_size.hpp).

@@ -29,6 +29,7 @@ struct RunOptions {
   std::optional<double> max_seconds;
   bool strict = false; // exit 1 when a claim's verdict is not the one expected (a CI gate)
   std::optional<ShardIndex> shard;
+  std::ostream* progress = nullptr; // where the progress lines go (none without)
 };
 
 // Returns the exit code: 0; 1 under --strict when a claim's verdict is not the one expected (a

@@ -191,7 +191,7 @@ int run_scene(const RunOptions& args, std::ostream& out, std::ostream& err,
   if (!every_rank_ready()) {
     return 2;
   }
-  const Progress progress = progress_on(err);
+  const Progress progress = progress_on(args.progress);
   if (shard) {
     return write_shard_run(args, *plan, shard->index, shard->count, jobs, progress, signals, out,
                            err);

@@ -29,16 +29,16 @@ namespace {
 // 5 s with the rate so far and the time left at that rate.
 class ProgressLines {
 public:
-  explicit ProgressLines(bool terminal) : terminal_(terminal) {}
+  ProgressLines(std::ostream& to, bool terminal) : to_(&to), terminal_(terminal) {}
 
   void operator()(std::size_t done, std::size_t total) {
     if (terminal_) {
       constexpr int width = 40;
       const int filled = static_cast<int>(width * done / total);
-      std::cerr << "\r[" << std::string(static_cast<std::size_t>(filled), '#')
-                << std::string(static_cast<std::size_t>(width - filled), ' ') << "] " << done << "/"
-                << total << ", " << left(done, total) << "  " << (done == total ? "\n" : "")
-                << std::flush;
+      *to_ << "\r[" << std::string(static_cast<std::size_t>(filled), '#')
+           << std::string(static_cast<std::size_t>(width - filled), ' ') << "] " << done << "/"
+           << total << ", " << left(done, total) << "  " << (done == total ? "\n" : "")
+           << std::flush;
       return;
     }
     const double elapsed = seconds_since(start_);
@@ -46,9 +46,8 @@ public:
       return;
     }
     last_ = elapsed;
-    std::cerr << fmt::format("{:.0f} s: {}/{} records, {}\n", elapsed, done, total,
-                             left(done, total))
-              << std::flush;
+    *to_ << fmt::format("{:.0f} s: {}/{} records, {}\n", elapsed, done, total, left(done, total))
+         << std::flush;
   }
 
 private:
@@ -58,6 +57,7 @@ private:
   static double seconds_since(std::chrono::steady_clock::time_point t) {
     return std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
   }
+  std::ostream* to_;
   bool terminal_;
   std::chrono::steady_clock::time_point start_ = std::chrono::steady_clock::now();
   double last_ = 0;
@@ -122,8 +122,11 @@ long judged_solver_runs(long before, const Workers& workers) {
   return all;
 }
 
-Progress progress_on(std::ostream& err) {
-  return Progress{ProgressLines(&err == &std::cerr && isatty(STDERR_FILENO) == 1)};
+Progress progress_on(std::ostream* to) {
+  if (to == nullptr) {
+    return [](std::size_t, std::size_t) {};
+  }
+  return Progress{ProgressLines(*to, to == &std::cerr && isatty(STDERR_FILENO) == 1)};
 }
 
 int jobs_or_cores(const std::optional<int>& jobs, int ranks_on_node) {

@@ -10,8 +10,10 @@ namespace pldamp::harness {
 class Distribution;
 
 // `distribution`: the MPI job the program runs in (distribution.hpp), if any; `pldamp run` shares
-// its cells among the ranks.
+// its cells among the ranks. `progress`: where `pldamp run` shows its progress (a bar on a
+// terminal, else a line every 5 s); `err` without one. A stream that discards (no buffer)
+// shows none: the Python module's default.
 int run_cli(int argc, const char* const* argv, std::ostream& out, std::ostream& err,
-            Distribution* distribution = nullptr);
+            Distribution* distribution = nullptr, std::ostream* progress = nullptr);
 
 } // namespace pldamp::harness
