@@ -65,21 +65,6 @@ struct TimestepArgs {
 // --tau-as's word (common/tau_as.hpp), or InputError naming the choices.
 TauAs parse_tau_as(const std::string& word);
 
-// The question `timestep` asks, as numbers: its [[search]] scene (timestep_scene_text).
-struct TimestepQuestion {
-  std::string scheme;
-  double tolerance = 0;
-  std::vector<std::string> observables; // the first is the search's observable, then the rest
-  double p = 1, damping = 0, v0 = 1, m = 1, k = 1;
-  std::string damping_key = "alpha";
-  std::string end = "overlap";
-  std::string tau_as = "first-step-out";
-  std::array<double, 2> range{}; // Δt: tightest, loosest
-};
-
-// The scene whose [[search]] asks `timestep`'s question (for its first observable; the command
-// adds the rest as Search::more_observables).
-std::string timestep_scene_text(const TimestepQuestion& question);
 void run_timestep(const TimestepArgs& args, std::ostream& out);
 
 // `pldamp run`: a scene, its plan, its reports.

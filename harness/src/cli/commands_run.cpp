@@ -62,9 +62,6 @@ ShardIndex shard_of(const std::string& text) {
 
 int run_command(const RunArgs& args, std::ostream& out, std::ostream& err,
                 Distribution* distribution, std::ostream* progress) {
-  if (distribution == nullptr && !args.shard) {
-    refuse_tasks_that_are_not_ranks("run");
-  }
   RunOptions options{.scene = args.scene,
                      .out = args.out,
                      .jobs = jobs_of(args.jobs),
@@ -94,7 +91,6 @@ int run_command(const RunArgs& args, std::ostream& out, std::ostream& err,
 }
 
 int merge_command(const MergeArgs& args, std::ostream& out, std::ostream& err) {
-  refuse_tasks_that_are_not_ranks("merge");
   return merge_shards(
       {.shards = args.shards, .out = args.out, .jobs = jobs_of(args.jobs), .strict = args.strict},
       out, err);

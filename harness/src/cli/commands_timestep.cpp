@@ -1,14 +1,11 @@
-// `pldamp timestep`: the largest Δt at which a DEM scheme keeps every asked observable within a
-// relative tolerance of the closed form, wherever in a step the contact begins. A thin front end
-// over the [[search]] engine (judge/search.hpp; docs/design.md §2: one path to an answer): the
-// question is written as the scene a user would write, read by the scene reader, and answered by
-// the same GroupTrials, so `timestep` and a [[search]] with the range it reports agree exactly.
+// `pldamp timestep`: its flags read into a contact and a question (a DEM code's α from its
+// convention, a duration the search can reach), answered by judge/timestep_advice.hpp, and the
+// answer written (text or JSON), with the closed forms beside it.
 #include "cli/contact_args.hpp"
 #include "cli/materials.hpp"
 #include "common/observables.hpp"
 #include "common/parallel.hpp"
-#include "judge/search.hpp"
-#include "judge/solve.hpp"
+#include "judge/timestep_advice.hpp"
 #include "truth/plan.hpp"
 
 #include "pldamp/analytic/conventions.hpp"
@@ -22,19 +19,6 @@
 
 namespace pldamp::harness {
 namespace {
-
-// The Δt range searched, in contact times τ: from τ/(30/tolerance), at most τ/1e5 (a step limit
-// of 1e6 leaves room), to τ/2 (two steps a contact, beyond every scheme's accuracy). The schemes
-// are first order: their answers lie between 0.7 and 8 steps per contact over the tolerance (the
-// table of docs/timestep.md), so the scan begins nearly four times tighter than any answer, and
-// each of its values costs a search over every onset phase of contacts 30/tolerance steps long.
-constexpr double tightest_steps_per_contact = 1e5;
-constexpr double steps_per_contact_per_tolerance = 30;
-constexpr double loosest_steps_per_contact = 2;
-// The onset phases each trial samples before its worst over every phase is sought from them
-// (run/phase_supremum.hpp): more samples find the smooth maxima's neighbourhoods with fewer Brent
-// steps, fewer cost less per trial.
-constexpr int onset_phases = 16;
 
 std::vector<std::string> observable_keys(const std::string& list) {
   std::vector<std::string> keys;
@@ -60,49 +44,7 @@ std::vector<std::string> observable_keys(const std::string& list) {
   return keys;
 }
 
-std::string word_of(const std::string& key) {
-  for (const Observable& o : observable_table()) {
-    if (o.key == key) {
-      return std::string(o.want_word);
-    }
-  }
-  return key;
-}
-
 } // namespace
-
-std::string timestep_scene_text(const TimestepQuestion& q) {
-  std::string want;
-  for (const std::string& key : q.observables) {
-    want += fmt::format("{}\"{}\"", want.empty() ? "" : ", ", word_of(key));
-  }
-  // The scene's end as well as the search's: a target e is calibrated under the scene's end, so
-  // without it a force-end question searched the contact of the overlap end's α (e = 0.1 at p = 1:
-  // α_eff 0.59 searched, 1.24 asked; the answer failed by 2.4 % at its own worst phase).
-  return fmt::format(R"(name = "timestep"
-end = "{}"
-want = [{}]
-[grid]
-p = [{:.17g}]
-{} = [{:.17g}]
-v0 = [{:.17g}]
-m = [{:.17g}]
-k = [{:.17g}]
-[[search]]
-name = "timestep"
-solver = "{}"
-parameter = "dt"
-range = [{:.17g}, {:.17g}]
-observable = "{}"
-bound_rel = {:.17g}
-end = "{}"
-onset_phases = {}
-tau_as = "{}"
-)",
-                     q.end, want, q.p, q.damping_key, q.damping, q.v0, q.m, q.k, q.scheme,
-                     q.range[0], q.range[1], q.observables.front(), q.tolerance, q.end,
-                     onset_phases, q.tau_as);
-}
 
 void run_timestep(const TimestepArgs& args, std::ostream& out) {
   const solvers::SolverInfo* scheme = solvers::find_solver(args.scheme);
@@ -199,16 +141,8 @@ void run_timestep(const TimestepArgs& args, std::ostream& out) {
   q.m = contact.m();
   q.k = contact.k();
   q.end = contact_args.end;
-  q.range = {contact_time /
-                 std::min(tightest_steps_per_contact, steps_per_contact_per_tolerance / tolerance),
-             contact_time / loosest_steps_per_contact};
-  Scene scene = parse_scene(timestep_scene_text(q), "timestep");
-  Search& search = scene.searches.front();
-  search.more_observables.assign(q.observables.begin() + 1, q.observables.end());
-  // One cell: the trials themselves side by side on the cores (the scan's next values, the band).
-  GroupTrials trials("timestep", search_groups_of(scene, search).front().second, search,
-                     all_cores());
-  const SearchGroup group = trials.answer();
+  const TimestepAdvice advice = advise_timestep(q, contact_time);
+  const SearchGroup& group = advice.group;
 
   o["scheme"] = args.scheme;
   o["tolerance"] = exact_number(tolerance);
@@ -222,7 +156,7 @@ void run_timestep(const TimestepArgs& args, std::ostream& out) {
   if (force_end) {
     o["t_cut"] = exact_number(contact_time);
   }
-  o["range"] = Answer::array({exact_number(q.range[0]), exact_number(q.range[1])});
+  o["range"] = Answer::array({exact_number(advice.range[0]), exact_number(advice.range[1])});
   put_number(o, "dt", group.loosest);
   put_number(o, "tau_over_dt",
              group.loosest && std::isfinite(tau) ? std::optional<double>(tau / *group.loosest)
@@ -245,26 +179,16 @@ void run_timestep(const TimestepArgs& args, std::ostream& out) {
   // The seed's Δt_crit (MATH.md §6), analytic; and the largest stable Δt measured as the
   // stability claim measures it (judge/solve.hpp: onset phase 0, e <= 1 at the return).
   o["dt_crit_seed"] = exact_number(analytic::dt_crit_seed(contact));
-  SolverConfig config = search.config;
-  const double alpha_sent =
-      q.damping_key == "alpha"
-          ? q.damping
-          : seed_alpha(q.p, q.damping_key == "e" ? Damping::Kind::e : Damping::Kind::alpha_eff,
-                       q.damping, parse_end(q.end));
-  const Inputs inputs{.p = q.p, .alpha = alpha_sent, .v0 = q.v0, .m = q.m, .k = q.k};
   if (std::find(q.observables.begin(), q.observables.end(), "normal_force_max") !=
           q.observables.end() &&
       group.loosest && group.worst_onset_phase) {
     // The peak force as the code reports it, the largest force it evaluated at a step (at the
     // answer and its worst phase), beside the exact peak it is judged against.
-    const solvers::Result<double> at_worst =
-        solve_unchecked(config, inputs, solvers::want_normal_force, scene.limits, {},
-                        *group.loosest, *group.worst_onset_phase);
-    put_number(o, "normal_force_max_at_worst_phase", at_worst.normal_force_max);
+    put_number(o, "normal_force_max_at_worst_phase", advice.normal_force_max_at_worst_phase);
     o["normal_force_max_exact"] =
         exact_number(*analytic::observables(contact, analytic::want_normal_force).normal_force_max);
   }
-  const StableStep stable = largest_stable_dt(config, inputs, scene.limits, contact_time);
+  const StableStep& stable = advice.stable;
   put_number(o, "dt_stability",
              stable.limit.empty() && stable.dt > 0 ? std::optional<double>(stable.dt)
                                                    : std::nullopt);
