@@ -1,5 +1,7 @@
 #include "run/record_values.hpp"
 
+#include "common/record_consistency.hpp"
+
 #include <fmt/format.h>
 
 #include <algorithm>
