@@ -25,8 +25,6 @@ namespace pldamp::harness {
 
 namespace claim_parts {
 
-namespace seed = analytic::seed;
-
 Contact<Exact> truth_contact(const ClaimCell& cell) {
   const Exact p(cell.p);
   const Contact<Exact> unit =

@@ -168,16 +168,11 @@ public:
   Comparison(const Comparison&) = delete;
   Comparison& operator=(const Comparison&) = delete;
 
-  // Records of reports that may not be compared are read (a damaged one is still refused as
-  // such) and dropped.
-  void take_old(diff::RecordFacts&& record) {
+  // The next record of each report (none where it has ended). Records of reports that may not
+  // be compared are read (a damaged one is still refused as such) and dropped.
+  void take(std::optional<diff::RecordFacts> was, std::optional<diff::RecordFacts> now) {
     if (!setup_.refusal) {
-      records_.take_old(std::move(record));
-    }
-  }
-  void take_new(diff::RecordFacts&& record) {
-    if (!setup_.refusal) {
-      records_.take_new(std::move(record));
+      records_.take(std::move(was), std::move(now));
     }
   }
 
@@ -212,13 +207,11 @@ DiffResult diff_facts(diff::Report old_facts, diff::Report new_facts, const Diff
   Comparison comparison(std::move(old_facts.rest), std::move(new_facts.rest), options);
   const std::size_t held = old_facts.records.size() + new_facts.records.size();
   const std::size_t count = std::max(old_facts.records.size(), new_facts.records.size());
+  const auto at = [](std::vector<diff::RecordFacts>& records, std::size_t i) {
+    return i < records.size() ? std::optional(std::move(records[i])) : std::nullopt;
+  };
   for (std::size_t i = 0; i < count; ++i) {
-    if (i < old_facts.records.size()) {
-      comparison.take_old(std::move(old_facts.records[i]));
-    }
-    if (i < new_facts.records.size()) {
-      comparison.take_new(std::move(new_facts.records[i]));
-    }
+    comparison.take(at(old_facts.records, i), at(new_facts.records, i));
   }
   DiffResult result = comparison.finish();
   result.records_held = held;
@@ -363,12 +356,10 @@ std::optional<DiffResult> diff_streamed(std::istream& old_report, const std::str
         break;
       }
       if (comparison && !new_failed) {
-        if (old_item) {
-          comparison->take_old(std::get<diff::RecordFacts>(std::move(*old_item)));
-        }
-        if (new_item) {
-          comparison->take_new(std::get<diff::RecordFacts>(std::move(*new_item)));
-        }
+        const auto facts = [](std::optional<StreamItem>& item) {
+          return item ? std::optional(std::get<diff::RecordFacts>(std::move(*item))) : std::nullopt;
+        };
+        comparison->take(facts(old_item), facts(new_item));
       }
     }
   } catch (...) {

@@ -66,7 +66,7 @@ struct DiffResult {
   DiffThresholds thresholds; // as applied
   // The most records diff held at once: all of both reports' when it read them whole (another
   // layout than pldamp's, or streams it cannot read again), and when it streamed them only those
-  // waiting for the other report's record of their key (one for two reports in one order).
+  // waiting for the other report's record of their key (none for two reports in one order).
   std::size_t records_held = 0;
 };
 

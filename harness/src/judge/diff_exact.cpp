@@ -4,6 +4,7 @@
 #include "common/report_schema.hpp"
 #include "judge/bounded_queue.hpp"
 #include "judge/diff_parts.hpp"
+#include "judge/match_by_key.hpp"
 
 #include <fmt/format.h>
 
@@ -11,7 +12,6 @@
 #include <exception>
 #include <optional>
 #include <string_view>
-#include <unordered_map>
 #include <utility>
 
 namespace pldamp::harness {
@@ -150,53 +150,32 @@ std::optional<ExactResult> exact_pass(std::istream& old_report, const std::strin
         }
       }
     };
-    const auto compare = [&](const std::string& key, json& a, json& b) {
+    const auto compare = [&](json& a, json& b) {
       std::vector<std::string> paths;
       drop_timing(a);
       drop_timing(b);
       differing_paths(a, b, "", paths, 3);
       if (!paths.empty()) {
-        differs(key, paths);
+        differs(record_key(a), paths);
       }
     };
-    // Records are matched by key: two reports in one order hold a record of each at a time, and
-    // a record gone or added is named alone rather than shifting every record after it. Those
-    // out of step wait for their match; whatever is still waiting at the end is only in one.
-    std::unordered_map<std::string, std::pair<std::size_t, json>> waiting_old, waiting_new;
-    for (std::size_t index = 0;; ++index) {
+    // Records are matched by key (judge/match_by_key.hpp): a record gone or added is named alone
+    // rather than shifting every record after it.
+    diff::MatchByKey<json> matched;
+    for (;;) {
       std::optional<json> a = old_queue.pop();
       std::optional<json> b = new_queue.pop();
       if (!a && !b) {
         break;
       }
-      if (a) {
-        std::string key = record_key(*a);
-        if (const auto match = waiting_new.find(key); match != waiting_new.end()) {
-          compare(key, *a, match->second.second);
-          waiting_new.erase(match);
-        } else {
-          waiting_old.insert_or_assign(std::move(key), std::pair(index, std::move(*a)));
-        }
-      }
-      if (b) {
-        std::string key = record_key(*b);
-        if (const auto match = waiting_old.find(key); match != waiting_old.end()) {
-          compare(key, match->second.second, *b);
-          waiting_old.erase(match);
-        } else {
-          waiting_new.insert_or_assign(std::move(key), std::pair(index, std::move(*b)));
-        }
-      }
+      const std::string a_key = a ? record_key(*a) : "", b_key = b ? record_key(*b) : "";
+      matched.take(std::move(a), a_key, std::move(b), b_key, compare);
     }
-    for (const auto& [waiting, side] : {std::pair{&waiting_old, "old"}, {&waiting_new, "new"}}) {
-      std::vector<std::pair<std::size_t, const std::string*>> alone;
-      for (const auto& [key, record] : *waiting) {
-        alone.emplace_back(record.first, &key);
-      }
-      std::sort(alone.begin(), alone.end());
-      for (const auto& [index, key] : alone) {
-        differs(*key, {std::string("only in ") + side});
-      }
+    for (const json* record : matched.only_in_old()) {
+      differs(record_key(*record), {"only in old"});
+    }
+    for (const json* record : matched.only_in_new()) {
+      differs(record_key(*record), {"only in new"});
     }
   } catch (...) {
     failed = std::current_exception();

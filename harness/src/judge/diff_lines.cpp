@@ -137,17 +137,17 @@ std::optional<json> read_report_lines(std::istream& in, const std::string& path,
         if (!schema_first) {
           return std::nullopt;
         }
-        // Everything before the records, checked as the whole will be: what a reader of the
-        // records needs first (the scene, its thresholds).
-        std::optional<json> head = checked(rest + "]}");
-        if (!head) {
-          return std::nullopt;
-        }
         where = Where::inside;
-        for (const auto& [name, value] : head->items()) {
-          head_sections.push_back(name);
-        }
         if (at_records) {
+          // Everything before the records, checked as the whole will be: what a reader of the
+          // records needs first (the scene, its thresholds). Read only for such a reader.
+          std::optional<json> head = checked(rest + "]}");
+          if (!head) {
+            return std::nullopt;
+          }
+          for (const auto& [name, value] : head->items()) {
+            head_sections.push_back(name);
+          }
           at_records(std::move(*head));
         }
       }
@@ -188,9 +188,9 @@ std::optional<json> read_report_lines(std::istream& in, const std::string& path,
     return std::nullopt; // another records array in the rest (a key named twice)
   }
   for (const auto& [name, value] : whole->items()) {
-    if (name != key::figures &&
+    if (at_records && name != key::figures &&
         std::find(head_sections.begin(), head_sections.end(), name) == head_sections.end()) {
-      return std::nullopt;
+      return std::nullopt; // a section the head's reader did not get
     }
   }
   return whole;

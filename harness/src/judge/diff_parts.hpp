@@ -7,6 +7,7 @@
 
 #include "common/report_schema.hpp"
 #include "judge/diff.hpp"
+#include "judge/match_by_key.hpp"
 
 #include <nlohmann/json.hpp>
 
@@ -20,7 +21,6 @@
 #include <string>
 #include <string_view>
 #include <tuple>
-#include <unordered_map>
 #include <utility>
 #include <vector>
 
@@ -226,21 +226,19 @@ struct TimeSums {
 };
 
 // The comparator of records (errors, numbers, outcomes, work, time), fed the records of both
-// reports as they are read: each old record is compared with the new one of its key as soon as
-// both have come, so two reports in one order (a scene's plan order, as pldamp writes them) are
-// compared holding a record of each, and only records out of step wait.
+// reports as they are read, paired by key (judge/match_by_key.hpp).
 class RecordComparison {
 public:
   RecordComparison(Findings& findings, const SceneChange& change, Noise noise,
                    const DiffThresholds& t);
-  void take_old(RecordFacts&& record);
-  void take_new(RecordFacts&& record);
+  // The next record of each report (none where it has ended).
+  void take(std::optional<RecordFacts> was, std::optional<RecordFacts> now);
   // After the last record of each: old records without a new one (gone), and each
   // configuration's time.
   void finish();
   const RecordsLargest& new_largest() const { return new_largest_; }
   // The most records that waited at once for the other report's record of their key.
-  std::size_t most_waiting() const { return most_waiting_; }
+  std::size_t most_waiting() const { return matched_.most_waiting(); }
 
 private:
   void compare(const RecordFacts& was, const RecordFacts& now);
@@ -248,9 +246,7 @@ private:
   const SceneChange& change_;
   Noise noise_;
   DiffThresholds t_;
-  std::unordered_map<std::string, std::pair<std::size_t, RecordFacts>> waiting_old_; // by key
-  std::unordered_map<std::string, RecordFacts> waiting_new_;
-  std::size_t old_records_ = 0, most_waiting_ = 0;
+  MatchByKey<RecordFacts> matched_;
   std::map<std::string, TimeSums> time_; // per configuration
   std::vector<std::string> time_order_;  // its configurations in the old report's order
   RecordsLargest new_largest_;

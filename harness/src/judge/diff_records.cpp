@@ -9,7 +9,6 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
-#include <unordered_map>
 
 namespace pldamp::harness::diff {
 
@@ -161,45 +160,21 @@ RecordComparison::RecordComparison(Findings& findings, const SceneChange& change
                                    const DiffThresholds& t)
     : findings_(findings), change_(change), noise_(std::move(noise)), t_(t) {}
 
-void RecordComparison::take_old(RecordFacts&& record) {
-  const std::size_t index = old_records_++;
-  if (const auto now = waiting_new_.find(record.key); now != waiting_new_.end()) {
-    compare(record, now->second);
-    waiting_new_.erase(now);
-  } else {
-    std::string key = record.key;
-    waiting_old_.insert_or_assign(std::move(key), std::pair(index, std::move(record)));
-    most_waiting_ = std::max(most_waiting_, waiting_old_.size() + waiting_new_.size());
+void RecordComparison::take(std::optional<RecordFacts> was, std::optional<RecordFacts> now) {
+  if (now) {
+    new_largest_.take(*now);
   }
-}
-
-void RecordComparison::take_new(RecordFacts&& record) {
-  new_largest_.take(record);
-  if (const auto was = waiting_old_.find(record.key); was != waiting_old_.end()) {
-    compare(was->second.second, record);
-    waiting_old_.erase(was);
-  } else {
-    std::string key = record.key;
-    waiting_new_.insert_or_assign(std::move(key), std::move(record));
-    most_waiting_ = std::max(most_waiting_, waiting_old_.size() + waiting_new_.size());
-  }
+  const std::string was_key = was ? was->key : "", now_key = now ? now->key : "";
+  matched_.take(std::move(was), was_key, std::move(now), now_key,
+                [&](const RecordFacts& a, const RecordFacts& b) { compare(a, b); });
 }
 
 void RecordComparison::finish() {
-  // The old records no new one matched, in the old report's order.
-  std::vector<const std::pair<std::size_t, RecordFacts>*> gone;
-  gone.reserve(waiting_old_.size());
-  for (const auto& [key, waiting] : waiting_old_) {
-    gone.push_back(&waiting);
-  }
-  std::sort(gone.begin(), gone.end(),
-            [](const auto* a, const auto* b) { return a->first < b->first; });
-  for (const auto* waiting : gone) {
-    const RecordFacts& old_record = waiting->second;
-    if (outside(change_, old_record)) {
+  for (const RecordFacts* old_record : matched_.only_in_old()) {
+    if (outside(change_, *old_record)) {
       continue;
     }
-    Finding base = base_finding(old_record);
+    Finding base = base_finding(*old_record);
     base.what = "record_gone";
     base.subject = "record";
     base.worst = "present -> missing";

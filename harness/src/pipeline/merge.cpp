@@ -129,7 +129,7 @@ int merge_shards(const MergeOptions& args, std::ostream& out, std::ostream& err)
   check_plan_size(scene, first.scene_path, double(first.count), false);
   require_writable_folder(args.out);
   const StopOnSignals signals;
-  limit_solver_runs(scene.limits.max_runs); // the judging's solves, which merge makes
+  const SolverRunLimit limit(scene); // the judging's solves, which merge makes
   const Plan plan = make_plan(scene, jobs);
   if (plan.cells.size() != first.cells || plan.configs.size() != first.configs) {
     throw InputError(fmt::format("the shards' scene plans {} cells x {} configurations here, "
@@ -172,8 +172,8 @@ int merge_shards(const MergeOptions& args, std::ostream& out, std::ostream& err)
   }
   records.seal();
   add_to_totals(records, totals);
-  return report_records(plan, records, totals, jobs, jobs, args.out, args.strict, signals, out,
-                        err);
+  return report_records(plan, records, totals, jobs, jobs, args.out, args.strict, signals, limit,
+                        out, err);
 }
 
 } // namespace pldamp::harness

@@ -5,6 +5,7 @@
 #include "judge/budget.hpp"
 #include "run/run.hpp"
 #include "run/workers.hpp"
+#include "scene/scene.hpp"
 #include "truth/plan.hpp"
 
 #include <csignal>
@@ -38,9 +39,24 @@ int stopped_elsewhere_code();
 // line every 5 s with the rate so far and the time left at that rate. None without a stream.
 Progress progress_on(std::ostream* to);
 
-// The run's solver-run limit (run/run.hpp: limit_solver_runs), once past: an InputError saying
-// so, the folder left as it was. `estimated`: the plan's count (judge/plan_size.hpp).
-void refuse_past_run_limit(long most, double estimated, const std::string& folder);
+// The scene's [limits] max_runs held to every solver run this process starts (run/run.hpp) while
+// this lives; the count starts from 0 and no limit is left behind for what runs next in the
+// process (the Python module, the tests' in-process runs).
+class SolverRunLimit {
+public:
+  explicit SolverRunLimit(const Scene& scene) : scene_(scene) {
+    limit_solver_runs(scene.limits.max_runs);
+  }
+  ~SolverRunLimit() { limit_solver_runs(0); }
+  SolverRunLimit(const SolverRunLimit&) = delete;
+  SolverRunLimit& operator=(const SolverRunLimit&) = delete;
+  // Once past the limit: an InputError saying so and what the plan counted, `folder` left as it
+  // was.
+  void refuse_if_passed(const std::string& folder) const;
+
+private:
+  const Scene& scene_;
+};
 
 // The solves the judging made (claims, searches, time-step study): this process's since
 // `before`, or, under MPI, every rank's (each rank calls it once, after the shared work).
@@ -57,6 +73,7 @@ int jobs_or_cores(const std::optional<int>& jobs, int ranks_on_node);
 // threads. Returns the exit code, as run_scene.
 int report_records(const Plan& plan, RecordRange records, const RunTotals& totals,
                    const Workers& workers, int jobs, const std::string& folder, bool strict,
-                   const StopOnSignals& signals, std::ostream& out, std::ostream& err);
+                   const StopOnSignals& signals, const SolverRunLimit& limit, std::ostream& out,
+                   std::ostream& err);
 
 } // namespace pldamp::harness

@@ -3,7 +3,6 @@
 #include "common/provenance.hpp"
 #include "judge/claims.hpp"
 #include "judge/figures.hpp"
-#include "judge/plan_size.hpp"
 #include "judge/search.hpp"
 #include "judge/trajectory_check.hpp"
 #include "pipeline/parts.hpp"
@@ -17,7 +16,8 @@ namespace pldamp::harness {
 
 int report_records(const Plan& plan, RecordRange records, const RunTotals& totals,
                    const Workers& workers, int jobs, const std::string& folder, bool strict,
-                   const StopOnSignals& signals, std::ostream& out, std::ostream& err) {
+                   const StopOnSignals& signals, const SolverRunLimit& limit, std::ostream& out,
+                   std::ostream& err) {
   const Scene& scene = plan.scene;
   const long solves_before = solver_runs_made();
   const Budgets budgets = make_budgets(plan, records, workers);
@@ -25,7 +25,7 @@ int report_records(const Plan& plan, RecordRange records, const RunTotals& total
     workers.ranks->shared_work_done(false);
   }
   const long judged = judged_solver_runs(solves_before, workers);
-  refuse_past_run_limit(scene.limits.max_runs, planned_runs(scene), folder);
+  limit.refuse_if_passed(folder);
   const std::vector<Figure> figures = make_figures(scene, jobs);
   std::vector<TrajectoryCheck> trajectories;
   for (const TrajectorySpec& spec : scene.trajectories) {

@@ -46,7 +46,7 @@ Scene scene_with_limits(const RunOptions& args) {
 // A shard's records into its folder, and one line saying so.
 int write_shard_run(const RunOptions& args, const Plan& plan, std::size_t index, std::size_t count,
                     int jobs, const Progress& progress, const StopOnSignals& signals,
-                    std::ostream& out, std::ostream& err) {
+                    const SolverRunLimit& limit, std::ostream& out, std::ostream& err) {
   const auto start = std::chrono::steady_clock::now();
   ShardHeader h;
   PlanRunner runner(plan, jobs);
@@ -54,7 +54,7 @@ int write_shard_run(const RunOptions& args, const Plan& plan, std::size_t index,
   const std::vector<std::size_t> cells = shard_cells(plan.cells.size(), index, count);
   RecordStore records(cells.size() * plan.configs.size(), args.out);
   solve_into(plan, runner, cells, records, jobs, progress);
-  refuse_past_run_limit(plan.scene.limits.max_runs, planned_runs(plan.scene), args.out);
+  limit.refuse_if_passed(args.out);
   if (const std::optional<int> code = signals.exit_code()) {
     err << "stopped by a signal: no shard written, " << one_line(args.out) << " left as it was\n";
     return *code;
@@ -166,7 +166,7 @@ int run_scene(const RunOptions& args, std::ostream& out, std::ostream& err,
     return 2;
   }
   const StopOnSignals signals;
-  limit_solver_runs(scene->limits.max_runs);
+  const SolverRunLimit limit(*scene);
   try {
     PointMap map_points;
     if (distributed) {
@@ -193,8 +193,8 @@ int run_scene(const RunOptions& args, std::ostream& out, std::ostream& err,
   }
   const Progress progress = progress_on(args.progress);
   if (shard) {
-    return write_shard_run(args, *plan, shard->index, shard->count, jobs, progress, signals, out,
-                           err);
+    return write_shard_run(args, *plan, shard->index, shard->count, jobs, progress, signals, limit,
+                           out, err);
   }
   // The external programs were started with the runner, before every rank agreed to go on.
   const auto start = std::chrono::steady_clock::now();
@@ -234,7 +234,7 @@ int run_scene(const RunOptions& args, std::ostream& out, std::ostream& err,
     solve_into(*plan, *runner, shard_cells(plan->cells.size(), 1, 1), *store, jobs, progress);
   }
   // Stopped: some records were never solved (a store lacks them), so nothing reads them.
-  refuse_past_run_limit(scene->limits.max_runs, planned_runs(*scene), args.out);
+  limit.refuse_if_passed(args.out);
   if (const std::optional<int> code = signals.exit_code()) {
     err << "stopped by a signal: no report written, " << one_line(args.out) << " left as it was\n";
     return *code;
@@ -256,7 +256,7 @@ int run_scene(const RunOptions& args, std::ostream& out, std::ostream& err,
   const int tail_jobs =
       distributed ? std::min(1024, jobs * std::max(distribution->ranks_on_node(), 1)) : jobs;
   return report_records(*plan, *store, totals, Workers(jobs, distributed ? distribution : nullptr),
-                        tail_jobs, args.out, args.strict, signals, out, err);
+                        tail_jobs, args.out, args.strict, signals, limit, out, err);
 }
 
 } // namespace pldamp::harness

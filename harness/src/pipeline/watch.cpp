@@ -1,6 +1,7 @@
 // How a run is watched and stopped (pipeline/parts.hpp): its progress, its signals, its threads.
 #include "common/input.hpp"
 #include "common/parallel.hpp"
+#include "judge/plan_size.hpp"
 #include "pipeline/parts.hpp"
 #include "pipeline/pipeline.hpp"
 
@@ -100,13 +101,13 @@ std::optional<int> StopOnSignals::exit_code() const {
   return signal != 0 ? std::optional<int>(128 + signal) : std::nullopt;
 }
 
-void refuse_past_run_limit(long most, double estimated, const std::string& folder) {
+void SolverRunLimit::refuse_if_passed(const std::string& folder) const {
   if (solver_run_limit_reached()) {
     throw InputError(fmt::format(
         "the run started more than {} solver runs, its limit ([limits] max_runs, --max-runs), "
         "where the plan counted about {:.0f}: stopped, no report written, {} left as it was; "
         "raise the limit or shrink the scene",
-        most, estimated, one_line(folder)));
+        scene_.limits.max_runs, planned_runs(scene_), one_line(folder)));
   }
 }
 
