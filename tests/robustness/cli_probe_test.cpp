@@ -1831,8 +1831,12 @@ p = )" + std::string(1000, '[') +
     scene(std::string("max_runs_") + (n[0] ? n : "empty"), base_scene + json_only, refused(),
           err_lacks("unknown argument"), {"--max-runs", n});
   }
-  // As --help writes defaults (issue 50: "1e6" was refused as "not an integer").
+  // As --help writes defaults (issue 50: "1e6" was refused as "not an integer"), and read, not
+  // ignored: 1e0 is the limit of 1 that refuses the plan above.
   scene("max_runs_1e6", base_scene + json_only, ok(), nullptr, {"--max-runs", "1e6"});
+  scene("max_runs_1e0_below_plan",
+        base_scene + json_only + "[[solver]]\nname = \"odeint-bs\"\nrtol = 1e-6\n", refused(),
+        err_mentions({"above the limit of 1:"}), {"--max-runs", "1e0"});
   // Where the report cannot be written.
   add(t, "out_under_regular_file", {"run", "{dir}/scene.toml", "--out", "{dir}/file/sub"},
       refused(), nullptr, [](const fs::path& dir) {
