@@ -22,6 +22,7 @@
 //   and the stability search's likewise; target <= 1 s (issue 47)
 //
 //   build/bench/harness_bench
+#include "ask/ask.hpp"
 #include "common/parallel.hpp"
 #include "common/report_schema.hpp"
 #include "judge/budget.hpp"
@@ -33,6 +34,7 @@
 #include "truth/plan.hpp"
 
 #include "pldamp/harness/cli.hpp"
+#include "pldamp/solvers/registry.hpp"
 
 #include <benchmark/benchmark.h>
 
@@ -47,6 +49,50 @@ namespace {
 using namespace pldamp::harness;
 
 const std::string scene_path = std::string(PLDAMP_DATA_DIR) + "/scenes/quick.toml";
+
+// The questions' C++ work as the Python module asks it (ask/ask.hpp): options read, settled,
+// answered into the answer tree, no text. bench/python_overhead.py sets a Python call beside it.
+void answer_observables(benchmark::State& state) {
+  const pldamp::harness::TypedOptions options{{"--p", "1.5"}, {"--e", "0.5"}, {"--v0", "1.0"}};
+  for (auto _ : state) {
+    benchmark::DoNotOptimize(pldamp::harness::ask(pldamp::harness::Question::observables, options));
+  }
+}
+BENCHMARK(answer_observables)->Unit(benchmark::kMicrosecond);
+
+void answer_calibrate(benchmark::State& state) {
+  const pldamp::harness::TypedOptions options{{"--p", "1.5"}, {"--e", "0.5"}};
+  for (auto _ : state) {
+    benchmark::DoNotOptimize(pldamp::harness::ask(pldamp::harness::Question::calibrate, options));
+  }
+}
+BENCHMARK(answer_calibrate)->Unit(benchmark::kMicrosecond);
+
+void answer_solve(benchmark::State& state) {
+  const pldamp::harness::TypedOptions options{{"--solver", "taylor"},
+                                              {"--p", "1.5"},
+                                              {"--e", "0.61"},
+                                              {"--v0", "0.42"},
+                                              {"--repeats", "1"}};
+  for (auto _ : state) {
+    benchmark::DoNotOptimize(pldamp::harness::ask(pldamp::harness::Question::solve, options));
+  }
+}
+BENCHMARK(answer_solve)->Unit(benchmark::kMicrosecond);
+
+// The solve of answer_solve alone: what the answer adds is the difference.
+void answer_solve_alone(benchmark::State& state) {
+  const double p = 1.5, e = 0.61;
+  const double alpha = pldamp::analytic::Contact<double>::from_e(p, e, 1.0).alpha();
+  const pldamp::solvers::Problem<double> problem{p, 1.0, 1.0, 0.42, alpha};
+  pldamp::solvers::Options<double> options;
+  options.rtol = std::numeric_limits<double>::epsilon();
+  options.want = pldamp::solvers::want_all;
+  for (auto _ : state) {
+    benchmark::DoNotOptimize(pldamp::solvers::solve("taylor", problem, options));
+  }
+}
+BENCHMARK(answer_solve_alone)->Unit(benchmark::kMicrosecond);
 
 void plan(benchmark::State& state) {
   std::size_t cells = 0;

@@ -92,7 +92,7 @@ Args with(Args args, const Args& more) {
   return args;
 }
 
-// A contact from materials (cli/materials.hpp): two aluminium spheres, each material turned.
+// A contact from materials (ask/materials.hpp): two aluminium spheres, each material turned.
 std::vector<Row> material_rows(const Args& head, const Args& tail) {
   const Args aluminium{"--geometry", "sphere-sphere", "--radius", "0.01",      "--young",
                        "7e10",       "--poisson",     "0.3",      "--density", "2700"};

@@ -1,4 +1,4 @@
-// A contact from materials on the command line (MATH.md §13, cli/materials.hpp): m, k and p = 3/2
+// A contact from materials on the command line (MATH.md §13, ask/materials.hpp): m, k and p = 3/2
 // derived once and used by observables, solve and check, with R*, E* and the units answered, and
 // every bad material input one line and exit 2.
 #include "cli_run.hpp"

@@ -1195,7 +1195,7 @@ std::vector<Case> observables_cases() {
   add(t, "v0_1e30_quad", obs({"--v0", "1e30"}, {"--precision", "quad", "--json"}), ok());
   // The brief's named cases.
   add(t, "named_p_1e18", {"observables", "--p", "1e18", "--e", "0.5", "--v0", "1"}, refused());
-  // A contact from materials (cli/materials.hpp): each number at its edges, far beyond them,
+  // A contact from materials (ask/materials.hpp): each number at its edges, far beyond them,
   // not finite; lists of the wrong length; mixed with --m/--k or another p.
   const auto materials = [&](const std::string& flag, const std::string& value,
                              std::vector<std::string> more = {"--json"}) {

@@ -1,7 +1,7 @@
 #include "pldamp/harness/cli.hpp"
 
+#include "ask/ask.hpp"
 #include "cli/commands.hpp"
-#include "cli/materials.hpp"
 #include "common/input.hpp"
 #include "common/observables.hpp"
 #include "common/provenance.hpp"
@@ -33,7 +33,7 @@ std::string precision_choices() {
   return choices;
 }
 
-// A contact from materials (MATH.md §13, cli/materials.hpp): in place of --m, --k and --p.
+// A contact from materials (MATH.md §13, ask/materials.hpp): in place of --m, --k and --p.
 void add_material_options(CLI::App& command, ContactArgs& a) {
   command.add_option("--geometry", a.geometry,
                      "a Hertz contact from materials: sphere-sphere | sphere-wall (SI units)");
@@ -65,21 +65,15 @@ void add_contact_options(CLI::App& command, ContactArgs& a, bool calibrate_only)
   command.add_option("--k", a.k, "stiffness > 0 (default 1)");
 }
 
-// After parsing: the materials checked against --m, --k and --p (cli/materials.hpp).
-void settle_material_options(const CLI::App& command, ContactArgs& a) {
-  // A value per body: two equal bodies may repeat one.
-  a.radius = list_items("--radius", a.radius, false);
-  a.young = list_items("--young", a.young, false);
-  a.poisson = list_items("--poisson", a.poisson, false);
-  a.density = list_items("--density", a.density, false);
-  std::vector<std::string> mass_options_given;
-  for (const char* option : {"--m", "--k"}) {
-    if (const CLI::Option* given = command.get_option(option); given->count() > 0) {
-      mass_options_given.push_back(std::string(option) + " " +
-                                   CLI::detail::join(given->results(), ","));
+// After parsing: every option given, as typed, for settle() (ask/ask.hpp), which checks the
+// materials against --m, --k and --p and splits the lists.
+void record_given(const CLI::App& command, ContactArgs& a) {
+  for (const CLI::Option* option : command.get_options()) {
+    if (option->count() > 0 && !option->get_lnames().empty()) {
+      a.given.push_back("--" + option->get_lnames().front() + " " +
+                        CLI::detail::join(option->results(), ","));
     }
   }
-  settle_materials(a, mass_options_given);
 }
 
 // Levenshtein distance, for the option nearest a mistyped one.
@@ -388,33 +382,20 @@ int run_cli(int argc, const char* const* argv, std::ostream& out, std::ostream& 
       throw InputError(describe(e, app, arguments));
     }
     if (calibrate->parsed()) {
-      settle_material_options(*calibrate, calibrate_args);
-      for (const char* option : {"--geometry", "--v0", "--m", "--k", "--speeds", "--reff"}) {
-        if (const CLI::Option* given = calibrate->get_option(option); given->count() > 0) {
-          calibrate_args.speed_options_given.push_back(std::string(option) + " " +
-                                                       CLI::detail::join(given->results(), ","));
-        }
-      }
-      calibrate_args.speeds = list_items("--speeds", calibrate_args.speeds, true);
+      record_given(*calibrate, calibrate_args);
+      settle(Question::calibrate, calibrate_args);
       run_calibrate(calibrate_args, out);
     } else if (observables->parsed()) {
-      settle_material_options(*observables, observables_args);
+      record_given(*observables, observables_args);
+      settle(Question::observables, observables_args);
       run_observables(observables_args, out);
     } else if (solve->parsed()) {
-      settle_material_options(*solve, solve_args.contact);
-      solve_args.sample_times = list_items("--sample-times", solve_args.sample_times, true);
+      record_given(*solve, solve_args.contact);
+      settle(solve_args);
       run_solve(solve_args, out);
     } else if (timestep->parsed()) {
-      settle_material_options(*timestep, timestep_args.contact);
-      // With materials Δt is in seconds and depends on the speed: no default of 1 m/s.
-      if (timestep_args.contact.geometry && timestep->get_option("--v0")->count() == 0) {
-        throw InputError("--v0, the relative normal speed in m/s, is required with --geometry "
-                         "(got nothing)");
-      }
-      if (timestep_args.contact.code && timestep->get_option("--end")->count() > 0) {
-        throw InputError("--code sets the contact end (a capped code's is force) (got --end " +
-                         timestep_args.contact.end + ")");
-      }
+      record_given(*timestep, timestep_args.contact);
+      settle(timestep_args);
       run_timestep(timestep_args, out);
     } else if (showcase->parsed()) {
       run_showcase(showcase_precision, out);
@@ -425,7 +406,8 @@ int run_cli(int argc, const char* const* argv, std::ostream& out, std::ostream& 
     } else if (diff->parsed()) {
       return diff_command(diff_args, out);
     } else if (check->parsed()) {
-      settle_material_options(*check, check_args.contact);
+      record_given(*check, check_args.contact);
+      settle(Question::check, check_args.contact);
       return run_check(check_args, out);
     }
   } catch (const SceneError& e) { // already "file:line: message"

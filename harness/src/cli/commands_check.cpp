@@ -1,7 +1,8 @@
 // `pldamp check TRAJECTORY.csv`: one contact's time series, dumped by a code that cannot be
 // driven, measured between its samples and judged against the closed forms in Exact
 // (judge/trajectory.hpp; MATH.md §10 "Measuring a sampled trajectory").
-#include "cli/contact_args.hpp"
+#include "ask/contact.hpp"
+#include "cli/commands.hpp"
 #include "common/observables.hpp"
 #include "judge/trajectory_check.hpp"
 

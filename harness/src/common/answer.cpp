@@ -4,11 +4,14 @@ namespace pldamp::harness {
 namespace {
 
 bool is_exact_number(const Answer& value) {
-  return value.is_binary() && value.get_binary().has_subtype() &&
-         value.get_binary().subtype() == exact_number_subtype;
+  return value.is_number_float() || (value.is_binary() && value.get_binary().has_subtype() &&
+                                     value.get_binary().subtype() == exact_number_subtype);
 }
 
 std::string digits_of(const Answer& value) {
+  if (value.is_number_float()) {
+    return format_number(value.get<double>());
+  }
   const auto& bytes = value.get_binary();
   return std::string(bytes.begin(), bytes.end());
 }
@@ -42,6 +45,13 @@ void write_json(const Answer& value, std::string& out) {
 }
 
 } // namespace
+
+std::optional<std::string> exact_digits(const Answer& value) {
+  if (!is_exact_number(value)) {
+    return std::nullopt;
+  }
+  return digits_of(value);
+}
 
 std::string answer_json(const Answer& answer) {
   std::string out;

@@ -2,9 +2,11 @@
 // keys keep their order and every string is escaped by nlohmann, whose numbers are printed by
 // format_number in their own precision (36 digits for float128).
 //
-// nlohmann's numbers are doubles, so an exact number travels in the tree as a binary value of
-// subtype exact_number_subtype holding its decimal digits; answer_json prints it bare, an
-// infinity as null (JSON has none: τ when α_eff ≥ 1), and answer_text as the digits or "inf".
+// nlohmann's numbers are doubles: a double travels in the tree as one (printed by the writers
+// below in its shortest round-trip digits, format_number's, never by nlohmann's dump), a wider
+// number as a binary value of subtype exact_number_subtype holding its decimal digits.
+// answer_json prints either bare, an infinity as null (JSON has none: τ when α_eff ≥ 1), and
+// answer_text as the digits or "inf".
 #pragma once
 
 #include "common/input.hpp"
@@ -22,10 +24,26 @@ inline constexpr std::uint64_t exact_number_subtype = 0x45; // 'E'
 
 template <SupportedReal Real>
 Answer exact_number(const Real& value) {
-  const std::string digits = format_number(value); // throws InternalError for NaN
-  return Answer::binary(Answer::binary_t::container_type(digits.begin(), digits.end()),
-                        exact_number_subtype);
+  if constexpr (std::is_same_v<Real, double>) {
+    (void)format_number(value); // throws InternalError for NaN
+    return Answer(value);       // no digits held: a Python answer takes the double itself
+  } else {
+    const std::string digits = format_number(value); // throws InternalError for NaN
+    return Answer::binary(Answer::binary_t::container_type(digits.begin(), digits.end()),
+                          exact_number_subtype);
+  }
 }
+
+// An empty answer with room for a command's keys: an answer grows to 30 or so, and each growth
+// moved every key and value (a tenth of `observables`' C++ time).
+inline Answer answer_object() {
+  Answer answer = Answer::object();
+  answer.get_ref<Answer::object_t&>().reserve(40);
+  return answer;
+}
+
+// The digits of an exact number ("0.5", "inf"), a double's included; none for any other value.
+std::optional<std::string> exact_digits(const Answer& value);
 
 // Sets answer[key] to the value, if there is one.
 template <SupportedReal Real>

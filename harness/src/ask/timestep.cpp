@@ -1,8 +1,8 @@
 // `pldamp timestep`: its flags read into a contact and a question (a DEM code's α from its
 // convention, a duration the search can reach), answered by judge/timestep_advice.hpp, and the
 // answer written (text or JSON), with the closed forms beside it.
-#include "cli/contact_args.hpp"
-#include "cli/materials.hpp"
+#include "ask/contact.hpp"
+#include "ask/materials.hpp"
 #include "common/observables.hpp"
 #include "common/parallel.hpp"
 #include "judge/timestep_advice.hpp"
@@ -46,7 +46,7 @@ std::vector<std::string> observable_keys(const std::string& list) {
 
 } // namespace
 
-void run_timestep(const TimestepArgs& args, std::ostream& out) {
+Answer timestep_answer(const TimestepArgs& args) {
   const solvers::SolverInfo* scheme = solvers::find_solver(args.scheme);
   if (scheme == nullptr || !scheme->fixed_step) {
     throw InputError(
@@ -65,7 +65,7 @@ void run_timestep(const TimestepArgs& args, std::ostream& out) {
   q.tolerance = tolerance;
   q.observables = observable_keys(args.observables);
   q.tau_as = name_of(tau_as_names, parse_tau_as(args.tau_as));
-  Answer o;
+  Answer o = answer_object();
   if (args.contact.code) {
     // A DEM code's convention (calibrate --code): the α its formula sets for the target e, whose
     // contact the code then really integrates; a capped code's contact ends where F = 0.
@@ -217,7 +217,7 @@ void run_timestep(const TimestepArgs& args, std::ostream& out) {
   if (!note.empty()) {
     o["note"] = note;
   }
-  emit(o, args.contact.json, out);
+  return with_units(o);
 }
 
 } // namespace pldamp::harness

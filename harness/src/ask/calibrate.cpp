@@ -1,5 +1,7 @@
-#include "cli/contact_args.hpp"
-#include "common/observables.hpp"
+// `pldamp calibrate`: the seed's α for a target e (MATH.md §2), what a DEM code's convention sets
+// and really gives (MATH.md §5), and the α of LAMMPS's velocity-dependent models at a speed, with
+// the e(v0) curve from the reference solve (MATH.md §12.4).
+#include "ask/contact.hpp"
 #include "truth/plan.hpp"
 #include "truth/reference_solve.hpp"
 
@@ -10,7 +12,6 @@
 #include <algorithm>
 #include <cmath>
 #include <map>
-#include <sstream>
 #include <string_view>
 #include <vector>
 
@@ -20,7 +21,7 @@ namespace {
 
 // `calibrate --code`: what a DEM code sets for the target e, what it really gives, and what to
 // enter instead (MATH.md §5).
-void calibrate_for_code(const ContactArgs& args, std::ostream& out) {
+Answer calibrate_for_code(const ContactArgs& args) {
   const analytic::Convention* convention = analytic::find_convention(*args.code);
   if (convention == nullptr) {
     throw InputError("unknown --code, expected " + calibrate_code_names() + " (got " + *args.code +
@@ -32,6 +33,7 @@ void calibrate_for_code(const ContactArgs& args, std::ostream& out) {
                      " the force: --limit-damping is a LAMMPS and LIGGGHTS option (got " +
                      "--limit-damping)");
   }
+  Answer answer;
   with_precision(args.precision, [&]<SupportedReal Real>() {
     const Real p = parse_real<Real>("--p", args.p);
     const Real target = parse_real<Real>("--e", *args.e);
@@ -41,7 +43,7 @@ void calibrate_for_code(const ContactArgs& args, std::ostream& out) {
     require_finite_alpha_set(*convention, alpha, *args.e);
     const std::optional<Real> enter =
         analytic::e_to_enter(*convention, p, target, args.limit_damping);
-    Answer o;
+    Answer o = answer_object();
     o["precision"] = precision_name<Real>();
     o["code"] = convention->name;
     o["end"] = cut ? "force" : "overlap";
@@ -58,8 +60,9 @@ void calibrate_for_code(const ContactArgs& args, std::ostream& out) {
           analytic::e_given(p, analytic::alpha_set(*convention, p, Real(1) / 1000000), cut));
     }
     o["source"] = convention->source;
-    emit(o, args.json, out);
+    answer = std::move(o);
   });
+  return answer;
 }
 
 // The velocity-dependent models of LAMMPS (MATH.md §12.4): a dashpot δ^β δ' with β ≠ (p−1)/2,
@@ -111,8 +114,7 @@ namespace {
 
 // `calibrate --code` for a velocity-dependent model: the α (and the code's entry) that gives e at
 // the speed --v0, and the e the same α gives at other speeds (the reference solve, float128).
-void calibrate_velocity_dependent(const ContactArgs& args, const VelocityDependentCode& code,
-                                  std::ostream& out) {
+Answer calibrate_velocity_dependent(const ContactArgs& args, const VelocityDependentCode& code) {
   if (args.precision != "double") {
     throw InputError("a velocity-dependent --code is calibrated on the float128 reference and "
                      "answers in double (got --precision " +
@@ -180,7 +182,7 @@ void calibrate_velocity_dependent(const ContactArgs& args, const VelocityDepende
   const Exact alpha = alpha_of(p, code.beta, *group, overlap_scale(v0));
   const double entry = static_cast<double>(alpha * sqrt(Exact(k) / Exact(m)) /
                                            (code.divided_by_radius ? sqrt(Exact(reff)) : Exact(1)));
-  Answer o;
+  Answer o = answer_object();
   o["code"] = code.name;
   o["end"] = end == solvers::End::force ? "force" : "overlap";
   o["p"] = exact_number(p);
@@ -258,105 +260,18 @@ void calibrate_velocity_dependent(const ContactArgs& args, const VelocityDepende
   }
   o["e_of_v0"] = curve;
   o["source"] = code.source;
-  if (hertz) {
-    add_units(o);
-  }
-  emit(o, args.json, out);
-}
-
-// `observables --damping-exponent B` with B ≠ the seed's: no closed form exists (MATH.md §12), so
-// the truth is the float128 reference solve (reference_solve.hpp), scaled to the contact
-// (MATH.md §7, §12.1) and rounded to Real, with its own error estimate against 50 digits. The
-// undamped τ0 and the critical steps do not depend on the damping: closed forms. In 50 digits
-// there is no wider solve to estimate a 50-digit truth's error against: refused.
-template <SupportedReal Real>
-void observables_by_reference_solve(const ContactArgs& args, std::ostream& out) {
-  if constexpr (!std::is_same_v<TruthFor<Real>, Exact>) {
-    throw InputError("observables with --damping-exponent answers from the float128 reference "
-                     "solve, checked against 50 digits; a 50-digit answer would have no wider "
-                     "solve to check it (use --precision quad, or solve --solver taylor "
-                     "--precision 50, about a second) (got --precision " +
-                     args.precision + ")");
-  } else {
-    Answer o;
-    const Real beta = parse_real<Real>("--damping-exponent", *args.damping_exponent);
-    const ExponentContact<Real> contact = contact_with_exponent<Real>(args, beta, o);
-    const solvers::Problem<Real>& problem = contact.problem;
-    o["damping_exponent"] = exact_number(beta);
-    o["method"] = "reference solve";
-    const Exact p(problem.p), b(beta);
-    const std::array<Exact, 5> scales =
-        cell_scales(p, Exact(problem.v0), Exact(problem.m), Exact(problem.k));
-    const bool capped = parse_end(args.end) == ContactEnd::force;
-    std::vector<solvers::End> ends{solvers::End::overlap};
-    if (capped) {
-      ends.push_back(solvers::End::force);
-    }
-    // The truth's values at the contact's scales, by key, and their error estimates.
-    std::map<std::string, Exact> values;
-    Answer estimates = Answer::object();
-    for (const solvers::End end : ends) {
-      const solvers::Result<Exact>& truth = reference_solve(p, b, contact.group, end);
-      if (solvers::failing(truth.outcome)) {
-        throw InputError(fmt::format("the reference solve ended {}: {} (got --alpha-eff {})",
-                                     solvers::outcome_name(truth.outcome), truth.invariant,
-                                     to_string_full(contact.group)));
-      }
-      const std::vector<const Observable*> observables = observables_of(solvers::want_all);
-      const std::vector<std::optional<double>> errors =
-          truth_error_estimate(observables, p, b, contact.group, end);
-      for (std::size_t i = 0; i < observables.size(); ++i) {
-        const Observable& observable = *observables[i];
-        if (end == solvers::End::force && observable.key_at(end) == observable.key) {
-          continue; // the force end adds e_cap and t_cut; the rest keep the overlap end's meaning
-        }
-        const std::string key(observable.key_at(end));
-        if (const std::optional<Exact> value = observable.measured(truth)) {
-          values[key] = *value * scales[std::size_t(observable.dimension)];
-        }
-        if (errors[i]) {
-          estimates[key] = exact_number(*errors[i]);
-        }
-      }
-    }
-    if (values.contains("e") && values["e"] > 0) {
-      values["log_e"] = log(values["e"]);
-    }
-    const auto undamped = analytic::observables(
-        analytic::Contact<Exact>::from_alpha(p, Exact(0), Exact(problem.v0), Exact(problem.m),
-                                             Exact(problem.k)),
-        analytic::want_tau | analytic::want_dt_crit);
-    values["tau0"] = *undamped.tau0;
-    values["dt_crit"] = *undamped.dt_crit;
-    values["dt_tangent"] = *undamped.dt_tangent;
-    if (values.contains("tau")) {
-      values["log_tau"] = log(values["tau"]);
-      values["tau_ratio"] = values["tau"] / values["tau0"];
-    }
-    for (const char* key :
-         {"e", "log_e", "delta_max", "t_peak", "tau", "log_tau", "tau0", "tau_ratio", "energy_load",
-          "energy_unload", "dt_crit", "dt_tangent", "e_cap", "t_cut"}) {
-      if (const auto found = values.find(key); found != values.end()) {
-        o[key] = exact_number(static_cast<Real>(found->second));
-      }
-    }
-    // What each value's truth may err by: the float128 solve against the same solve in 50 digits
-    // (relative; absolute where the value is 0), before the rounding to the precision asked.
-    o["error_estimate"] = estimates;
-    emit(o, args.json, out);
-  }
+  return with_units(o);
 }
 
 } // namespace
 
-void run_calibrate(const ContactArgs& args, std::ostream& out) {
+Answer calibrate_answer(const ContactArgs& args) {
   if (!args.e) {
     throw InputError("calibrate needs --e (got nothing)");
   }
   if (args.code) {
     if (const VelocityDependentCode* code = find_velocity_dependent(*args.code)) {
-      calibrate_velocity_dependent(args, *code, out);
-      return;
+      return calibrate_velocity_dependent(args, *code);
     }
   }
   if (!args.speed_options_given.empty()) {
@@ -368,16 +283,15 @@ void run_calibrate(const ContactArgs& args, std::ostream& out) {
                      given + ")");
   }
   if (args.code) {
-
-    calibrate_for_code(args, out);
-    return;
+    return calibrate_for_code(args);
   }
   if (args.limit_damping) {
     throw InputError("--limit-damping goes with --code (got --limit-damping alone)");
   }
+  Answer answer;
   with_precision(args.precision, [&]<SupportedReal Real>() {
     const analytic::Contact<Real> c = make_contact<Real>(args);
-    Answer o;
+    Answer o = answer_object();
     o["precision"] = precision_name<Real>();
     o["end"] = args.end;
     o["p"] = exact_number(c.p());
@@ -396,80 +310,9 @@ void run_calibrate(const ContactArgs& args, std::ostream& out) {
     } else {
       o["e_cap"] = exact_number(analytic::capped_restitution(c.damping()));
     }
-    emit(o, args.json, out);
+    answer = std::move(o);
   });
-}
-
-void run_observables(const ContactArgs& args, std::ostream& out) {
-  with_precision(args.precision, [&]<SupportedReal Real>() {
-    // A stated β other than the seed's has no closed form; the seed's own has.
-    std::optional<Real> beta;
-    if (args.damping_exponent) {
-      beta = parse_real<Real>("--damping-exponent", *args.damping_exponent);
-      if (*beta != (parse_real<Real>("--p", args.p) - 1) / 2) {
-        observables_by_reference_solve<Real>(args, out);
-        return;
-      }
-    }
-    const analytic::Contact<Real> c = make_contact<Real>(args);
-    const bool capped = parse_end(args.end) == ContactEnd::force;
-    const auto x = analytic::observables(c, analytic::want_all &
-                                                ~(capped ? 0u : unsigned(analytic::want_capped)));
-    Answer o = describe(c, args);
-    put_number(o, "damping_exponent", beta);
-    o["method"] = "closed forms";
-    const std::pair<const char*, const std::optional<Real>&> fields[] = {
-        {"e", x.e},
-        {"log_e", x.log_e},
-        {"delta_max", x.delta_max},
-        {"spring_force_max", x.spring_force_max},
-        {"normal_force_max", x.normal_force_max},
-        {"t_normal_force_max", x.t_normal_force_max},
-        {"t_peak", x.t_peak},
-        {"tau", x.tau},
-        {"log_tau", x.log_tau},
-        {"tau0", x.tau0},
-        {"tau_ratio", x.tau_ratio},
-        {"energy_load", x.energy_load},
-        {"energy_unload", x.energy_unload},
-        {"dt_crit", x.dt_crit},
-        {"dt_tangent", x.dt_tangent},
-        {"e_cap", x.e_cap},
-        {"t_cut", x.t_cut}};
-    for (const auto& [key, value] : fields) {
-      put_number(o, key, value);
-    }
-    emit(o, args.json, out);
-  });
-}
-
-void run_showcase(const std::string& precision, std::ostream& out) {
-  with_precision(precision, [&]<SupportedReal Real>() {
-    auto shown = [](const Real& value) {
-      std::ostringstream s;
-      s.precision(10);
-      s << value;
-      return s.str();
-    };
-    out << fmt::format("pldamp showcase: closed forms of MATH.md at v0 = m = k = 1, precision {}\n",
-                       precision_name<Real>());
-    out << fmt::format("{:>4} {:>12} {:>12} {:>12} {:>12} {:>12} {:>12} {:>12} {:>12} {:>12}\n",
-                       "p", "alpha_eff", "e", "e_cap", "delta_max", "t_peak", "tau", "tau/tau0",
-                       "E_load/KE0", "E_unload/KE0");
-    auto row = [&](const analytic::Contact<Real>& c) {
-      const auto x = analytic::observables(c);
-      out << fmt::format("{:>4} {:>12} {:>12} {:>12} {:>12} {:>12} {:>12} {:>12} {:>12} {:>12}\n",
-                         shown(c.p()), shown(c.alpha_eff()), shown(*x.e), shown(*x.e_cap),
-                         shown(*x.delta_max), shown(*x.t_peak), shown(*x.tau), shown(*x.tau_ratio),
-                         shown(Real(*x.energy_load / c.ke0())),
-                         shown(Real(*x.energy_unload / c.ke0())));
-    };
-    for (const char* p : {"1", "1.5", "2", "2.5", "3"}) {
-      row(analytic::Contact<Real>::from_e(parse_real<Real>("p", p), Real(1) / 2, Real(1)));
-    }
-    row(analytic::Contact<Real>::from_alpha_eff(Real(3) / 2, Real(3) / 2, Real(1)));
-    out << "(alpha_eff >= 1 is overdamped: no return in finite time, e = 0, tau = inf)\n";
-  });
+  return with_units(answer);
 }
 
 } // namespace pldamp::harness

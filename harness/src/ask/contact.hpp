@@ -3,8 +3,8 @@
 // the harness, so that solvers/ never sees a closed form).
 #pragma once
 
-#include "cli/commands.hpp"
-#include "cli/materials.hpp"
+#include "ask/ask.hpp"
+#include "ask/materials.hpp"
 #include "common/answer.hpp"
 #include "truth/plan.hpp"
 #include "truth/reference_solve.hpp"
@@ -50,18 +50,19 @@ analytic::Contact<Real> make_contact(const ContactArgs& a) {
                                                  v0, m, k);
 }
 
-// A contact from materials (it has E_eff) is answered with the units of its numbers.
-inline void emit(Answer answer, bool json, std::ostream& out) {
+// An answer as a front end gets it: with the units of its numbers for a contact from materials
+// (one that has E_eff).
+inline Answer with_units(Answer answer) {
   if (answer.contains("E_eff")) {
     add_units(answer);
   }
-  out << (json ? answer_json(answer) + "\n" : answer_text(answer));
+  return answer;
 }
 
 // The physical parameters and damping of a contact, the head of every analytic answer.
 template <SupportedReal Real>
 Answer describe(const analytic::Contact<Real>& c, const ContactArgs& a) {
-  Answer o;
+  Answer o = answer_object();
   o["precision"] = precision_name<Real>();
   o["end"] = a.end;
   o["p"] = exact_number(c.p());

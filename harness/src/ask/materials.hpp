@@ -5,7 +5,7 @@
 // derived by analytic/hertz.hpp; every command that takes a contact uses this.
 #pragma once
 
-#include "cli/commands.hpp"
+#include "ask/ask.hpp"
 #include "common/answer.hpp"
 #include "common/materials.hpp"
 

@@ -2,7 +2,7 @@
 // --e / --alpha-eff with the analytic layer (in the precision asked for) or, with a
 // --damping-exponent, from the group of MATH.md §12.1 and the float128 reference solve; then hands
 // solvers/ only the physical parameters (p, m, k, v0, α, β).
-#include "cli/contact_args.hpp"
+#include "ask/contact.hpp"
 #include "common/observables.hpp"
 
 #include "pldamp/solvers/registry.hpp"
@@ -38,8 +38,8 @@ Answer samples_of(const std::vector<solvers::Sample<Real>>& samples) {
 
 // One collision in precision Real: α calibrated in Real, the solver run in Real.
 template <SupportedReal Real>
-void solve_in(const SolveArgs& args, const solvers::SolverInfo* solver, std::ostream& out) {
-  Answer o;
+Answer solve_in(const SolveArgs& args, const solvers::SolverInfo* solver) {
+  Answer o = answer_object();
   solvers::Problem<Real> problem{Real(0), Real(0), Real(0), Real(0), Real(0)};
   if (args.contact.damping_exponent) {
     const Real beta = parse_real<Real>("--damping-exponent", *args.contact.damping_exponent);
@@ -162,7 +162,7 @@ void solve_in(const SolveArgs& args, const solvers::SolverInfo* solver, std::ost
   if (!options.sample_times.empty()) {
     o["samples"] = samples_of(r.samples);
   }
-  emit(o, args.contact.json, out);
+  return with_units(o);
 }
 
 } // namespace
@@ -175,7 +175,7 @@ TauAs parse_tau_as(const std::string& word) {
   return *as;
 }
 
-void run_solve(const SolveArgs& args, std::ostream& out) {
+Answer solve_answer(const SolveArgs& args) {
   // An unknown name is reported by solvers::solve, after the contact's own checks.
   const solvers::SolverInfo* solver = solvers::find_solver(args.solver);
   if (solver != nullptr && !solver->runs_in(args.contact.precision) &&
@@ -205,8 +205,10 @@ void run_solve(const SolveArgs& args, std::ostream& out) {
     throw InputError("give --dt or --steps-per-contact, not both (got --steps-per-contact " +
                      *args.steps_per_contact + ")");
   }
+  Answer answer;
   with_precision(args.contact.precision,
-                 [&]<SupportedReal Real>() { solve_in<Real>(args, solver, out); });
+                 [&]<SupportedReal Real>() { answer = solve_in<Real>(args, solver); });
+  return answer;
 }
 
 } // namespace pldamp::harness
