@@ -1,8 +1,13 @@
 // _pldamp, the compiled half of the Python module `pldamp` (docs/python.md; python/pldamp holds the
-// other half). Two doors in: the command line itself, run in-process (every function of the
-// module but the vectorised ones goes through it, so its answers, precisions and refusals are the
-// command line's, word for word), and the closed forms in double over numpy arrays, evaluated
-// element by element in C++ with the GIL released.
+// other half), a front end beside the command line (docs/design.md §2). Three doors in: the
+// questions about one contact (ask/ask.hpp: calibrate, observables, solve, timestep), asked as
+// the command line asks them, by the options' names, and answered in Python objects straight
+// from the answer tree (its answers, precisions and refusals are the command line's, word for
+// word, without its text); the command line itself, run in-process (run, merge, diff, check);
+// and the closed forms in double over numpy arrays, evaluated element by element in C++ with the
+// GIL released.
+#include "questions.hpp"
+
 #include "pldamp/analytic.hpp"
 #include "pldamp/harness/cli.hpp"
 
@@ -10,6 +15,8 @@
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
 
+#include <array>
+#include <charconv>
 #include <cmath>
 #include <cstddef>
 #include <limits>
@@ -279,6 +286,9 @@ PYBIND11_MODULE(_pldamp, m) {
   m.doc() = "pldamp's compiled half: the command line in-process, and the closed forms over "
             "arrays (use the package `pldamp`)";
   m.def("cli", &cli, py::arg("args"), py::arg("progress") = false);
+  m.def("ask", &pldamp::python::ask, py::arg("question"), py::arg("options"), py::arg("exact"));
+  m.def("ask_many", &pldamp::python::ask_many, py::arg("question"), py::arg("fixed"),
+        py::arg("varying"), py::arg("exact"), py::arg("jobs"));
   m.def("observables_double", &observables_double, py::arg("p"), py::arg("damping_kind"),
         py::arg("damping"), py::arg("v0"), py::arg("m"), py::arg("k"), py::arg("end"),
         py::arg("want"));

@@ -16,13 +16,14 @@ cd "$(dirname "$0")/.."
 # report.html in a browser: chromium and libpng for them only; the fuzzing step needs Clang and
 # its libFuzzer (clang, libclang-rt-14-dev); the external-solver tests run the adapters (Python)
 # against the real LAMMPS, LIGGGHTS and YADE (python3, lammps, liggghts, yade). The Python module
-# (python/) is built with the rest: python3-dev, python3-numpy, pybind11-dev; its tests use pytest.
+# (python/) is built with the rest: python3-dev, python3-numpy, pybind11-dev; its tests use pytest,
+# and pandas for Report.dataframe() (optional for users: the tests check it where users meet it).
 # Open MPI (libopenmpi-dev, openmpi-bin): `mpirun -n N pldamp run` (docs/cluster.md).
 packages=(cmake make g++ ccache libboost-dev libsundials-dev libcli11-dev libfmt-dev nlohmann-json3-dev
   libsimdjson-dev libgtest-dev libbenchmark-dev libtomlplusplus-dev gnuplot-nox clang-format python3-dev python3-numpy pybind11-dev
   libopenmpi-dev openmpi-bin)
 test_packages=(chromium libpng-dev clang libclang-rt-14-dev python3 python3-pytest python3-matplotlib
-  python3-venv python3-setuptools python3-wheel lammps liggghts yade)
+  python3-pandas python3-venv python3-setuptools python3-wheel lammps liggghts yade)
 
 install_missing() { # install_missing PACKAGE...
   local missing=() p

@@ -6,12 +6,14 @@ the normal contact of discrete-element (DEM) simulations, in closed form and int
 
 Every function mirrors a command of the `pldamp` command line (docs/cli.md) and
 takes its flags as keyword arguments, named as the flags with `_` for `-`: ``alpha_eff=0.2`` is
-``--alpha-eff 0.2``. It runs that command in-process and returns its JSON answer as a dict, so its
-values, its precisions and its refusals are the command line's, word for word:
+``--alpha-eff 0.2``. calibrate, observables, solve and timestep ask the library the command asks,
+in-process and without its text; check and run run the command itself. Either way the answer is
+the command's JSON answer, as a dict whose keys are also attributes (pldamp.Answer), and its
+values, precisions and refusals are the command line's, word for word:
 
     >>> import pldamp
-    >>> pldamp.observables(p=1.5, e=0.5, v0=1.0)["delta_max"]
-    0.8478...
+    >>> pldamp.observables(p=1.5, e=0.5, v0=1.0).delta_max
+    0.8609907729949561
 
 Numbers go in as the command line reads them: a float by its shortest round-trip digits (the very
 double), an int, a str or a decimal.Decimal as written (``e="0.3"`` is 0.3 in the precision asked,
@@ -50,8 +52,13 @@ except ImportError as missing:  # a Python other than the one the module was bui
     ) from missing
 
 from . import _pldamp
+from ._answers import (Answer, Calibration, Observables, Solution, TimestepAdvice,
+                       TrajectoryCheck)
+from ._report import Report
 
-__all__ = ["calibrate", "observables", "solve", "timestep", "trajectory", "check", "run", "cli"]
+__all__ = ["calibrate", "observables", "solve", "timestep", "trajectory", "check", "run", "cli",
+           "Answer", "Calibration", "Observables", "Solution", "TimestepAdvice",
+           "TrajectoryCheck", "Report"]
 
 # The observables a vectorised `observables` computes by default, in this order.
 ARRAY_OBSERVABLES = ("e", "delta_max", "t_peak", "tau", "tau0", "energy_load", "energy_unload",
@@ -73,6 +80,8 @@ def _no_nul(name: str, text: str) -> str:
 
 def _text(name: str, value: Any) -> str:
     """A value as the command line reads it."""
+    if type(value) is float:  # the common case first: a call's cost is a few µs in all
+        return repr(value)
     if isinstance(value, bool):
         raise TypeError("%s takes a number or text, not a bool" % name)
     if isinstance(value, (float, np.floating)):
@@ -96,12 +105,14 @@ _MEANT = {"mass": "m", "stiffness": "k", "velocity": "v0", "speed": "v0", "resti
 _KEYWORDS: dict = {}
 
 
-def _keywords(command: str) -> list:
-    """The keywords `command` takes: its --help's options, as Python spells them."""
+def _keywords(command: str) -> dict:
+    """The keywords `command` takes, as Python spells them, each with its flag: its --help's
+    options, read once."""
     if command not in _KEYWORDS:
         _, out, _ = _pldamp.cli([command, "--help"])
         names = re.findall(r"^\s+(?:-\w,)?--([a-z0-9-]+)", out, flags=re.MULTILINE)
-        _KEYWORDS[command] = [n.replace("-", "_") for n in names if n not in ("help", "json")]
+        _KEYWORDS[command] = {n.replace("-", "_"): "--" + n for n in names
+                              if n not in ("help", "json")}
     return _KEYWORDS[command]
 
 
@@ -114,7 +125,7 @@ def _refuse_unknown(command: str, name: str) -> None:
     meant = [_MEANT[word] for word in difflib.get_close_matches(name, list(_MEANT), n=1,
                                                                 cutoff=0.75)]
     near = [word for word in meant if word in known] or \
-        difflib.get_close_matches(name, known, n=1, cutoff=0.5)
+        difflib.get_close_matches(name, list(known), n=1, cutoff=0.5)
     raise TypeError("%s() got an unexpected keyword argument %r%s" % (
         command, name, "; did you mean %r?" % near[0] if near else
         " (it takes %s)" % ", ".join(known)))
@@ -171,7 +182,74 @@ def _call(command: str, positional: Iterable[str] = (), **options) -> dict:
     return _parse(out, options.get("precision"))
 
 
-def calibrate(p: Any = None, e: Any = None, **options) -> dict:
+# What is taken element-wise, as cells.
+_ARRAYS = (np.ndarray, list, tuple)
+
+# The options a question takes as arrays of cells (a list for one of these is cells, as numpy
+# broadcasts them; materials' lists stay one value per body).
+_CELL_OPTIONS = {
+    "calibrate": ("p", "e"),
+    "solve": ("p", "e", "alpha", "alpha_eff", "v0", "m", "k", "rtol", "atol", "dt",
+              "steps_per_contact", "onset_phase"),
+    "timestep": ("p", "e", "alpha", "alpha_eff", "v0", "m", "k", "tolerance"),
+}
+
+
+def _ask(kind: type, command: str, jobs: Optional[int] = None, **options) -> Answer:
+    """`pldamp COMMAND --json` asked of the library directly (ask/ask.hpp): the options by their
+    flags, the answer as the command's JSON reads in Python (precision other than double: every
+    float a decimal.Decimal). An array for an option of _CELL_OPTIONS asks at every cell."""
+    exact = options.get("precision") not in (None, "double")
+    cells = [name for name in _CELL_OPTIONS.get(command, ())
+             if isinstance(options.get(name), _ARRAYS)]
+    if cells:
+        return _ask_cells(kind, command, cells, jobs, exact, options)
+    if jobs is not None:
+        raise ValueError("jobs goes with arrays of cells (got jobs=%r)" % (jobs,))
+    return kind(_pldamp.ask(command, _typed(command, options), exact))
+
+
+def _ask_cells(kind: type, command: str, cells: list, jobs: Optional[int], exact: bool,
+               options: dict) -> Answer:
+    """The question at every cell of the arrays (broadcast as numpy does), on the library's
+    threads with the GIL released: each cell's answer is the scalar call's, and each key an array
+    of the cells' shape (a text every cell shares: one str)."""
+    if jobs is not None and (isinstance(jobs, bool) or not isinstance(jobs, numbers.Integral) or
+                             jobs < 1):
+        raise ValueError("jobs is a count of threads >= 1 (got %r)" % (jobs,))
+    arrays = np.broadcast_arrays(*[_numbers(name, options[name]) for name in cells])
+    shape = arrays[0].shape
+    known = _keywords(command)
+    varying = [(known[name], np.ascontiguousarray(array, dtype=np.float64).ravel())
+               for name, array in zip(cells, arrays)]
+    fixed = _typed(command, {name: value for name, value in options.items()
+                             if name not in cells})
+    answer = _pldamp.ask_many(command, fixed, varying, exact, 0 if jobs is None else int(jobs))
+    return kind((key, value.reshape(shape) if isinstance(value, np.ndarray) else value)
+                for key, value in answer.items())
+
+
+def _typed(command: str, options: dict) -> list:
+    """The options as (flag, text) pairs; an unknown keyword refused by name."""
+    known = _keywords(command)
+    typed = []
+    for name, value in options.items():
+        flag = known.get(name)
+        if flag is None:
+            _refuse_unknown(command, name)
+        if value is None:
+            continue
+        if name in SWITCHES:
+            if not isinstance(value, bool):
+                raise TypeError("%s is a switch: True or False (got %r)" % (name, value))
+            if value:
+                typed.append((flag, ""))
+        else:
+            typed.append((flag, _text(name, value)))
+    return typed
+
+
+def calibrate(p: Any = None, e: Any = None, **options) -> Calibration:
     """α for a target restitution e, as `pldamp calibrate`.
 
     calibrate(p=1.5, e=0.5) gives α and α_eff at the overlap end; end="force" for a code that
@@ -179,18 +257,18 @@ def calibrate(p: Any = None, e: Any = None, **options) -> dict:
     code sets and really gives; a velocity-dependent code takes v0, m, k, speeds, reff or a
     contact from materials (geometry, radius, young, poisson, density). precision="quad" answers
     in decimal.Decimal.
+
+    With an array for p or e (broadcast as numpy does), every cell is calibrated as the scalar
+    call calibrates it, on `jobs` threads (default: every core), and each number of the answer is
+    an array of the cells' shape.
     """
-    return _call("calibrate", p=p, e=e, **options)
-
-
-def _is_array(value: Any) -> bool:
-    return isinstance(value, (np.ndarray, list, tuple)) and not isinstance(value, str)
+    return _ask(Calibration, "calibrate", p=p, e=e, **options)
 
 
 def observables(p: Any = None, e: Any = None, alpha: Any = None, alpha_eff: Any = None,
                 v0: Any = None, m: Any = None, k: Any = None, end: Optional[str] = None,
                 precision: Optional[str] = None, want: Optional[Iterable[str]] = None,
-                **options) -> dict:
+                **options) -> Observables:
     """Every closed-form observable of a contact, as `pldamp observables`.
 
     Give p, one of e, alpha and alpha_eff, and v0 (m and k default to 1), or a contact from
@@ -204,15 +282,17 @@ def observables(p: Any = None, e: Any = None, alpha: Any = None, alpha_eff: Any 
     ARRAY_OBSERVABLES; inf for τ of a contact that never returns, NaN where an observable does
     not exist).
     """
-    scalars = dict(p=p, e=e, alpha=alpha, alpha_eff=alpha_eff, v0=v0, m=m, k=k)
-    wanted = _wanted(want)
-    if any(_is_array(value) for value in scalars.values()):
-        return _observables_arrays(scalars, end or "overlap", precision, wanted, options)
-    answer = _call("observables", p=p, e=e, alpha=alpha, alpha_eff=alpha_eff, v0=v0, m=m, k=k,
-                   end=end, precision=precision, **options)
-    if want is not None:
-        answer = {key: value for key, value in answer.items()
-                  if key in wanted or key not in ARRAY_OBSERVABLES}
+    for value in (p, e, alpha, alpha_eff, v0, m, k):
+        if isinstance(value, _ARRAYS):
+            scalars = dict(p=p, e=e, alpha=alpha, alpha_eff=alpha_eff, v0=v0, m=m, k=k)
+            return _observables_arrays(scalars, end or "overlap", precision, _wanted(want),
+                                       options)
+    wanted = _wanted(want) if want is not None else None
+    answer = _ask(Observables, "observables", p=p, e=e, alpha=alpha, alpha_eff=alpha_eff, v0=v0,
+                  m=m, k=k, end=end, precision=precision, **options)
+    if wanted is not None:
+        answer = Observables((key, value) for key, value in answer.items()
+                             if key in wanted or key not in ARRAY_OBSERVABLES)
     return answer
 
 
@@ -271,7 +351,7 @@ def _scalar(name: str, value: Any) -> float:
 
 
 def _observables_arrays(scalars: dict, end: str, precision: Optional[str],
-                        want: list, options: dict) -> dict:
+                        want: list, options: dict) -> Observables:
     if precision not in (None, "double"):
         raise ValueError("observables over arrays runs in double; call it per element for "
                          "precision %s (got precision %s)" % (precision, precision))
@@ -294,25 +374,35 @@ def _observables_arrays(scalars: dict, end: str, precision: Optional[str],
     flat = [np.ascontiguousarray(a).ravel() for a in arrays]
     result = _pldamp.observables_double(flat[0], kind, flat[1], flat[2], flat[3], flat[4], end,
                                         want)
-    return {key: value.reshape(shape) for key, value in result.items()}
+    return Observables((key, value.reshape(shape)) for key, value in result.items())
 
 
-def solve(solver: str, **options) -> dict:
+def solve(solver: str, **options) -> Solution:
     """Integrate one collision with a registered solver, as `pldamp solve`.
 
     solve("cvode-bdf", p=1.5, e=0.5, v0=1.0, rtol=1e-10) returns the outcome, the measured e,
     delta_max, t_peak, tau, energies and peak force, steps, rhs_evals and wall_seconds; every flag
     of `pldamp solve --help` is a keyword (dt, steps_per_contact, onset_phase, sample_times, ...).
+
+    With arrays for any of p, e, alpha, alpha_eff, v0, m, k, rtol, atol, dt, steps_per_contact and
+    onset_phase (broadcast as numpy does), every cell is solved as the scalar call solves it, on
+    `jobs` threads (default: every core) with the GIL released, and each number of the answer is
+    an array of the cells' shape (inf where the scalar answer has None, JSON's null: τ of a contact
+    that did not end; NaN where a cell has no such key); the outcome is one str when every cell
+    shares it, else an array of them.
     """
-    return _call("solve", solver=solver, **options)
+    return _ask(Solution, "solve", solver=solver, **options)
 
 
-def timestep(scheme: str, **options) -> dict:
+def timestep(scheme: str, **options) -> TimestepAdvice:
     """The largest Δt keeping e, δ_max and τ within a tolerance at every onset phase, as
     `pldamp timestep` (scheme "dem-verlet", ...; tolerance=0.01; tau_as="first-step-out",
     "steps-in-contact" or "crossing": τ as the user's code counts it; materials add the step as a
-    fraction of the Hertz and Rayleigh times)."""
-    return _call("timestep", scheme=scheme, **options)
+    fraction of the Hertz and Rayleigh times).
+
+    With arrays for any of p, e, alpha, alpha_eff, v0, m, k and tolerance, one table in one call:
+    every cell answered as the scalar call answers it, on `jobs` threads, each number an array."""
+    return _ask(TimestepAdvice, "timestep", scheme=scheme, **options)
 
 
 def trajectory(t: Any, p: Any = None, e: Any = None, alpha: Any = None, alpha_eff: Any = None,
@@ -343,7 +433,7 @@ def trajectory(t: Any, p: Any = None, e: Any = None, alpha: Any = None, alpha_ef
     return delta.reshape(times.shape), v.reshape(times.shape)
 
 
-def check(t: Any, delta: Any, v: Any = None, F: Any = None, **options) -> dict:
+def check(t: Any, delta: Any, v: Any = None, F: Any = None, **options) -> TrajectoryCheck:
     """A code's dumped trajectory against the closed forms, as `pldamp check`: t and delta (and v,
     F when the code dumps them) as arrays, the contact as keywords (p, e|alpha|alpha_eff, v0, m,
     k, or materials; end, tolerance). Returns the command's answer: each observable's value,
@@ -364,7 +454,7 @@ def check(t: Any, delta: Any, v: Any = None, F: Any = None, **options) -> dict:
         np.savetxt(path, data, delimiter=",", header=",".join(columns), comments="",
                    fmt="%.17g")
         try:
-            return _call("check", [path], **options)
+            return TrajectoryCheck(_call("check", [path], **options))
         except ValueError as error:
             # "FILE:LINE: what" names the scratch file: say the index in the arrays instead.
             # The scratch file's name means nothing to the caller: its line 1 is the header,
@@ -379,8 +469,10 @@ def check(t: Any, delta: Any, v: Any = None, F: Any = None, **options) -> dict:
 
 
 def run(scene: str, out: Optional[str] = None, strict: bool = False, progress: bool = False,
-        **options) -> dict:
-    """Run a scene, as `pldamp run SCENE`, and return its report.json as a dict.
+        **options) -> Report:
+    """Run a scene, as `pldamp run SCENE`, and return its report.json as a dict (a Report: its
+    records as a table by report.table(), a numpy structured array, or report.dataframe(), a
+    pandas DataFrame).
 
     out: the folder for the report files (report.json, .csv, .md, .html); a temporary one that is
     removed when None. strict=True raises RuntimeError when a claim's verdict is not the one
@@ -396,7 +488,7 @@ def run(scene: str, out: Optional[str] = None, strict: bool = False, progress: b
                          "folders with cli('merge', DIR_1, ..., '--out', OUT) (got shard=%r)"
                          % (options["shard"],))
 
-    def run_into(folder: str) -> dict:
+    def run_into(folder: str) -> Report:
         code, _, err = _answer("run", [os.fspath(scene)], json_flag=False, progress=progress,
                                out=folder, strict=strict, **options)
         if code == 1:
@@ -406,7 +498,7 @@ def run(scene: str, out: Optional[str] = None, strict: bool = False, progress: b
             raise ValueError("the scene writes no report.json, which run() returns: add \"json\" "
                              "to its [report] formats (got %s)" % os.fspath(scene))
         with open(path, encoding="utf-8") as report:
-            return json.load(report)
+            return Report(json.load(report))
 
     if out is not None:
         return run_into(os.fspath(out))

@@ -158,7 +158,12 @@ def check_python(block, context, globs):
                                                block.line)
     report = []
     runner = doctest.DocTestRunner(optionflags=doctest.ELLIPSIS | doctest.NORMALIZE_WHITESPACE)
-    runner.run(test, out=report.append, clear_globs=False)
+    here = os.getcwd()
+    os.chdir(context["sandbox"])  # where the commands run: data/scenes/quick.toml is there
+    try:
+        runner.run(test, out=report.append, clear_globs=False)
+    finally:
+        os.chdir(here)
     globs.update(test.globs)  # a page's blocks share their names, as a notebook's cells do
     return [f"{block.where()}: doctest failed:\n{''.join(report)}"] if report else []
 
