@@ -13,6 +13,7 @@
 #include <map>
 #include <optional>
 #include <stdexcept>
+#include <unordered_map>
 
 namespace pldamp::python {
 namespace {
@@ -37,13 +38,25 @@ std::string shortest(double value) {
                      std::to_chars(buffer.data(), buffer.data() + buffer.size(), value).ptr);
 }
 
+// An answer's key as a Python str, made and hashed once per process: the keys are a few dozen
+// words, and a str made for each key of each answer was a third of what a call adds to its C++.
+PyObject* key_of(const std::string& key) {
+  static auto* const made = new std::unordered_map<std::string, PyObject*>();
+  const auto [found, added] = made->try_emplace(key, nullptr);
+  if (added) {
+    found->second = PyUnicode_InternFromString(key.c_str()); // held to the end of the process
+  }
+  return found->second;
+}
+
 py::object python_value(const Answer& value, bool exact) {
   if (value.is_number_float()) { // a double (common/answer.hpp): read as its digits would be
     const double number = value.get<double>();
     if (std::isinf(number)) {
       return py::none();
     }
-    if (integral(shortest(number))) {
+    // A whole number's shortest digits may have no point ("1", but "1e+16"); any other's have one.
+    if (std::trunc(number) == number && integral(shortest(number))) {
       return py::reinterpret_steal<py::object>(
           PyLong_FromString(shortest(number).c_str(), nullptr, 10));
     }
@@ -62,7 +75,11 @@ py::object python_value(const Answer& value, bool exact) {
   case Answer::value_t::object: {
     py::dict items;
     for (const auto& [key, item] : value.items()) {
-      items[py::str(key)] = python_value(item, exact);
+      PyObject* name = key_of(key);
+      if (name == nullptr ||
+          PyDict_SetItem(items.ptr(), name, python_value(item, exact).ptr()) != 0) {
+        throw py::error_already_set();
+      }
     }
     return items;
   }

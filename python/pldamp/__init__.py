@@ -71,6 +71,8 @@ def _no_nul(name: str, text: str) -> str:
     and a lone surrogate has no UTF-8 (pybind11 raised four lines of TypeError)."""
     if "\x00" in text:
         raise ValueError("%s holds a NUL character (got %r)" % (name, text))
+    if text.isascii():
+        return text
     try:
         text.encode("utf-8")
     except UnicodeEncodeError:
@@ -80,8 +82,13 @@ def _no_nul(name: str, text: str) -> str:
 
 def _text(name: str, value: Any) -> str:
     """A value as the command line reads it."""
-    if type(value) is float:  # the common case first: a call's cost is a few µs in all
+    kind = type(value)  # the common cases first, by exact type: a call costs a few µs in all
+    if kind is float:
         return repr(value)
+    if kind is int:
+        return str(value)
+    if kind is str:
+        return _no_nul(name, value)
     if isinstance(value, bool):
         raise TypeError("%s takes a number or text, not a bool" % name)
     if isinstance(value, (float, np.floating)):
@@ -200,8 +207,9 @@ def _ask(kind: type, command: str, jobs: Optional[int] = None, **options) -> Ans
     flags, the answer as the command's JSON reads in Python (precision other than double: every
     float a decimal.Decimal). An array for an option of _CELL_OPTIONS asks at every cell."""
     exact = options.get("precision") not in (None, "double")
-    cells = [name for name in _CELL_OPTIONS.get(command, ())
-             if isinstance(options.get(name), _ARRAYS)]
+    takes_cells = _CELL_OPTIONS.get(command, ())
+    cells = [name for name, value in options.items()
+             if isinstance(value, _ARRAYS) and name in takes_cells]
     if cells:
         return _ask_cells(kind, command, cells, jobs, exact, options)
     if jobs is not None:

@@ -192,6 +192,9 @@ inline std::vector<std::string> list_items(const std::string& option, const std:
 template <SupportedReal Real>
 void refuse_out_of_range(const std::string& option, const std::string& text, const Real& value) {
   using std::isinf;
+  if (!isinf(value) && value != 0) { // the common case, and a parse pays for it every time
+    return;
+  }
   const std::string mantissa = text.substr(0, text.find_first_of("eE"));
   const bool infinity_typed = text.find_first_of("iI") != std::string::npos;
   const bool nonzero_typed = mantissa.find_first_of("123456789") != std::string::npos;
@@ -205,24 +208,25 @@ void refuse_out_of_range(const std::string& option, const std::string& text, con
 // float128 nearest 0.1, not the double one). "nan"/"inf" parse; validation rejects them later.
 template <SupportedReal Real>
 Real parse_real(const std::string& option, const std::string& text) {
-  const std::string what = option + " is not a number";
+  // Made only when refused: a number is parsed a dozen times an answer.
+  const auto what = [&] { return option + " is not a number"; };
   // strtod and the multiprecision parsers skip leading blanks: "\t1" is not a number as typed.
   if (!text.empty() && std::isspace(static_cast<unsigned char>(text.front()))) {
-    throw InputError(what + " (got " + text + ")");
+    throw InputError(what() + " (got " + text + ")");
   }
   // Decimal only, as in scenes and CSV files: strtod and float128 read 0x1p-1, cpp_bin_float
   // does not, so a hex float was a number in three precisions of four.
   const std::size_t digits = text.find_first_not_of("+-");
   if (digits != std::string::npos &&
       (text.compare(digits, 2, "0x") == 0 || text.compare(digits, 2, "0X") == 0)) {
-    throw InputError(what + " in decimal (got " + text + ")");
+    throw InputError(what() + " in decimal (got " + text + ")");
   }
   if constexpr (std::is_floating_point_v<Real>) {
     char* end = nullptr;
     const Real value = std::is_same_v<Real, double> ? Real(std::strtod(text.c_str(), &end))
                                                     : Real(std::strtold(text.c_str(), &end));
     if (text.empty() || end != text.c_str() + text.size()) {
-      throw InputError(what + " (got " + text + ")");
+      throw InputError(what() + " (got " + text + ")");
     }
     refuse_out_of_range(option, text, value);
     return value;
@@ -231,7 +235,7 @@ Real parse_real(const std::string& option, const std::string& text) {
     try {
       value = Real(text);
     } catch (const std::exception&) {
-      throw InputError(what + " (got " + text + ")");
+      throw InputError(what() + " (got " + text + ")");
     }
     refuse_out_of_range(option, text, value);
     return value;
