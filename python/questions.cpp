@@ -239,31 +239,38 @@ py::dict ask_many(const std::string& question, const harness::TypedOptions& fixe
     py::gil_scoped_release unlocked;
     // In blocks, so that the answers held at once stay few (10^6 cells of 30 keys would not fit).
     constexpr std::size_t block = 4096;
+    std::vector<harness::TypedOptions> options;
     std::vector<Answer> answers;
-    std::vector<std::optional<Failure>> failures;
+    std::vector<std::exception_ptr> failures;
     for (std::size_t first = 0; first < cells && !refused; first += block) {
       const std::size_t count = std::min(block, cells - first);
-      answers.assign(count, Answer());
-      failures.assign(count, std::nullopt);
-      harness::for_each_index(count, jobs, [&](std::size_t i) {
-        harness::TypedOptions options = fixed;
+      options.assign(count, fixed);
+      for (std::size_t i = 0; i < count; ++i) {
         for (std::size_t j = 0; j < varying.size(); ++j) {
-          options.emplace_back(varying[j].first, shortest(values[j][first + i]));
+          options[i].emplace_back(varying[j].first, shortest(values[j][first + i]));
         }
-        failures[i] = failure_of([&] { answers[i] = harness::ask(asked, options); });
-      });
+      }
+      harness::ask_cells(asked, options, jobs, answers, failures);
       for (std::size_t i = 0; i < count; ++i) {
         if (failures[i]) {
-          refused.emplace(first + i, *failures[i]);
+          refused.emplace(first + i, *failure_of([&] { std::rethrow_exception(failures[i]); }));
           break;
         }
+        // The cells' answers have their keys in one order, mostly: the column at the key's
+        // place is tried first (a map lookup per key per cell was a third of the time).
+        std::size_t place = 0;
         for (const auto& [key, value] : answers[i].items()) {
-          auto found = column_of.find(key);
-          if (found == column_of.end()) {
-            found = column_of.emplace(key, columns.size()).first;
-            columns.emplace_back(key, Column());
+          std::size_t column = place;
+          if (column >= columns.size() || columns[column].first != key) {
+            auto found = column_of.find(key);
+            if (found == column_of.end()) {
+              found = column_of.emplace(key, columns.size()).first;
+              columns.emplace_back(key, Column());
+            }
+            column = found->second;
           }
-          columns[found->second].second.add(first + i, value);
+          columns[column].second.add(first + i, value);
+          place = column + 1;
         }
       }
     }

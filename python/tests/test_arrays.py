@@ -71,6 +71,19 @@ def test_solve_over_arrays_on_threads_is_the_scalar_solve_per_cell():
     assert worst[1] < worst[0] < 0.2
 
 
+def test_batched_schemes_step_their_cells_in_lanes_and_answer_as_the_scalar_call():
+    # 600 cells, three chunks of lanes: each cell is the scalar solve's answer, bit for bit; a
+    # refused cell among them is named by its index.
+    cells_are_the_scalar_calls(pldamp.solve, "dem-leapfrog",
+                               {"onset_phase": np.linspace(0, 1, 300, endpoint=False),
+                                "steps_per_contact": [[30], [500]]},
+                               p=2.0, e=0.3, v0=2.0, repeats=1)
+    dt = np.full(600, 0.01)
+    dt[417] = -1.0
+    with pytest.raises(ValueError, match=r" at element 417$"):
+        pldamp.solve("verlet-predicted", p=1.5, e=0.5, v0=1.0, dt=dt, repeats=1)
+
+
 def test_solve_over_arrays_keeps_what_a_cell_has_not():
     # α_eff 2 never returns: its τ is inf (JSON's null), its outcome no_exit beside exited; a
     # sample time outside the first contact is refused there, and a key only some cells have is

@@ -7,7 +7,9 @@
 #include "common/answer.hpp"
 #include "common/tau_as.hpp"
 
+#include <exception>
 #include <optional>
+#include <span>
 #include <string>
 #include <string_view>
 #include <utility>
@@ -92,6 +94,16 @@ Answer timestep_answer(const TimestepArgs& args);
 // is an InputError. check reads a file and answers in its own words: not asked here.
 using TypedOptions = std::vector<std::pair<std::string, std::string>>;
 Answer ask(Question question, const TypedOptions& options);
+// Many cells of one question, each answered as ask() answers it, on `jobs` threads: answers[i]
+// for cells[i], or failures[i] when it was refused (the exception ask() would have thrown). The
+// double cells of a batched solver (the DEM schemes, verlet-predicted) are stepped together in
+// its SIMD lanes (solvers::solve_batch): bit for bit ask()'s answers but for wall_seconds, the
+// batch's time divided among its lanes.
+void ask_cells(Question question, std::span<const TypedOptions> cells, int jobs,
+               std::vector<Answer>& answers, std::vector<std::exception_ptr>& failures);
+void solve_answers(std::span<const SolveArgs> cells, int jobs, std::vector<Answer>& answers,
+                   std::vector<std::exception_ptr>& failures);
+
 // "observables" -> Question::observables; InputError for a name that is not a question asked here.
 Question question_named(std::string_view name);
 

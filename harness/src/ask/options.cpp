@@ -3,6 +3,7 @@
 // tests/python's equality tests hold the two readings to one answer and one refusal.
 #include "ask/contact.hpp"
 #include "ask/materials.hpp"
+#include "common/parallel.hpp"
 
 #include <algorithm>
 #include <array>
@@ -234,6 +235,60 @@ Question question_named(std::string_view name) {
                    std::string(name) + ")");
 }
 
+namespace {
+
+SolveArgs solve_args(const TypedOptions& options) {
+  SolveArgs args = read_options<SolveArgs>(Question::solve, options);
+  require_given(typed(options, "--v0"), "--v0");
+  require_given(typed(options, "--solver"), "--solver");
+  settle(args);
+  return args;
+}
+
+} // namespace
+
+void ask_cells(Question question, std::span<const TypedOptions> cells, int jobs,
+               std::vector<Answer>& answers, std::vector<std::exception_ptr>& failures) {
+  if (question != Question::solve) {
+    answers.assign(cells.size(), Answer());
+    failures.assign(cells.size(), nullptr);
+    for_each_index(cells.size(), jobs, [&](std::size_t i) {
+      try {
+        answers[i] = ask(question, cells[i]);
+      } catch (...) {
+        failures[i] = std::current_exception();
+      }
+    });
+    return;
+  }
+  // A chunk of cells per thread, read, prepared, solved and answered there (memory made on one
+  // thread and freed on another cost more than the solves of short contacts); a batched solver's
+  // lanes within the chunk.
+  answers.assign(cells.size(), Answer());
+  failures.assign(cells.size(), nullptr);
+  constexpr std::size_t chunk = 256;
+  for_each_index((cells.size() + chunk - 1) / chunk, jobs, [&](std::size_t c) {
+    const std::size_t first = c * chunk, count = std::min(chunk, cells.size() - first);
+    std::vector<SolveArgs> read;
+    std::vector<std::size_t> index;
+    for (std::size_t i = first; i < first + count; ++i) {
+      try {
+        read.push_back(solve_args(cells[i]));
+        index.push_back(i);
+      } catch (...) {
+        failures[i] = std::current_exception();
+      }
+    }
+    std::vector<Answer> solved;
+    std::vector<std::exception_ptr> refused;
+    solve_answers(read, 1, solved, refused);
+    for (std::size_t j = 0; j < index.size(); ++j) {
+      answers[index[j]] = std::move(solved[j]);
+      failures[index[j]] = refused[j];
+    }
+  });
+}
+
 Answer ask(Question question, const TypedOptions& options) {
   switch (question) {
   case Question::calibrate: {
@@ -247,13 +302,8 @@ Answer ask(Question question, const TypedOptions& options) {
     settle(question, args);
     return observables_answer(args);
   }
-  case Question::solve: {
-    SolveArgs args = read_options<SolveArgs>(question, options);
-    require_given(typed(options, "--v0"), "--v0");
-    require_given(typed(options, "--solver"), "--solver");
-    settle(args);
-    return solve_answer(args);
-  }
+  case Question::solve:
+    return solve_answer(solve_args(options));
   case Question::timestep: {
     TimestepArgs args = read_options<TimestepArgs>(question, options);
     require_given(typed(options, "--scheme"), "--scheme");

@@ -4,12 +4,15 @@
 // solvers/ only the physical parameters (p, m, k, v0, α, β).
 #include "ask/contact.hpp"
 #include "common/observables.hpp"
+#include "common/parallel.hpp"
 
 #include "pldamp/solvers/registry.hpp"
 
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <map>
+#include <optional>
 
 namespace pldamp::harness {
 namespace {
@@ -36,9 +39,20 @@ Answer samples_of(const std::vector<solvers::Sample<Real>>& samples) {
   return out;
 }
 
-// One collision in precision Real: α calibrated in Real, the solver run in Real.
+// A collision ready to solve: the answer's head (the contact), the problem and options handed to
+// the solver, and how its result is read.
 template <SupportedReal Real>
-Answer solve_in(const SolveArgs& args, const solvers::SolverInfo* solver) {
+struct PreparedSolve {
+  Answer head;
+  solvers::Problem<Real> problem;
+  solvers::Options<Real> options;
+  long repeats = 1;
+  TauAs tau_as = TauAs::first_step_out;
+};
+
+// Everything before the solve, in precision Real: α calibrated in Real, the options read.
+template <SupportedReal Real>
+PreparedSolve<Real> prepare(const SolveArgs& args, const solvers::SolverInfo* solver) {
   Answer o = answer_object();
   solvers::Problem<Real> problem{Real(0), Real(0), Real(0), Real(0), Real(0)};
   if (args.contact.damping_exponent) {
@@ -62,7 +76,9 @@ Answer solve_in(const SolveArgs& args, const solvers::SolverInfo* solver) {
     o["alpha"] = exact_number(alpha);
     o["damping_exponent"] = exact_number(Real((contact.p() - 1) / 2));
   }
-  solvers::Options<Real> options;
+  PreparedSolve<Real> prepared; // filled in place: a copy of the options' optional float128s
+                                // read as uninitialized to GCC 12
+  solvers::Options<Real>& options = prepared.options;
   if (args.rtol) {
     options.rtol = parse_real<Real>("--rtol", *args.rtol);
   } else if (solver != nullptr) {
@@ -105,15 +121,19 @@ Answer solve_in(const SolveArgs& args, const solvers::SolverInfo* solver) {
   if (repeats < 1 || repeats > 1000) {
     throw InputError("--repeats must be in [1, 1000] (got " + args.repeats + ")");
   }
-  // Every solve gives the same answer; the time reported is the fastest, as the harness's (the
-  // first solve of a process pays for cold caches and page faults: 70 µs against 10 µs in loop
-  // for a double taylor collision).
-  solvers::Result<Real> r = solvers::solve(args.solver, problem, options);
-  for (long i = 1; i < repeats; ++i) {
-    r.wall_seconds =
-        std::min(r.wall_seconds, solvers::solve(args.solver, problem, options).wall_seconds);
-  }
-  const TauAs tau_as = args.tau_as ? parse_tau_as(*args.tau_as) : TauAs::first_step_out;
+  prepared.head = std::move(o);
+  prepared.problem = problem;
+  prepared.repeats = repeats;
+  prepared.tau_as = args.tau_as ? parse_tau_as(*args.tau_as) : TauAs::first_step_out;
+  return prepared;
+}
+
+// The answer of a solve: its head, then what the solver measured, read as asked.
+template <SupportedReal Real>
+Answer finish(PreparedSolve<Real>&& prepared, solvers::Result<Real> r, const SolveArgs& args) {
+  Answer o = std::move(prepared.head);
+  const solvers::Options<Real>& options = prepared.options;
+  const TauAs tau_as = prepared.tau_as;
   const std::optional<Real> tau_first_step_out = r.tau;
   time_contact_as(r, tau_as);
 
@@ -165,6 +185,22 @@ Answer solve_in(const SolveArgs& args, const solvers::SolverInfo* solver) {
   return with_units(o);
 }
 
+// One collision in precision Real: α calibrated in Real, the solver run in Real. Every solve
+// gives the same answer; the time reported is the fastest, as the harness's (the first solve of
+// a process pays for cold caches and page faults: 70 µs against 10 µs in loop for a double taylor
+// collision).
+template <SupportedReal Real>
+Answer solve_in(const SolveArgs& args, const solvers::SolverInfo* solver) {
+  PreparedSolve<Real> prepared = prepare<Real>(args, solver);
+  solvers::Result<Real> r = solvers::solve(args.solver, prepared.problem, prepared.options);
+  for (long i = 1; i < prepared.repeats; ++i) {
+    r.wall_seconds =
+        std::min(r.wall_seconds,
+                 solvers::solve(args.solver, prepared.problem, prepared.options).wall_seconds);
+  }
+  return finish(std::move(prepared), std::move(r), args);
+}
+
 } // namespace
 
 TauAs parse_tau_as(const std::string& word) {
@@ -175,8 +211,11 @@ TauAs parse_tau_as(const std::string& word) {
   return *as;
 }
 
-Answer solve_answer(const SolveArgs& args) {
-  // An unknown name is reported by solvers::solve, after the contact's own checks.
+namespace {
+
+// What solve refuses before any precision is chosen; the solver's traits (none for an unknown
+// name, which solvers::solve reports after the contact's own checks).
+const solvers::SolverInfo* checked_solver(const SolveArgs& args) {
   const solvers::SolverInfo* solver = solvers::find_solver(args.solver);
   if (solver != nullptr && !solver->runs_in(args.contact.precision) &&
       precision_bit(args.contact.precision) != 0) {
@@ -205,10 +244,96 @@ Answer solve_answer(const SolveArgs& args) {
     throw InputError("give --dt or --steps-per-contact, not both (got --steps-per-contact " +
                      *args.steps_per_contact + ")");
   }
+  return solver;
+}
+
+// The cells of a batched solver in double, stepped together (solvers::solve_batch) a chunk per
+// thread: each lane's result is solve()'s, bit for bit, but for its wall time (the batch's,
+// divided among its lanes). A chunk that throws is solved again cell by cell, so that each cell
+// gets its own answer or refusal.
+void solve_batched(std::span<const SolveArgs> cells, const std::vector<std::size_t>& batched,
+                   std::vector<std::optional<PreparedSolve<double>>>& prepared, int jobs,
+                   std::vector<Answer>& answers, std::vector<std::exception_ptr>& failures) {
+  constexpr std::size_t chunk = 256; // lanes enough for the SIMD batches, chunks for the threads
+  const std::size_t chunks = (batched.size() + chunk - 1) / chunk;
+  for_each_index(chunks, jobs, [&](std::size_t c) {
+    const std::span<const std::size_t> mine(batched.data() + c * chunk,
+                                            std::min(chunk, batched.size() - c * chunk));
+    std::vector<solvers::Problem<double>> problems;
+    std::vector<solvers::Options<double>> options;
+    long repeats = 1;
+    for (const std::size_t i : mine) {
+      problems.push_back(prepared[i]->problem);
+      options.push_back(prepared[i]->options);
+      repeats = std::max(repeats, prepared[i]->repeats);
+    }
+    std::vector<solvers::Result<double>> results;
+    try {
+      results = solvers::solve_batch(cells[mine.front()].solver, problems, options);
+      for (long r = 1; r < repeats; ++r) {
+        const auto again = solvers::solve_batch(cells[mine.front()].solver, problems, options);
+        for (std::size_t j = 0; j < mine.size(); ++j) {
+          if (r < prepared[mine[j]]->repeats) {
+            results[j].wall_seconds = std::min(results[j].wall_seconds, again[j].wall_seconds);
+          }
+        }
+      }
+    } catch (...) {
+      results.clear();
+    }
+    for (std::size_t j = 0; j < mine.size(); ++j) {
+      const std::size_t i = mine[j];
+      try {
+        answers[i] = results.empty()
+                         ? solve_in<double>(cells[i], solvers::find_solver(cells[i].solver))
+                         : finish(std::move(*prepared[i]), std::move(results[j]), cells[i]);
+      } catch (...) {
+        failures[i] = std::current_exception();
+      }
+    }
+  });
+}
+
+} // namespace
+
+Answer solve_answer(const SolveArgs& args) {
+  const solvers::SolverInfo* solver = checked_solver(args);
   Answer answer;
   with_precision(args.contact.precision,
                  [&]<SupportedReal Real>() { answer = solve_in<Real>(args, solver); });
   return answer;
+}
+
+void solve_answers(std::span<const SolveArgs> cells, int jobs, std::vector<Answer>& answers,
+                   std::vector<std::exception_ptr>& failures) {
+  answers.assign(cells.size(), Answer());
+  failures.assign(cells.size(), nullptr);
+  // Prepared on the threads; a batched solver's double cells set aside for its lanes, any other
+  // cell answered as solve_answer answers it.
+  std::vector<std::optional<PreparedSolve<double>>> prepared(cells.size());
+  std::vector<char> to_batch(cells.size(), 0);
+  for_each_index(cells.size(), jobs, [&](std::size_t i) {
+    try {
+      const solvers::SolverInfo* solver = checked_solver(cells[i]);
+      if (solver != nullptr && solver->batched && cells[i].contact.precision == "double") {
+        prepared[i] = prepare<double>(cells[i], solver);
+        to_batch[i] = 1;
+      } else {
+        answers[i] = solve_answer(cells[i]);
+      }
+    } catch (...) {
+      failures[i] = std::current_exception();
+    }
+  });
+  std::map<std::string, std::vector<std::size_t>> by_solver; // lanes share a solver
+  for (std::size_t i = 0; i < cells.size(); ++i) {
+    if (to_batch[i] != 0) {
+      by_solver[cells[i].solver].push_back(i);
+    }
+  }
+  for (const auto& [name, batched] : by_solver) {
+    solve_batched(cells, batched, prepared, jobs, answers, failures);
+  }
 }
 
 } // namespace pldamp::harness
