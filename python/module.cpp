@@ -287,6 +287,9 @@ PYBIND11_MODULE(_pldamp, m) {
             "arrays (use the package `pldamp`)";
   m.def("cli", &cli, py::arg("args"), py::arg("progress") = false);
   m.def("ask", &pldamp::python::ask, py::arg("question"), py::arg("options"), py::arg("exact"));
+  m.def("ask_keywords", &pldamp::python::ask_keywords, py::arg("question"), py::arg("options"),
+        py::arg("flags"), py::arg("switches"), py::arg("cells"), py::arg("typed_one"),
+        py::arg("refuse"), py::arg("exact"));
   m.def("ask_many", &pldamp::python::ask_many, py::arg("question"), py::arg("fixed"),
         py::arg("varying"), py::arg("exact"), py::arg("jobs"));
   m.def("observables_double", &observables_double, py::arg("p"), py::arg("damping_kind"),

@@ -9,6 +9,7 @@
 #include <charconv>
 #include <cmath>
 #include <cstdint>
+#include <cstring>
 #include <limits>
 #include <map>
 #include <optional>
@@ -211,6 +212,54 @@ py::dict ask(const std::string& question, const harness::TypedOptions& options, 
     raise(*failed);
   }
   return python_value(answer, exact);
+}
+
+py::object ask_keywords(const std::string& question, const py::dict& options, const py::dict& flags,
+                        const py::frozenset& switches, const py::frozenset& cells,
+                        const py::object& typed_one, const py::object& refuse, bool exact) {
+  harness::TypedOptions typed;
+  for (const auto& [name, value] : options) {
+    PyObject* const flag = PyDict_GetItemWithError(flags.ptr(), name.ptr());
+    if (flag == nullptr) {
+      if (PyErr_Occurred() != nullptr) {
+        throw py::error_already_set();
+      }
+      refuse(name);
+      throw std::logic_error("refuse() returned for an unknown keyword");
+    }
+    if (value.is_none()) {
+      continue;
+    }
+    if (cells.contains(name) && (PyList_Check(value.ptr()) || PyTuple_Check(value.ptr()) ||
+                                 py::isinstance<py::array>(value))) {
+      return py::none();
+    }
+    std::optional<std::string> text;
+    if (!switches.contains(name)) {
+      if (PyFloat_CheckExact(value.ptr())) {
+        text = py::repr(value).cast<std::string>();
+      } else if (PyLong_CheckExact(value.ptr())) {
+        text = py::str(value).cast<std::string>();
+      } else if (PyUnicode_CheckExact(value.ptr())) {
+        Py_ssize_t size = 0;
+        const char* bytes = PyUnicode_AsUTF8AndSize(value.ptr(), &size);
+        if (bytes == nullptr) {
+          PyErr_Clear(); // not UTF-8-encodable: typed_one says so
+        } else if (std::memchr(bytes, '\0', static_cast<std::size_t>(size)) == nullptr) {
+          text.emplace(bytes, static_cast<std::size_t>(size));
+        }
+      }
+    }
+    if (!text) {
+      const py::object made = typed_one(name, value);
+      if (made.is_none()) {
+        continue;
+      }
+      text = made.cast<std::string>();
+    }
+    typed.emplace_back(py::reinterpret_borrow<py::str>(flag).cast<std::string>(), std::move(*text));
+  }
+  return ask(question, typed, exact);
 }
 
 py::dict ask_many(const std::string& question, const harness::TypedOptions& fixed,

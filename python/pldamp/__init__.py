@@ -104,6 +104,7 @@ def _text(name: str, value: Any) -> str:
 # The commands' flags that take no value: True sets them, False leaves them out. Any other
 # keyword given a bool is refused (e=True once became a bare "--e", and m=False dropped m).
 SWITCHES = {"limit_damping", "strict", "verbose", "allow_scene_change"}
+_SWITCH_SET = frozenset(SWITCHES)
 
 
 # Words a newcomer reaches for, and the keyword that means it.
@@ -200,6 +201,8 @@ _CELL_OPTIONS = {
               "steps_per_contact", "onset_phase"),
     "timestep": ("p", "e", "alpha", "alpha_eff", "v0", "m", "k", "tolerance"),
 }
+_CELL_SETS = {command: frozenset(names) for command, names in _CELL_OPTIONS.items()}
+_NO_CELLS: frozenset = frozenset()
 
 
 def _ask(kind: type, command: str, jobs: Optional[int] = None, **options) -> Answer:
@@ -207,14 +210,18 @@ def _ask(kind: type, command: str, jobs: Optional[int] = None, **options) -> Ans
     flags, the answer as the command's JSON reads in Python (precision other than double: every
     float a decimal.Decimal). An array for an option of _CELL_OPTIONS asks at every cell."""
     exact = options.get("precision") not in (None, "double")
-    takes_cells = _CELL_OPTIONS.get(command, ())
+    takes_cells = _CELL_SETS.get(command, _NO_CELLS)
+    if jobs is None:  # the keywords read in C++ (questions.cpp ask_keywords), _typed_one's rules
+        answer = _pldamp.ask_keywords(command, options, _keywords(command), _SWITCH_SET,
+                                      takes_cells, _typed_one,
+                                      lambda name: _refuse_unknown(command, name), exact)
+        if answer is not None:
+            return kind(answer)
     cells = [name for name, value in options.items()
              if isinstance(value, _ARRAYS) and name in takes_cells]
     if cells:
         return _ask_cells(kind, command, cells, jobs, exact, options)
-    if jobs is not None:
-        raise ValueError("jobs goes with arrays of cells (got jobs=%r)" % (jobs,))
-    return kind(_pldamp.ask(command, _typed(command, options), exact))
+    raise ValueError("jobs goes with arrays of cells (got jobs=%r)" % (jobs,))
 
 
 def _ask_cells(kind: type, command: str, cells: list, jobs: Optional[int], exact: bool,
@@ -237,6 +244,15 @@ def _ask_cells(kind: type, command: str, cells: list, jobs: Optional[int], exact
                 for key, value in answer.items())
 
 
+def _typed_one(name: str, value: Any) -> Optional[str]:
+    """A keyword's value as the command reads it: a switch's "" (None when False), or _text."""
+    if name in SWITCHES:
+        if not isinstance(value, bool):
+            raise TypeError("%s is a switch: True or False (got %r)" % (name, value))
+        return "" if value else None
+    return _text(name, value)
+
+
 def _typed(command: str, options: dict) -> list:
     """The options as (flag, text) pairs; an unknown keyword refused by name."""
     known = _keywords(command)
@@ -245,15 +261,10 @@ def _typed(command: str, options: dict) -> list:
         flag = known.get(name)
         if flag is None:
             _refuse_unknown(command, name)
-        if value is None:
-            continue
-        if name in SWITCHES:
-            if not isinstance(value, bool):
-                raise TypeError("%s is a switch: True or False (got %r)" % (name, value))
-            if value:
-                typed.append((flag, ""))
-        else:
-            typed.append((flag, _text(name, value)))
+        if value is not None:
+            text = _typed_one(name, value)
+            if text is not None:
+                typed.append((flag, text))
     return typed
 
 

@@ -59,9 +59,25 @@ inline Answer with_units(Answer answer) {
   return answer;
 }
 
-// The physical parameters and damping of a contact, the head of every analytic answer.
+// α as `calibrate` gives it and `run` sends it (seed_alpha: formed in float128 and rounded once)
+// where it is derived from --e or --alpha-eff; the contact's own product α_eff · √(2(p+1)) in
+// Real was one ulp off that (e = 0.5, p = 1.5: ...660 against ...657), and two commands printed
+// two α. --alpha as typed.
 template <SupportedReal Real>
-Answer describe(const analytic::Contact<Real>& c, const ContactArgs& a) {
+Real stated_alpha(const analytic::Contact<Real>& c, const ContactArgs& a) {
+  if (!a.e && !a.alpha_eff) {
+    return c.alpha();
+  }
+  const Damping::Kind kind = a.e ? Damping::Kind::e : Damping::Kind::alpha_eff;
+  return seed_alpha<Real>(c.p(), kind,
+                          parse_real<Real>(a.e ? "--e" : "--alpha-eff", a.e ? *a.e : *a.alpha_eff),
+                          parse_end(a.end));
+}
+
+// The physical parameters and damping of a contact, the head of every analytic answer; `alpha`
+// is stated_alpha's.
+template <SupportedReal Real>
+Answer describe(const analytic::Contact<Real>& c, const ContactArgs& a, const Real& alpha) {
   Answer o = answer_object();
   o["precision"] = precision_name<Real>();
   o["end"] = a.end;
@@ -69,16 +85,7 @@ Answer describe(const analytic::Contact<Real>& c, const ContactArgs& a) {
   o["m"] = exact_number(c.m());
   o["k"] = exact_number(c.k());
   o["v0"] = exact_number(c.v0());
-  // α as `calibrate` gives it (seed_alpha: formed in float128 and rounded once) where it is
-  // derived from --e or --alpha-eff; the contact's own product α_eff · √(2(p+1)) in Real was one
-  // ulp off that (e = 0.5, p = 1.5: ...660 against ...657), and two commands printed two α.
-  o["alpha"] = exact_number(c.alpha());
-  if (a.e || a.alpha_eff) {
-    const Damping::Kind kind = a.e ? Damping::Kind::e : Damping::Kind::alpha_eff;
-    o["alpha"] = exact_number(seed_alpha<Real>(
-        c.p(), kind, parse_real<Real>(a.e ? "--e" : "--alpha-eff", a.e ? *a.e : *a.alpha_eff),
-        parse_end(a.end)));
-  }
+  o["alpha"] = exact_number(alpha);
   // α_eff the same way: formed in float128 from --e or --alpha and rounded once.
   o["alpha_eff"] = exact_number(c.alpha_eff());
   if (a.e || a.alpha) {
@@ -89,6 +96,10 @@ Answer describe(const analytic::Contact<Real>& c, const ContactArgs& a) {
   }
   describe_materials<Real>(a, o);
   return o;
+}
+template <SupportedReal Real>
+Answer describe(const analytic::Contact<Real>& c, const ContactArgs& a) {
+  return describe(c, a, stated_alpha(c, a));
 }
 
 // A contact with a stated damping exponent: the problem handed to a solver, and its group.

@@ -19,6 +19,12 @@ namespace {
 
 // "e,delta_max,..." -> Want bits; "energy" is both energy_load and energy_unload.
 unsigned parse_want_list(const std::string& list) {
+  static const std::string asked_by_default = SolveArgs().want;
+  if (list == asked_by_default) { // read once: a tenth of what an answer adds to its solve
+    static const unsigned wanted_by_default =
+        parse_want(list_items("--want", list, true), "--want", true);
+    return wanted_by_default;
+  }
   const std::vector<std::string> words = list_items("--want", list, true);
   if (words.size() > 1 && std::find(words.begin(), words.end(), "all") != words.end()) {
     throw InputError("--want all names every observable: give it alone (got " + list + ")");
@@ -63,17 +69,9 @@ PreparedSolve<Real> prepare(const SolveArgs& args, const solvers::SolverInfo* so
     const analytic::Contact<Real> contact = make_contact<Real>(args.contact);
     // α from e or α_eff as `calibrate` gives it and `run` sends it: calibrated in Exact, rounded
     // once (truth/plan.hpp); --alpha as typed.
-    const Real alpha =
-        args.contact.alpha
-            ? parse_real<Real>("--alpha", *args.contact.alpha)
-            : seed_alpha(
-                  contact.p(), args.contact.e ? Damping::Kind::e : Damping::Kind::alpha_eff,
-                  parse_real<Real>(args.contact.e ? "--e" : "--alpha-eff",
-                                   args.contact.e ? *args.contact.e : *args.contact.alpha_eff),
-                  parse_end(args.contact.end));
+    const Real alpha = stated_alpha(contact, args.contact);
     problem = {contact.p(), contact.m(), contact.k(), contact.v0(), alpha};
-    o = describe(contact, args.contact);
-    o["alpha"] = exact_number(alpha);
+    o = describe(contact, args.contact, alpha);
     o["damping_exponent"] = exact_number(Real((contact.p() - 1) / 2));
   }
   PreparedSolve<Real> prepared; // filled in place: a copy of the options' optional float128s
@@ -162,8 +160,8 @@ Answer finish(PreparedSolve<Real>&& prepared, solvers::Result<Real> r, const Sol
   if (!r.invariant.empty()) {
     o["invariant"] = r.invariant; // what made the answer impossible
   }
-  for (const Observable& observable : observable_table()) {
-    put_number(o, std::string(observable.key_at(options.end)), observable.measured(r));
+  for (const Observable& observable : observable_table()) { // keys the head does not have
+    append_number(o, observable.key_at(options.end), observable.measured(r));
   }
   if (r.fixed_step) { // τ as asked; the three ways a code may count it (docs/MATH.md §5.1)
     o["tau_as"] = name_of(tau_as_names, tau_as);

@@ -13,8 +13,10 @@
 
 #include <nlohmann/json.hpp>
 
+#include <cassert>
 #include <optional>
 #include <string>
+#include <string_view>
 
 namespace pldamp::harness {
 
@@ -44,6 +46,16 @@ inline Answer answer_object() {
 
 // The digits of an exact number ("0.5", "inf"), a double's included; none for any other value.
 std::optional<std::string> exact_digits(const Answer& value);
+
+// Adds key: value, if there is a value, to an answer that has no such key yet, without looking for
+// it (an answer's keys are looked up one by one: a fifth of what `solve` adds to its solve).
+template <SupportedReal Real>
+void append_number(Answer& answer, std::string_view key, const std::optional<Real>& value) {
+  if (value) {
+    assert(!answer.contains(key));
+    answer.get_ref<Answer::object_t&>().emplace_back(std::string(key), exact_number(*value));
+  }
+}
 
 // Sets answer[key] to the value, if there is one.
 template <SupportedReal Real>
