@@ -152,7 +152,7 @@ DampingKind damping_kind_of(const std::string& kind) {
 
 ContactEnd end_of(const std::string& end) {
   if (end != "overlap" && end != "force") {
-    throw std::invalid_argument("unknown end, expected overlap|force (got " + end + ')');
+    throw std::invalid_argument("unknown contact end, expected overlap|force (got " + end + ')');
   }
   return end == "force" ? ContactEnd::force : ContactEnd::overlap;
 }

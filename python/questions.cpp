@@ -39,6 +39,28 @@ std::string shortest(double value) {
                      std::to_chars(buffer.data(), buffer.data() + buffer.size(), value).ptr);
 }
 
+// A cell's value as its option reads it: a whole number as an integer ("100000", which an integer
+// option takes: "1e+05" was refused), else its shortest round-trip digits in double, or every
+// digit of its binary value for a wider precision (a double is exactly representable there, and
+// "0.3" would be float128's 0.3, not the double the caller gave).
+std::string cell_text(double value, bool exact) {
+  if (std::trunc(value) == value && std::fabs(value) < 9.0e18) {
+    return std::to_string(static_cast<long long>(value));
+  }
+  if (!exact || !std::isfinite(value)) {
+    return shortest(value);
+  }
+  std::array<char, 800> buffer{}; // a double's exact expansion: at most 767 significant digits
+  char* end = std::to_chars(buffer.data(), buffer.data() + buffer.size(), value,
+                            std::chars_format::scientific, 767)
+                  .ptr;
+  std::string digits(buffer.data(), end);
+  const std::size_t exponent = digits.find('e');
+  const std::size_t last = digits.find_last_not_of('0', exponent - 1);
+  digits.erase(last + 1, exponent - last - 1); // the trailing zeros of the mantissa
+  return digits;
+}
+
 // An answer's key as a Python str, made and hashed once per process: the keys are a few dozen
 // words, and a str made for each key of each answer was a third of what a call adds to its C++.
 PyObject* key_of(const std::string& key) {
@@ -131,72 +153,151 @@ std::optional<Failure> failure_of(Body&& body) {
   throw py::value_error(failure.message);
 }
 
-// One key's values over the cells, as the array it becomes.
-struct Column {
-  enum class Kind { number, integer, other } kind = Kind::number;
-  std::vector<double> numbers;             // Kind::number (NaN: no value)
-  std::vector<std::int64_t> integers;      // Kind::integer
-  std::vector<std::optional<Answer>> rest; // Kind::other: text, exact digits, lists
-  std::vector<bool> present;
-
+// One key's values over the cells, as the array it becomes. A JSON null that is not an infinity
+// (an e_to_enter out of reach) is a cell without a value; a double's infinity stays one.
+class Column {
+public:
   void add(std::size_t cell, const Answer& value) {
-    if (present.size() < cell) { // cells before without this key
-      present.resize(cell, false);
-      numbers.resize(cell, std::numeric_limits<double>::quiet_NaN());
-      integers.resize(cell, 0);
-      rest.resize(cell);
+    if (value.is_null()) {
+      return;
     }
-    if (present.empty()) {
-      kind = value.is_number_float()     ? Kind::number
-             : value.is_number_integer() ? Kind::integer
-                                         : Kind::other;
+    if (kind_ == Kind::none) {
+      kind_ = value.is_number_float()     ? Kind::number
+              : value.is_number_integer() ? Kind::integer
+                                          : Kind::other;
+    } else if ((kind_ == Kind::number && !value.is_number_float()) ||
+               (kind_ == Kind::integer && !value.is_number_integer())) {
+      to_other(); // a key of two kinds (none seen): kept as the answers have them
     }
-    present.push_back(true);
-    numbers.push_back(value.is_number() ? value.get<double>()
-                                        : std::numeric_limits<double>::quiet_NaN());
-    integers.push_back(value.is_number_integer() ? value.get<std::int64_t>() : 0);
-    rest.push_back(kind == Kind::other ? std::optional<Answer>(value) : std::nullopt);
-    if ((kind == Kind::number && !value.is_number_float()) ||
-        (kind == Kind::integer && !value.is_number_integer())) {
-      kind = Kind::other; // a key of two kinds (never seen): kept as the answers have it
-      for (std::size_t i = 0; i + 1 < rest.size(); ++i) {
-        rest[i] = present[i] ? std::optional<Answer>(numbers[i]) : std::nullopt;
-      }
-      rest.back() = value;
+    grow(cell);
+    present_[cell] = true;
+    if (kind_ == Kind::number) {
+      numbers_[cell] = value.get<double>();
+    } else if (kind_ == Kind::integer) {
+      integers_[cell] = value.get<std::int64_t>();
+    } else {
+      values_[cell] = distinct(value);
     }
   }
 
   py::object array(std::size_t cells, bool exact) {
-    present.resize(cells, false);
-    numbers.resize(cells, std::numeric_limits<double>::quiet_NaN());
-    integers.resize(cells, 0);
-    rest.resize(cells);
-    const bool everywhere = std::find(present.begin(), present.end(), false) == present.end();
-    if (kind == Kind::number || (kind == Kind::integer && !everywhere)) {
+    grow(cells - 1);
+    const bool everywhere = std::find(present_.begin(), present_.begin() + std::ptrdiff_t(cells),
+                                      false) == present_.begin() + std::ptrdiff_t(cells);
+    if (kind_ == Kind::none || kind_ == Kind::number || (kind_ == Kind::integer && !everywhere)) {
       py::array_t<double> out(static_cast<py::ssize_t>(cells));
-      std::copy(numbers.begin(), numbers.end(), out.mutable_data());
+      double* into = out.mutable_data();
+      for (std::size_t i = 0; i < cells; ++i) {
+        into[i] = !present_[i]             ? std::numeric_limits<double>::quiet_NaN()
+                  : kind_ == Kind::integer ? static_cast<double>(integers_[i])
+                                           : numbers_[i];
+      }
       return out;
     }
-    if (kind == Kind::integer) {
+    if (kind_ == Kind::integer) {
       py::array_t<std::int64_t> out(static_cast<py::ssize_t>(cells));
-      std::copy(integers.begin(), integers.end(), out.mutable_data());
+      std::copy(integers_.begin(), integers_.begin() + std::ptrdiff_t(cells), out.mutable_data());
       return out;
     }
-    // A value every cell shares (the precision, the solver, the outcome of every cell, the list
-    // of observables judged) is one value.
-    if (everywhere &&
-        std::all_of(rest.begin(), rest.end(), [&](const auto& v) { return *v == *rest.front(); })) {
-      return python_value(*rest.front(), exact);
+    // A text or list every cell shares (the precision, the outcome of every cell, the observables
+    // judged) is one value; a number stays an array, wide or not.
+    if (everywhere && distinct_.size() == 1 && !harness::exact_digits(distinct_.front())) {
+      return python_value(distinct_.front(), exact);
+    }
+    if (const std::optional<std::size_t> width = number_pairs(cells)) { // timestep's range
+      py::array_t<double> out({static_cast<py::ssize_t>(cells), static_cast<py::ssize_t>(*width)});
+      double* into = out.mutable_data();
+      for (std::size_t i = 0; i < cells; ++i) {
+        for (std::size_t j = 0; j < *width; ++j) {
+          into[i * *width + j] = present_[i] ? distinct_[values_[i]][j].get<double>()
+                                             : std::numeric_limits<double>::quiet_NaN();
+        }
+      }
+      return out;
+    }
+    std::vector<py::object> shown; // each distinct value made once
+    for (const Answer& value : distinct_) {
+      const std::optional<std::string> digits = harness::exact_digits(value);
+      shown.push_back(digits && (*digits == "inf" || *digits == "-inf")
+                          ? decimal_type()(*digits == "inf" ? "Infinity" : "-Infinity")
+                          : python_value(value, exact));
     }
     py::array out(py::dtype("O"), std::vector<py::ssize_t>{static_cast<py::ssize_t>(cells)});
     auto* slots = static_cast<PyObject**>(out.mutable_data());
     for (std::size_t i = 0; i < cells; ++i) {
-      py::object value = rest[i] ? python_value(*rest[i], exact) : py::none();
+      py::object value = present_[i] ? shown[values_[i]] : py::none();
       Py_XDECREF(slots[i]);
       slots[i] = value.release().ptr();
     }
     return out;
   }
+
+private:
+  enum class Kind { none, number, integer, other };
+
+  void grow(std::size_t cell) {
+    if (present_.size() <= cell) {
+      present_.resize(cell + 1, false);
+      if (kind_ == Kind::number) {
+        numbers_.resize(cell + 1, 0.0);
+      } else if (kind_ == Kind::integer) {
+        integers_.resize(cell + 1, 0);
+      } else if (kind_ == Kind::other) {
+        values_.resize(cell + 1, 0);
+      }
+    }
+  }
+
+  void to_other() {
+    values_.assign(present_.size(), 0);
+    for (std::size_t i = 0; i < present_.size(); ++i) {
+      if (present_[i]) {
+        values_[i] =
+            kind_ == Kind::number ? distinct(Answer(numbers_[i])) : distinct(Answer(integers_[i]));
+      }
+    }
+    numbers_.clear();
+    integers_.clear();
+    kind_ = Kind::other;
+  }
+
+  // The index of `value` among the distinct values held: a column of texts holds a few (the
+  // memory of 10^6 cells was 1.3 KB a cell with a copy each).
+  std::uint32_t distinct(const Answer& value) {
+    for (std::size_t i = distinct_.size(); i-- > 0 && distinct_.size() - i <= 16;) {
+      if (distinct_[i] == value) {
+        return static_cast<std::uint32_t>(i);
+      }
+    }
+    distinct_.push_back(value);
+    return static_cast<std::uint32_t>(distinct_.size() - 1);
+  }
+
+  // The width when every cell's value is a list of that many doubles.
+  std::optional<std::size_t> number_pairs(std::size_t cells) const {
+    std::optional<std::size_t> width;
+    for (std::size_t i = 0; i < cells; ++i) {
+      if (!present_[i]) {
+        continue;
+      }
+      const Answer& value = distinct_[values_[i]];
+      if (!value.is_array() || value.empty() ||
+          !std::all_of(value.begin(), value.end(),
+                       [](const Answer& v) { return v.is_number_float(); }) ||
+          (width && *width != value.size())) {
+        return std::nullopt;
+      }
+      width = value.size();
+    }
+    return width;
+  }
+
+  Kind kind_ = Kind::none;
+  std::vector<bool> present_;
+  std::vector<double> numbers_;
+  std::vector<std::int64_t> integers_;
+  std::vector<std::uint32_t> values_; // indexes into distinct_
+  std::vector<Answer> distinct_;
 };
 
 } // namespace
@@ -236,7 +337,7 @@ py::object ask_keywords(const std::string& question, const py::dict& options, co
     }
     std::optional<std::string> text;
     if (!switches.contains(name)) {
-      if (PyFloat_CheckExact(value.ptr())) {
+      if (PyFloat_CheckExact(value.ptr()) && !exact) { // wider: its exact digits, by typed_one
         text = py::repr(value).cast<std::string>();
       } else if (PyLong_CheckExact(value.ptr())) {
         text = py::str(value).cast<std::string>();
@@ -251,7 +352,7 @@ py::object ask_keywords(const std::string& question, const py::dict& options, co
       }
     }
     if (!text) {
-      const py::object made = typed_one(name, value);
+      const py::object made = typed_one(name, value, exact);
       if (made.is_none()) {
         continue;
       }
@@ -296,7 +397,7 @@ py::dict ask_many(const std::string& question, const harness::TypedOptions& fixe
       options.assign(count, fixed);
       for (std::size_t i = 0; i < count; ++i) {
         for (std::size_t j = 0; j < varying.size(); ++j) {
-          options[i].emplace_back(varying[j].first, shortest(values[j][first + i]));
+          options[i].emplace_back(varying[j].first, cell_text(values[j][first + i], exact));
         }
       }
       harness::ask_cells(asked, options, jobs, answers, failures);

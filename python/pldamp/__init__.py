@@ -34,6 +34,7 @@ from __future__ import annotations
 import decimal
 import difflib
 import json
+import math
 import numbers
 import os
 import re
@@ -80,11 +81,20 @@ def _no_nul(name: str, text: str) -> str:
     return text
 
 
-def _text(name: str, value: Any) -> str:
-    """A value as the command line reads it."""
+def _float_text(value: float, exact: bool) -> str:
+    """A float as the command reads it: its shortest round-trip digits in double (the same
+    double), every digit of its binary value in a wider precision (where "0.3" would be the
+    float128 nearest 0.3, not the double the caller gave)."""
+    if not exact or not math.isfinite(value):
+        return repr(value)
+    return str(decimal.Decimal(value))  # exact: a double is a finite binary fraction
+
+
+def _text(name: str, value: Any, exact: bool = False) -> str:
+    """A value as the command line reads it (`exact`: for a precision wider than double)."""
     kind = type(value)  # the common cases first, by exact type: a call costs a few µs in all
     if kind is float:
-        return repr(value)
+        return _float_text(value, exact)
     if kind is int:
         return str(value)
     if kind is str:
@@ -92,11 +102,11 @@ def _text(name: str, value: Any) -> str:
     if isinstance(value, bool):
         raise TypeError("%s takes a number or text, not a bool" % name)
     if isinstance(value, (float, np.floating)):
-        return repr(float(value))  # shortest round trip: the same double
+        return _float_text(float(value), exact)
     if isinstance(value, (numbers.Integral, decimal.Decimal, str)):
         return _no_nul(name, str(value))
-    if isinstance(value, (list, tuple)):
-        return ",".join(_text(name, item) for item in value)
+    if isinstance(value, (list, tuple)) or (isinstance(value, np.ndarray) and value.ndim == 1):
+        return ",".join(_text(name, item, exact) for item in value)
     raise TypeError("%s takes a number, text or a list of them (got %s)" % (name,
                                                                            type(value).__name__))
 
@@ -230,30 +240,38 @@ def _ask_cells(kind: type, command: str, cells: list, jobs: Optional[int], exact
     threads with the GIL released: each cell's answer is the scalar call's, and each key an array
     of the cells' shape (a text every cell shares: one str)."""
     if jobs is not None and (isinstance(jobs, bool) or not isinstance(jobs, numbers.Integral) or
-                             jobs < 1):
-        raise ValueError("jobs is a count of threads >= 1 (got %r)" % (jobs,))
+                             not 1 <= jobs <= 1024):
+        raise ValueError("jobs is a count of threads in [1, 1024], as run's --jobs (got %r)"
+                         % (jobs,))
     arrays = np.broadcast_arrays(*[_numbers(name, options[name]) for name in cells])
     shape = arrays[0].shape
     known = _keywords(command)
     varying = [(known[name], np.ascontiguousarray(array, dtype=np.float64).ravel())
                for name, array in zip(cells, arrays)]
     fixed = _typed(command, {name: value for name, value in options.items()
-                             if name not in cells})
-    answer = _pldamp.ask_many(command, fixed, varying, exact, 0 if jobs is None else int(jobs))
-    return kind((key, value.reshape(shape) if isinstance(value, np.ndarray) else value)
-                for key, value in answer.items())
+                             if name not in cells}, exact)
+    try:
+        answer = _pldamp.ask_many(command, fixed, varying, exact, 0 if jobs is None else int(jobs))
+    except ValueError as error:  # "... at element 7": the cell's index in the arrays' shape
+        found = re.fullmatch(r"(.*) at element (\d+)", str(error), re.S)
+        if found is None or len(shape) < 2:
+            raise
+        index = tuple(int(i) for i in np.unravel_index(int(found.group(2)), shape))
+        raise ValueError("%s at element %s" % (found.group(1), index)) from None
+    return kind((key, value.reshape(shape + value.shape[1:]) if isinstance(value, np.ndarray)
+                 else value) for key, value in answer.items())
 
 
-def _typed_one(name: str, value: Any) -> Optional[str]:
+def _typed_one(name: str, value: Any, exact: bool = False) -> Optional[str]:
     """A keyword's value as the command reads it: a switch's "" (None when False), or _text."""
     if name in SWITCHES:
         if not isinstance(value, bool):
             raise TypeError("%s is a switch: True or False (got %r)" % (name, value))
         return "" if value else None
-    return _text(name, value)
+    return _text(name, value, exact)
 
 
-def _typed(command: str, options: dict) -> list:
+def _typed(command: str, options: dict, exact: bool = False) -> list:
     """The options as (flag, text) pairs; an unknown keyword refused by name."""
     known = _keywords(command)
     typed = []
@@ -262,7 +280,7 @@ def _typed(command: str, options: dict) -> list:
         if flag is None:
             _refuse_unknown(command, name)
         if value is not None:
-            text = _typed_one(name, value)
+            text = _typed_one(name, value, exact)
             if text is not None:
                 typed.append((flag, text))
     return typed
@@ -356,7 +374,10 @@ def _numbers(name: str, value: Any) -> np.ndarray:
                                 % (name, item, index))
             if not isinstance(item, numbers.Real) or isinstance(item, np.timedelta64):
                 raise ValueError("%s holds %r at index %d: not a number" % (name, item, index))
-    return np.asarray(array, dtype=np.float64)
+    try:
+        return np.asarray(array, dtype=np.float64)
+    except OverflowError:  # an int beyond a double's range (10**400)
+        raise ValueError("%s holds a number beyond what a double holds" % name) from None
 
 
 def _scalar(name: str, value: Any) -> float:
@@ -374,9 +395,12 @@ def _observables_arrays(scalars: dict, end: str, precision: Optional[str],
     if precision not in (None, "double"):
         raise ValueError("observables over arrays runs in double; call it per element for "
                          "precision %s (got precision %s)" % (precision, precision))
+    for name in options:  # a keyword observables does not take at all: as the scalar call says
+        _refuse_unknown("observables", name)
     if options:
         raise ValueError("observables over arrays takes p, e|alpha|alpha_eff, v0, m, k, end and "
                          "want (got %s)" % ", ".join(sorted(options)))
+    end = _text("end", end)  # a str, as the command line reads it (end=5 is "5")
     given = [name for name in ("e", "alpha", "alpha_eff") if scalars[name] is not None]
     if len(given) != 1:
         raise ValueError("give exactly one of e, alpha, alpha_eff (got %d)" % len(given))
@@ -473,7 +497,9 @@ def check(t: Any, delta: Any, v: Any = None, F: Any = None, **options) -> Trajec
         np.savetxt(path, data, delimiter=",", header=",".join(columns), comments="",
                    fmt="%.17g")
         try:
-            return TrajectoryCheck(_call("check", [path], **options))
+            answer = TrajectoryCheck(_call("check", [path], **options))
+            answer["trajectory"] = "arrays " + ", ".join(columns)  # not the scratch file's path
+            return answer
         except ValueError as error:
             # "FILE:LINE: what" names the scratch file: say the index in the arrays instead.
             # The scratch file's name means nothing to the caller: its line 1 is the header,

@@ -66,7 +66,8 @@ class Report(Answer):
         """The records as a numpy structured array: one row per cell and configuration, the
         configuration's label (config: "cvode-bdf rtol=1e-10 end=force") and the columns of
         report.csv (solver, precision, rtol, ..., p, damping, ..., e, e_reference, e_error,
-        e_abs_error, e_rel_error, ...); NaN where a record has no value."""
+        e_abs_error, e_rel_error, ...): report.json's values, NaN where it has null (a value
+        absent, or infinite: report.csv writes τ of a contact that never returns inf)."""
         columns = {name: _column(values) for name, values in self._columns().items()}
         rows = len(self.get("records", []))
         table = np.empty(rows, dtype=[(name, array.dtype) for name, array in columns.items()])

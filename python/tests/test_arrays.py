@@ -5,6 +5,7 @@ every cell is the scalar call's answer, bit for bit, and the table is report.csv
 """
 
 import csv
+import decimal
 import math
 import os
 
@@ -148,3 +149,51 @@ def test_the_records_as_a_dataframe(tmp_path):
     assert isinstance(frame, pandas.DataFrame) and len(frame) == len(report["records"])
     worst = frame.groupby("solver")["e_rel_error"].max()
     assert worst["taylor"] < 1e-12 < worst["verlet-predicted"]
+
+
+def test_what_a_new_user_found_in_arrays():
+    # A whole number of steps goes in as an integer (1e+05 was refused).
+    assert pldamp.solve("dem-verlet", p=1.5, e=0.5, v0=1, steps_per_contact=[100000],
+                        repeats=1).steps[0] == \
+        pldamp.solve("dem-verlet", p=1.5, e=0.5, v0=1, steps_per_contact=100000, repeats=1).steps
+    # A JSON null that is no infinity (no entry reaches e) is NaN in a float array, every cell's too.
+    reach = pldamp.calibrate(p=1.5, e=[0.05, 0.5], code="lammps-tsuji").e_to_enter
+    assert reach.dtype == np.float64 and math.isnan(reach[0]) and reach[1] > 0
+    assert math.isnan(pldamp.calibrate(p=1.5, e=[0.05], code="lammps-tsuji").e_to_enter[0])
+    # Wider precisions: Decimals in an object array, never collapsed, infinity as Infinity.
+    quad = pldamp.calibrate(p=1.5, e=[0.5, 0.5], precision="quad").alpha
+    assert quad.shape == (2,) and quad[0] == quad[1] == pldamp.calibrate(
+        p=1.5, e=0.5, precision="quad").alpha
+    never = pldamp.solve("taylor", p=1.5, alpha_eff=[0.5, 2.0], v0=1, precision="quad",
+                         horizon=50, repeats=1).tau
+    assert never[1] == decimal.Decimal("Infinity") and never[0].is_finite()
+    # Pairs (timestep's range) are a float array of the cells' shape and 2; a refused cell of a
+    # 2-D grid is named by its index there.
+    assert pldamp.timestep("dem-verlet", p=1.5, e=[[0.3], [0.5]]).range.shape == (2, 1, 2)
+    with pytest.raises(ValueError, match=r"at element \(1, 0\)$"):
+        pldamp.calibrate(p=[[1.5], [0.5]], e=[0.3, 0.5])
+    with pytest.raises(ValueError, match=r"jobs is a count of threads in \[1, 1024\]"):
+        pldamp.calibrate(p=1.5, e=[0.3, 0.5], jobs=2**31)
+
+
+def test_a_python_float_is_the_very_double_in_every_precision():
+    # In quad a float goes in as every digit of its binary value: 1 - 2^-50 was rounded to
+    # 16 digits on the way and gave an alpha 1.3 % off.
+    x = 1 - 2**-50
+    quad = pldamp.calibrate(p=1, e=x, precision="quad").alpha
+    assert quad == pldamp.calibrate(p=1, e=decimal.Decimal(x), precision="quad").alpha
+    assert pldamp.calibrate(p=1, e=[x], precision="quad").alpha[0] == quad
+    e = pldamp.calibrate(p=1.5, e=0.3, precision="quad").e  # the double 0.29999999999999998889...
+    assert abs(e - decimal.Decimal(0.3)) < decimal.Decimal("1e-35") < abs(e - decimal.Decimal("0.3"))
+
+
+def test_more_threads_than_the_system_gives_are_fewer_threads_not_an_abort(tmp_path):
+    # Under a 3 GB address-space limit 400 threads' stacks do not fit: the process aborted.
+    import subprocess
+    import sys
+    program = ("import pldamp, numpy as np; "
+               "print(pldamp.calibrate(p=1.5, e=np.linspace(.01, 1, 8192), jobs=400).alpha[-1])")
+    done = subprocess.run(["bash", "-c", 'ulimit -v 3000000; exec "$0" -c "$1"', sys.executable,
+                           program], capture_output=True, text=True, timeout=300)
+    assert done.returncode == 0, done.stderr
+    assert float(done.stdout) == pldamp.calibrate(p=1.5, e=1.0).alpha

@@ -151,7 +151,7 @@ def test_the_trajectory_peaks_at_delta_max_and_leaves_at_minus_e_v0():
     assert abs(v[1]) < 1e-12
     assert relative(v[2], -0.5 * 2.0) < 1e-14
     assert relative(delta[2], -1.0) < 1e-14
-    with pytest.raises(ValueError, match="unknown end"):  # once taken as the overlap end
+    with pytest.raises(ValueError, match="unknown contact end"):  # once taken as the overlap end
         pldamp.trajectory(t, p=1.5, e=0.5, end="sideways")
 
 

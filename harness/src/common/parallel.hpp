@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <atomic>
 #include <exception>
+#include <system_error>
 #include <thread>
 #include <vector>
 
@@ -25,7 +26,8 @@ inline int all_cores() {
   return static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
 }
 
-// body(i) for every i in [0, count), on up to `jobs` threads (the caller's among them). An
+// body(i) for every i in [0, count), on up to `jobs` threads (the caller's among them; fewer when
+// the system gives no more, as under `ulimit -v` with many jobs: it aborted the process). An
 // exception ends no other piece; the first by index is rethrown once all have ended, as a serial
 // loop would have thrown it.
 template <class Body>
@@ -45,7 +47,11 @@ void for_each_index(std::size_t count, int jobs, Body&& body) {
   const std::size_t threads =
       std::min<std::size_t>(count, static_cast<std::size_t>(std::max(jobs, 1)));
   for (std::size_t j = 1; j < threads; ++j) {
-    workers.emplace_back(work);
+    try {
+      workers.emplace_back(work);
+    } catch (const std::system_error&) { // no thread to be had (a process or memory limit): the
+      break;                             // threads started and the caller's do the work
+    }
   }
   work();
   for (std::thread& worker : workers) {
