@@ -44,9 +44,10 @@ class Report(Answer):
         records = self.get("records", [])
         config_keys = [key for c in configs.values() for key in c if key != "label"]
         config_keys = list(dict.fromkeys(config_keys))  # in order, once
-        columns: dict = {"config": [r.get("config") for r in records]}  # the one unique name
+        columns: dict = {}
         for key in config_keys:
             columns[key] = [configs.get(r["config"], {}).get(key) for r in records]
+        columns["config"] = [r.get("config") for r in records]  # the label: its one name
         for key in _RECORD_COLUMNS:
             if any(key in r for r in records):
                 columns[key] = [r.get(key) for r in records]
@@ -64,8 +65,8 @@ class Report(Answer):
 
     def table(self) -> np.ndarray:
         """The records as a numpy structured array: one row per cell and configuration, the
-        configuration's label (config: "cvode-bdf rtol=1e-10 end=force") and the columns of
-        report.csv (solver, precision, rtol, ..., p, damping, ..., e, e_reference, e_error,
+        columns of report.csv (solver, precision, rtol, atol, steps_per_contact, config (the
+        label: "cvode-bdf rtol=1e-10 end=force"), p, damping, ..., e, e_reference, e_error,
         e_abs_error, e_rel_error, ...): report.json's values, NaN where it has null (a value
         absent, or infinite: report.csv writes τ of a contact that never returns inf)."""
         columns = {name: _column(values) for name, values in self._columns().items()}

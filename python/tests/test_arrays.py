@@ -139,7 +139,9 @@ def test_the_records_table_is_report_csv(tmp_path):
                 assert value == int(text), name
             else:
                 assert str(value) == text, name
+    # config tells apart what solver, rtol and the rest do not (the force end's cvode-bdf 1e-10).
     assert len(set(table["config"])) == len(report["scene"]["configs"])
+    assert sum(row["config"].endswith("end=force") for row in rows) == 45
 
 
 def test_the_records_as_a_dataframe(tmp_path):

@@ -34,6 +34,7 @@ void write_report_csv(const RunReport& report, const TextSink& put, int jobs) {
                                key::rtol,
                                key::atol,
                                key::steps_per_contact,
+                               key::config,
                                key::p,
                                key::damping,
                                key::alpha_eff,
@@ -67,12 +68,15 @@ void write_report_csv(const RunReport& report, const TextSink& put, int jobs) {
     // The scene's contact (materials) whose m and k the cell has, as report.json names it.
     const MaterialContact* contact = contact_of(plan.scene, c.m, c.k);
     std::string row = fmt::format(
-        "{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{}", csv_field(config.name),
+        "{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{}", csv_field(config.name),
         config.precision, number(config.rtol), number(config.atol),
-        config.steps_per_contact ? std::to_string(*config.steps_per_contact) : "", point.p,
-        csv_field(point.damping.label()), point.alpha_eff, record.alpha, c.v0, c.m, c.k,
-        contact != nullptr ? csv_field(contact->name) : "", record.outcome_name(), record.steps,
-        record.rhs_evals, record.wall_seconds, record.wall_seconds_slowest);
+        config.steps_per_contact ? std::to_string(*config.steps_per_contact) : "",
+        // The configuration's label, its one name: two of one solver and tolerance differ by
+        // their end or onset phases alone, which no column above shows.
+        csv_field(config.label()), point.p, csv_field(point.damping.label()), point.alpha_eff,
+        record.alpha, c.v0, c.m, c.k, contact != nullptr ? csv_field(contact->name) : "",
+        record.outcome_name(), record.steps, record.rhs_evals, record.wall_seconds,
+        record.wall_seconds_slowest);
     for (std::size_t o = 0; o < plan.observables.size(); ++o) {
       row += fmt::format(",{},{},{},{},{}", number(record.value[o]), number(record.reference[o]),
                          number(record.error[o]), number(record.abs_error[o]),
