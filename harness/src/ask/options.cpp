@@ -1,6 +1,6 @@
 // The questions' options by name (ask/ask.hpp): settle() for every front end, set_option() for
 // the ones without an argv. The command line reads the same options with CLI11 (cli/cli.cpp);
-// tests/python's equality tests hold the two readings to one answer and one refusal.
+// python/tests/test_direct.py holds the two readings to one answer and one refusal.
 #include "ask/contact.hpp"
 #include "ask/materials.hpp"
 #include "common/parallel.hpp"
