@@ -56,7 +56,10 @@ std::string cell_text(double value, bool exact) {
                   .ptr;
   std::string digits(buffer.data(), end);
   const std::size_t exponent = digits.find('e');
-  const std::size_t last = digits.find_last_not_of('0', exponent - 1);
+  std::size_t last = digits.find_last_not_of('0', exponent - 1);
+  if (digits[last] == '.') { // "5.000e-01" is "5e-01", not "5.e-01"
+    --last;
+  }
   digits.erase(last + 1, exponent - last - 1); // the trailing zeros of the mantissa
   return digits;
 }

@@ -185,6 +185,10 @@ def test_a_python_float_is_the_very_double_in_every_precision():
     quad = pldamp.calibrate(p=1, e=x, precision="quad").alpha
     assert quad == pldamp.calibrate(p=1, e=decimal.Decimal(x), precision="quad").alpha
     assert pldamp.calibrate(p=1, e=[x], precision="quad").alpha[0] == quad
+    for precision in ("long", "quad", "50"):  # a cell goes in as the scalar float does
+        cells = pldamp.calibrate(p=1.5, e=[0.5, 0.3, x], precision=precision).alpha
+        assert list(cells) == [pldamp.calibrate(p=1.5, e=e, precision=precision).alpha
+                               for e in (0.5, 0.3, x)]
     e = pldamp.calibrate(p=1.5, e=0.3, precision="quad").e  # the double 0.29999999999999998889...
     assert abs(e - decimal.Decimal(0.3)) < decimal.Decimal("1e-35") < abs(e - decimal.Decimal("0.3"))
 
