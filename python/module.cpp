@@ -6,6 +6,7 @@
 // word, without its text); the command line itself, run in-process (run, merge, diff, check);
 // and the closed forms in double over numpy arrays, evaluated element by element in C++ with the
 // GIL released.
+#include "common/parallel.hpp"
 #include "questions.hpp"
 
 #include "pldamp/analytic.hpp"
@@ -175,10 +176,10 @@ Contact<double> contact_from(DampingKind kind, ContactEnd end, double p, double 
 // is e, alpha or alpha_eff; `end` overlap or force (a target e met where the force ends). Returns
 // alpha, alpha_eff and each wanted observable: inf for τ of a contact that never returns, NaN
 // where an observable does not exist. A value outside the domain raises ValueError naming the
-// element.
+// element. On `jobs` threads (0: every core this process may use).
 py::dict observables_double(const Array& p, const std::string& damping_kind, const Array& damping,
                             const Array& v0, const Array& m, const Array& k, const std::string& end,
-                            const std::vector<std::string>& want) {
+                            const std::vector<std::string>& want, int jobs) {
   const auto n = static_cast<std::size_t>(p.size());
   for (const Array* a : {&damping, &v0, &m, &k}) {
     if (static_cast<std::size_t>(a->size()) != n) {
@@ -201,29 +202,39 @@ py::dict observables_double(const Array& p, const std::string& damping_kind, con
   }
   const double *ps = p.data(), *ds = damping.data(), *vs = v0.data(), *ms = m.data(),
                *ks = k.data();
-  std::string failure;
+  // In chunks on `jobs` threads, each element in its own slot; a chunk stops at its first refused
+  // element, and the first of those by index is the one reported, as a serial loop would.
+  constexpr std::size_t chunk = 4096;
+  const std::size_t chunks = (n + chunk - 1) / chunk;
+  std::vector<std::optional<std::pair<std::size_t, std::string>>> failures(chunks);
   {
     py::gil_scoped_release unlocked;
-    for (std::size_t i = 0; i < n && failure.empty(); ++i) {
-      try {
-        const Contact<double> c =
-            contact_from(kind, contact_end, ps[i], ds[i], vs[i], ms[i], ks[i]);
-        const pldamp::analytic::Observables<double> o = pldamp::analytic::observables(c, bits);
-        into[0][i] = c.alpha();
-        into[1][i] = c.alpha_eff();
-        for (std::size_t j = 0; j < wanted.size(); ++j) {
-          into[j + 2][i] =
-              (o.*(wanted[j]->member)).value_or(std::numeric_limits<double>::quiet_NaN());
-        }
-      } catch (const std::exception& e) {
-        std::ostringstream message;
-        message << e.what() << " at element " << i;
-        failure = message.str();
-      }
-    }
+    pldamp::harness::for_each_index(
+        chunks, jobs <= 0 ? pldamp::harness::all_cores() : jobs, [&](std::size_t c) {
+          for (std::size_t i = c * chunk; i < std::min(n, (c + 1) * chunk); ++i) {
+            try {
+              const Contact<double> contact =
+                  contact_from(kind, contact_end, ps[i], ds[i], vs[i], ms[i], ks[i]);
+              const pldamp::analytic::Observables<double> o =
+                  pldamp::analytic::observables(contact, bits);
+              into[0][i] = contact.alpha();
+              into[1][i] = contact.alpha_eff();
+              for (std::size_t j = 0; j < wanted.size(); ++j) {
+                into[j + 2][i] =
+                    (o.*(wanted[j]->member)).value_or(std::numeric_limits<double>::quiet_NaN());
+              }
+            } catch (const std::exception& e) {
+              failures[c].emplace(i, e.what());
+              return;
+            }
+          }
+        });
   }
-  if (!failure.empty()) {
-    throw std::invalid_argument(failure);
+  for (const auto& failure : failures) {
+    if (failure) {
+      throw std::invalid_argument(failure->second + " at element " +
+                                  std::to_string(failure->first));
+    }
   }
   py::dict result;
   result["alpha"] = out[0];
@@ -294,7 +305,7 @@ PYBIND11_MODULE(_pldamp, m) {
         py::arg("varying"), py::arg("exact"), py::arg("jobs"));
   m.def("observables_double", &observables_double, py::arg("p"), py::arg("damping_kind"),
         py::arg("damping"), py::arg("v0"), py::arg("m"), py::arg("k"), py::arg("end"),
-        py::arg("want"));
+        py::arg("want"), py::arg("jobs") = 0);
   m.def("trajectory_double", &trajectory_double, py::arg("p"), py::arg("damping_kind"),
         py::arg("damping"), py::arg("v0"), py::arg("m"), py::arg("k"), py::arg("end"),
         py::arg("t"));

@@ -31,6 +31,7 @@ RuntimeError. docs/python.md is the guide.
 
 from __future__ import annotations
 
+import contextlib
 import decimal
 import difflib
 import json
@@ -234,15 +235,35 @@ def _ask(kind: type, command: str, jobs: Optional[int] = None, **options) -> Ans
     raise ValueError("jobs goes with arrays of cells (got jobs=%r)" % (jobs,))
 
 
+@contextlib.contextmanager
+def _cells_named_in(shape: tuple):
+    """A refusal "... at element 7" names the cell by its index in the arrays' shape: (1, 3)."""
+    try:
+        yield
+    except ValueError as error:
+        found = re.fullmatch(r"(.*) at element (\d+)", str(error), re.S)
+        if found is None or len(shape) < 2:
+            raise
+        index = tuple(int(i) for i in np.unravel_index(int(found.group(2)), shape))
+        raise ValueError("%s at element %s" % (found.group(1), index)) from None
+
+
+def _jobs(jobs: Any) -> int:
+    """The threads of an array call: 1 to 1024, as run's --jobs; 0 for every core (None)."""
+    if jobs is None:
+        return 0
+    if isinstance(jobs, bool) or not isinstance(jobs, numbers.Integral) or not 1 <= jobs <= 1024:
+        raise ValueError("jobs is a count of threads in [1, 1024], as run's --jobs (got %r)"
+                         % (jobs,))
+    return int(jobs)
+
+
 def _ask_cells(kind: type, command: str, cells: list, jobs: Optional[int], exact: bool,
                options: dict) -> Answer:
     """The question at every cell of the arrays (broadcast as numpy does), on the library's
     threads with the GIL released: each cell's answer is the scalar call's, and each key an array
     of the cells' shape (a text every cell shares: one str)."""
-    if jobs is not None and (isinstance(jobs, bool) or not isinstance(jobs, numbers.Integral) or
-                             not 1 <= jobs <= 1024):
-        raise ValueError("jobs is a count of threads in [1, 1024], as run's --jobs (got %r)"
-                         % (jobs,))
+    threads = _jobs(jobs)
     arrays = np.broadcast_arrays(*[_numbers(name, options[name]) for name in cells])
     shape = arrays[0].shape
     known = _keywords(command)
@@ -250,14 +271,8 @@ def _ask_cells(kind: type, command: str, cells: list, jobs: Optional[int], exact
                for name, array in zip(cells, arrays)]
     fixed = _typed(command, {name: value for name, value in options.items()
                              if name not in cells}, exact)
-    try:
-        answer = _pldamp.ask_many(command, fixed, varying, exact, 0 if jobs is None else int(jobs))
-    except ValueError as error:  # "... at element 7": the cell's index in the arrays' shape
-        found = re.fullmatch(r"(.*) at element (\d+)", str(error), re.S)
-        if found is None or len(shape) < 2:
-            raise
-        index = tuple(int(i) for i in np.unravel_index(int(found.group(2)), shape))
-        raise ValueError("%s at element %s" % (found.group(1), index)) from None
+    with _cells_named_in(shape):
+        answer = _pldamp.ask_many(command, fixed, varying, exact, threads)
     return kind((key, value.reshape(shape + value.shape[1:]) if isinstance(value, np.ndarray)
                  else value) for key, value in answer.items())
 
@@ -314,7 +329,8 @@ def observables(p: Any = None, e: Any = None, alpha: Any = None, alpha_eff: Any 
     float128 reference solve. The dict is the command's JSON answer (units with materials).
 
     With an array for any of p, e, alpha, alpha_eff, v0, m, k (broadcast as numpy does), the
-    closed forms are evaluated element-wise in C++ in double with the GIL released, and the dict
+    closed forms are evaluated element-wise in C++ in double with the GIL released, on `jobs`
+    threads (default: every core), and the dict
     holds arrays of that shape: alpha, alpha_eff and each observable of `want` (default all of
     ARRAY_OBSERVABLES; inf for τ of a contact that never returns, NaN where an observable does
     not exist).
@@ -395,6 +411,7 @@ def _observables_arrays(scalars: dict, end: str, precision: Optional[str],
     if precision not in (None, "double"):
         raise ValueError("observables over arrays runs in double; call it per element for "
                          "precision %s (got precision %s)" % (precision, precision))
+    jobs = _jobs(options.pop("jobs", None))
     for name in options:  # a keyword observables does not take at all: as the scalar call says
         _refuse_unknown("observables", name)
     if options:
@@ -415,8 +432,9 @@ def _observables_arrays(scalars: dict, end: str, precision: Optional[str],
     arrays = np.broadcast_arrays(*[_numbers(n, v) for n, v in zip(names, values)])
     shape = arrays[0].shape
     flat = [np.ascontiguousarray(a).ravel() for a in arrays]
-    result = _pldamp.observables_double(flat[0], kind, flat[1], flat[2], flat[3], flat[4], end,
-                                        want)
+    with _cells_named_in(shape):
+        result = _pldamp.observables_double(flat[0], kind, flat[1], flat[2], flat[3], flat[4],
+                                            end, want, jobs)
     return Observables((key, value.reshape(shape)) for key, value in result.items())
 
 

@@ -203,3 +203,15 @@ def test_more_threads_than_the_system_gives_are_fewer_threads_not_an_abort(tmp_p
                            program], capture_output=True, text=True, timeout=300)
     assert done.returncode == 0, done.stderr
     assert float(done.stdout) == pldamp.calibrate(p=1.5, e=1.0).alpha
+
+
+def test_the_closed_forms_over_arrays_on_threads_are_the_one_thread_loop():
+    alpha = np.linspace(0, 2, 20001).reshape(3, 6667)
+    one = pldamp.observables(p=1.5, alpha=alpha, v0=1.0, jobs=1)
+    every = pldamp.observables(p=1.5, alpha=alpha, v0=1.0)
+    assert all(np.array_equal(one[key], every[key], equal_nan=True) for key in one)
+    e = np.full((2, 6000), 0.5)
+    e[1, 4321] = 2.0  # beyond the first chunk of 4096, on another thread: named where it is
+    with pytest.raises(ValueError, match=r"got 2\) at element \(1, 4321\)$"):
+        pldamp.observables(p=1.5, e=e, v0=1.0)
+
