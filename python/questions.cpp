@@ -32,13 +32,6 @@ bool integral(std::string_view digits) {
   return digits.find_first_of(".eE") == std::string_view::npos;
 }
 
-// A double's shortest round-trip digits ("0.5", "1e-05", "inf"): as the command line prints it.
-std::string shortest(double value) {
-  std::array<char, 32> buffer{};
-  return std::string(buffer.data(),
-                     std::to_chars(buffer.data(), buffer.data() + buffer.size(), value).ptr);
-}
-
 // A cell's value as its option reads it: a whole number as an integer ("100000", which an integer
 // option takes: "1e+05" was refused), else its shortest round-trip digits in double, or every
 // digit of its binary value for a wider precision (a double is exactly representable there, and
@@ -48,7 +41,7 @@ std::string cell_text(double value, bool exact) {
     return std::to_string(static_cast<long long>(value));
   }
   if (!exact || !std::isfinite(value)) {
-    return shortest(value);
+    return to_string_full(value); // shortest round-trip digits, as the command line prints it
   }
   std::array<char, 800> buffer{}; // a double's exact expansion: at most 767 significant digits
   char* end = std::to_chars(buffer.data(), buffer.data() + buffer.size(), value,
@@ -82,9 +75,10 @@ py::object python_value(const Answer& value, bool exact) {
       return py::none();
     }
     // A whole number's shortest digits may have no point ("1", but "1e+16"); any other's have one.
-    if (std::trunc(number) == number && integral(shortest(number))) {
-      return py::reinterpret_steal<py::object>(
-          PyLong_FromString(shortest(number).c_str(), nullptr, 10));
+    if (std::trunc(number) == number) {
+      if (const std::string digits = to_string_full(number); integral(digits)) {
+        return py::reinterpret_steal<py::object>(PyLong_FromString(digits.c_str(), nullptr, 10));
+      }
     }
     return py::float_(number);
   }

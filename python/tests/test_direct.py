@@ -89,6 +89,12 @@ def test_codes_materials_and_other_damping_exponents():
                    precision="quad")
     same_both_ways("calibrate", (), pldamp.calibrate, e="0.5", code="lammps-viscoelastic",
                    v0="1", speeds="0.5,2", **MATERIALS)
+    # LAMMPS divides its entry by sqrt(Reff): reff changes the entry, and only the entry.
+    small = same_both_ways("calibrate", (), pldamp.calibrate, p="1.5", e="0.5",
+                           code="lammps-viscoelastic", v0="2", reff="0.25")
+    large = same_both_ways("calibrate", (), pldamp.calibrate, p="1.5", e="0.5",
+                           code="lammps-viscoelastic", v0="2", reff="1")
+    assert small.entry == 2 * large.entry and small.alpha == large.alpha
     same_both_ways("observables", (), pldamp.observables, e="0.5", v0="1", end="force",
                    **MATERIALS)
     same_both_ways("observables", (), pldamp.observables, p="1.5", e="0.5", v0="1",

@@ -101,7 +101,8 @@ Answer ask(Question question, const TypedOptions& options);
 // batch's time divided among its lanes.
 void ask_cells(Question question, std::span<const TypedOptions> cells, int jobs,
                std::vector<Answer>& answers, std::vector<std::exception_ptr>& failures);
-void solve_answers(std::span<const SolveArgs> cells, int jobs, std::vector<Answer>& answers,
+// ask_cells' solve for the cells of one thread: answers[i] or failures[i] for cells[i].
+void solve_answers(std::span<const SolveArgs> cells, std::vector<Answer>& answers,
                    std::vector<std::exception_ptr>& failures);
 
 // "observables" -> Question::observables; InputError for a name that is not a question asked here.

@@ -130,32 +130,22 @@ void set_option(ContactArgs& a, Question question, const std::string& name,
       return;
     }
   }
-  if (name == "--p") {
-    a.p = value;
-  } else if (name == "--e") {
-    a.e = value;
-  } else if (name == "--alpha") {
-    a.alpha = value;
-  } else if (name == "--alpha-eff") {
-    a.alpha_eff = value;
-  } else if (name == "--v0") {
-    a.v0 = value;
-  } else if (name == "--m") {
-    a.m = value;
-  } else if (name == "--k") {
-    a.k = value;
-  } else if (name == "--geometry") {
-    a.geometry = value;
-  } else if (name == "--precision") {
-    a.precision = value;
-  } else if (name == "--end") {
-    a.end = value;
-  } else if (name == "--damping-exponent") {
-    a.damping_exponent = value;
-  } else if (name == "--code") {
-    a.code = value;
-  } else { // --reff
-    a.reff = value;
+  const std::pair<const char*, std::string*> texts[] = {{"--p", &a.p},
+                                                        {"--v0", &a.v0},
+                                                        {"--m", &a.m},
+                                                        {"--k", &a.k},
+                                                        {"--precision", &a.precision},
+                                                        {"--end", &a.end},
+                                                        {"--reff", &a.reff}};
+  const std::pair<const char*, std::optional<std::string>*> optional_texts[] = {
+      {"--e", &a.e},
+      {"--alpha", &a.alpha},
+      {"--alpha-eff", &a.alpha_eff},
+      {"--geometry", &a.geometry},
+      {"--damping-exponent", &a.damping_exponent},
+      {"--code", &a.code}};
+  if (!set_named(texts, name, value) && !set_named(optional_texts, name, value)) {
+    throw InternalError("takes_contact_option admits " + name + ", which sets nothing");
   }
 }
 
@@ -281,7 +271,7 @@ void ask_cells(Question question, std::span<const TypedOptions> cells, int jobs,
     }
     std::vector<Answer> solved;
     std::vector<std::exception_ptr> refused;
-    solve_answers(read, 1, solved, refused);
+    solve_answers(read, solved, refused);
     for (std::size_t j = 0; j < index.size(); ++j) {
       answers[index[j]] = std::move(solved[j]);
       failures[index[j]] = refused[j];

@@ -4,7 +4,6 @@
 // solvers/ only the physical parameters (p, m, k, v0, α, β).
 #include "ask/contact.hpp"
 #include "common/observables.hpp"
-#include "common/parallel.hpp"
 
 #include "pldamp/solvers/registry.hpp"
 
@@ -245,92 +244,84 @@ const solvers::SolverInfo* checked_solver(const SolveArgs& args) {
   return solver;
 }
 
-// The cells of a batched solver in double, stepped together (solvers::solve_batch) a chunk per
-// thread: each lane's result is solve()'s, bit for bit, but for its wall time (the batch's,
-// divided among its lanes). A chunk that throws is solved again cell by cell, so that each cell
-// gets its own answer or refusal.
+// The cells of a batched solver in double, stepped together (solvers::solve_batch): each lane's
+// result is solve()'s, bit for bit, but for its wall time (the batch's, divided among its lanes).
+// A batch that throws is solved again cell by cell, so that each cell gets its own answer or
+// refusal.
 void solve_batched(std::span<const SolveArgs> cells, const std::vector<std::size_t>& batched,
-                   std::vector<std::optional<PreparedSolve<double>>>& prepared, int jobs,
+                   std::vector<std::optional<PreparedSolve<double>>>& prepared,
                    std::vector<Answer>& answers, std::vector<std::exception_ptr>& failures) {
-  constexpr std::size_t chunk = 256; // lanes enough for the SIMD batches, chunks for the threads
-  const std::size_t chunks = (batched.size() + chunk - 1) / chunk;
-  for_each_index(chunks, jobs, [&](std::size_t c) {
-    const std::span<const std::size_t> mine(batched.data() + c * chunk,
-                                            std::min(chunk, batched.size() - c * chunk));
-    std::vector<solvers::Problem<double>> problems;
-    std::vector<solvers::Options<double>> options;
-    long repeats = 1;
-    for (const std::size_t i : mine) {
-      problems.push_back(prepared[i]->problem);
-      options.push_back(prepared[i]->options);
-      repeats = std::max(repeats, prepared[i]->repeats);
-    }
-    std::vector<solvers::Result<double>> results;
-    try {
-      results = solvers::solve_batch(cells[mine.front()].solver, problems, options);
-      for (long r = 1; r < repeats; ++r) {
-        const auto again = solvers::solve_batch(cells[mine.front()].solver, problems, options);
-        for (std::size_t j = 0; j < mine.size(); ++j) {
-          if (r < prepared[mine[j]]->repeats) {
-            results[j].wall_seconds = std::min(results[j].wall_seconds, again[j].wall_seconds);
-          }
+  std::vector<solvers::Problem<double>> problems;
+  std::vector<solvers::Options<double>> options;
+  long repeats = 1;
+  for (const std::size_t i : batched) {
+    problems.push_back(prepared[i]->problem);
+    options.push_back(prepared[i]->options);
+    repeats = std::max(repeats, prepared[i]->repeats);
+  }
+  std::vector<solvers::Result<double>> results;
+  try {
+    results = solvers::solve_batch(cells[batched.front()].solver, problems, options);
+    for (long r = 1; r < repeats; ++r) {
+      const auto again = solvers::solve_batch(cells[batched.front()].solver, problems, options);
+      for (std::size_t j = 0; j < batched.size(); ++j) {
+        if (r < prepared[batched[j]]->repeats) {
+          results[j].wall_seconds = std::min(results[j].wall_seconds, again[j].wall_seconds);
         }
       }
+    }
+  } catch (...) {
+    results.clear();
+  }
+  for (std::size_t j = 0; j < batched.size(); ++j) {
+    const std::size_t i = batched[j];
+    try {
+      answers[i] = results.empty()
+                       ? solve_in<double>(cells[i], solvers::find_solver(cells[i].solver))
+                       : finish(std::move(*prepared[i]), std::move(results[j]), cells[i]);
     } catch (...) {
-      results.clear();
+      failures[i] = std::current_exception();
     }
-    for (std::size_t j = 0; j < mine.size(); ++j) {
-      const std::size_t i = mine[j];
-      try {
-        answers[i] = results.empty()
-                         ? solve_in<double>(cells[i], solvers::find_solver(cells[i].solver))
-                         : finish(std::move(*prepared[i]), std::move(results[j]), cells[i]);
-      } catch (...) {
-        failures[i] = std::current_exception();
-      }
-    }
-  });
+  }
 }
 
-} // namespace
-
-Answer solve_answer(const SolveArgs& args) {
-  const solvers::SolverInfo* solver = checked_solver(args);
+// solve_answer's answer once the solver's traits are checked.
+Answer solve_checked(const SolveArgs& args, const solvers::SolverInfo* solver) {
   Answer answer;
   with_precision(args.contact.precision,
                  [&]<SupportedReal Real>() { answer = solve_in<Real>(args, solver); });
   return answer;
 }
 
-void solve_answers(std::span<const SolveArgs> cells, int jobs, std::vector<Answer>& answers,
+} // namespace
+
+Answer solve_answer(const SolveArgs& args) {
+  return solve_checked(args, checked_solver(args));
+}
+
+void solve_answers(std::span<const SolveArgs> cells, std::vector<Answer>& answers,
                    std::vector<std::exception_ptr>& failures) {
   answers.assign(cells.size(), Answer());
   failures.assign(cells.size(), nullptr);
-  // Prepared on the threads; a batched solver's double cells set aside for its lanes, any other
-  // cell answered as solve_answer answers it.
+  // A batched solver's double cells set aside for its lanes, any other cell answered as
+  // solve_answer answers it.
   std::vector<std::optional<PreparedSolve<double>>> prepared(cells.size());
-  std::vector<char> to_batch(cells.size(), 0);
-  for_each_index(cells.size(), jobs, [&](std::size_t i) {
+  std::map<std::string, std::vector<std::size_t>> by_solver; // lanes share a solver
+  for (std::size_t i = 0; i < cells.size(); ++i) {
     try {
       const solvers::SolverInfo* solver = checked_solver(cells[i]);
       if (solver != nullptr && solver->batched && cells[i].contact.precision == "double") {
         prepared[i] = prepare<double>(cells[i], solver);
-        to_batch[i] = 1;
+        by_solver[cells[i].solver].push_back(i);
       } else {
-        answers[i] = solve_answer(cells[i]);
+        answers[i] = solve_checked(cells[i], solver);
       }
     } catch (...) {
       failures[i] = std::current_exception();
     }
-  });
-  std::map<std::string, std::vector<std::size_t>> by_solver; // lanes share a solver
-  for (std::size_t i = 0; i < cells.size(); ++i) {
-    if (to_batch[i] != 0) {
-      by_solver[cells[i].solver].push_back(i);
-    }
   }
   for (const auto& [name, batched] : by_solver) {
-    solve_batched(cells, batched, prepared, jobs, answers, failures);
+    solve_batched(cells, batched, prepared, answers, failures);
   }
 }
 
