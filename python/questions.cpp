@@ -74,7 +74,12 @@ py::object python_value(const Answer& value, bool exact) {
     if (std::isinf(number)) {
       return py::none();
     }
-    // A whole number's shortest digits may have no point ("1", but "1e+16"); any other's have one.
+    // A whole number's shortest digits may have no point ("1", but "1e+06"); any other's have one.
+    // Below 10^5 they never have (as many digits as "1e+05" has characters, and to_chars writes
+    // the fixed form on a tie), so those skip the digits.
+    if (std::trunc(number) == number && std::fabs(number) < 1e5) {
+      return py::reinterpret_steal<py::object>(PyLong_FromDouble(number));
+    }
     if (std::trunc(number) == number) {
       if (const std::string digits = to_string_full(number); integral(digits)) {
         return py::reinterpret_steal<py::object>(PyLong_FromString(digits.c_str(), nullptr, 10));

@@ -82,6 +82,15 @@ def test_floats_go_in_as_the_same_double_both_ways():
         same_both_ways("observables", (), pldamp.observables, p=1.5, e=e, v0=0.42)
 
 
+def test_whole_numbers_are_int_or_float_as_the_json_writes_them():
+    # "99999" is an int, "1e+05" a float: the answer's m and k either side of where the shortest
+    # digits turn to an exponent, and a whole number past 2^53.
+    for m, k in [("99999", "1e5"), ("1e6", "12345678"), ("123456", "2e16")]:
+        same_both_ways("observables", (), pldamp.observables, p=1.5, e=0.5, v0=1, m=m, k=k)
+    assert type(pldamp.observables(p=1.5, e=0.5, v0=1, m="99999").m) is int
+    assert type(pldamp.observables(p=1.5, e=0.5, v0=1, m="1e5").m) is float
+
+
 def test_codes_materials_and_other_damping_exponents():
     same_both_ways("calibrate", (), pldamp.calibrate, p="1.5", e="0.5", code="lammps-tsuji",
                    limit_damping=True)

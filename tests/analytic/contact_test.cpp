@@ -122,6 +122,33 @@ TYPED_TEST(ContactTest, CalibrationFromERoundsTheWideOneOnce) {
   EXPECT_EQ(Contact<Real>::from_alpha(Real(3) / 2, Real(7) / 10, Real(1)).alpha(), Real(7) / 10);
 }
 
+// α and α_eff of a contact do not depend on its scales, to the bit, from e at both ends and from
+// α_eff (MATH.md §7): the harness's answers read them off the contact they describe instead of
+// calibrating a second, unit-scaled one (ask/contact.hpp).
+TYPED_TEST(ContactTest, DampingIsScaleFreeToTheBit) {
+  using Real = TypeParam;
+  using C = Contact<Real>;
+  const Real scales[][3] = {{Real(42) / 100, Real(3), Real(1) / 7},
+                            {Real(1e-6), Real(2.7e-5), Real(4.5e8)},
+                            {Real(1e6), Real(1e-9), Real(1e12)}};
+  for (const Real& p : {Real(1), Real(3) / 2, Real(13) / 5, Real(7)}) {
+    for (const Real& e : {Real(61) / 100, Real(1) / 1000, Real(999999) / 1000000}) {
+      for (const ContactEnd end : {ContactEnd::overlap, ContactEnd::force}) {
+        const C unit = C::from_e(p, e, Real(1), Real(1), Real(1), end);
+        for (const auto& [v0, m, k] : scales) {
+          const C scaled = C::from_e(p, e, v0, m, k, end);
+          EXPECT_EQ(scaled.alpha(), unit.alpha()) << p << ' ' << e;
+          EXPECT_EQ(scaled.alpha_eff(), unit.alpha_eff()) << p << ' ' << e;
+          EXPECT_EQ(scaled.mu(), unit.mu()) << p << ' ' << e;
+        }
+      }
+      const Real z = Real(1) - e; // an α_eff over (0, 1)
+      EXPECT_EQ(C::from_alpha_eff(p, z, scales[1][0], scales[1][1], scales[1][2]).alpha(),
+                C::from_alpha_eff(p, z, Real(1)).alpha());
+    }
+  }
+}
+
 // Contact<double>::from_e decides the rounding in long double where it can (contact.hpp): over
 // 10^5 random (p, e), e spread over [1e-12, 1] in log and near 1, it must give exactly what the
 // float128 calibration rounded once gives, which itself is tested against 50 digits above.

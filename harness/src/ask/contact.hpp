@@ -59,47 +59,28 @@ inline Answer with_units(Answer answer) {
   return answer;
 }
 
-// α as `calibrate` gives it and `run` sends it (seed_alpha: formed in float128 and rounded once)
-// where it is derived from --e or --alpha-eff; the contact's own product α_eff · √(2(p+1)) in
-// Real was one ulp off that (e = 0.5, p = 1.5: ...660 against ...657), and two commands printed
-// two α. --alpha as typed.
-template <SupportedReal Real>
-Real stated_alpha(const analytic::Contact<Real>& c, const ContactArgs& a) {
-  if (!a.e && !a.alpha_eff) {
-    return c.alpha();
-  }
-  const Damping::Kind kind = a.e ? Damping::Kind::e : Damping::Kind::alpha_eff;
-  return seed_alpha<Real>(c.p(), kind,
-                          parse_real<Real>(a.e ? "--e" : "--alpha-eff", a.e ? *a.e : *a.alpha_eff),
-                          parse_end(a.end));
-}
-
-// The physical parameters and damping of a contact, the head of every analytic answer; `alpha`
-// is stated_alpha's.
-template <SupportedReal Real>
-Answer describe(const analytic::Contact<Real>& c, const ContactArgs& a, const Real& alpha) {
-  Answer o = answer_object();
-  o["precision"] = precision_name<Real>();
-  o["end"] = a.end;
-  o["p"] = exact_number(c.p());
-  o["m"] = exact_number(c.m());
-  o["k"] = exact_number(c.k());
-  o["v0"] = exact_number(c.v0());
-  o["alpha"] = exact_number(alpha);
-  // α_eff the same way: formed in float128 from --e or --alpha and rounded once.
-  o["alpha_eff"] = exact_number(c.alpha_eff());
-  if (a.e || a.alpha) {
-    const Damping::Kind kind = a.e ? Damping::Kind::e : Damping::Kind::alpha;
-    o["alpha_eff"] = exact_number(seed_alpha_eff<Real>(
-        c.p(), kind, parse_real<Real>(a.e ? "--e" : "--alpha", a.e ? *a.e : *a.alpha),
-        parse_end(a.end)));
-  }
-  describe_materials<Real>(a, o);
-  return o;
-}
+// The physical parameters and damping of a contact made by make_contact from `a`, the head of
+// every analytic answer. Its α and α_eff are `calibrate`'s and `run`'s (seed_alpha,
+// seed_alpha_eff): from e or α_eff they are calibrated in CalibrationReal and rounded once,
+// whatever the contact's scales (contact_test's DampingIsScaleFreeToTheBit), so they are read off
+// the contact; only α_eff from a stated α is formed again, in float128, and rounded once.
 template <SupportedReal Real>
 Answer describe(const analytic::Contact<Real>& c, const ContactArgs& a) {
-  return describe(c, a, stated_alpha(c, a));
+  Answer o = answer_object();
+  append(o, "precision", precision_name<Real>());
+  append(o, "end", a.end);
+  append(o, "p", exact_number(c.p()));
+  append(o, "m", exact_number(c.m()));
+  append(o, "k", exact_number(c.k()));
+  append(o, "v0", exact_number(c.v0()));
+  append(o, "alpha", exact_number(c.alpha()));
+  append(o, "alpha_eff",
+         exact_number(a.alpha ? seed_alpha_eff<Real>(c.p(), Damping::Kind::alpha,
+                                                     parse_real<Real>("--alpha", *a.alpha),
+                                                     parse_end(a.end))
+                              : c.alpha_eff()));
+  describe_materials<Real>(a, o);
+  return o;
 }
 
 // A contact with a stated damping exponent: the problem handed to a solver, and its group.

@@ -120,8 +120,8 @@ Answer observables_answer(const ContactArgs& args) {
     const auto x = analytic::observables(c, analytic::want_all &
                                                 ~(capped ? 0u : unsigned(analytic::want_capped)));
     Answer o = describe(c, args);
-    put_number(o, "damping_exponent", beta);
-    o["method"] = "closed forms";
+    append_number(o, "damping_exponent", beta);
+    append(o, "method", "closed forms");
     const std::pair<const char*, const std::optional<Real>&> fields[] = {
         {"e", x.e},
         {"log_e", x.log_e},
@@ -141,7 +141,7 @@ Answer observables_answer(const ContactArgs& args) {
         {"e_cap", x.e_cap},
         {"t_cut", x.t_cut}};
     for (const auto& [key, value] : fields) {
-      put_number(o, key, value);
+      append_number(o, key, value);
     }
     answer = with_units(o);
   });

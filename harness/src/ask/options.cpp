@@ -40,8 +40,10 @@ void settle_contact(ContactArgs& a) {
 
 // The contact options each question takes (as cli/cli.cpp's add_contact_options gives them).
 bool takes_contact_option(Question question, std::string_view name) {
-  constexpr std::array every{"--p",       "--e",       "--end", "--geometry", "--radius", "--young",
-                             "--poisson", "--density", "--v0",  "--m",        "--k"};
+  using namespace std::string_view_literals; // sized names: no strlen per comparison
+  constexpr std::array every{"--p"sv,       "--e"sv,     "--end"sv, "--geometry"sv,
+                             "--radius"sv,  "--young"sv, "--v0"sv,  "--poisson"sv,
+                             "--density"sv, "--m"sv,     "--k"sv};
   if (std::find(every.begin(), every.end(), name) != every.end()) {
     return true;
   }
@@ -63,7 +65,7 @@ bool takes_contact_option(Question question, std::string_view name) {
 
 // Sets the field `name` names among `fields`, if it names one.
 template <class Field, std::size_t N>
-bool set_named(const std::pair<const char*, Field*> (&fields)[N], const std::string& name,
+bool set_named(const std::pair<std::string_view, Field*> (&fields)[N], const std::string& name,
                const std::string& value) {
   for (const auto& [option, field] : fields) {
     if (name == option) {
@@ -119,25 +121,25 @@ void set_option(ContactArgs& a, Question question, const std::string& name,
     a.limit_damping = true;
     return;
   }
-  const std::pair<const char*, std::vector<std::string>*> lists[] = {{"--radius", &a.radius},
-                                                                     {"--young", &a.young},
-                                                                     {"--poisson", &a.poisson},
-                                                                     {"--density", &a.density},
-                                                                     {"--speeds", &a.speeds}};
+  const std::pair<std::string_view, std::vector<std::string>*> lists[] = {{"--radius", &a.radius},
+                                                                          {"--young", &a.young},
+                                                                          {"--poisson", &a.poisson},
+                                                                          {"--density", &a.density},
+                                                                          {"--speeds", &a.speeds}};
   for (const auto& [list_name, list] : lists) {
     if (name == list_name) {
       list->push_back(value);
       return;
     }
   }
-  const std::pair<const char*, std::string*> texts[] = {{"--p", &a.p},
-                                                        {"--v0", &a.v0},
-                                                        {"--m", &a.m},
-                                                        {"--k", &a.k},
-                                                        {"--precision", &a.precision},
-                                                        {"--end", &a.end},
-                                                        {"--reff", &a.reff}};
-  const std::pair<const char*, std::optional<std::string>*> optional_texts[] = {
+  const std::pair<std::string_view, std::string*> texts[] = {{"--p", &a.p},
+                                                             {"--v0", &a.v0},
+                                                             {"--m", &a.m},
+                                                             {"--k", &a.k},
+                                                             {"--precision", &a.precision},
+                                                             {"--end", &a.end},
+                                                             {"--reff", &a.reff}};
+  const std::pair<std::string_view, std::optional<std::string>*> optional_texts[] = {
       {"--e", &a.e},
       {"--alpha", &a.alpha},
       {"--alpha-eff", &a.alpha_eff},
@@ -154,7 +156,7 @@ void set_option(SolveArgs& a, const std::string& name, const std::string& value)
     a.sample_times.push_back(value);
     return;
   }
-  const std::pair<const char*, std::optional<std::string>*> optional_texts[] = {
+  const std::pair<std::string_view, std::optional<std::string>*> optional_texts[] = {
       {"--rtol", &a.rtol},
       {"--atol", &a.atol},
       {"--dt", &a.dt},
@@ -162,21 +164,21 @@ void set_option(SolveArgs& a, const std::string& name, const std::string& value)
       {"--tau-as", &a.tau_as},
       {"--steps-per-contact", &a.steps_per_contact},
       {"--onset-phase", &a.onset_phase}};
-  const std::pair<const char*, std::string*> texts[] = {{"--solver", &a.solver},
-                                                        {"--want", &a.want},
-                                                        {"--max-steps", &a.max_steps},
-                                                        {"--max-seconds", &a.max_seconds},
-                                                        {"--repeats", &a.repeats}};
+  const std::pair<std::string_view, std::string*> texts[] = {{"--solver", &a.solver},
+                                                             {"--want", &a.want},
+                                                             {"--max-steps", &a.max_steps},
+                                                             {"--max-seconds", &a.max_seconds},
+                                                             {"--repeats", &a.repeats}};
   if (!set_named(optional_texts, name, value) && !set_named(texts, name, value)) {
     set_option(a.contact, Question::solve, name, value);
   }
 }
 
 void set_option(TimestepArgs& a, const std::string& name, const std::string& value) {
-  const std::pair<const char*, std::string*> texts[] = {{"--scheme", &a.scheme},
-                                                        {"--tolerance", &a.tolerance},
-                                                        {"--observables", &a.observables},
-                                                        {"--tau-as", &a.tau_as}};
+  const std::pair<std::string_view, std::string*> texts[] = {{"--scheme", &a.scheme},
+                                                             {"--tolerance", &a.tolerance},
+                                                             {"--observables", &a.observables},
+                                                             {"--tau-as", &a.tau_as}};
   if (!set_named(texts, name, value)) {
     set_option(a.contact, Question::timestep, name, value);
   }

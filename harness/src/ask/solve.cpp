@@ -65,13 +65,11 @@ PreparedSolve<Real> prepare(const SolveArgs& args, const solvers::SolverInfo* so
     problem = contact_with_exponent<Real>(args.contact, beta, o).problem;
     o["damping_exponent"] = exact_number(beta);
   } else {
+    // α from e or α_eff as `calibrate` gives it and `run` sends it (describe); --alpha as typed.
     const analytic::Contact<Real> contact = make_contact<Real>(args.contact);
-    // α from e or α_eff as `calibrate` gives it and `run` sends it: calibrated in Exact, rounded
-    // once (truth/plan.hpp); --alpha as typed.
-    const Real alpha = stated_alpha(contact, args.contact);
-    problem = {contact.p(), contact.m(), contact.k(), contact.v0(), alpha};
-    o = describe(contact, args.contact, alpha);
-    o["damping_exponent"] = exact_number(Real((contact.p() - 1) / 2));
+    problem = {contact.p(), contact.m(), contact.k(), contact.v0(), contact.alpha()};
+    o = describe(contact, args.contact);
+    append(o, "damping_exponent", exact_number(Real((contact.p() - 1) / 2)));
   }
   PreparedSolve<Real> prepared; // filled in place: a copy of the options' optional float128s
                                 // read as uninitialized to GCC 12
@@ -148,36 +146,36 @@ Answer finish(PreparedSolve<Real>&& prepared, solvers::Result<Real> r, const Sol
           to_string_full(t)));
     }
   }
-  o["solver"] = args.solver;
+  append(o, "solver", args.solver);
   if (r.fixed_step) { // what a fixed-step run used instead of tolerances
-    put_number(o, "dt", r.fixed_step);
+    append_number(o, "dt", r.fixed_step);
   } else {
-    o["rtol"] = exact_number(options.rtol);
-    put_number(o, "atol", options.atol);
+    append(o, "rtol", exact_number(options.rtol));
+    append_number(o, "atol", options.atol);
   }
-  o["outcome"] = solvers::outcome_name(r.outcome);
+  append(o, "outcome", solvers::outcome_name(r.outcome));
   if (!r.invariant.empty()) {
-    o["invariant"] = r.invariant; // what made the answer impossible
+    append(o, "invariant", r.invariant); // what made the answer impossible
   }
   for (const Observable& observable : observable_table()) { // keys the head does not have
     append_number(o, observable.key_at(options.end), observable.measured(r));
   }
   if (r.fixed_step) { // τ as asked; the three ways a code may count it (docs/MATH.md §5.1)
-    o["tau_as"] = name_of(tau_as_names, tau_as);
-    put_number(o, "tau_first_step_out", tau_first_step_out);
+    append(o, "tau_as", name_of(tau_as_names, tau_as));
+    append_number(o, "tau_first_step_out", tau_first_step_out);
     if (r.steps_in_contact) {
-      o["steps_in_contact"] = *r.steps_in_contact;
+      append(o, "steps_in_contact", *r.steps_in_contact);
     }
-    put_number(o, "tau_crossing", r.tau_crossing);
+    append_number(o, "tau_crossing", r.tau_crossing);
   }
-  o["steps"] = r.steps;
-  o["rhs_evals"] = r.rhs_evals;
+  append(o, "steps", r.steps);
+  append(o, "rhs_evals", r.rhs_evals);
   if (r.jacobian_evals > 0) {
-    o["jacobian_evals"] = r.jacobian_evals;
+    append(o, "jacobian_evals", r.jacobian_evals);
   }
-  o["wall_seconds"] = exact_number(r.wall_seconds);
+  append(o, "wall_seconds", exact_number(r.wall_seconds));
   if (!options.sample_times.empty()) {
-    o["samples"] = samples_of(r.samples);
+    append(o, "samples", samples_of(r.samples));
   }
   return with_units(o);
 }

@@ -32,11 +32,13 @@ struct InternalError : std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
+inline constexpr const char* nan_result = "a result evaluated to NaN";
+
 template <SupportedReal Real>
 std::string format_number(const Real& value) {
   using std::isnan;
   if (isnan(value)) {
-    throw InternalError("a result evaluated to NaN");
+    throw InternalError(nan_result);
   }
   return to_string_full(value); // "inf" for infinities (JSON answers write null)
 }
