@@ -34,6 +34,19 @@ for _ in 1 2 3 4 5; do
     python3 -c 'import json, sys; print(json.load(sys.stdin)["wall_seconds"])'
 done | sort -g | tr '\n' ' '
 echo
+echo "== pldamp observables --damping-exponent 0.5 --precision quad, one process (the reference"
+echo "   solve and its error estimate; wall time, fastest of 5 processes)"
+python3 - "$build/harness/pldamp" <<'PY'
+import subprocess, sys, time
+for damping in (["--e", "0.61", "--v0", "0.42"], ["--alpha", "0.3", "--v0", "1"]):
+    best = float("inf")
+    for _ in range(5):
+        started = time.perf_counter()
+        subprocess.run([sys.argv[1], "observables", "--p", "1.5", *damping, "--damping-exponent",
+                        "0.5", "--precision", "quad"], check=True, stdout=subprocess.DEVNULL)
+        best = min(best, time.perf_counter() - started)
+    print("%-24s %8.1f ms" % (" ".join(damping), best * 1e3))
+PY
 echo "== closed forms (analytic_bench, CPU time, fastest of 5)"
 json "$build/bench/analytic_bench" --benchmark_filter='^(bundle_(double|quad)$|observable/)' |
   fastest bundle_double bundle_quad observable/t_peak/double observable/t_peak/quad \

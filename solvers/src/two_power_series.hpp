@@ -80,22 +80,26 @@ Real product(const Triangle& t, const std::vector<Real>& f, const std::vector<Re
 }
 
 // The (i, j) coefficient (i + j = n ≥ 1) of u = f^a, f_00 = 1, from the lower ones:
-//     n u_ij = Σ_{(k,l) < (i,j)} (a (n − k − l) − (k + l)) f_(i−k)(j−l) u_kl.
+//     n u_ij = Σ_{(k,l) < (i,j)} (a (n − k − l) − (k + l)) f_(i−k)(j−l) u_kl
+//            = a n Σ f_(i−k)(j−l) u_kl − (a + 1) Σ f_(i−k)(j−l) (k + l) u_kl,
+// the second form with `weighted` = (k + l) u_kl kept beside u: two products a term instead of
+// three and two integer conversions (the table's build in float128 is these sums).
 template <class Real>
-Real power(const Triangle& t, const std::vector<Real>& f, const std::vector<Real>& u, const Real& a,
-           int i, int j) {
+Real power(const Triangle& t, const std::vector<Real>& f, const std::vector<Real>& u,
+           const std::vector<Real>& weighted, const Real& a, int i, int j) {
   const int n = i + j;
-  Real sum = Real(0);
+  Real plain = Real(0), by_degree = Real(0);
   for (int k = 0; k <= i; ++k) {
     for (int l = 0; l <= j; ++l) {
       if (k == i && l == j) {
         continue;
       }
-      const int kl = k + l;
-      sum += (a * Real(n - kl) - Real(kl)) * f[t.index(i - k, j - l)] * u[t.index(k, l)];
+      const Real& factor = f[t.index(i - k, j - l)];
+      plain += factor * u[t.index(k, l)];
+      by_degree += factor * weighted[t.index(k, l)];
     }
   }
-  return sum / Real(n);
+  return (a * Real(n) * plain - (a + 1) * by_degree) / Real(n);
 }
 
 template <class Real>
@@ -105,7 +109,7 @@ std::shared_ptr<const TwoPowerTable<Real>> build(const Real& p, const Real& beta
   const Triangle& t = table->shape;
   const std::size_t n = t.size();
   std::vector<Real> c(n, Real(0)), e(n, Real(0)), power_p(n, Real(0)), z(n, Real(0)),
-      ez(n, Real(0)), m(n, Real(0));
+      ez(n, Real(0)), m(n, Real(0)), weighted_e(n, Real(0)), weighted_p(n, Real(0));
   c[0] = e[0] = power_p[0] = Real(1);
   const Real b1 = beta + 1, b2 = p + 1;
   for (int total = 0; total <= degree; ++total) {
@@ -122,8 +126,10 @@ std::shared_ptr<const TwoPowerTable<Real>> build(const Real& p, const Real& beta
           rhs -= power_p[t.index(i, j - 1)];
         }
         c[ij] = rhs / (lambda * (lambda - 1)); // (2)
-        e[ij] = power(t, c, e, beta, i, j);
-        power_p[ij] = power(t, c, power_p, p, i, j);
+        e[ij] = power(t, c, e, weighted_e, beta, i, j);
+        power_p[ij] = power(t, c, power_p, weighted_p, p, i, j);
+        weighted_e[ij] = Real(total) * e[ij];
+        weighted_p[ij] = Real(total) * power_p[ij];
       }
       z[ij] = lambda * c[ij];
       ez[ij] = product(t, e, z, i, j);
@@ -142,22 +148,57 @@ std::shared_ptr<const TwoPowerTable<Real>> build(const Real& p, const Real& beta
   return table;
 }
 
+// The table to a lower degree, from a wider one: each coefficient of total degree n is made from
+// those below n alone, by the same operations in the same order whatever the degree, so this is
+// build(p, β, degree) bit for bit (damping_exponent_test) at a copy's cost.
+template <class Real>
+std::shared_ptr<const TwoPowerTable<Real>> prefix(const TwoPowerTable<Real>& wide, int degree) {
+  auto table = std::make_shared<TwoPowerTable<Real>>(
+      TwoPowerTable<Real>{wide.p, wide.beta, Triangle(degree), Triangle(degree + 1), {}, {}, {}});
+  const std::pair<const Triangle*, std::vector<Real>*> parts[] = {
+      {&table->shape, &table->y}, {&table->shape, &table->z}, {&table->work_shape, &table->w}};
+  const std::vector<Real>* wide_parts[] = {&wide.y, &wide.z, &wide.w};
+  const Triangle* wide_shapes[] = {&wide.shape, &wide.shape, &wide.work_shape};
+  for (std::size_t part = 0; part < 3; ++part) {
+    const Triangle& shape = *parts[part].first;
+    std::vector<Real>& out = *parts[part].second;
+    out.assign(shape.size(), Real(0));
+    for (int i = 0; i <= shape.degree(); ++i) {
+      for (int j = 0; i + j <= shape.degree(); ++j) {
+        out[shape.index(i, j)] = (*wide_parts[part])[wide_shapes[part]->index(i, j)];
+      }
+    }
+  }
+  return table;
+}
+
 } // namespace two_power_detail
 
-// The table of (p, β) to total degree D, built once per process: 38 ms in float128 at D = 40,
-// shared by every solve of that (p, β) in that precision (a scene's truths differ in γ only).
+// The table of (p, β) to total degree D, built once per process: 25 ms in float128 at D = 40,
+// shared by every solve of that (p, β) in that precision (a scene's truths differ in γ only). A
+// lower degree is cut from a wider table already built (the truth's error estimate solves again
+// one order lower: MATH.md §12.2).
 template <class Real>
 std::shared_ptr<const TwoPowerTable<Real>> table_for(const Real& p, const Real& beta, int degree) {
   static std::mutex mutex;
   static std::map<std::tuple<Real, Real, int>, std::shared_ptr<const TwoPowerTable<Real>>> cache;
   const std::tuple<Real, Real, int> key{p, beta, degree};
+  std::shared_ptr<const TwoPowerTable<Real>> wider;
   {
     const std::lock_guard<std::mutex> lock(mutex);
     if (const auto found = cache.find(key); found != cache.end()) {
       return found->second;
     }
+    // The least degree above this one of the same (p, β), if any.
+    const auto above = cache.upper_bound(key);
+    if (above != cache.end() && std::get<0>(above->first) == p &&
+        std::get<1>(above->first) == beta) {
+      wider = above->second;
+    }
   }
-  auto table = two_power_detail::build(p, beta, degree); // outside the lock: other keys proceed
+  // Outside the lock: other keys proceed.
+  auto table =
+      wider ? two_power_detail::prefix(*wider, degree) : two_power_detail::build(p, beta, degree);
   const std::lock_guard<std::mutex> lock(mutex);
   if (cache.size() >= 64) {
     cache.clear(); // a sweep over many (p, β): rebuild rather than grow without bound

@@ -275,9 +275,9 @@ TEST(EndToEnd, DemSceneGivesTheTableADemUserQuotes) {
 }
 
 // Beyond the seed (MATH.md §12): every record judged against the reference solve, whose own error
-// estimates (float128 against 50 digits) are in the report; the approximations' table, with the
-// first-order series good to 1 % only at small α_eff, the 2011 Padé over the whole range; the DEM
-// loops first order on this contact.
+// estimates (a second float128 solve at another order) are in the report; the approximations'
+// table, with the first-order series good to 1 % only at small α_eff, the 2011 Padé over the whole
+// range; the DEM loops first order on this contact.
 TEST(EndToEnd, ViscoelasticSceneJudgesEverythingAgainstTheReferenceSolve) {
   const fs::path out = scratch() / "viscoelastic";
   fs::remove_all(out);

@@ -187,6 +187,33 @@ TEST(TwoPowerSeries, EnergyBalancesAndLocateInverts) {
   }
 }
 
+// A lower degree is cut from a wider table already built (table_for): the very coefficients a
+// build to that degree makes, bit for bit, and cut from the least wider one of the same (p, β).
+template <class Real>
+void expect_lower_degrees_cut_bit_for_bit() {
+  const Real p = Real(3) / 2, beta = Real(1) / 2;
+  const auto wide = detail::table_for(p, beta, 24);
+  for (const int degree : {23, 17, 1}) {
+    const auto cut = detail::table_for(p, beta, degree);
+    const auto built = detail::two_power_detail::build(p, beta, degree);
+    ASSERT_NE(cut, wide);
+    EXPECT_EQ(cut->shape.degree(), degree);
+    EXPECT_EQ(cut->work_shape.degree(), degree + 1);
+    EXPECT_EQ(cut->y, built->y) << degree;
+    EXPECT_EQ(cut->z, built->z) << degree;
+    EXPECT_EQ(cut->w, built->w) << degree;
+  }
+  // Another β is no prefix of this one's.
+  EXPECT_NE(detail::table_for(p, Real(1) / 4, 10)->y, detail::table_for(p, beta, 10)->y);
+}
+
+TEST(TwoPowerSeries, LowerDegreesAreCutFromAWiderTableBitForBit) {
+  expect_lower_degrees_cut_bit_for_bit<long double>();
+#if PLDAMP_WITH_QUAD
+  expect_lower_degrees_cut_bit_for_bit<quad>();
+#endif
+}
+
 // Every error-controlled double solver against the float128 reference, at rtol 1e-10.
 TEST(BeyondTheSeed, EverySolverMeetsItsToleranceAgainstTheReference) {
   Options<double> options;

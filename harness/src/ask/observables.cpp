@@ -20,16 +20,16 @@ namespace {
 
 // `observables --damping-exponent B` with B ≠ the seed's: no closed form exists (MATH.md §12), so
 // the truth is the float128 reference solve (reference_solve.hpp), scaled to the contact
-// (MATH.md §7, §12.1) and rounded to Real, with its own error estimate against 50 digits. The
-// undamped τ0 and the critical steps do not depend on the damping: closed forms. In 50 digits
-// there is no wider solve to estimate a 50-digit truth's error against: refused.
+// (MATH.md §7, §12.1) and rounded to Real, with its own error estimate (a second float128 solve,
+// MATH.md §12.2). The undamped τ0 and the critical steps do not depend on the damping: closed
+// forms. No 50-digit truth is kept for this path: 50 digits are refused.
 template <SupportedReal Real>
 Answer observables_by_reference_solve(const ContactArgs& args) {
   if constexpr (!std::is_same_v<TruthFor<Real>, Exact>) {
     throw InputError("observables with --damping-exponent answers from the float128 reference "
-                     "solve, checked against 50 digits; a 50-digit answer would have no wider "
-                     "solve to check it (use --precision quad, or solve --solver taylor "
-                     "--precision 50, about a second) (got --precision " +
+                     "solve and its error estimate; it has no 50-digit truth (use --precision "
+                     "quad, or solve --solver taylor --precision 50, about a second) (got "
+                     "--precision " +
                      args.precision + ")");
   } else {
     Answer o = answer_object();
@@ -94,8 +94,8 @@ Answer observables_by_reference_solve(const ContactArgs& args) {
         o[key] = exact_number(static_cast<Real>(found->second));
       }
     }
-    // What each value's truth may err by: the float128 solve against the same solve in 50 digits
-    // (relative; absolute where the value is 0), before the rounding to the precision asked.
+    // What each value's truth may err by (truth_error_estimate: relative; absolute where the value
+    // is 0), before the rounding to the precision asked.
     o["error_estimate"] = estimates;
     return with_units(o);
   }

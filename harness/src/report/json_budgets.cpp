@@ -100,7 +100,7 @@ ordered_json analytic_json(const Plan& plan) {
                         {key::seconds, point.analytic_seconds}});
     if (point.solved) {
       // MATH.md §12.2: no closed form; the truth is the float128 reference solve, and this its
-      // own error estimate (the same solve in 50 digits), per observable.
+      // own error estimate (a second solve at another order), per observable.
       ordered_json estimate = ordered_json::object();
       for (std::size_t o = 0; o < plan.observables.size() && o < point.truth_error.size(); ++o) {
         estimate[plan.observables[o]->key] = number_or_null(point.truth_error[o]);

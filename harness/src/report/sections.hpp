@@ -42,7 +42,7 @@ inline constexpr std::string_view how_to_read =
     "every cell once, and its values are compared with the closed forms, computed in float128 "
     "from the damping coefficient exactly as the solver received it (for a damping exponent "
     "other than the seed's, with the reference solve: taylor in float128, whose own error "
-    "estimate against 50 digits is in report.json). Errors are relative unless "
+    "estimate, a second solve at another order, is in report.json). Errors are relative unless "
     "a column says otherwise; a dash is an observable not asked for or not produced, inf an "
     "answer that should have been finite. A claim is judged over a grid (the scene's, or its "
     "own) into a verdict, the cell where it comes closest to failing, and a margin; what its "

@@ -77,8 +77,8 @@ struct Point {
   std::optional<double> beta;
   // The truth is a reference solve (β ≠ (p − 1)/2, reference_solve.hpp), not the closed forms:
   // α_eff is the group of MATH.md §12.1, `alpha` its value at v0 = m = k = 1, and truth_error
-  // the truth's own error estimate per observable (plan order, the scene's end): float128
-  // against 50 digits.
+  // the truth's own error estimate per observable (plan order, the scene's end): a second
+  // float128 solve at another order against it (truth_error_estimate).
   bool solved = false;
   std::vector<std::optional<double>> truth_error;
   // Why the point has no truth (the reference solve failed, or no α_eff gives the target e).

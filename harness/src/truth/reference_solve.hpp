@@ -10,7 +10,7 @@
 // precision it was given in on every path. taylor is independent of the closed forms (solvers/
 // never uses the map) and, given the seed's β explicitly, reproduces them within 5e-33
 // (tests/solvers/damping_exponent_test.cpp). Each float128 truth also carries its own error
-// estimate: the same solve in cpp_bin_float_50 against it.
+// estimate, a second float128 solve made to err differently (truth_error_estimate).
 #pragma once
 
 #include "truth/plan.hpp"
@@ -66,8 +66,9 @@ solvers::Result<Exact> reference_solve_within(const Exact& p, const Exact& beta,
                                               solvers::End end, long max_steps);
 
 // The group whose restitution (at `end`) is `e`; none when no group gives it (e.g. e below what a
-// dashpot that never lets go allows). In Exact by TOMS 748 on reference_solve; in 50 digits by
-// Newton steps from the Exact group (each a 50-digit solve, about a second; two or three).
+// dashpot that never lets go allows). In Exact by TOMS 748 on reference_solve, from a bracket
+// about the group double solves find (MATH.md §12.2); in 50 digits by Newton steps from the Exact
+// group (each a 50-digit solve, about a second; two or three).
 template <TruthReal T>
 std::optional<T> group_for_e(const T& p, const T& beta, const T& e, solvers::End end);
 
@@ -89,8 +90,10 @@ inline std::optional<Exact> group_for_e(double p, double beta, double e, solvers
   return group_for_e(Exact(p), Exact(beta), Exact(e), end);
 }
 
-// Per observable (in the order given): |float128 − 50 digits| / |50 digits| of the reference
-// solve, the truth's own error estimate.
+// Per observable (in the order given), the reference solve's own error estimate (MATH.md §12.2):
+// with A the truth and B a second solve at 16 ε (another order, other steps) with α 4 ulps off,
+// (2 |A − B| + 4 ε |A|) / |A| (absolute where A = 0). Held against 50 digits and against
+// independent mpmath values (tests/harness/reference_solve_test.cpp).
 std::vector<std::optional<double>>
 truth_error_estimate(const std::vector<const Observable*>& observables, const Exact& p,
                      const Exact& beta, const Exact& group, solvers::End end);
