@@ -80,6 +80,49 @@ Real power_coefficient(const std::vector<Real>& f, const std::vector<Real>& u, c
   return ((s0 + s1) + (s2 + s3)) / (Real(n) * f[0]);
 }
 
+// power_coefficient with weighted[j] = j u_j kept beside u: the sum split as
+//     Σ (a n − (a + 1) j) f_{n−j} u_j = a n Σ f_{n−j} u_j − (a + 1) Σ f_{n−j} j u_j,
+// two products a term instead of three and an integer conversion (a series built in float128 is
+// these sums).
+template <class Real>
+Real power_coefficient(const std::vector<Real>& f, const std::vector<Real>& u,
+                       const std::vector<Real>& weighted, const Real& a, std::size_t n) {
+  Real plain0 = Real(0), plain1 = Real(0), by_degree0 = Real(0), by_degree1 = Real(0);
+  std::size_t j = 0;
+  for (; j + 2 <= n; j += 2) {
+    plain0 += f[n - j] * u[j];
+    by_degree0 += f[n - j] * weighted[j];
+    plain1 += f[n - j - 1] * u[j + 1];
+    by_degree1 += f[n - j - 1] * weighted[j + 1];
+  }
+  for (; j < n; ++j) {
+    plain0 += f[n - j] * u[j];
+    by_degree0 += f[n - j] * weighted[j];
+  }
+  return (a * Real(n) * (plain0 + plain1) - (a + 1) * (by_degree0 + by_degree1)) / (Real(n) * f[0]);
+}
+
+enum class NewtonStep { left_the_domain, moving, converged };
+
+// One Newton step of a series' locate() on (u, s) for the residuals (f1, f2) with the Jacobian
+// [[j11, j12], [j21, j22]] (columns ∂/∂u, ∂/∂s): converged when both moved by at most 4ε
+// relative; left_the_domain when u or s is no longer positive.
+template <class Real>
+NewtonStep newton_step(Real& u, Real& s, const Real& f1, const Real& f2, const Real& j11,
+                       const Real& j12, const Real& j21, const Real& j22) {
+  using std::abs;
+  const Real eps = std::numeric_limits<Real>::epsilon();
+  const Real det = j11 * j22 - j12 * j21;
+  const Real du = (f2 * j12 - f1 * j22) / det, ds = (f1 * j21 - f2 * j11) / det;
+  u += du;
+  s += ds;
+  if (!(u > 0 && s > 0)) {
+    return NewtonStep::left_the_domain;
+  }
+  return abs(du) <= 4 * eps * u && abs(ds) <= 4 * eps * s ? NewtonStep::converged
+                                                          : NewtonStep::moving;
+}
+
 // What the taylor solver asks of a series at a contact point (this one for the seed's damping
 // exponent, two_power_series.hpp's for any other): the state at time s from the point, where the
 // series stops at the entry, whether a state lies within its reach, and the contact point behind a
@@ -97,6 +140,8 @@ public:
   };
   // The state at time s from a contact point passed at speed u.
   virtual Point at(const Real& u, const Real& s) const = 0;
+  // Its work alone (a series may sum it alone for less).
+  virtual Real work_at(const Real& u, const Real& s) const { return at(u, s).work; }
   // Where the entry series stops for speed u: its reach, and not past the time at which dδ/ds has
   // fallen to `fraction` of u (for odd p the series converges everywhere and would otherwise run
   // past the peak and round the whole contact).
@@ -107,26 +152,6 @@ public:
   // contact point lies within the reach; none otherwise (an overdamped overlap decaying for
   // ever, or a state still too far from the exit).
   virtual std::optional<Contact> locate(const Real& delta, const Real& rate) const = 0;
-
-protected:
-  enum class NewtonStep { left_the_domain, moving, converged };
-  // One Newton step of locate() on (u, s) for the residuals (f1, f2) with the Jacobian
-  // [[j11, j12], [j21, j22]] (columns ∂/∂u, ∂/∂s): converged when both moved by at most 4ε
-  // relative; left_the_domain when u or s is no longer positive.
-  static NewtonStep newton_step(Real& u, Real& s, const Real& f1, const Real& f2, const Real& j11,
-                                const Real& j12, const Real& j21, const Real& j22) {
-    using std::abs;
-    const Real eps = std::numeric_limits<Real>::epsilon();
-    const Real det = j11 * j22 - j12 * j21;
-    const Real du = (f2 * j12 - f1 * j22) / det, ds = (f1 * j21 - f2 * j11) / det;
-    u += du;
-    s += ds;
-    if (!(u > 0 && s > 0)) {
-      return NewtonStep::left_the_domain;
-    }
-    return abs(du) <= 4 * eps * u && abs(ds) <= 4 * eps * s ? NewtonStep::converged
-                                                            : NewtonStep::moving;
-  }
 };
 
 template <class Real>
@@ -144,7 +169,7 @@ public:
     const std::size_t n = static_cast<std::size_t>(terms) + 1;
     // E = Y^a, E Z, Y^p = E² Y (its own power recurrence: one pass instead of two products) and
     // M = (E Z) Z.
-    std::vector<Real> c(n), e(n), ez(n), yp(n), z(n), m(n);
+    std::vector<Real> c(n), e(n), ez(n), yp(n), z(n), m(n), weighted_e(n), weighted_yp(n);
     const Real& kappa = b_;
     c[0] = e[0] = yp[0] = Real(1);
     for (std::size_t j = 0; j < n; ++j) {
@@ -155,8 +180,10 @@ public:
           rhs -= kappa * yp[j - 2];
         }
         c[j] = rhs / (jb * (1 + jb)); // (2)
-        e[j] = power_coefficient(c, e, a_, j);
-        yp[j] = power_coefficient(c, yp, p, j);
+        e[j] = power_coefficient(c, e, weighted_e, a_, j);
+        yp[j] = power_coefficient(c, yp, weighted_yp, p, j);
+        weighted_e[j] = Real(j) * e[j];
+        weighted_yp[j] = Real(j) * yp[j];
       }
       z[j] = c[j] * (1 + Real(j) * b_);
       ez[j] = product_coefficient(e, z, j);
@@ -223,12 +250,11 @@ public:
       const Real f1 = u * s * y - delta, f2 = u * z - rate;
       const Real j11 = s * (y + a_ * x * dy), j12 = u * z;
       const Real j21 = z + a_ * x * dz, j22 = u * b_ * x * dz / s;
-      using Step = typename ContactSeries<Real>::NewtonStep;
-      const auto step = ContactSeries<Real>::newton_step(u, s, f1, f2, j11, j12, j21, j22);
-      if (step == Step::left_the_domain) {
+      const NewtonStep step = newton_step(u, s, f1, f2, j11, j12, j21, j22);
+      if (step == NewtonStep::left_the_domain) {
         return std::nullopt;
       }
-      if (step == Step::converged) {
+      if (step == NewtonStep::converged) {
         if (!(x_of(u, s) <= reach_)) {
           return std::nullopt;
         }

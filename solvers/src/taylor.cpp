@@ -645,7 +645,7 @@ Result<Real> TaylorContact<Real>::run() {
       if (contact) {
         const Real tau = t + contact->s;
         const Real work_exit =
-            y[2] + (with_work() ? exit.at(contact->u, contact->s).work : Real(0));
+            y[2] + (with_work() ? exit.work_at(contact->u, contact->s) : Real(0));
         sample_through(tau, [&](const Real& s) {
           const auto point = exit.at(contact->u, tau - s);
           return Scaled{point.delta, -point.rate, with_work() ? work_exit - point.work : Real(0)};

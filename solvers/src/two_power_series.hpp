@@ -62,7 +62,15 @@ struct TwoPowerTable {
   Triangle shape;            // Y and Z: i + j ≤ D
   Triangle work_shape;       // W̃: i + j ≤ D + 1 (i ≥ 1)
   std::vector<Real> y, z, w; // c_ij, λ_ij c_ij, and W̃'s coefficients
+  // The same rounded to double, for a Real wider than long double: the searches that only decide
+  // where to stop (the reach, the entry's end) and locate's first Newton steps run on it.
+  std::shared_ptr<const TwoPowerTable<double>> coarse;
 };
+
+// Whether a series in Real searches in double first (soft-float arithmetic is ~30 times slower).
+template <class Real>
+inline constexpr bool searches_in_double =
+    std::numeric_limits<Real>::digits > std::numeric_limits<long double>::digits;
 
 namespace two_power_detail {
 
@@ -103,9 +111,9 @@ Real power(const Triangle& t, const std::vector<Real>& f, const std::vector<Real
 }
 
 template <class Real>
-std::shared_ptr<const TwoPowerTable<Real>> build(const Real& p, const Real& beta, int degree) {
+std::shared_ptr<TwoPowerTable<Real>> build(const Real& p, const Real& beta, int degree) {
   auto table = std::make_shared<TwoPowerTable<Real>>(
-      TwoPowerTable<Real>{p, beta, Triangle(degree), Triangle(degree + 1), {}, {}, {}});
+      TwoPowerTable<Real>{p, beta, Triangle(degree), Triangle(degree + 1), {}, {}, {}, nullptr});
   const Triangle& t = table->shape;
   const std::size_t n = t.size();
   std::vector<Real> c(n, Real(0)), e(n, Real(0)), power_p(n, Real(0)), z(n, Real(0)),
@@ -152,9 +160,9 @@ std::shared_ptr<const TwoPowerTable<Real>> build(const Real& p, const Real& beta
 // those below n alone, by the same operations in the same order whatever the degree, so this is
 // build(p, β, degree) bit for bit (damping_exponent_test) at a copy's cost.
 template <class Real>
-std::shared_ptr<const TwoPowerTable<Real>> prefix(const TwoPowerTable<Real>& wide, int degree) {
-  auto table = std::make_shared<TwoPowerTable<Real>>(
-      TwoPowerTable<Real>{wide.p, wide.beta, Triangle(degree), Triangle(degree + 1), {}, {}, {}});
+std::shared_ptr<TwoPowerTable<Real>> prefix(const TwoPowerTable<Real>& wide, int degree) {
+  auto table = std::make_shared<TwoPowerTable<Real>>(TwoPowerTable<Real>{
+      wide.p, wide.beta, Triangle(degree), Triangle(degree + 1), {}, {}, {}, nullptr});
   const std::pair<const Triangle*, std::vector<Real>*> parts[] = {
       {&table->shape, &table->y}, {&table->shape, &table->z}, {&table->work_shape, &table->w}};
   const std::vector<Real>* wide_parts[] = {&wide.y, &wide.z, &wide.w};
@@ -197,8 +205,16 @@ std::shared_ptr<const TwoPowerTable<Real>> table_for(const Real& p, const Real& 
     }
   }
   // Outside the lock: other keys proceed.
-  auto table =
+  std::shared_ptr<TwoPowerTable<Real>> table =
       wider ? two_power_detail::prefix(*wider, degree) : two_power_detail::build(p, beta, degree);
+  if constexpr (searches_in_double<Real>) {
+    const auto rounded = [](const std::vector<Real>& c) {
+      return std::vector<double>(c.begin(), c.end());
+    };
+    table->coarse = std::make_shared<const TwoPowerTable<double>>(TwoPowerTable<double>{
+        static_cast<double>(p), static_cast<double>(beta), table->shape, table->work_shape,
+        rounded(table->y), rounded(table->z), rounded(table->w), nullptr});
+  }
   const std::lock_guard<std::mutex> lock(mutex);
   if (cache.size() >= 64) {
     cache.clear(); // a sweep over many (p, β): rebuild rather than grow without bound
@@ -207,36 +223,73 @@ std::shared_ptr<const TwoPowerTable<Real>> table_for(const Real& p, const Real& 
   return table;
 }
 
-template <class Real>
-class TwoPowerSeries final : public ContactSeries<Real> {
+// A table with a damping (σγ) and κ: what the series computes, in the table's type T. The
+// series in Real uses one over its table and, where searches_in_double, one over the table's
+// double copy for what only decides where to stop.
+template <class T>
+class TwoPowerView {
 public:
-  using typename ContactSeries<Real>::Point;
-  using typename ContactSeries<Real>::Contact;
+  TwoPowerView(const TwoPowerTable<T>* table, const T& damping, const T& kappa, const T& tail_limit)
+      : table_(table), damping_(damping), kappa_(kappa), tail_limit_(tail_limit) {}
 
-  // `sign` σ: +1 at the entry, −1 at the exit; γ ≥ 0 and κ of (1); the terms left out stay below
-  // `tolerance` relative.
-  TwoPowerSeries(std::shared_ptr<const TwoPowerTable<Real>> table, int sign, const Real& gamma,
-                 const Real& kappa, const Real& tolerance)
-      : table_(std::move(table)), sign_(sign), damping_(Real(sign) * gamma), kappa_(kappa),
-        tail_limit_(tolerance / 8) {}
+  const TwoPowerTable<T>& table() const { return *table_; }
 
-  Point at(const Real& u, const Real& s) const override {
-    const auto [x1, x2] = variables(u, s);
-    return {u * s * evaluate(table_->shape, table_->y, x1, x2),
-            u * evaluate(table_->shape, table_->z, x1, x2),
-            2 * Real(sign_) * u * u * evaluate(table_->work_shape, table_->w, x1, x2)};
+  std::pair<T, T> variables(const T& u, const T& s) const {
+    using std::pow;
+    const T p = table_->p, beta = table_->beta;
+    return {damping_ * pow(u, beta) * pow(s, beta + 1), kappa_ * pow(u, p - 1) * pow(s, p + 1)};
   }
 
-  bool within_reach(const Real& u, const Real& s) const override {
+  // Σ_i x1^i (Σ_j c_ij x2^j), Horner's rule in both.
+  static T evaluate(const Triangle& t, const std::vector<T>& c, const T& x1, const T& x2) {
+    const int degree = t.degree();
+    T sum = T(0);
+    for (int i = degree; i >= 0; --i) {
+      T row = T(0);
+      for (int j = degree - i; j >= 0; --j) {
+        row = row * x2 + c[t.index(i, j)];
+      }
+      sum = sum * x1 + row;
+    }
+    return sum;
+  }
+
+  struct Euler {
+    T value, d1, d2; // Σ c x1^i x2^j, Σ i c …, Σ j c …
+  };
+  Euler evaluate_euler(const std::vector<T>& c, const T& x1, const T& x2) const {
+    const Triangle& t = table_->shape;
+    const int degree = t.degree();
+    Euler sum{T(0), T(0), T(0)};
+    for (int i = degree; i >= 0; --i) {
+      T row = T(0), row_d2 = T(0);
+      for (int j = degree - i; j >= 0; --j) {
+        row = row * x2 + c[t.index(i, j)];
+        row_d2 = row_d2 * x2 + T(j) * c[t.index(i, j)];
+      }
+      sum.value = sum.value * x1 + row;
+      sum.d1 = sum.d1 * x1 + T(i) * row;
+      sum.d2 = sum.d2 * x1 + row_d2;
+    }
+    return sum;
+  }
+
+  bool within_reach(const T& u, const T& s) const {
     const auto [x1, x2] = variables(u, s);
     return tail(x1, x2) <= tail_limit_;
   }
 
-  Real entry_end(const Real& u, const Real& fraction) const override {
+  // dδ/ds over u: Z alone.
+  T rate_over_u(const T& u, const T& s) const {
+    const auto [x1, x2] = variables(u, s);
+    return evaluate(table_->shape, table_->z, x1, x2);
+  }
+
+  T entry_end(const T& u, const T& fraction) const {
     using std::sqrt;
     // The reach: the largest s whose last two shells stay below the limit (they grow with s),
     // by bisection in log s; then cut back while the sums cancel (rounding ~16 D ε at most).
-    Real low = Real(1), high = Real(1);
+    T low = T(1), high = T(1);
     if (within_reach(u, low)) {
       for (int i = 0; i < 64 && within_reach(u, high); ++i) {
         high *= 2;
@@ -249,142 +302,71 @@ public:
         low /= 2;
       }
     }
-    for (int i = 0; i < 30 && high > low * (1 + Real(1) / 1000000); ++i) {
-      const Real middle = sqrt(low * high);
+    for (int i = 0; i < 30 && high > low * (1 + T(1) / 1000000); ++i) {
+      const T middle = sqrt(low * high);
       (within_reach(u, middle) ? low : high) = middle;
     }
-    Real s = low;
+    T s = low;
     for (int shrink = 0; shrink < 200 && cancels(u, s); ++shrink) {
-      s *= Real(7) / 8;
+      s *= T(7) / 8;
     }
-    // Not past dδ/ds = fraction u: dδ/ds falls monotonically while loading.
-    if (at(u, s).rate < fraction * u) {
-      Real before = Real(0), after = s;
+    // Not past dδ/ds = fraction u: dδ/ds = u Z falls monotonically while loading.
+    if (rate_over_u(u, s) < fraction) {
+      T before = T(0), after = s;
       for (int i = 0; i < 40; ++i) {
-        const Real middle = (before + after) / 2;
-        (at(u, middle).rate >= fraction * u ? before : after) = middle;
+        const T middle = (before + after) / 2;
+        (rate_over_u(u, middle) >= fraction ? before : after) = middle;
       }
       s = before;
     }
     return s;
   }
 
-  // Newton's method on F1 = u s Y − δ, F2 = u Z − rate from the straight line u = rate,
-  // s = δ / rate. With D_k = x_k ∂/∂x_k and ∂x1/∂u = β x1/u, ∂x1/∂s = (β+1) x1/s,
-  // ∂x2/∂u = (p−1) x2/u, ∂x2/∂s = (p+1) x2/s:
+  enum class Newton { converged, failed, out_of_reach };
+  // Newton's method on F1 = u s Y − δ, F2 = u Z − rate from (u, s). With D_k = x_k ∂/∂x_k and
+  // ∂x1/∂u = β x1/u, ∂x1/∂s = (β+1) x1/s, ∂x2/∂u = (p−1) x2/u, ∂x2/∂s = (p+1) x2/s:
   //     ∂F1/∂u = s (Y + β D1Y + (p−1) D2Y),   ∂F1/∂s = u Z,
   //     ∂F2/∂u = Z + β D1Z + (p−1) D2Z,       ∂F2/∂s = (u/s) ((β+1) D1Z + (p+1) D2Z).
-  std::optional<Contact> locate(const Real& delta, const Real& rate) const override {
-    if (!(delta > 0 && rate > 0)) {
-      return std::nullopt;
-    }
-    const Real beta = table_->beta, p = table_->p;
-    Real u = rate, s = delta / rate;
+  // Converged when both moved by at most 4ε relative, within the reach.
+  Newton newton(const T& delta, const T& rate, T& u, T& s) const {
+    const T beta = table_->beta, p = table_->p;
     for (int iteration = 0; iteration < 40; ++iteration) {
       if (!within_reach(u, s)) {
-        return std::nullopt;
+        return Newton::out_of_reach;
       }
       const auto [x1, x2] = variables(u, s);
       const Euler y = evaluate_euler(table_->y, x1, x2);
       const Euler z = evaluate_euler(table_->z, x1, x2);
-      const Real f1 = u * s * y.value - delta, f2 = u * z.value - rate;
-      const Real j11 = s * (y.value + beta * y.d1 + (p - 1) * y.d2), j12 = u * z.value;
-      const Real j21 = z.value + beta * z.d1 + (p - 1) * z.d2;
-      const Real j22 = u * ((beta + 1) * z.d1 + (p + 1) * z.d2) / s;
-      using Step = typename ContactSeries<Real>::NewtonStep;
-      const auto step = ContactSeries<Real>::newton_step(u, s, f1, f2, j11, j12, j21, j22);
-      if (step == Step::left_the_domain) {
-        return std::nullopt;
-      }
-      if (step == Step::converged) {
-        if (!within_reach(u, s) || cancels(u, s)) {
-          return std::nullopt;
-        }
-        return Contact{u, s};
+      const T f1 = u * s * y.value - delta, f2 = u * z.value - rate;
+      const T j11 = s * (y.value + beta * y.d1 + (p - 1) * y.d2), j12 = u * z.value;
+      const T j21 = z.value + beta * z.d1 + (p - 1) * z.d2;
+      const T j22 = u * ((beta + 1) * z.d1 + (p + 1) * z.d2) / s;
+      switch (newton_step(u, s, f1, f2, j11, j12, j21, j22)) {
+      case NewtonStep::left_the_domain:
+        return Newton::failed;
+      case NewtonStep::converged:
+        return within_reach(u, s) ? Newton::converged : Newton::out_of_reach;
+      case NewtonStep::moving:
+        break;
       }
     }
-    return std::nullopt;
-  }
-
-private:
-  std::pair<Real, Real> variables(const Real& u, const Real& s) const {
-    using std::pow;
-    const Real p = table_->p, beta = table_->beta;
-    return {damping_ * pow(u, beta) * pow(s, beta + 1), kappa_ * pow(u, p - 1) * pow(s, p + 1)};
-  }
-
-  // Σ_i x1^i (Σ_j c_ij x2^j), Horner's rule in both.
-  static Real evaluate(const Triangle& t, const std::vector<Real>& c, const Real& x1,
-                       const Real& x2) {
-    const int degree = t.degree();
-    Real sum = Real(0);
-    for (int i = degree; i >= 0; --i) {
-      Real row = Real(0);
-      for (int j = degree - i; j >= 0; --j) {
-        row = row * x2 + c[t.index(i, j)];
-      }
-      sum = sum * x1 + row;
-    }
-    return sum;
-  }
-
-  struct Euler {
-    Real value, d1, d2; // Σ c x1^i x2^j, Σ i c …, Σ j c …
-  };
-  Euler evaluate_euler(const std::vector<Real>& c, const Real& x1, const Real& x2) const {
-    const Triangle& t = table_->shape;
-    const int degree = t.degree();
-    Euler sum{Real(0), Real(0), Real(0)};
-    for (int i = degree; i >= 0; --i) {
-      Real row = Real(0), row_d2 = Real(0);
-      for (int j = degree - i; j >= 0; --j) {
-        row = row * x2 + c[t.index(i, j)];
-        row_d2 = row_d2 * x2 + Real(j) * c[t.index(i, j)];
-      }
-      sum.value = sum.value * x1 + row;
-      sum.d1 = sum.d1 * x1 + Real(i) * row;
-      sum.d2 = sum.d2 * x1 + row_d2;
-    }
-    return sum;
-  }
-
-  // The magnitude of the last two shells (i + j = D − 1, D) of Z, the largest of the series:
-  // the terms left out are of their order when the shells decrease.
-  Real tail(const Real& x1, const Real& x2) const {
-    using std::abs;
-    const Triangle& t = table_->shape;
-    const int degree = t.degree();
-    const Real a1 = abs(x1), a2 = abs(x2);
-    std::vector<Real> powers2(static_cast<std::size_t>(degree) + 1, Real(1));
-    for (std::size_t j = 1; j < powers2.size(); ++j) {
-      powers2[j] = powers2[j - 1] * a2;
-    }
-    Real sum = Real(0);
-    for (int total = std::max(0, degree - 1); total <= degree; ++total) {
-      Real power1 = Real(1);
-      for (int i = 0; i <= total; ++i) {
-        sum += abs(table_->z[t.index(i, total - i)]) * power1 *
-               powers2[static_cast<std::size_t>(total - i)];
-        power1 *= a1;
-      }
-    }
-    return sum;
+    return Newton::failed;
   }
 
   // Where the solution is entire (p = 1 and β = 0) the terms can grow far beyond their sum: the
   // reach is cut back until no sum exceeds its value more than 16-fold (contact_series.hpp).
-  bool cancels(const Real& u, const Real& s) const {
+  bool cancels(const T& u, const T& s) const {
     using std::abs;
     const auto [x1, x2] = variables(u, s);
     for (const auto& [shape, c] :
          {std::pair{&table_->shape, &table_->y}, std::pair{&table_->shape, &table_->z},
           std::pair{&table_->work_shape, &table_->w}}) {
-      Real sum = Real(0), magnitude = Real(0), power1 = Real(1);
+      T sum = T(0), magnitude = T(0), power1 = T(1);
       const int degree = shape->degree();
       for (int i = 0; i <= degree; ++i) {
-        Real power2 = Real(1);
+        T power2 = T(1);
         for (int j = 0; i + j <= degree; ++j) {
-          const Real term = (*c)[shape->index(i, j)] * power1 * power2;
+          const T term = (*c)[shape->index(i, j)] * power1 * power2;
           sum += term;
           magnitude += abs(term);
           power2 *= x2;
@@ -398,10 +380,115 @@ private:
     return false;
   }
 
+private:
+  // The magnitude of the last two shells (i + j = D − 1, D) of Z, the largest of the series:
+  // the terms left out are of their order when the shells decrease.
+  T tail(const T& x1, const T& x2) const {
+    using std::abs;
+    const Triangle& t = table_->shape;
+    const int degree = t.degree();
+    const T a1 = abs(x1), a2 = abs(x2);
+    T sum = T(0);
+    for (int total = std::max(0, degree - 1); total <= degree; ++total) {
+      // Σ_i |z_i,total−i| a1^i a2^(total−i), by Horner's rule in a1/a2's place: each shell is a
+      // homogeneous polynomial, summed from i = total down as a2 times the next.
+      T shell = T(0), power2 = T(1);
+      for (int i = total; i >= 0; --i) {
+        shell = shell * a1 + abs(table_->z[t.index(i, total - i)]) * power2;
+        power2 *= a2;
+      }
+      sum += shell;
+    }
+    return sum;
+  }
+
+  const TwoPowerTable<T>* table_;
+  T damping_, kappa_; // σγ, κ
+  T tail_limit_;
+};
+
+template <class Real>
+class TwoPowerSeries final : public ContactSeries<Real> {
+public:
+  using typename ContactSeries<Real>::Point;
+  using typename ContactSeries<Real>::Contact;
+
+  // `sign` σ: +1 at the entry, −1 at the exit; γ ≥ 0 and κ of (1); the terms left out stay below
+  // `tolerance` relative.
+  TwoPowerSeries(std::shared_ptr<const TwoPowerTable<Real>> table, int sign, const Real& gamma,
+                 const Real& kappa, const Real& tolerance)
+      : table_(std::move(table)), sign_(sign),
+        exact_(table_.get(), Real(sign) * gamma, kappa, tolerance / 8),
+        coarse_(table_->coarse.get(), static_cast<double>(Real(sign) * gamma),
+                static_cast<double>(kappa), static_cast<double>(tolerance / 8)) {}
+
+  Point at(const Real& u, const Real& s) const override {
+    const auto [x1, x2] = exact_.variables(u, s);
+    const TwoPowerTable<Real>& t = *table_;
+    using View = TwoPowerView<Real>;
+    return {u * s * View::evaluate(t.shape, t.y, x1, x2), u * View::evaluate(t.shape, t.z, x1, x2),
+            2 * Real(sign_) * u * u * View::evaluate(t.work_shape, t.w, x1, x2)};
+  }
+
+  Real work_at(const Real& u, const Real& s) const override {
+    const auto [x1, x2] = exact_.variables(u, s);
+    return 2 * Real(sign_) * u * u *
+           TwoPowerView<Real>::evaluate(table_->work_shape, table_->w, x1, x2);
+  }
+
+  bool within_reach(const Real& u, const Real& s) const override {
+    return exact_.within_reach(u, s);
+  }
+
+  // The search decides where the series hands over to the Taylor steps, not a value: in double
+  // where Real is soft-float (a third of a first viscoelastic collision in float128 went to it).
+  Real entry_end(const Real& u, const Real& fraction) const override {
+    if constexpr (searches_in_double<Real>) {
+      return Real(coarse_.entry_end(static_cast<double>(u), static_cast<double>(fraction)));
+    } else {
+      return exact_.entry_end(u, fraction);
+    }
+  }
+
+  // Newton on (u, s) from the straight line u = rate, s = δ/rate; where Real is soft-float, its
+  // first steps in double, so that Real's take over within 1e-16 and converge in two or three
+  // (seven from the straight line: half a repeated viscoelastic collision in float128). The
+  // answer is Real's Newton's either way: the double steps only choose where it starts.
+  std::optional<Contact> locate(const Real& delta, const Real& rate) const override {
+    if (!(delta > 0 && rate > 0)) {
+      return std::nullopt;
+    }
+    Real u = rate, s = delta / rate;
+    if constexpr (searches_in_double<Real>) {
+      double coarse_u = static_cast<double>(u), coarse_s = static_cast<double>(s);
+      if (coarse_.newton(static_cast<double>(delta), static_cast<double>(rate), coarse_u,
+                         coarse_s) == TwoPowerView<double>::Newton::converged) {
+        u = Real(coarse_u);
+        s = Real(coarse_s);
+      }
+    }
+    if (exact_.newton(delta, rate, u, s) != TwoPowerView<Real>::Newton::converged ||
+        cancels(u, s)) {
+      return std::nullopt;
+    }
+    return Contact{u, s};
+  }
+
+private:
+  // A guard on how far the series is used (more than 16-fold cancellation), not a value: double
+  // decides it as well where Real is soft-float.
+  bool cancels(const Real& u, const Real& s) const {
+    if constexpr (searches_in_double<Real>) {
+      return coarse_.cancels(static_cast<double>(u), static_cast<double>(s));
+    } else {
+      return exact_.cancels(u, s);
+    }
+  }
+
   std::shared_ptr<const TwoPowerTable<Real>> table_;
   int sign_;
-  Real damping_, kappa_; // σγ, κ
-  Real tail_limit_;
+  TwoPowerView<Real> exact_;
+  TwoPowerView<double> coarse_; // over table_->coarse (none unless searches_in_double)
 };
 
 } // namespace pldamp::solvers::detail
