@@ -22,10 +22,12 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <iterator>
 #include <limits>
 #include <optional>
 #include <sstream>
 #include <string>
+#include <vector>
 
 namespace pldamp::solvers {
 namespace {
@@ -89,9 +91,14 @@ constexpr Beyond beyond_the_seed[] = {
     {2.5, 0.3, 1.0}, // Hertz with a δ⁰ dashpot, Hooke with δ^½
 };
 
+// And β = 1 at α = 0.1: there the force end's cut lies close to the exit, where δ^(p−β) = δ^½
+// has its branch point; sized by δ's series alone, the step that held the cut left t_cut 2.2e-31
+// off in float128 (taylor.cpp, log_radius_of).
 TEST(BeyondTheSeed, QuadAgreesWithFiftyDigitsOnEveryObservable) {
   Worst worst;
-  for (const Beyond& b : beyond_the_seed) {
+  std::vector<Beyond> contacts(std::begin(beyond_the_seed), std::end(beyond_the_seed));
+  contacts.push_back({1.5, 1.0, 0.1});
+  for (const Beyond& b : contacts) {
     for (const End end : {End::overlap, End::force}) {
       const Problem<quad> problem{quad(b.p), 1, 1, 1, quad(b.alpha), quad(b.beta)};
       const Problem<bin50> wide{bin50(b.p), 1, 1, 1, bin50(b.alpha), bin50(b.beta)};
@@ -105,7 +112,7 @@ TEST(BeyondTheSeed, QuadAgreesWithFiftyDigitsOnEveryObservable) {
       worst.check_observables(r, x, label.str());
     }
   }
-  EXPECT_LT(worst.error, 1e-30) << worst.where;
+  EXPECT_LT(worst.error, 1e-32) << worst.where;
   RecordProperty("worst_relative_error", pldamp::testing::scientific(worst.error));
 }
 
