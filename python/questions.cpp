@@ -32,6 +32,40 @@ bool integral(std::string_view digits) {
   return digits.find_first_of(".eE") == std::string_view::npos;
 }
 
+// repr(value) of a finite double, as Python writes it (its shortest round-trip digits; fixed
+// notation for decimal exponents −4 to 15, with ".0" when whole; otherwise d.ddde±XX), without a
+// Python string made and read back: the keywords' floats are a tenth of what a call adds to its
+// C++.
+std::string python_repr(double value) {
+  std::array<char, 32> buffer{};
+  const char* const end = std::to_chars(buffer.data(), buffer.data() + buffer.size(), value,
+                                        std::chars_format::scientific)
+                              .ptr;
+  const std::string_view written(buffer.data(), static_cast<std::size_t>(end - buffer.data()));
+  const std::size_t e = written.find('e');
+  int exponent = 0;
+  std::from_chars(written.data() + e + (written[e + 1] == '+' ? 2 : 1), end, exponent);
+  if (exponent < -4 || exponent >= 16) {
+    return std::string(written); // d.ddde±XX already
+  }
+  std::string digits, out;
+  for (const char c : written.substr(0, e)) {
+    if (c >= '0' && c <= '9') {
+      digits += c;
+    } else if (c == '-') {
+      out += '-';
+    }
+  }
+  if (exponent < 0) {
+    return out + "0." + std::string(static_cast<std::size_t>(-exponent - 1), '0') + digits;
+  }
+  const std::size_t whole = static_cast<std::size_t>(exponent) + 1;
+  if (digits.size() <= whole) {
+    return out + digits + std::string(whole - digits.size(), '0') + ".0";
+  }
+  return out + digits.substr(0, whole) + "." + digits.substr(whole);
+}
+
 // A cell's value as its option reads it: a whole number as an integer ("100000", which an integer
 // option takes: "1e+05" was refused), else its shortest round-trip digits in double, or every
 // digit of its binary value for a wider precision (a double is exactly representable there, and
@@ -327,7 +361,7 @@ py::object ask_keywords(const std::string& question, const py::dict& options, co
       if (PyErr_Occurred() != nullptr) {
         throw py::error_already_set();
       }
-      refuse(name);
+      refuse(question, name); // raises TypeError
       throw std::logic_error("refuse() returned for an unknown keyword");
     }
     if (value.is_none()) {
@@ -340,7 +374,8 @@ py::object ask_keywords(const std::string& question, const py::dict& options, co
     std::optional<std::string> text;
     if (!switches.contains(name)) {
       if (PyFloat_CheckExact(value.ptr()) && !exact) { // wider: its exact digits, by typed_one
-        text = py::repr(value).cast<std::string>();
+        const double number = PyFloat_AS_DOUBLE(value.ptr());
+        text = std::isfinite(number) ? python_repr(number) : py::repr(value).cast<std::string>();
       } else if (PyLong_CheckExact(value.ptr())) {
         text = py::str(value).cast<std::string>();
       } else if (PyUnicode_CheckExact(value.ptr())) {

@@ -29,8 +29,8 @@ py::dict ask(const std::string& question, const harness::TypedOptions& options, 
 // not at all; every other value (a float in a wider precision: its exact digits), and every
 // keyword in `switches`, as `typed_one(name, value, exact)` makes it
 // (pldamp._typed_one: a str, or None to leave it out), so that one definition decides those. An
-// unknown keyword calls `refuse(name)`, which raises. Returns None, asking nothing, when a keyword
-// of `cells` holds a list, tuple or array: the caller asks at every cell.
+// unknown keyword calls `refuse(question, name)`, which raises. Returns None, asking nothing, when
+// a keyword of `cells` holds a list, tuple or array: the caller asks at every cell.
 py::object ask_keywords(const std::string& question, const py::dict& options, const py::dict& flags,
                         const py::frozenset& switches, const py::frozenset& cells,
                         const py::object& typed_one, const py::object& refuse, bool exact);

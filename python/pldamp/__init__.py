@@ -216,16 +216,18 @@ _CELL_SETS = {command: frozenset(names) for command, names in _CELL_OPTIONS.item
 _NO_CELLS: frozenset = frozenset()
 
 
-def _ask(kind: type, command: str, jobs: Optional[int] = None, **options) -> Answer:
-    """`pldamp COMMAND --json` asked of the library directly (ask/ask.hpp): the options by their
-    flags, the answer as the command's JSON reads in Python (precision other than double: every
-    float a decimal.Decimal). An array for an option of _CELL_OPTIONS asks at every cell."""
+def _ask(kind: type, command: str, options: dict) -> Answer:
+    """`pldamp COMMAND --json` asked of the library directly (ask/ask.hpp): the options (a dict
+    the caller made for this call: `jobs` is taken out of it) by their flags, the answer as the
+    command's JSON reads in Python (precision other than double: every float a decimal.Decimal).
+    An array for an option of _CELL_OPTIONS asks at every cell."""
+    jobs = options.pop("jobs", None)
     exact = options.get("precision") not in (None, "double")
     takes_cells = _CELL_SETS.get(command, _NO_CELLS)
     if jobs is None:  # the keywords read in C++ (questions.cpp ask_keywords), _typed_one's rules
-        answer = _pldamp.ask_keywords(command, options, _keywords(command), _SWITCH_SET,
-                                      takes_cells, _typed_one,
-                                      lambda name: _refuse_unknown(command, name), exact)
+        answer = _pldamp.ask_keywords(command, options, _KEYWORDS.get(command) or
+                                      _keywords(command), _SWITCH_SET, takes_cells, _typed_one,
+                                      _refuse_unknown, exact)
         if answer is not None:
             return kind(answer)
     cells = [name for name, value in options.items()
@@ -314,7 +316,7 @@ def calibrate(p: Any = None, e: Any = None, **options) -> Calibration:
     call calibrates it, on `jobs` threads (default: every core), and each number of the answer is
     an array of the cells' shape.
     """
-    return _ask(Calibration, "calibrate", p=p, e=e, **options)
+    return _ask(Calibration, "calibrate", {"p": p, "e": e, **options})
 
 
 def observables(p: Any = None, e: Any = None, alpha: Any = None, alpha_eff: Any = None,
@@ -341,8 +343,9 @@ def observables(p: Any = None, e: Any = None, alpha: Any = None, alpha_eff: Any 
             return _observables_arrays(scalars, end or "overlap", precision, _wanted(want),
                                        options)
     wanted = _wanted(want) if want is not None else None
-    answer = _ask(Observables, "observables", p=p, e=e, alpha=alpha, alpha_eff=alpha_eff, v0=v0,
-                  m=m, k=k, end=end, precision=precision, **options)
+    answer = _ask(Observables, "observables", {"p": p, "e": e, "alpha": alpha,
+                                               "alpha_eff": alpha_eff, "v0": v0, "m": m, "k": k,
+                                               "end": end, "precision": precision, **options})
     if wanted is not None:
         answer = Observables((key, value) for key, value in answer.items()
                              if key in wanted or key not in ARRAY_OBSERVABLES)
@@ -452,7 +455,7 @@ def solve(solver: str, **options) -> Solution:
     that did not end; NaN where a cell has no such key); the outcome is one str when every cell
     shares it, else an array of them.
     """
-    return _ask(Solution, "solve", solver=solver, **options)
+    return _ask(Solution, "solve", {"solver": solver, **options})
 
 
 def timestep(scheme: str, **options) -> TimestepAdvice:
@@ -463,7 +466,7 @@ def timestep(scheme: str, **options) -> TimestepAdvice:
 
     With arrays for any of p, e, alpha, alpha_eff, v0, m, k and tolerance, one table in one call:
     every cell answered as the scalar call answers it, on `jobs` threads, each number an array."""
-    return _ask(TimestepAdvice, "timestep", scheme=scheme, **options)
+    return _ask(TimestepAdvice, "timestep", {"scheme": scheme, **options})
 
 
 def trajectory(t: Any, p: Any = None, e: Any = None, alpha: Any = None, alpha_eff: Any = None,

@@ -9,6 +9,7 @@ import decimal
 import itertools
 import json
 
+import numpy as np
 import pytest
 
 import pldamp
@@ -80,6 +81,25 @@ def test_observables_and_calibrate_over_a_grid(precision):
 def test_floats_go_in_as_the_same_double_both_ways():
     for e in [0.1, 0.5, 1 / 3, 0.999999999999]:
         same_both_ways("observables", (), pldamp.observables, p=1.5, e=e, v0=0.42)
+
+
+def test_a_float_keyword_goes_in_as_python_writes_it():
+    # The keywords' floats are written in C++ (questions.cpp python_repr), as repr writes them:
+    # an integer option's refusal quotes the text it read. Random bit patterns, and the edges of
+    # the fixed notation (exponents -5 to -4, 15 to 16), signs, subnormals, whole numbers.
+    random = np.random.default_rng(20261129)
+    bits = random.integers(0, 2**63 - 1, size=4000, dtype=np.int64)
+    values = [float(x) for x in bits.view(np.float64) if np.isfinite(x)]
+    values += [-value for value in values[:1000]]
+    values += [1e-5, 1.5e-5, 9.99e-5, 1e-4, 0.00012345, 1e15 + 0.5, 999999999999999.9, 1e16,
+               1.5e16, 123456.789, -0.0025, 5e-324, 2.2250738585072014e-308, 0.1, 0.3, 2.5,
+               -7.75e-7, 1.7976931348623157e308]
+    for value in values:
+        if value == int(value) and abs(value) < 2**63:
+            continue  # a whole number is an integer option's value, not a refusal
+        with pytest.raises(ValueError) as refused:
+            pldamp.solve("dem-verlet", p=1.5, e=0.5, v0=1, steps_per_contact=value)
+        assert str(refused.value) == "--steps-per-contact is not an integer (got %r)" % value
 
 
 def test_whole_numbers_are_int_or_float_as_the_json_writes_them():
