@@ -296,14 +296,10 @@ Answer calibrate_answer(const ContactArgs& args) {
     o["end"] = args.end;
     o["p"] = exact_number(c.p());
     o["e"] = exact_number(parse_real<Real>("--e", *args.e));
-    // α as `run` sends it for this p and e: calibrated in Exact, rounded once (truth/plan.hpp).
-    o["alpha"] = exact_number(
-        seed_alpha(c.p(), Damping::Kind::e, parse_real<Real>("--e", *args.e), parse_end(args.end)));
-    // α_eff likewise: the contact's own α_eff is the Real-precision root, which far from e = 1 at
-    // the force end differed from α/√(2(p+1)) above by a few ε (by 1.7e−7 before the peak's
-    // asinh form).
-    o["alpha_eff"] = exact_number(seed_alpha_eff(
-        c.p(), Damping::Kind::e, parse_real<Real>("--e", *args.e), parse_end(args.end)));
+    // α and α_eff as `run` sends them for this p and e (seed_alpha, seed_alpha_eff): the
+    // contact's own, calibrated in CalibrationReal and rounded once at any scale (describe()).
+    o["alpha"] = exact_number(c.alpha());
+    o["alpha_eff"] = exact_number(c.alpha_eff());
     if (parse_end(args.end) == ContactEnd::force) {
       // What the same α gives a code that lets the force turn attractive (overlap end).
       o["e_uncapped"] = exact_number(analytic::restitution(c.damping()));

@@ -49,6 +49,34 @@ bool returned(const solvers::Result<T>& r, const Exact& p, const Exact& beta) {
          (r.outcome != solvers::Outcome::no_exit || beta == (p - 1) / 2);
 }
 
+// Groups low < high with e(low) ≥ target ≥ e(high), and those e.
+template <class T>
+struct Bracket {
+  T low, high, e_low, e_high;
+};
+
+// The bracket grows from [0, 1/8] by doubling the group until e falls to the target (undamped,
+// e(0) = 1 exactly: no solve at the low end). `restitution(group)` is e, or none where the solve
+// saw no return within its horizon (or its budget), which ends the search: e there is not 0 but
+// beyond what the solve resolves, and a target below every e resolved has no group (it took 45 s
+// to be bracketed against such "zeros" at e = 1e-30, then failed elsewhere).
+template <class T, class Restitution>
+std::optional<Bracket<T>> doubling_bracket(const T& target, Restitution&& restitution) {
+  Bracket<T> bracket{T(0), T(1) / 8, T(1), T(0)};
+  std::optional<T> e_high = restitution(bracket.high);
+  for (int i = 0; i < 40 && e_high && *e_high > target; ++i) {
+    bracket.low = bracket.high;
+    bracket.e_low = *e_high;
+    bracket.high *= 2;
+    e_high = restitution(bracket.high);
+  }
+  if (!e_high || *e_high > target) {
+    return std::nullopt;
+  }
+  bracket.e_high = *e_high;
+  return bracket;
+}
+
 // The group of `e` from double taylor solves (20 µs each, against 3 to 5 ms in Exact), to about
 // 1e-13, or none (a contact the double solve sees no return of). Only a first guess: Exact
 // brackets it and decides.
@@ -75,14 +103,8 @@ std::optional<double> double_group_for_e(const Exact& p, const Exact& beta, cons
     }
     return *r.e;
   };
-  double low = 0, high = 0.125;
-  std::optional<double> e_high = restitution(high);
-  for (int i = 0; i < 40 && e_high && *e_high > target; ++i) {
-    low = high;
-    high *= 2;
-    e_high = restitution(high);
-  }
-  if (!e_high || *e_high > target) {
+  const std::optional<Bracket<double>> bracket = doubling_bracket(target, restitution);
+  if (!bracket) {
     return std::nullopt;
   }
   std::uintmax_t iterations = 100;
@@ -93,7 +115,8 @@ std::optional<double> double_group_for_e(const Exact& p, const Exact& beta, cons
         failed = failed || !at;
         return at ? *at - target : -target;
       },
-      low, high, boost::math::tools::eps_tolerance<double>(44), iterations);
+      bracket->low, bracket->high, bracket->e_low - target, bracket->e_high - target,
+      boost::math::tools::eps_tolerance<double>(44), iterations);
   if (failed) {
     return std::nullopt;
   }
@@ -148,29 +171,15 @@ std::optional<Exact> exact_group_for_e(const Exact& p, const Exact& beta, const 
     return closed(near->first, near->second, restitution_at(p, beta, near->first, end),
                   restitution_at(p, beta, near->second, end));
   }
-  // Undamped, e = 1 exactly (the energy is conserved): no solve at the bracket's low end.
-  // The bracket grows by doubling the group until e falls to the target. A group whose contact
-  // the solve sees no return of within its horizon (or its budget) ends the search: e there is
-  // not 0 but beyond what it resolves, and a target below every e resolved has no group (it
-  // took 45 s to be bracketed against such "zeros" at e = 1e-30, then failed elsewhere).
-  const auto returns = [&](const Exact& group) {
-    return returned(reference_solve(p, beta, group, end), p, beta);
-  };
-  Exact low(0), e_low(1), high = Exact(1) / 8;
-  Exact e_high = restitution_at(p, beta, high, end);
-  for (int i = 0; i < 40 && e_high > e; ++i) {
-    low = high;
-    e_low = e_high;
-    high *= 2;
-    if (!returns(high)) {
-      return std::nullopt;
-    }
-    e_high = restitution_at(p, beta, high, end);
-  }
-  if (e_high > e) {
+  const std::optional<Bracket<Exact>> bracket =
+      doubling_bracket(e, [&](const Exact& group) -> std::optional<Exact> {
+        const solvers::Result<Exact>& r = reference_solve(p, beta, group, end);
+        return returned(r, p, beta) ? r.e : std::nullopt;
+      });
+  if (!bracket) {
     return std::nullopt;
   }
-  return closed(low, high, e_low, e_high);
+  return closed(bracket->low, bracket->high, bracket->e_low, bracket->e_high);
 }
 
 } // namespace
