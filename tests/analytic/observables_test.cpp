@@ -14,6 +14,7 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <iostream>
 #include <span>
 #include <string>
 #include <string_view>
@@ -271,6 +272,10 @@ TYPED_TEST(ObservablesTest, NormalForcePeakMatchesAnIndependentMaximum) {
             "normal_force_max", where);
     compare(x.t_normal_force_max, bin50(table.cell(row, "t_normal_force_max")), errors, region,
             "t_normal_force_max", where);
+    // The overlap's peak time, one Gauss–Jacobi piece of as many nodes as its ellipse needs
+    // (time.hpp, left_piece_order), against the same tanh-sinh quadrature up to mpmath's root of
+    // x'(s).
+    compare(x.t_peak, bin50(table.cell(row, "t_peak")), errors, region, "t_peak", where);
     // The total force at the overlap's peak is the spring's: the peak is never below it, and
     // comes before the overlap's (at it only undamped).
     EXPECT_GE(*x.normal_force_max,
@@ -609,7 +614,54 @@ TEST(IndependentQuadrature, DurationAndPeakTime) {
   }
 }
 
-// t_peak in double: 1e−15 relative with at most 64 integrand evaluations (the seed used 2000).
+// The time integral I(σ) over the whole contact, each piece with the nodes its own ellipse asks
+// for (time.hpp, order_for: the onset's Gauss–Jacobi piece, Gauss–Legendre panels, the piece
+// before σ_end), against 50 digits at the same damping, q and σ: a node count that fell short of
+// the type's ε anywhere would show here.
+TYPED_TEST(ObservablesTest, TimeIntegralKeepsItsDigitsWithFewerNodes) {
+  using Real = TypeParam;
+  double worst = 0;
+  for (const double p : {1.25, 1.5, 2.0, 3.0, 10.0, 100.0}) {
+    for (const double alpha_eff : {0.0, 0.05, 0.5, 0.9, 0.999, 1.0, 1.5, 10.0}) {
+      const Damping<Real> d = damping_from_alpha_eff(Real(alpha_eff));
+      const Real q = 2 / (Real(p) + 1);
+      const ScaledTime<Real> time(d, q);
+      // The same z and μ (their rounding to Real is not what is measured).
+      const ScaledTime<bin50> wide(Damping<bin50>{bin50(d.z), bin50(d.mu)}, bin50(q));
+      const Real span = d.mu > 0 ? time.sigma_end() : Real(8) * peak_phase(d);
+      for (const double fraction : {1e-6, 0.01, 0.2, 0.37, 0.5, 0.61, 0.8, 0.93, 0.99, 0.999}) {
+        const Real sigma = span * Real(fraction);
+        // Late in an underdamped contact the point is given as its distance to σ_end, the way
+        // the trajectory does: σ_end's own rounding would otherwise be measured, amplified by
+        // the steep ξ^ν there (250 ε at 0.999 σ_end).
+        const Real to_end = span - sigma;
+        const bool late = d.mu > 0 && fraction > 0.5;
+        if (late && p > 10 && fraction > 0.99) {
+          // Within h of σ_end at p = 100 the piece is a difference of two end-weighted pieces of
+          // nearly equal size (ρ^q with q = 0.02): 15 ε in long double, as many before the node
+          // counts changed; the exit of a large p is solved in ln ρ instead (MATH.md §3).
+          continue;
+        }
+        // The nodes' own rounding, ε·σ_i, reaches I through e^(−νzσ): that many ε are the
+        // arithmetic's, whatever the node count.
+        const double exponent = static_cast<double>(-time.nu() * d.z * sigma);
+        const double error =
+            static_cast<double>(
+                relative_error(late ? time.before_end(to_end) : time(sigma),
+                               late ? wide.before_end(bin50(to_end)) : wide(bin50(sigma))) /
+                eps<Real>()) /
+            (1 + exponent);
+        worst = std::max(worst, error);
+        EXPECT_LE(error, 4) << "p " << p << " alpha_eff " << alpha_eff << " at " << fraction;
+      }
+    }
+  }
+  std::cout << "worst " << worst << " ε\n";
+}
+
+// t_peak in double: 1e−15 relative with at most 64 integrand evaluations (the seed used 2000),
+// and underdamped at most 24: the Gauss–Jacobi piece at the onset, reaching σ_end/2 or as far as
+// e^(−νzσ) grows by e, then a Gauss–Legendre panel, each of at most 12 nodes (time.hpp, order_for).
 TEST(PeakTimeQuadrature, AtMost64EvaluationsFor1e15) {
   for (double p = 1; p <= 10; p += 0.75) {
     for (double z : {0.0, 0.01, 0.3, 0.7071, 0.9, 0.999, 1 - 1e-9, 1.0, 1 + 1e-6, 1.5, 4.0, 10.0}) {
@@ -617,7 +669,7 @@ TEST(PeakTimeQuadrature, AtMost64EvaluationsFor1e15) {
       const double q = 2 / (p + 1);
       const ScaledTime<double> fast(d, q);
       const double got = fast(peak_phase(d));
-      EXPECT_LE(fast.evaluations(), 64u) << "p " << p << " z " << z;
+      EXPECT_LE(fast.evaluations(), p > 1 && z < 1 ? 24u : 64u) << "p " << p << " z " << z;
       const ScaledTime<bin50> wide(damping_from_alpha_eff(bin50(z)), bin50(q)); // the same q
       const bin50 want = wide(peak_phase(damping_from_alpha_eff(bin50(z))));
       EXPECT_LE(relative_error(got, want), 1e-15) << "p " << p << " z " << z;

@@ -17,10 +17,12 @@
 #include <boost/math/constants/constants.hpp>
 #include <boost/multiprecision/cpp_bin_float.hpp>
 
+#include <algorithm>
 #include <cassert>
 #include <cmath>
 #include <limits>
 #include <map>
+#include <numbers>
 #include <stdexcept>
 #include <type_traits>
 #include <utility>
@@ -40,6 +42,21 @@ struct JacobiRule {
 template <SupportedReal Real>
 constexpr int quadrature_order() {
   return std::numeric_limits<Real>::digits / 4 + 2;
+}
+
+// The same for a piece whose singularities lie beyond the ellipse ρ (MATH.md §3, "The time
+// integral"): ρ^(−2n) ≤ 2^(−digits) for n = ⌈digits·ln2 / (2 ln ρ)⌉, plus 1. ρ is taken at most
+// largest_ellipse: beyond it the entire factor e^(−νzσ), bounded on the interval but not on a
+// wider ellipse, decides the count (on ρ = 8 it grows at most 13-fold over a piece with
+// |ν|(1 + z)·width ≤ 1, which the added node covers: 8^(−2) = 1/64).
+inline constexpr double largest_ellipse = 8;
+template <SupportedReal Real>
+int quadrature_order(double rho) {
+  assert(rho > 1);
+  const double digits = std::numeric_limits<Real>::digits;
+  return static_cast<int>(std::ceil(digits * std::numbers::ln2 /
+                                    (2 * std::log(std::min(rho, largest_ellipse))))) +
+         1;
 }
 
 namespace detail {
