@@ -25,6 +25,7 @@
 // s^b with b integer; otherwise it resolves the branch point exactly.
 #pragma once
 
+#include "double_double.hpp"
 #include "polynomial.hpp"
 
 #include <algorithm>
@@ -33,6 +34,7 @@
 #include <limits>
 #include <optional>
 #include <span>
+#include <type_traits>
 #include <vector>
 
 namespace pldamp::solvers::detail {
@@ -154,6 +156,92 @@ public:
   virtual std::optional<Contact> locate(const Real& delta, const Real& rate) const = 0;
 };
 
+// The recurrence (2) of the series, its power rules and products, over whole arrays of one
+// arithmetic: extend() fills orders [from, to) from the orders below.
+template <class T>
+struct SeriesTerms {
+  // E = Y^a, E Z, Y^p = E² Y (its own power recurrence: one pass instead of two products),
+  // M = (E Z) Z, and j E_j, j (Y^p)_j for the two-product power rule.
+  std::vector<T> c, e, ez, yp, z, m, weighted_e, weighted_yp;
+  explicit SeriesTerms(std::size_t n)
+      : c(n), e(n), ez(n), yp(n), z(n), m(n), weighted_e(n), weighted_yp(n) {}
+  template <class Other, class Convert>
+  void assign(const SeriesTerms<Other>& other, std::size_t from, std::size_t to, Convert convert) {
+    for (std::size_t j = from; j < to; ++j) {
+      c[j] = convert(other.c[j]);
+      e[j] = convert(other.e[j]);
+      ez[j] = convert(other.ez[j]);
+      yp[j] = convert(other.yp[j]);
+      z[j] = convert(other.z[j]);
+      m[j] = convert(other.m[j]);
+      weighted_e[j] = convert(other.weighted_e[j]);
+      weighted_yp[j] = convert(other.weighted_yp[j]);
+    }
+  }
+};
+template <class T>
+struct Parameters {
+  T a, b, p, gamma; // κ = b
+};
+
+template <class T>
+void extend(SeriesTerms<T>& s, const Parameters<T>& k, std::size_t from, std::size_t to,
+            bool with_work) {
+  for (std::size_t j = from; j < to; ++j) {
+    if (j == 0) {
+      s.c[0] = s.e[0] = s.yp[0] = T(1);
+      s.weighted_e[0] = s.weighted_yp[0] = T(0);
+    } else {
+      const T jb = T(j) * k.b;
+      T rhs = -k.gamma * s.ez[j - 1];
+      if (j >= 2) {
+        rhs = rhs - k.b * s.yp[j - 2];
+      }
+      s.c[j] = rhs / (jb * (1 + jb)); // (2)
+      s.e[j] = power_coefficient(s.c, s.e, s.weighted_e, k.a, j);
+      s.yp[j] = power_coefficient(s.c, s.yp, s.weighted_yp, k.p, j);
+      s.weighted_e[j] = T(j) * s.e[j];
+      s.weighted_yp[j] = T(j) * s.yp[j];
+    }
+    s.z[j] = s.c[j] * (1 + T(j) * k.b);
+    s.ez[j] = product_coefficient(s.e, s.z, j);
+    s.m[j] = with_work ? product_coefficient(s.ez, s.z, j) : T(0);
+  }
+}
+
+// Converting to and from the tiers' arithmetic.
+template <class T, class Real>
+T narrowed(const Real& x) {
+  if constexpr (std::is_same_v<T, double>) {
+    return static_cast<double>(x);
+  } else {
+    return T::from(x);
+  }
+}
+template <class Real, class T>
+Real widened(const T& x) {
+  if constexpr (std::is_same_v<T, double>) {
+    return Real(x);
+  } else {
+    return x.template to<Real>();
+  }
+}
+
+// Orders [from, to) of `s` summed in T, from the orders below rounded to it, written back.
+template <class T, class Real>
+void extend_in(SeriesTerms<Real>& s, const Parameters<Real>& k, std::size_t from, std::size_t to,
+               bool with_work) {
+  if (from >= to) {
+    return;
+  }
+  SeriesTerms<T> tier(to);
+  tier.assign(s, 0, from, [](const Real& x) { return narrowed<T>(x); });
+  extend(tier,
+         Parameters<T>{narrowed<T>(k.a), narrowed<T>(k.b), narrowed<T>(k.p), narrowed<T>(k.gamma)},
+         from, to, with_work);
+  s.assign(tier, from, to, [](const T& x) { return widened<Real>(x); });
+}
+
 template <class Real>
 class ContactPointSeries final : public ContactSeries<Real> {
 public:
@@ -163,46 +251,54 @@ public:
   // The series of (1) with damping `gamma` (γ at the entry, −γ at the exit) to x^terms, its work
   // (3) with the physical `dissipation` 2γ (if `with_work`), and its reach: the largest x at which
   // the terms left out stay below `tolerance` relative.
+  // How the high orders are summed wider than double-double: in cheaper tiers kept where the
+  // bound allows (the solver's), or (for the tests) never, or always whatever the bound says.
+  enum class Tiers { by_bound, never, always };
   ContactPointSeries(const Real& p, const Real& gamma, const Real& dissipation,
-                     const Real& tolerance, int terms, bool with_work)
+                     const Real& tolerance, int terms, bool with_work,
+                     Tiers tiers = Tiers::by_bound)
       : a_((p - 1) / 2), b_((p + 1) / 2), dissipation_(dissipation) {
     const std::size_t n = static_cast<std::size_t>(terms) + 1;
-    // E = Y^a, E Z, Y^p = E² Y (its own power recurrence: one pass instead of two products) and
-    // M = (E Z) Z.
-    std::vector<Real> c(n), e(n), ez(n), yp(n), z(n), m(n), weighted_e(n), weighted_yp(n);
-    const Real& kappa = b_;
-    c[0] = e[0] = yp[0] = Real(1);
-    for (std::size_t j = 0; j < n; ++j) {
-      if (j > 0) {
-        const Real jb = Real(j) * b_;
-        Real rhs = -gamma * ez[j - 1];
-        if (j >= 2) {
-          rhs -= kappa * yp[j - 2];
+    const Parameters<Real> exact{a_, b_, p, gamma};
+    SeriesTerms<Real> built(n);
+    std::size_t exact_to = 0;
+    if constexpr (std::numeric_limits<Real>::digits > 106) {
+      // Wider than double-double the high orders are summed in it and in double, and kept only if
+      // the running bound says they moved the series by at most tolerance/1024 (MATH.md §9,
+      // "Tiered series"); else again with the tiers starting later, else all in Real.
+      for (const double cancellation : {1e3, 1e9}) {
+        if (tiers == Tiers::never) {
+          break;
         }
-        c[j] = rhs / (jb * (1 + jb)); // (2)
-        e[j] = power_coefficient(c, e, weighted_e, a_, j);
-        yp[j] = power_coefficient(c, yp, weighted_yp, p, j);
-        weighted_e[j] = Real(j) * e[j];
-        weighted_yp[j] = Real(j) * yp[j];
-      }
-      z[j] = c[j] * (1 + Real(j) * b_);
-      ez[j] = product_coefficient(e, z, j);
-      if (with_work) {
-        m[j] = product_coefficient(ez, z, j);
+        const TierStarts starts = tier_starts(tolerance, n, cancellation);
+        extend(built, exact, exact_to, starts.double_double, with_work);
+        exact_to = starts.double_double;
+        extend_in<DoubleDouble>(built, exact, starts.double_double, starts.plain_double, with_work);
+        extend_in<double>(built, exact, starts.plain_double, n, with_work);
+        adopt(built, tolerance, with_work);
+        tier_bound_ = tier_error(built, exact, starts, with_work);
+        if (tier_bound_ <= tolerance / 1024 || tiers == Tiers::always) {
+          tiered_ = true;
+          return;
+        }
       }
     }
-    y_ = std::move(c);
-    z_ = std::move(z);
-    // (3) as a polynomial in x: w_{j+1} = M_j / (b (j + 1)); zero without work.
-    w_.assign(n + 1, Real(0));
-    for (std::size_t j = 0; j < n; ++j) {
-      w_[j + 1] = m[j] / (b_ * Real(j + 1));
-    }
-    reach_ = reach_of(tolerance);
+    extend(built, exact, exact_to, n, with_work);
+    adopt(built, tolerance, with_work);
   }
+
+  // Whether the high orders were kept from the cheaper arithmetic (else rebuilt in Real), and the
+  // bound of the last tiered build tried on how far that moved Y, Z or W at the reach.
+  bool tiered() const { return tiered_; }
+  const Real& tier_bound() const { return tier_bound_; }
+  // The polynomials in x of δ/(u s), (dδ/ds)/u and W/(2γ u²) (at() sums them).
+  const std::vector<Real>& overlap_polynomial() const { return y_; }
+  const std::vector<Real>& rate_polynomial() const { return z_; }
+  const std::vector<Real>& work_polynomial() const { return w_; }
 
   Real a() const { return a_; }
   Real b() const { return b_; }
+  const Real& dissipation() const { return dissipation_; }
   // The series is used for x = u^a s^b ≤ reach() only.
   Real reach() const { return reach_; }
   Real x_of(const Real& u, const Real& s) const {
@@ -265,6 +361,129 @@ public:
   }
 
 private:
+  // The series' polynomials from the recurrence's arrays, and their reach.
+  void adopt(const SeriesTerms<Real>& built, const Real& tolerance, bool with_work) {
+    const std::size_t n = built.c.size();
+    y_ = built.c;
+    z_ = built.z;
+    // (3) as a polynomial in x: w_{j+1} = M_j / (b (j + 1)); zero without work.
+    w_.assign(n + 1, Real(0));
+    if (with_work) {
+      for (std::size_t j = 0; j < n; ++j) {
+        w_[j + 1] = built.m[j] / (b_ * Real(j + 1));
+      }
+    }
+    reach_ = reach_of(tolerance);
+  }
+
+  // Where the cheaper tiers start. At the reach the term of order j is about (tolerance/4)^(j/n)
+  // of the sum (reach_of), and a coefficient summed with unit roundoff u errs by about
+  // n u `cancellation` times it, the factor by which the sizes it sums exceed it (a power rule of
+  // an alternating series cancels like 2^j): order j goes to a tier once that is below
+  // tolerance/1024. In float128 at ε (n = 61) and cancellation 1e3: double-double from order 19,
+  // double from 47 (accepted by the bound for 85 of 96 (p, ±γ) in p 1–5, γ 0.01–4; the rest are
+  // exits of strong damping, whose series grow like e^(γs), and p = 1).
+  struct TierStarts {
+    std::size_t double_double, plain_double;
+  };
+  static TierStarts tier_starts(const Real& tolerance, std::size_t n, double cancellation) {
+    const double log_tolerance = std::log(static_cast<double>(tolerance));
+    auto start = [&](double unit_roundoff) {
+      const double wanted =
+          log_tolerance - std::log(1024 * cancellation * double(n) * unit_roundoff);
+      const double fraction = std::clamp(wanted / (log_tolerance - std::log(4.0)), 0.0, 1.0);
+      return std::min(n, static_cast<std::size_t>(std::ceil(fraction * double(n))));
+    };
+    const std::size_t dd = std::max<std::size_t>(2, start(tier_roundoff<DoubleDouble>()));
+    return {dd, std::max(dd, start(tier_roundoff<double>()))};
+  }
+  template <class T>
+  static constexpr double tier_roundoff() {
+    // Double-double's operations are not correctly rounded: 4 ulps of 2^-106 (as taylor.cpp's
+    // tiers); float128's own rounding, which the tiers replace, is added where it is used.
+    return std::is_same_v<T, double> ? std::numeric_limits<double>::epsilon() / 2
+                                     : std::ldexp(1.0, -104);
+  }
+
+  // A first-order bound on how far the tiered coefficients lie from those Real would have summed,
+  // evaluated as the largest of |ΔY|, |ΔZ| and the work's |ΔW| (in its physical units) at the
+  // reach (MATH.md §9, "Tiered series"). Orders below the first tier are the same numbers either
+  // way (bound 0); above, every coefficient's bound is what its inputs' bounds carry through the
+  // recurrence (|f| b(g) + b(f) |g| term by term) plus its own rounding, (terms + 4) units of
+  // its tier and of Real times the sum of the magnitudes it adds: a cancelling sum pays for the
+  // sizes of its terms, not of its result. Carried in double, beside the magnitudes.
+  Real tier_error(const SeriesTerms<Real>& s, const Parameters<Real>& k, const TierStarts& starts,
+                  bool with_work) const {
+    const std::size_t n = s.c.size();
+    const double real_roundoff = std::ldexp(1.0, -std::numeric_limits<Real>::digits);
+    auto unit = [&](std::size_t j) {
+      if (j < starts.double_double) {
+        return 0.0;
+      }
+      return real_roundoff +
+             (j < starts.plain_double ? tier_roundoff<DoubleDouble>() : tier_roundoff<double>());
+    };
+    auto magnitudes = [&](const std::vector<Real>& v) {
+      std::vector<double> out(n);
+      for (std::size_t j = 0; j < n; ++j) {
+        out[j] = std::abs(static_cast<double>(v[j]));
+      }
+      return out;
+    };
+    const std::vector<double> c = magnitudes(s.c), e = magnitudes(s.e), ez = magnitudes(s.ez),
+                              yp = magnitudes(s.yp), z = magnitudes(s.z), m = magnitudes(s.m);
+    std::vector<double> bc(n), be(n), bez(n), byp(n), bz(n), bm(n), bw(n + 1);
+    const double a = static_cast<double>(k.a), b = static_cast<double>(k.b),
+                 p = static_cast<double>(k.p), gamma = std::abs(static_cast<double>(k.gamma));
+    // Σ_{i=0}^{j} |f_i| b(g_{j−i}) + b(f_i) |g_{j−i}| and Σ |f_i g_{j−i}|.
+    auto product = [&](const std::vector<double>& f, const std::vector<double>& bf,
+                       const std::vector<double>& g, const std::vector<double>& bg, std::size_t j,
+                       double u) {
+      double carried = 0, size = 0;
+      for (std::size_t i = 0; i <= j; ++i) {
+        carried += f[i] * bg[j - i] + bf[i] * g[j - i];
+        size += f[i] * g[j - i];
+      }
+      return carried + double(j + 4) * u * size;
+    };
+    // u_j = Y^x by the two-sum power rule (f = c, f_0 = 1): its weights |x j − (x + 1) i|.
+    auto power = [&](const std::vector<double>& u_mag, const std::vector<double>& bu, double x,
+                     std::size_t j, double u) {
+      double carried = 0, size = 0;
+      for (std::size_t i = 0; i < j; ++i) {
+        const double weight = std::abs(x * double(j) - (x + 1) * double(i));
+        carried += weight * (c[j - i] * bu[i] + bc[j - i] * u_mag[i]);
+        size += (std::abs(x) * double(j) + std::abs(x + 1) * double(i)) * c[j - i] * u_mag[i];
+      }
+      return (carried + double(j + 4) * u * size) / double(j);
+    };
+    for (std::size_t j = starts.double_double; j < n; ++j) {
+      const double u = unit(j), jb = double(j) * b;
+      const double rhs = gamma * ez[j - 1] + (j >= 2 ? b * yp[j - 2] : 0.0);
+      const double rhs_bound = gamma * bez[j - 1] + (j >= 2 ? b * byp[j - 2] : 0.0);
+      bc[j] = (rhs_bound + 4 * u * rhs) / (jb * (1 + jb));
+      be[j] = power(e, be, a, j, u);
+      byp[j] = power(yp, byp, p, j, u);
+      bz[j] = bc[j] * (1 + jb) + 2 * u * z[j];
+      bez[j] = product(e, be, z, bz, j, u);
+      if (with_work) {
+        bm[j] = product(ez, bez, z, bz, j, u);
+        bw[j + 1] = (bm[j] + 2 * u * m[j]) / (b * double(j + 1));
+      }
+    }
+    const double x = static_cast<double>(reach_);
+    auto at_reach = [&](const std::vector<double>& bound) {
+      double sum = 0, power_of_x = 1;
+      for (const double coefficient : bound) {
+        sum += coefficient * power_of_x;
+        power_of_x *= x;
+      }
+      return sum;
+    };
+    return Real(std::max(
+        {at_reach(bc), at_reach(bz), std::abs(static_cast<double>(dissipation_)) * at_reach(bw)}));
+  }
+
   // The coefficients of a series with radius R in x grow like R^-j; an estimate of 1/R is the
   // largest |c_j|^(1/j) over the upper half of the terms (the lower ones still carry the
   // function's own scale). The terms left out at x = r R add up to ~ r^(J+1) / (1 − r), so
@@ -317,6 +536,8 @@ private:
   Real a_, b_, dissipation_;
   std::vector<Real> y_, z_, w_; // δ / (u s), dδ/ds / u, W / (2γ u²) as polynomials in x
   Real reach_;
+  bool tiered_ = false;
+  Real tier_bound_ = Real(0);
 };
 
 } // namespace pldamp::solvers::detail

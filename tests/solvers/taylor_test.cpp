@@ -516,6 +516,84 @@ TEST(ContactPointSeries, EnergyBalanceHoldsToTheLastDigit) {
   }
 }
 
+// Σ_j |Δ coefficient_j| x^j between two series' polynomials at x, the largest of δ/(u s), dδ/ds / u
+// and the work (in its physical units, 2γ): what a tier moved, before the sum's own rounding hides
+// it.
+quad coefficient_deviation(const detail::ContactPointSeries<quad>& a,
+                           const detail::ContactPointSeries<quad>& b, const quad& x) {
+  auto apart = [&](const std::vector<quad>& f, const std::vector<quad>& g) {
+    quad sum = 0, power = 1;
+    for (std::size_t j = 0; j < f.size(); ++j, power *= x) {
+      sum += abs(f[j] - g[j]) * power;
+    }
+    return sum;
+  };
+  const quad work_scale = a.work_polynomial().size() > 1 ? a.dissipation() : quad(0);
+  return std::max({apart(a.overlap_polynomial(), b.overlap_polynomial()),
+                   apart(a.rate_polynomial(), b.rate_polynomial()),
+                   abs(work_scale) * apart(a.work_polynomial(), b.work_polynomial())});
+}
+
+// Wider than double-double the series' high orders are summed in double-double and double
+// (contact_series.hpp, MATH.md §9 "Tiered series"), kept only where a running bound says they moved
+// Y, Z and W at the reach by at most tolerance/1024. Against the same series summed in float128
+// throughout: the bound holds wherever the tiers are forced (soundness), a series the bound accepts
+// is within tolerance/1024, one it refuses is the float128 series bit for bit, and the cases a
+// solve meets (p 1.25–5, γ ≤ 1) are accepted.
+TEST(ContactPointSeries, TieredBuildStaysWithinItsBound) {
+  using Series = detail::ContactPointSeries<quad>;
+  const quad eps = std::numeric_limits<quad>::epsilon();
+  int refused = 0;
+  double tightest = 0; // the largest deviation over its bound
+  for (const quad& p : {quad(1), quad(5) / 4, quad(3) / 2, quad(2), quad(3), quad(5)}) {
+    for (const quad& gamma : {quad(1) / 100, quad(3) / 10, quad(1), quad(4)}) {
+      for (const int direction : {1, -1}) {
+        const quad damping = direction * gamma;
+        const Series exact(p, damping, 2 * gamma, eps, 60, true, Series::Tiers::never);
+        const Series forced(p, damping, 2 * gamma, eps, 60, true, Series::Tiers::always);
+        const Series solver(p, damping, 2 * gamma, eps, 60, true);
+        auto deviation = [&](const Series& series) {
+          return coefficient_deviation(series, exact, exact.reach());
+        };
+        const std::string where = "p " + std::to_string(static_cast<double>(p)) + " gamma " +
+                                  std::to_string(static_cast<double>(damping));
+        EXPECT_LE(deviation(forced), forced.tier_bound()) << where;
+        tightest = std::max(tightest, static_cast<double>(deviation(forced) / forced.tier_bound()));
+        if (solver.tiered()) {
+          EXPECT_LE(deviation(solver), eps / 1024) << where;
+        } else {
+          ++refused;
+          EXPECT_EQ(deviation(solver), 0) << where;
+        }
+        if (p > 1 && gamma <= 1) {
+          EXPECT_TRUE(solver.tiered()) << where;
+        }
+      }
+    }
+  }
+  std::cout << refused << " of 48 refused; deviation at most " << tightest << " of the bound\n";
+  EXPECT_GT(refused, 0); // strong damping's exits: the bound must have refused some
+}
+
+// A cancellation the tiers cannot carry must trip the bound. At p = 1 the exit's series (−γ) reach
+// x ≈ 3 and their power rules cancel (the sizes summed exceed the coefficients ~2^j-fold): summed
+// in the tiers anyway they move Y, Z or W by 6e-35 to 1e-34 at the reach, 300 times tolerance/1024
+// (the entry's, at x ≈ 0.9, by 2e-44). The bound refuses them, and what the solver gets is the
+// float128 series bit for bit.
+TEST(ContactPointSeries, TieredBuildRefusesACancellationItCannotCarry) {
+  using Series = detail::ContactPointSeries<quad>;
+  const quad eps = std::numeric_limits<quad>::epsilon();
+  for (const quad& gamma : {quad(-4), quad(-40)}) {
+    const Series exact(quad(1), gamma, -2 * gamma, eps, 60, true, Series::Tiers::never);
+    const Series forced(quad(1), gamma, -2 * gamma, eps, 60, true, Series::Tiers::always);
+    const Series solver(quad(1), gamma, -2 * gamma, eps, 60, true);
+    EXPECT_GT(coefficient_deviation(forced, exact, exact.reach()), 100 * eps / 1024) << gamma;
+    EXPECT_GT(solver.tier_bound(), eps / 1024) << gamma;
+    EXPECT_FALSE(solver.tiered()) << gamma;
+    EXPECT_EQ(coefficient_deviation(solver, exact, exact.reach()), 0) << gamma;
+  }
+}
+
 TEST(ContactPointSeries, LocateRecoversTheContactPoint) {
   const quad eps = std::numeric_limits<quad>::epsilon();
   for (const quad& p : {quad(1), quad(3) / 2, quad(3)}) {
