@@ -498,13 +498,19 @@ private:
     using std::exp;
     using std::log;
     const std::size_t terms = y_.size() - 1;
-    // max |c_j|^(1/j) as max ln|c_j| / j: one logarithm per term instead of a power.
+    // max |c_j|^(1/j) as max ln|c_j| / j: one logarithm per term instead of a power, taken in
+    // double where |c_j| is a normal double (an estimate of the radius needs no more; in float128
+    // the logarithms were a tenth of building the series).
+    auto log_of = [](const Real& magnitude) {
+      const double narrow = static_cast<double>(magnitude);
+      return std::isnormal(narrow) ? Real(std::log(narrow)) : Real(log(magnitude));
+    };
     Real log_inverse_radius = -std::numeric_limits<Real>::infinity();
     for (std::size_t j = (terms + 1) / 2; j <= terms; ++j) {
       for (const std::vector<Real>* coefficients : {&y_, &z_}) {
         const Real magnitude = abs((*coefficients)[j]);
         if (magnitude > 0) {
-          log_inverse_radius = std::max(log_inverse_radius, Real(log(magnitude) / Real(j)));
+          log_inverse_radius = std::max(log_inverse_radius, Real(log_of(magnitude) / Real(j)));
         }
       }
     }
@@ -517,16 +523,19 @@ private:
     }
     return reach;
   }
+  // Whether a sum at x exceeds its value more than 16-fold: a threshold, decided in double (terms
+  // below double's range count as 0, which cannot tip a sum of size 1/16 or more).
   bool cancels(const Real& x) const {
-    using std::abs;
+    const double at = static_cast<double>(x);
     for (const std::vector<Real>* coefficients : {&y_, &z_, &w_}) {
-      Real sum = Real(0), magnitude = Real(0), power = Real(1);
+      double sum = 0, magnitude = 0, power = 1;
       for (const Real& coefficient : *coefficients) {
-        sum += coefficient * power;
-        magnitude += abs(coefficient * power);
-        power *= x;
+        const double term = static_cast<double>(coefficient) * power;
+        sum += term;
+        magnitude += std::abs(term);
+        power *= at;
       }
-      if (magnitude > 16 * abs(sum)) {
+      if (magnitude > 16 * std::abs(sum)) {
         return true;
       }
     }
