@@ -30,6 +30,8 @@
 #include "contact_series.hpp"
 
 #include <algorithm>
+#include <array>
+#include <cassert>
 #include <cmath>
 #include <cstddef>
 #include <limits>
@@ -254,11 +256,58 @@ public:
     return sum;
   }
 
+  // The same where T is soft-float (searches_in_double), for one of the table's polynomials `c`
+  // and its double copy: the shells of total degree n ≥ n0 are summed in double, n0 the least for
+  // which their rounding, (4D + 8) 2^−53 Σ |c_ij x1^i x2^j| over them (coefficients, powers and
+  // sums rounded), is at most tolerance/1024 of the series' unit; the shells below in T. At the
+  // entry's end, where every shell counts, n0 is about 0.7 D; at an exit, lower (MATH.md §12.3).
+  T value(const Triangle& t, const std::vector<T>& c, const std::vector<double>& coarse,
+          const T& x1, const T& x2) const {
+    if constexpr (!searches_in_double<T>) {
+      return evaluate(t, c, x1, x2);
+    } else {
+      const int degree = t.degree();
+      constexpr int most = 128;
+      assert(degree < most);
+      std::array<double, most> shell{}, size{};
+      const double a1 = static_cast<double>(x1), a2 = static_cast<double>(x2);
+      double power1 = 1;
+      for (int i = 0; i <= degree; ++i, power1 *= a1) {
+        double power = power1;
+        for (int j = 0; i + j <= degree; ++j, power *= a2) {
+          const double term = coarse[t.index(i, j)] * power;
+          shell[i + j] += term;
+          size[i + j] += std::abs(term);
+        }
+      }
+      const double unit = (4.0 * degree + 8) * std::ldexp(1.0, -53);
+      const double allowed = static_cast<double>(tail_limit_) / 128; // tolerance / 1024
+      int split = degree + 1;
+      double high = 0, high_size = 0;
+      while (split > 0 && unit * (high_size + size[split - 1]) <= allowed) {
+        --split;
+        high += shell[split];
+        high_size += size[split];
+      }
+      T low = T(0);
+      for (int i = split - 1; i >= 0; --i) {
+        T row = T(0);
+        for (int j = split - 1 - i; j >= 0; --j) {
+          row = row * x2 + c[t.index(i, j)];
+        }
+        low = low * x1 + row;
+      }
+      return low + T(high);
+    }
+  }
+
   struct Euler {
     T value, d1, d2; // Σ c x1^i x2^j, Σ i c …, Σ j c …
   };
   Euler evaluate_euler(const std::vector<T>& c, const T& x1, const T& x2) const {
-    const Triangle& t = table_->shape;
+    return euler_of(table_->shape, c, x1, x2);
+  }
+  static Euler euler_of(const Triangle& t, const std::vector<T>& c, const T& x1, const T& x2) {
     const int degree = t.degree();
     Euler sum{T(0), T(0), T(0)};
     for (int i = degree; i >= 0; --i) {
@@ -274,9 +323,20 @@ public:
     return sum;
   }
 
+  // A threshold: decided in double where T is soft-float, on the table's double copy.
   bool within_reach(const T& u, const T& s) const {
-    const auto [x1, x2] = variables(u, s);
-    return tail(x1, x2) <= tail_limit_;
+    if constexpr (searches_in_double<T>) {
+      const TwoPowerTable<double>& coarse = *table_->coarse;
+      const double u_ = static_cast<double>(u), s_ = static_cast<double>(s);
+      const double x1 =
+          static_cast<double>(damping_) * std::pow(u_, coarse.beta) * std::pow(s_, coarse.beta + 1);
+      const double x2 =
+          static_cast<double>(kappa_) * std::pow(u_, coarse.p - 1) * std::pow(s_, coarse.p + 1);
+      return T(tail_of(coarse.shape, coarse.z, x1, x2)) <= tail_limit_;
+    } else {
+      const auto [x1, x2] = variables(u, s);
+      return tail_of(table_->shape, table_->z, x1, x2) <= tail_limit_;
+    }
   }
 
   // dδ/ds over u: Z alone.
@@ -335,8 +395,20 @@ public:
         return Newton::out_of_reach;
       }
       const auto [x1, x2] = variables(u, s);
-      const Euler y = evaluate_euler(table_->y, x1, x2);
-      const Euler z = evaluate_euler(table_->z, x1, x2);
+      Euler y, z;
+      if constexpr (searches_in_double<T>) {
+        // The residuals need T's digits; the Jacobian only steers (its rounding to double moves
+        // each step by 1e−16 of what is left), so it comes from the double copy.
+        const TwoPowerTable<double>& coarse = *table_->coarse;
+        const double a1 = static_cast<double>(x1), a2 = static_cast<double>(x2);
+        const auto steer_y = TwoPowerView<double>::euler_of(coarse.shape, coarse.y, a1, a2);
+        const auto steer_z = TwoPowerView<double>::euler_of(coarse.shape, coarse.z, a1, a2);
+        y = {value(table_->shape, table_->y, coarse.y, x1, x2), T(steer_y.d1), T(steer_y.d2)};
+        z = {value(table_->shape, table_->z, coarse.z, x1, x2), T(steer_z.d1), T(steer_z.d2)};
+      } else {
+        y = evaluate_euler(table_->y, x1, x2);
+        z = evaluate_euler(table_->z, x1, x2);
+      }
       const T f1 = u * s * y.value - delta, f2 = u * z.value - rate;
       const T j11 = s * (y.value + beta * y.d1 + (p - 1) * y.d2), j12 = u * z.value;
       const T j21 = z.value + beta * z.d1 + (p - 1) * z.d2;
@@ -383,18 +455,18 @@ public:
 private:
   // The magnitude of the last two shells (i + j = D − 1, D) of Z, the largest of the series:
   // the terms left out are of their order when the shells decrease.
-  T tail(const T& x1, const T& x2) const {
+  template <class U>
+  static U tail_of(const Triangle& t, const std::vector<U>& z, const U& x1, const U& x2) {
     using std::abs;
-    const Triangle& t = table_->shape;
     const int degree = t.degree();
-    const T a1 = abs(x1), a2 = abs(x2);
-    T sum = T(0);
+    const U a1 = abs(x1), a2 = abs(x2);
+    U sum = U(0);
     for (int total = std::max(0, degree - 1); total <= degree; ++total) {
       // Σ_i |z_i,total−i| a1^i a2^(total−i), by Horner's rule in a1/a2's place: each shell is a
       // homogeneous polynomial, summed from i = total down as a2 times the next.
-      T shell = T(0), power2 = T(1);
+      U shell = U(0), power2 = U(1);
       for (int i = total; i >= 0; --i) {
-        shell = shell * a1 + abs(table_->z[t.index(i, total - i)]) * power2;
+        shell = shell * a1 + abs(z[t.index(i, total - i)]) * power2;
         power2 *= a2;
       }
       sum += shell;
@@ -425,15 +497,16 @@ public:
   Point at(const Real& u, const Real& s) const override {
     const auto [x1, x2] = exact_.variables(u, s);
     const TwoPowerTable<Real>& t = *table_;
-    using View = TwoPowerView<Real>;
-    return {u * s * View::evaluate(t.shape, t.y, x1, x2), u * View::evaluate(t.shape, t.z, x1, x2),
-            2 * Real(sign_) * u * u * View::evaluate(t.work_shape, t.w, x1, x2)};
+    return {u * s * polynomial(t.shape, t.y, &TwoPowerTable<double>::y, x1, x2),
+            u * polynomial(t.shape, t.z, &TwoPowerTable<double>::z, x1, x2),
+            2 * Real(sign_) * u * u *
+                polynomial(t.work_shape, t.w, &TwoPowerTable<double>::w, x1, x2)};
   }
 
   Real work_at(const Real& u, const Real& s) const override {
     const auto [x1, x2] = exact_.variables(u, s);
     return 2 * Real(sign_) * u * u *
-           TwoPowerView<Real>::evaluate(table_->work_shape, table_->w, x1, x2);
+           polynomial(table_->work_shape, table_->w, &TwoPowerTable<double>::w, x1, x2);
   }
 
   bool within_reach(const Real& u, const Real& s) const override {
@@ -475,6 +548,18 @@ public:
   }
 
 private:
+  // One of the table's polynomials at (x1, x2): its high shells in double where Real is
+  // soft-float and their rounding allows (TwoPowerView::value).
+  Real polynomial(const Triangle& t, const std::vector<Real>& c,
+                  std::vector<double> TwoPowerTable<double>::*coarse_member, const Real& x1,
+                  const Real& x2) const {
+    if constexpr (searches_in_double<Real>) {
+      return exact_.value(t, c, table_->coarse.get()->*coarse_member, x1, x2);
+    } else {
+      return TwoPowerView<Real>::evaluate(t, c, x1, x2);
+    }
+  }
+
   // A guard on how far the series is used (more than 16-fold cancellation), not a value: double
   // decides it as well where Real is soft-float.
   bool cancels(const Real& u, const Real& s) const {

@@ -221,6 +221,54 @@ TEST(TwoPowerSeries, LowerDegreesAreCutFromAWiderTableBitForBit) {
 #endif
 }
 
+#if PLDAMP_WITH_QUAD
+// In float128 a polynomial of the table is summed with its high shells in double where their
+// rounding bound allows (TwoPowerView::value, MATH.md §12.3): within tolerance/1024 of the sum in
+// float128 throughout, from the onset to the entry's end; and where the shells cancel (an injected
+// alternating 1e12 on every shell from degree 10 on), the bound keeps them in float128.
+TEST(TwoPowerSeries, HighShellsInDoubleOnlyWhereTheirBoundAllows) {
+  const quad eps = std::numeric_limits<quad>::epsilon(), p = quad(3) / 2, beta = quad(1) / 2;
+  const quad kappa = (p + 1) / 2, gamma = quad(1) / 2;
+  const auto table = detail::table_for(p, beta, 40);
+  auto expect_close = [&](const detail::TwoPowerTable<quad>& t, const quad& allowed) {
+    const detail::TwoPowerView<quad> view(&t, gamma, kappa, eps / 8);
+    const detail::TwoPowerSeries<quad> series(table, 1, gamma, kappa, eps);
+    const quad end = series.entry_end(quad(1), quad(1) / 2);
+    for (const quad& fraction :
+         {quad(1) / 1000, quad(1) / 10, quad(1) / 2, quad(9) / 10, quad(1)}) {
+      const auto [x1, x2] = view.variables(quad(1), end * fraction);
+      for (const auto& [c, coarse] :
+           {std::pair{&t.y, &t.coarse->y}, std::pair{&t.z, &t.coarse->z}}) {
+        const quad want = detail::TwoPowerView<quad>::evaluate(t.shape, *c, x1, x2);
+        EXPECT_LE(abs(view.value(t.shape, *c, *coarse, x1, x2) - want),
+                  allowed + 4 * eps * abs(want))
+            << static_cast<double>(fraction);
+      }
+    }
+  };
+  expect_close(*table, eps / 1024);
+  // The injected cancellation: terms 1e12 times the series', alternating, so that summing them in
+  // double would cost 1e-4 of the result; the bound must leave them to float128.
+  detail::TwoPowerTable<quad> injected = *table;
+  for (int i = 0; i <= 40; ++i) {
+    for (int j = 0; i + j <= 40; ++j) {
+      if (i + j >= 10) {
+        injected.y[injected.shape.index(i, j)] += quad((i + j) % 2 ? 1e12 : -1e12);
+        injected.z[injected.shape.index(i, j)] += quad((i + j) % 2 ? 1e12 : -1e12);
+      }
+    }
+  }
+  injected.coarse =
+      std::make_shared<const detail::TwoPowerTable<double>>(detail::TwoPowerTable<double>{
+          1.5, 0.5, injected.shape, injected.work_shape,
+          std::vector<double>(injected.y.begin(), injected.y.end()),
+          std::vector<double>(injected.z.begin(), injected.z.end()),
+          std::vector<double>(injected.w.begin(), injected.w.end()), nullptr});
+  // Float128's own rounding of 1e12-sized terms: the sum in float128 errs by up to ~1e12 D ε too.
+  expect_close(injected, quad(1e12) * 64 * eps);
+}
+#endif
+
 // Every error-controlled double solver against the float128 reference, at rtol 1e-10.
 TEST(BeyondTheSeed, EverySolverMeetsItsToleranceAgainstTheReference) {
   Options<double> options;
