@@ -248,12 +248,13 @@ public:
   using typename ContactSeries<Real>::Point;
   using typename ContactSeries<Real>::Contact;
 
-  // The series of (1) with damping `gamma` (γ at the entry, −γ at the exit) to x^terms, its work
-  // (3) with the physical `dissipation` 2γ (if `with_work`), and its reach: the largest x at which
-  // the terms left out stay below `tolerance` relative.
   // How the high orders are summed wider than double-double: in cheaper tiers kept where the
   // bound allows (the solver's), or (for the tests) never, or always whatever the bound says.
   enum class Tiers { by_bound, never, always };
+
+  // The series of (1) with damping `gamma` (γ at the entry, −γ at the exit) to x^terms, its work
+  // (3) with the physical `dissipation` 2γ (if `with_work`), and its reach: the largest x at which
+  // the terms left out stay below `tolerance` relative.
   ContactPointSeries(const Real& p, const Real& gamma, const Real& dissipation,
                      const Real& tolerance, int terms, bool with_work,
                      Tiers tiers = Tiers::by_bound)
