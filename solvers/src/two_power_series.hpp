@@ -324,19 +324,15 @@ public:
     return sum;
   }
 
-  // A threshold: decided in double where T is soft-float, on the table's double copy.
+  // A threshold: decided in double where T is soft-float, by the view of the table's double copy.
   bool within_reach(const T& u, const T& s) const {
     if constexpr (searches_in_double<T>) {
-      const TwoPowerTable<double>& coarse = *table_->coarse;
-      const double u_ = static_cast<double>(u), s_ = static_cast<double>(s);
-      const double x1 =
-          static_cast<double>(damping_) * std::pow(u_, coarse.beta) * std::pow(s_, coarse.beta + 1);
-      const double x2 =
-          static_cast<double>(kappa_) * std::pow(u_, coarse.p - 1) * std::pow(s_, coarse.p + 1);
-      return T(tail_of(coarse.shape, coarse.z, x1, x2)) <= tail_limit_;
+      return TwoPowerView<double>(table_->coarse.get(), static_cast<double>(damping_),
+                                  static_cast<double>(kappa_), static_cast<double>(tail_limit_))
+          .within_reach(static_cast<double>(u), static_cast<double>(s));
     } else {
       const auto [x1, x2] = variables(u, s);
-      return tail_of(table_->shape, table_->z, x1, x2) <= tail_limit_;
+      return tail(x1, x2) <= tail_limit_;
     }
   }
 
@@ -456,18 +452,18 @@ public:
 private:
   // The magnitude of the last two shells (i + j = D − 1, D) of Z, the largest of the series:
   // the terms left out are of their order when the shells decrease.
-  template <class U>
-  static U tail_of(const Triangle& t, const std::vector<U>& z, const U& x1, const U& x2) {
+  T tail(const T& x1, const T& x2) const {
     using std::abs;
+    const Triangle& t = table_->shape;
     const int degree = t.degree();
-    const U a1 = abs(x1), a2 = abs(x2);
-    U sum = U(0);
+    const T a1 = abs(x1), a2 = abs(x2);
+    T sum = T(0);
     for (int total = std::max(0, degree - 1); total <= degree; ++total) {
       // Σ_i |z_i,total−i| a1^i a2^(total−i), by Horner's rule in a1/a2's place: each shell is a
       // homogeneous polynomial, summed from i = total down as a2 times the next.
-      U shell = U(0), power2 = U(1);
+      T shell = T(0), power2 = T(1);
       for (int i = total; i >= 0; --i) {
-        shell = shell * a1 + abs(z[t.index(i, total - i)]) * power2;
+        shell = shell * a1 + abs(table_->z[t.index(i, total - i)]) * power2;
         power2 *= a2;
       }
       sum += shell;
