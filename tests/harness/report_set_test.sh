@@ -40,7 +40,10 @@ play() {
   [ "$status" -eq 2 ] || fail "$*: exit $status, not 2: $(cat "$work/err")"
   grep -q "no report file was changed: .* holds the previous run's, if any" "$work/err" ||
     fail "$*: the message does not say what is on disk: $(cat "$work/err")"
-  [ "$(grep -c . "$work/err")" -eq 1 ] || fail "$*: more than one line: $(cat "$work/err")"
+  # One line of its own; a run past 1 s also reports its progress ("1 s: 793/810 records, ...",
+  # docs/run.md), as quick.toml did under the sanitizers on a loaded machine: those are not counted.
+  [ "$(grep -v -E '^[0-9]+ s: [0-9]+/[0-9]+ records, ' "$work/err" | grep -c .)" -eq 1 ] ||
+    fail "$*: more than one line: $(cat "$work/err")"
   (cd "$out" && sha256sum report.*) | cmp -s - "$work/before" ||
     fail "$*: the folder changed: $(cd "$out" && sha256sum report.*)"
   leftover=$(ls -A "$out" | grep -v '^report\.' || true)
