@@ -28,16 +28,23 @@
 #pragma once
 
 #include "contact_series.hpp"
+#include "stored_tables.hpp"
+
+#include "pldamp/core/real_types.hpp"
 
 #include <algorithm>
 #include <array>
+#include <bit>
 #include <cmath>
+#include <concepts>
 #include <cstddef>
+#include <cstdint>
 #include <limits>
 #include <map>
 #include <memory>
 #include <mutex>
 #include <optional>
+#include <span>
 #include <tuple>
 #include <vector>
 
@@ -74,6 +81,13 @@ inline constexpr bool searches_in_double =
     std::numeric_limits<Real>::digits > std::numeric_limits<long double>::digits;
 
 namespace two_power_detail {
+
+// λ_ij = 1 + i (β+1) + j (p+1), with b1 = β + 1 and b2 = p + 1: the same operations wherever a
+// table is made (build, or from stored coefficients), so that its Z is the same bit for bit.
+template <class Real>
+Real exponent(const Real& b1, const Real& b2, int i, int j) {
+  return 1 + Real(i) * b1 + Real(j) * b2;
+}
 
 // (f g)_ij = Σ_{k ≤ i, l ≤ j} f_kl g_(i−k)(j−l).
 template <class Real>
@@ -125,7 +139,7 @@ std::shared_ptr<TwoPowerTable<Real>> build(const Real& p, const Real& beta, int 
     for (int i = 0; i <= total; ++i) {
       const int j = total - i;
       const std::size_t ij = t.index(i, j);
-      const Real lambda = 1 + Real(i) * b1 + Real(j) * b2;
+      const Real lambda = exponent(b1, b2, i, j);
       if (total > 0) {
         Real rhs = Real(0);
         if (i > 0) {
@@ -181,12 +195,55 @@ std::shared_ptr<TwoPowerTable<Real>> prefix(const TwoPowerTable<Real>& wide, int
   return table;
 }
 
+// A table kept in the source (stored_tables.hpp) for this (p, β), if Real is float128 and one is:
+// the stored coefficients of Y and W̃, and Z made from Y as build makes it.
+template <class Real>
+std::shared_ptr<TwoPowerTable<Real>> from_stored(const Real& p, const Real& beta) {
+#if PLDAMP_WITH_QUAD
+  if constexpr (std::same_as<Real, quad> && std::endian::native == std::endian::little) {
+    const auto value = [](std::span<const std::uint64_t> words, std::size_t k) {
+      return quad(std::bit_cast<__float128>(std::array{words[2 * k], words[2 * k + 1]}));
+    };
+    for (const StoredTable& stored : stored_tables) {
+      if (value(stored.p, 0) != p || value(stored.beta, 0) != beta) {
+        continue;
+      }
+      auto table = std::make_shared<TwoPowerTable<Real>>(TwoPowerTable<Real>{
+          p, beta, Triangle(stored.degree), Triangle(stored.degree + 1), {}, {}, {}, nullptr});
+      const Triangle& t = table->shape;
+      if (stored.y.size() != 2 * t.size() || stored.w.size() != 2 * table->work_shape.size()) {
+        return nullptr; // not this build's layout: build instead
+      }
+      const Real b1 = beta + 1, b2 = p + 1;
+      table->y.resize(t.size());
+      table->z.resize(t.size());
+      for (int i = 0; i <= t.degree(); ++i) {
+        for (int j = 0; i + j <= t.degree(); ++j) {
+          const std::size_t ij = t.index(i, j);
+          table->y[ij] = value(stored.y, ij);
+          table->z[ij] = exponent(b1, b2, i, j) * table->y[ij];
+        }
+      }
+      table->w.resize(table->work_shape.size());
+      for (std::size_t k = 0; k < table->w.size(); ++k) {
+        table->w[k] = value(stored.w, k);
+      }
+      return table;
+    }
+  }
+#endif
+  static_cast<void>(p);
+  static_cast<void>(beta);
+  return nullptr;
+}
+
 } // namespace two_power_detail
 
-// The table of (p, β) to total degree D, built once per process: 25 ms in float128 at D = 40,
-// shared by every solve of that (p, β) in that precision (a scene's truths differ in γ only). A
-// lower degree is cut from a wider table already built (the truth's error estimate solves again
-// one order lower: MATH.md §12.2).
+// The table of (p, β) to total degree D, made once per process: taken from the source where it is
+// kept there (stored_tables.hpp: float128, the viscoelastic (3/2, 1/2)), else built (25 ms in
+// float128 at D = 40), and shared by every solve of that (p, β) in that precision (a scene's
+// truths differ in γ only). A lower degree is cut from a wider table (the truth's error estimate
+// solves again one order lower: MATH.md §12.2).
 template <class Real>
 std::shared_ptr<const TwoPowerTable<Real>> table_for(const Real& p, const Real& beta, int degree) {
   static std::mutex mutex;
@@ -206,8 +263,16 @@ std::shared_ptr<const TwoPowerTable<Real>> table_for(const Real& p, const Real& 
     }
   }
   // Outside the lock: other keys proceed.
-  std::shared_ptr<TwoPowerTable<Real>> table =
-      wider ? two_power_detail::prefix(*wider, degree) : two_power_detail::build(p, beta, degree);
+  std::shared_ptr<TwoPowerTable<Real>> table;
+  if (wider) {
+    table = two_power_detail::prefix(*wider, degree);
+  } else if (auto stored = two_power_detail::from_stored(p, beta);
+             stored && stored->shape.degree() >= degree) {
+    table = stored->shape.degree() == degree ? std::move(stored)
+                                             : two_power_detail::prefix(*stored, degree);
+  } else {
+    table = two_power_detail::build(p, beta, degree);
+  }
   if constexpr (searches_in_double<Real>) {
     const auto rounded = [](const std::vector<Real>& c) {
       return std::vector<double>(c.begin(), c.end());

@@ -21,7 +21,9 @@
 
 #include <algorithm>
 #include <array>
+#include <bit>
 #include <cmath>
+#include <cstdint>
 #include <iterator>
 #include <limits>
 #include <optional>
@@ -222,6 +224,41 @@ TEST(TwoPowerSeries, LowerDegreesAreCutFromAWiderTableBitForBit) {
 }
 
 #if PLDAMP_WITH_QUAD
+// The float128 tables kept in the source (stored_tables.hpp) are the ones build makes, bit for bit
+// (Y, Z and W̃, every stored (p, β)); table_for takes them, and cuts lower degrees from them as
+// from a built one; a (p, β) not stored is built.
+TEST(TwoPowerSeries, StoredTablesAreTheBuiltOnesBitForBit) {
+  const auto bits = [](const std::vector<quad>& values) {
+    std::vector<std::array<std::uint64_t, 2>> out;
+    for (const quad& x : values) {
+      out.push_back(std::bit_cast<std::array<std::uint64_t, 2>>(x.backend().value()));
+    }
+    return out;
+  };
+  const auto value = [](const std::uint64_t* words) {
+    return quad(std::bit_cast<__float128>(std::array{words[0], words[1]}));
+  };
+  ASSERT_FALSE(detail::stored_tables.empty());
+  for (const detail::StoredTable& stored : detail::stored_tables) {
+    const quad p = value(stored.p), beta = value(stored.beta);
+    const auto kept = detail::two_power_detail::from_stored(p, beta);
+    ASSERT_NE(kept, nullptr);
+    const auto built = detail::two_power_detail::build(p, beta, stored.degree);
+    EXPECT_EQ(bits(kept->y), bits(built->y));
+    EXPECT_EQ(bits(kept->z), bits(built->z));
+    EXPECT_EQ(bits(kept->w), bits(built->w));
+    const auto taken = detail::table_for(p, beta, stored.degree);
+    EXPECT_EQ(bits(taken->y), bits(built->y));
+    ASSERT_NE(taken->coarse, nullptr);
+    EXPECT_EQ(taken->coarse->y, std::vector<double>(built->y.begin(), built->y.end()));
+  }
+  // The viscoelastic contact is stored, at the degree of float128's truth.
+  const auto viscoelastic = detail::two_power_detail::from_stored(quad(3) / 2, quad(1) / 2);
+  ASSERT_NE(viscoelastic, nullptr);
+  EXPECT_EQ(viscoelastic->shape.degree(), 40);
+  EXPECT_EQ(detail::two_power_detail::from_stored(quad(3) / 2, quad(1) / 3), nullptr);
+}
+
 // In float128 a polynomial of the table is summed with its high shells in double where their
 // rounding bound allows (TwoPowerView::value, MATH.md §12.3): within tolerance/1024 of the sum in
 // float128 throughout, from the onset to the entry's end; and where the shells cancel (an injected
