@@ -29,6 +29,7 @@
 #include "polynomial.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstddef>
 #include <limits>
@@ -335,21 +336,37 @@ public:
     if (!(delta > 0 && rate > 0)) {
       return std::nullopt;
     }
+    using std::abs;
+    using std::cbrt;
     Real u = rate, s = delta / rate;
+    // The first iterations on the polynomials' first half (TwoPowerView::newton, the same rule):
+    // their root is within √ε of the whole one's; from a step below ∛ε on, the whole ones.
+    const std::size_t whole = y_.size();
+    std::size_t terms = (whole + 1) / 2;
+    const Real switch_below = cbrt(std::numeric_limits<Real>::epsilon());
     for (int iteration = 0; iteration < 40; ++iteration) {
       const Real x = x_of(u, s);
       if (!(x <= reach_)) {
         return std::nullopt;
       }
-      Real y, dy, z, dz;
-      horner_with_derivative<Real>(y_, x, y, dy);
-      horner_with_derivative<Real>(z_, x, z, dz);
+      std::array<Real, 2> value, slope; // Y and Z, and their derivatives in x
+      horner_pair_with_derivative<Real>(std::span<const Real>(y_).first(terms),
+                                        std::span<const Real>(z_).first(terms), x, value, slope);
+      const Real &y = value[0], &z = value[1], &dy = slope[0], &dz = slope[1];
       const Real f1 = u * s * y - delta, f2 = u * z - rate;
       const Real j11 = s * (y + a_ * x * dy), j12 = u * z;
       const Real j21 = z + a_ * x * dz, j22 = u * b_ * x * dz / s;
+      const Real u_before = u, s_before = s;
       const NewtonStep step = newton_step(u, s, f1, f2, j11, j12, j21, j22);
       if (step == NewtonStep::left_the_domain) {
         return std::nullopt;
+      }
+      if (terms < whole) {
+        if ((abs(u - u_before) <= switch_below * u && abs(s - s_before) <= switch_below * s) ||
+            iteration == 5) {
+          terms = whole;
+        }
+        continue; // never converged on the truncated polynomials
       }
       if (step == NewtonStep::converged) {
         if (!(x_of(u, s) <= reach_)) {

@@ -6,6 +6,7 @@
 
 #include <boost/math/tools/toms748_solve.hpp>
 
+#include <array>
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
@@ -35,6 +36,22 @@ void horner_with_derivative(std::span<const Real> c, const Real& x, Real& value,
   for (std::size_t i = c.size() - 1; i-- > 0;) {
     slope = slope * x + value;
     value = value * x + c[i];
+  }
+}
+
+// Two polynomials of one length and their derivatives at one x, by Horner's rule in one pass:
+// the same roundings as horner_with_derivative on each, in four independent chains instead of
+// two after two (Newton's iteration at the exit evaluates Y and Z together).
+template <class Real>
+void horner_pair_with_derivative(std::span<const Real> a, std::span<const Real> b, const Real& x,
+                                 std::array<Real, 2>& value, std::array<Real, 2>& slope) {
+  value = {a.back(), b.back()};
+  slope = {Real(0), Real(0)};
+  for (std::size_t i = a.size() - 1; i-- > 0;) {
+    slope[0] = slope[0] * x + value[0];
+    slope[1] = slope[1] * x + value[1];
+    value[0] = value[0] * x + a[i];
+    value[1] = value[1] * x + b[i];
   }
 }
 
