@@ -143,8 +143,10 @@ public:
   };
   // The state at time s from a contact point passed at speed u.
   virtual Point at(const Real& u, const Real& s) const = 0;
-  // Its work alone (a series may sum it alone for less).
+  // Its work alone, and δ and dδ/ds alone (work 0): a series may sum fewer terms for them (the
+  // normal force's rate, searched for its peak on the entry stretch, needs no work).
   virtual Real work_at(const Real& u, const Real& s) const { return at(u, s).work; }
+  virtual Point motion_at(const Real& u, const Real& s) const { return at(u, s); }
   // Where the entry series stops for speed u: its reach, and not past the time at which dδ/ds has
   // fallen to `fraction` of u (for odd p the series converges everywhere and would otherwise run
   // past the peak and round the whole contact).
@@ -305,7 +307,7 @@ public:
   Real reach() const { return reach_; }
   Real x_of(const Real& u, const Real& s) const {
     using std::pow;
-    return pow(u * s, a_) * s; // u^a s^(a+1), one power
+    return power_of(u * s, a_) * s; // u^a s^(a+1), one power
   }
   // The s at which x reaches `x` for speed u.
   Real s_of(const Real& u, const Real& x) const {
@@ -317,6 +319,10 @@ public:
     const Real x = x_of(u, s);
     return {u * s * horner<Real>(y_, x), u * horner<Real>(z_, x),
             dissipation_ * u * u * horner<Real>(w_, x)};
+  }
+  Point motion_at(const Real& u, const Real& s) const override {
+    const Real x = x_of(u, s);
+    return {u * s * horner<Real>(y_, x), u * horner<Real>(z_, x), Real(0)};
   }
   Real entry_end(const Real& u, const Real& fraction) const override {
     // The first x within the reach at which dδ/ds has fallen to `fraction` of u, if any.

@@ -39,6 +39,48 @@ void horner_with_derivative(std::span<const Real> c, const Real& x, Real& value,
   }
 }
 
+// x^e for x ≥ 0, with the exponents whose power is exact or correctly rounded done so: √x for
+// e = ½ (the viscoelastic dashpot's, and the seed's δ^β at p = 2), x for e = 1, 1 for e = 0.
+// Correctly rounded where pow is within an ulp, and cheaper: a double pow is ~20 ns, a float128
+// one ten times a square root.
+template <class Real>
+Real power_of(const Real& x, const Real& e) {
+  using std::pow;
+  using std::sqrt;
+  if (e == Real(1) / 2) {
+    return sqrt(x);
+  }
+  if (e == 1) {
+    return x;
+  }
+  if (e == 0) {
+    return Real(1);
+  }
+  return pow(x, e);
+}
+
+// A sum of products in two lanes, a += x0 y0 and b += x1 y1 (and a lone last term into a), added
+// at the end: in double one SSE2 register (GCC's vector extension), in any other T two values,
+// with the same roundings either way.
+template <class T>
+struct TwoLanes {
+  T a = T(0), b = T(0);
+  void add(const T& x0, const T& x1, const T& y0, const T& y1) {
+    a += x0 * y0;
+    b += x1 * y1;
+  }
+  void add(const T& x0, const T& y0) { a += x0 * y0; }
+  T sum() const { return a + b; }
+};
+template <>
+struct TwoLanes<double> {
+  using Pair = double __attribute__((vector_size(16)));
+  Pair lanes{0, 0};
+  void add(double x0, double x1, double y0, double y1) { lanes += Pair{x0, x1} * Pair{y0, y1}; }
+  void add(double x0, double y0) { lanes[0] += x0 * y0; }
+  double sum() const { return lanes[0] + lanes[1]; }
+};
+
 // Two polynomials of one length and their derivatives at one x, by Horner's rule in one pass:
 // the same roundings as horner_with_derivative on each, in four independent chains instead of
 // two after two (Newton's iteration at the exit evaluates Y and Z together).

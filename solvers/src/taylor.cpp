@@ -75,28 +75,6 @@
 namespace pldamp::solvers::detail {
 namespace {
 
-// A sum of products in two lanes, a += x0 y0 and b += x1 y1 (and a lone last term into a), added
-// at the end: in double one SSE2 register (GCC's vector extension), in any other T two values,
-// with the same roundings either way.
-template <class T>
-struct TwoLanes {
-  T a = T(0), b = T(0);
-  void add(const T& x0, const T& x1, const T& y0, const T& y1) {
-    a += x0 * y0;
-    b += x1 * y1;
-  }
-  void add(const T& x0, const T& y0) { a += x0 * y0; }
-  T sum() const { return a + b; }
-};
-template <>
-struct TwoLanes<double> {
-  using Pair = double __attribute__((vector_size(16)));
-  Pair lanes{0, 0};
-  void add(double x0, double x1, double y0, double y1) { lanes += Pair{x0, x1} * Pair{y0, y1}; }
-  void add(double x0, double y0) { lanes[0] += x0 * y0; }
-  double sum() const { return lanes[0] + lanes[1]; }
-};
-
 template <SupportedReal Real>
 class TaylorContact {
 public:
@@ -278,14 +256,15 @@ private:
   }
 
   // The normal force's peak where its rate falls through 0 between scaled times `from` and `to`
-  // (`state` gives the scaled state between), when wanted and still to be found.
-  template <class StateAt>
-  void find_force_peak(const Real& from, const Real& to, StateAt&& state) {
+  // (`state` gives the scaled state between, `motion` its δ and v alone: the rate needs no W),
+  // when wanted and still to be found.
+  template <class StateAt, class MotionAt>
+  void find_force_peak(const Real& from, const Real& to, StateAt&& state, MotionAt&& motion) {
     if (!collision_.pending(EventKind::force_peak)) {
       return;
     }
     auto rate = [&](const Real& s) {
-      return collision_.event_value(EventKind::force_peak, physical(state(s)));
+      return collision_.event_value(EventKind::force_peak, physical(motion(s)));
     };
     const Real rate_from = rate(from), rate_to = rate(to);
     if (!(rate_from > 0 && rate_to <= 0)) {
@@ -315,8 +294,16 @@ private:
   };
   template <class T>
   void recurrences(Series<T> s, const Constants<T>& c, std::size_t from, std::size_t to) const;
-  // recurrences' orders for a β known to be the seed's or not and with or without the work W.
-  template <class T, bool General, bool Work>
+  // How q = δ^(p−β), the spring's factor beside u = δ^β (f = u q = δ^p), is made: u δ for the
+  // seed's β; δ itself where p − β = 1 (Hertz's spring with the viscoelastic dashpot: no sum of
+  // its own, and f's is u δ's, the sum that u needs anyway); otherwise by its own power rule.
+  enum class SpringFactor { seed, overlap, power };
+  SpringFactor spring_factor() const {
+    return !general_ ? SpringFactor::seed
+                     : (p_ - a_ == 1 ? SpringFactor::overlap : SpringFactor::power);
+  }
+  // recurrences' orders for one way of making q and with or without the work W.
+  template <class T, SpringFactor Q, bool Work>
   void orders(Series<T> s, const Constants<T>& c, std::size_t from, std::size_t to) const;
   Series<Real> own_series() { return {d_, v_, w_, u_, q_, f_, g_, power_}; }
   Constants<Real> own_constants(const Real& q_exponent) const {
@@ -352,6 +339,9 @@ private:
     return {horner(span_of(d_), theta), horner(span_of(v_), theta),
             with_work() ? horner(span_of(w_), theta) : Real(0)};
   }
+  Scaled motion_at(const Real& theta) const {
+    return {horner(span_of(d_), theta), horner(span_of(v_), theta), Real(0)};
+  }
   // y(t + h) = y + Σ_{n≥1} c_n h^n, the sum compensated (Kahan; TwoSum): the rounding error of
   // y + increment is kept in `carry_` and added back at the next step, so a step costs ~ε of its
   // increment rather than ~ε of the state. Where the increments are small against the state, in
@@ -375,6 +365,10 @@ private:
   Scaled entry_state(const Real& t) const {
     const auto point = entry_.series->at(Real(1), t);
     return {point.delta, point.rate, point.work};
+  }
+  Scaled entry_motion(const Real& t) const {
+    const auto point = entry_.series->motion_at(Real(1), t);
+    return {point.delta, point.rate, Real(0)};
   }
 
   BasicCollision<Real> collision_;
@@ -422,11 +416,13 @@ void TaylorContact<Real>::compute_coefficients(const Scaled& y) {
   d_[0] = y[0];
   v_[0] = y[1];
   w_[0] = y[2];
-  u_[0] = pow(y[0], a_);
+  u_[0] = power_of(y[0], a_);
   // q = δ^(p−β): u δ for the seed's β (δ^((p+1)/2), one product), its own power otherwise.
   const Real q_exponent = p_ - a_;
-  if (general_) {
-    q_[0] = pow(y[0], q_exponent);
+  if (spring_factor() == SpringFactor::power) {
+    q_[0] = power_of(y[0], q_exponent);
+  } else if (spring_factor() == SpringFactor::overlap) {
+    q_[0] = y[0];
   }
   recurrences<Real>(own_series(), own_constants(q_exponent), 0, std::min(order, exact));
   if (exact < order) {
@@ -448,16 +444,34 @@ template <SupportedReal Real>
 template <class T>
 void TaylorContact<Real>::recurrences(Series<T> s, const Constants<T>& c, std::size_t from,
                                       std::size_t to) const {
-  if (general_) {
-    with_work() ? orders<T, true, true>(s, c, from, to) : orders<T, true, false>(s, c, from, to);
-  } else {
-    with_work() ? orders<T, false, true>(s, c, from, to) : orders<T, false, false>(s, c, from, to);
+  const auto with = [&]<SpringFactor Q>() {
+    with_work() ? orders<T, Q, true>(s, c, from, to) : orders<T, Q, false>(s, c, from, to);
+  };
+  switch (spring_factor()) {
+  case SpringFactor::seed:
+    with.template operator()<SpringFactor::seed>();
+    break;
+  case SpringFactor::overlap:
+    with.template operator()<SpringFactor::overlap>();
+    break;
+  case SpringFactor::power:
+    with.template operator()<SpringFactor::power>();
+    break;
   }
   if (force_end() && to > 0 && from < to) {
     // The cut needs u and q at the top order too.
     s.u[to] = power_coefficient(s.d, s.u, c.a, to);
-    s.q[to] = general_ ? power_coefficient(s.d, s.q, c.q_exponent, to)
-                       : product_coefficient(s.u, s.d, to);
+    switch (spring_factor()) {
+    case SpringFactor::seed:
+      s.q[to] = product_coefficient(s.u, s.d, to);
+      break;
+    case SpringFactor::overlap:
+      s.q[to] = s.d[to];
+      break;
+    case SpringFactor::power:
+      s.q[to] = power_coefficient(s.d, s.q, c.q_exponent, to);
+      break;
+    }
   }
 }
 
@@ -467,11 +481,12 @@ void TaylorContact<Real>::recurrences(Series<T> s, const Constants<T>& c, std::s
 //   j) δ_{n−j} u_j, with (n − j) δ_{n−j} = H v_{n−j−1} (δ' = v), is
 //   n δ_0 u_n = (β + 1) H g_{n−1} − n S_n,   S_n = Σ_{1≤j≤n} δ_j u_{n−j},
 //   and S_n + δ_0 u_n is the seed's q_n = (u δ)_n: one sum gives both.
-// - q = δ^(p−β) for a stated β: the power rule, n δ_0 q_n = Σ_{1≤j≤n} ((p − β + 1) j − n) δ_j
-// q_{n−j}.
-// - f = u q, g = u v, P = g v: Cauchy products.
+// - q = δ^(p−β) for a stated β: δ itself where p − β = 1, else the power rule,
+//   n δ_0 q_n = Σ_{1≤j≤n} ((p − β + 1) j − n) δ_j q_{n−j}.
+// - f = u q (for q = δ, f_n = S_n + u_n δ_0: the sum u's rule made), g = u v, P = g v: Cauchy
+//   products.
 template <SupportedReal Real>
-template <class T, bool General, bool Work>
+template <class T, typename TaylorContact<Real>::SpringFactor Q, bool Work>
 void TaylorContact<Real>::orders(Series<T> s, const Constants<T>& c, std::size_t from,
                                  std::size_t to) const {
   const T inverse_d0 = T(1) / s.d[0], a1 = c.a + T(1), b1 = c.q_exponent + T(1);
@@ -482,7 +497,7 @@ void TaylorContact<Real>::orders(Series<T> s, const Constants<T>& c, std::size_t
   const bool constant_u = a_ == Real(0);
   for (std::size_t n = from; n < to; ++n) {
     if (n == 0) {
-      if constexpr (!General) {
+      if constexpr (Q == SpringFactor::seed) {
         s.q[0] = s.u[0] * s.d[0];
       }
       s.f[0] = s.g[0] = T(0);
@@ -499,38 +514,43 @@ void TaylorContact<Real>::orders(Series<T> s, const Constants<T>& c, std::size_t
         const T& u0 = s.u[j];
         const T& u1 = s.u[j + 1];
         du.add(u0, u1, s.d[n - j], s.d[n - j - 1]);
-        uq.add(u0, u1, s.q[n - j], s.q[n - j - 1]);
+        if constexpr (Q != SpringFactor::overlap) {
+          uq.add(u0, u1, s.q[n - j], s.q[n - j - 1]);
+        }
         uv.add(u0, u1, s.v[n - j], s.v[n - j - 1]);
         if constexpr (Work) {
           gv.add(s.g[j - 1], s.g[j], s.v[n - j + 1], s.v[n - j]);
         }
-        if constexpr (General) {
+        if constexpr (Q == SpringFactor::power) {
           dq.add((b1 * T(j) - order) * s.d[j], (b1 * T(j + 1) - order) * s.d[j + 1], s.q[n - j],
                  s.q[n - j - 1]);
         }
       }
       if (j < n) {
         du.add(s.u[j], s.d[n - j]);
-        uq.add(s.u[j], s.q[n - j]);
+        if constexpr (Q != SpringFactor::overlap) {
+          uq.add(s.u[j], s.q[n - j]);
+        }
         uv.add(s.u[j], s.v[n - j]);
         if constexpr (Work) {
           gv.add(s.g[j - 1], s.v[n - j + 1]);
         }
-        if constexpr (General) {
+        if constexpr (Q == SpringFactor::power) {
           dq.add((b1 * T(j) - order) * s.d[j], s.q[n - j]);
         }
       }
       const T sum = du.sum() + s.d[n] * s.u[0]; // S_n
       s.u[n] = constant_u ? T(0) : (a1 * c.time_scale * s.g[n - 1] * inverse[n] - sum) * inverse_d0;
-      if constexpr (General) {
+      if constexpr (Q == SpringFactor::power) {
         s.q[n] = (dq.sum() * inverse[n] + c.q_exponent * s.d[n] * s.q[0]) * inverse_d0;
+      } else if constexpr (Q == SpringFactor::overlap) {
+        s.q[n] = s.d[n];
       } else {
         s.q[n] = sum + s.u[n] * s.d[0];
       }
-      T uq_n = uq.sum() + s.u[n] * s.q[0];
-      T uv_n = uv.sum() + s.u[n] * s.v[0];
-      s.f[n] = uq_n;
-      s.g[n] = uv_n;
+      // f_n less u_0 q_n (added below); for q = δ the sum is S_n's.
+      s.f[n] = Q == SpringFactor::overlap ? du.sum() + s.u[n] * s.q[0] : uq.sum() + s.u[n] * s.q[0];
+      s.g[n] = uv.sum() + s.u[n] * s.v[0];
       if constexpr (Work) {
         s.power[n] = gv.sum() + s.g[n - 1] * s.v[1];
       }
@@ -682,11 +702,15 @@ Result<Real> TaylorContact<Real>::run() {
     Real rising = t;
     for (int halving = 0;
          halving < 64 &&
-         !(collision_.event_value(EventKind::force_peak, physical(entry_state(rising))) > 0);
+         !(collision_.event_value(EventKind::force_peak, physical(entry_motion(rising))) > 0);
          ++halving) {
       rising /= 2;
     }
-    find_force_peak(rising, t, [&](const Real& s) { return entry_state(s); });
+    if (rising < t) { // else the force still grows at the stretch's end: no peak within it
+      find_force_peak(
+          rising, t, [&](const Real& s) { return entry_state(s); },
+          [&](const Real& s) { return entry_motion(s); });
+    }
   }
   long steps = 0;
   while (t < horizon_) {
@@ -714,7 +738,9 @@ Result<Real> TaylorContact<Real>::run() {
     if (force_end() && collision_.pending(EventKind::exit) && first_sign_change(span_of(cut_), h)) {
       h = std::min(h, step_size(true));
     }
-    find_force_peak(t, t + h, [&](const Real& s) { return state_at(s - t); });
+    find_force_peak(
+        t, t + h, [&](const Real& s) { return state_at(s - t); },
+        [&](const Real& s) { return motion_at(s - t); });
     for (const EventKind kind : {EventKind::peak, EventKind::exit}) {
       if (!collision_.pending(kind) || (kind == EventKind::exit && !force_end())) {
         continue;

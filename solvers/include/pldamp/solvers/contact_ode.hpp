@@ -113,13 +113,16 @@ public:
     }
     const Real d = abs(delta);
     const Real d_a = dashpot_factor(d);
-    const Real acceleration = -(k_ * spring_factor(d, d_a) + c_ * d_a * v) / m_;
     if (a_ > 0) {
-      // δ^(p−β) = δ^β δ for the seed's β: one power instead of two (the event is evaluated a
-      // dozen times a collision by the taylor solver's root finder).
-      const Real d_spring = seed_ ? d_a * d : pow(d, p_ - a_);
+      // One power where there were three (the event is evaluated a dozen times a collision by
+      // the taylor solver's root finder): δ^(p−β) is δ^β δ for the seed's β and δ itself for
+      // p − β = 1 (Hertz's spring with the viscoelastic dashpot), and δ^p = δ^(p−β) δ^β.
+      const Real d_spring = seed_ ? d_a * d : (p_ - a_ == 1 ? d : pow(d, p_ - a_));
+      const Real spring = seed_ ? spring_factor(d, d_a) : d_spring * d_a;
+      const Real acceleration = -(k_ * spring + c_ * d_a * v) / m_;
       return k_ * p_ * d_spring * v + c_ * a_ * v * v + c_ * d * acceleration;
     }
+    const Real acceleration = -(k_ * spring_factor(d, d_a) + c_ * d_a * v) / m_;
     const Real spring_rate = p_ == 1 ? k_ * v : k_ * p_ * pow(d, p_ - 1) * v;
     return spring_rate + c_ * acceleration;
   }
