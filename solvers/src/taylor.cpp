@@ -30,8 +30,9 @@
 // the series of contact_series.hpp, in the variable x ~ t^b that resolves the branch point (for
 // a stated β, two_power_series.hpp's, in the two variables x1 ~ t^(β+1), x2 ~ t^(p+1)):
 // - entry: the series with u = 1 gives the state at t1 = x1^(1/b), x1 the series' reach (its
-//   truncation below ε), and before the loading has lost half the impact speed (v ≥ ½), so that
-//   the peak is found by the steps.
+//   truncation below ε), and before the loading has lost seven eighths of the impact speed
+//   (v ≥ ⅛), so that the peak is found by the steps. (Stopping at v = ½ left a step more than
+//   the reach needed at p = 1.5 and 2: a fifth of a double collision.)
 // - exit: after each step while unloading, the time-reversed series is tried: Newton finds the
 //   exit speed u and the time s to the exit from the step's (δ, v); it answers when x = u^a s^b
 //   lies within its reach. Then τ = t + s, e = u and the remaining work W(s) are exact to ε.
@@ -206,7 +207,7 @@ private:
     }
     SeriesAndEnd built{build_series(sign), Real(0)};
     if (sign > 0) {
-      built.entry_end = built.series->entry_end(Real(1), Real(1) / 2);
+      built.entry_end = built.series->entry_end(Real(1), Real(1) / 8);
     }
     if (cache.size() < kept) {
       cache.emplace_back(key, built);
@@ -691,7 +692,7 @@ Real TaylorContact<Real>::step_size(bool with_cut) const {
 
 template <SupportedReal Real>
 Result<Real> TaylorContact<Real>::run() {
-  // Entry: the series up to its reach, and not past the loss of half the impact speed.
+  // Entry: the series up to its reach, and not past v = ⅛ (the peak is the steps').
   Real t = std::min(entry_.entry_end, horizon_);
   Scaled y = entry_state(t);
   sample_through(t, [&](const Real& s) { return entry_state(s); });

@@ -120,8 +120,16 @@ TEST(EndToEnd, QuickSceneWritesEveryReportWithItsPlots) {
   }
   // Per p and work-precision series (e and the worst of all, by default): time and rhs
   // evaluations in double, time in extended precision; per p the time-step study of
-  // verlet-predicted's sweep in e, δ_max and τ; a map per configuration (18).
-  EXPECT_EQ(plots, 2u * 3u * 3u + 3u * 3u + 18u);
+  // verlet-predicted's sweep in e, δ_max and τ; a map per configuration (18). A work-precision
+  // plot whose every error is 0 (taylor in extended precision at p = 1 may give e exactly) is a
+  // line saying so instead.
+  std::size_t nothing_to_draw = 0;
+  for (std::size_t at = html.str().find("a point to draw"); at != std::string::npos;
+       at = html.str().find("a point to draw", at + 1)) {
+    ++nothing_to_draw;
+  }
+  EXPECT_LE(nothing_to_draw, 2u);
+  EXPECT_EQ(plots + nothing_to_draw, 2u * 3u * 3u + 3u * 3u + 18u);
   EXPECT_NE(html.str().find("seed Table II"), std::string::npos);
   EXPECT_EQ(html.str().find("nan"), std::string::npos);
   // The cost against the closed forms: a multiple in every work point and table.

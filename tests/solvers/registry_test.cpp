@@ -186,11 +186,11 @@ TEST(Registry, WorkCountsJacobiansOfTheImplicitMethodsOnly) {
 TEST(StepLimit, IsAnOutcomeNotAnError) {
   const auto c = Contact<double>::from_e(1.5, 0.5, 1.0);
   Options<double> options;
-  options.max_steps = 5;
+  options.max_steps = 2; // taylor's whole contact is four steps at p = 1.5, e = 0.5
   for (const SolverInfo& info : registry()) {
     const Result<double> r = solve(info.name, problem_of(c), options);
     EXPECT_EQ(r.outcome, Outcome::step_limit) << info.name;
-    EXPECT_LE(r.steps, 5) << info.name;
+    EXPECT_LE(r.steps, 2) << info.name;
   }
 }
 
