@@ -115,7 +115,8 @@ void shift_by_one(std::vector<Real>& a) {
 // otherwise exceeds the root count by an even number.
 template <class Real>
 int roots_bound_01(const std::vector<Real>& a) {
-  std::vector<Real> b(a.rbegin(), a.rend());
+  thread_local std::vector<Real> b; // its allocation kept: a step's peak search calls this
+  b.assign(a.rbegin(), a.rend());
   shift_by_one(b);
   int variations = 0;
   int last_sign = 0;

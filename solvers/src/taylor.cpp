@@ -180,10 +180,12 @@ private:
     return std::make_shared<ContactPointSeries<Real>>(p_, Real(sign) * gamma_, 2 * gamma_,
                                                       tolerance, series_terms(), with_work());
   }
-  // A series with where the entry stretch ends (for the entry's).
+  // A series with where the entry stretch ends and the scaled state there (for the entry's: the
+  // same for every collision that shares the series).
   struct SeriesAndEnd {
     std::shared_ptr<const ContactSeries<Real>> series;
     Real entry_end;
+    Scaled at_end;
   };
   // The series depend on (p, β, γ, the tolerance, the work) alone, not on v0, m or k, which the
   // units absorb: the cells of a grid that share p and α share them. Building one is most of a
@@ -205,9 +207,11 @@ private:
         return cached;
       }
     }
-    SeriesAndEnd built{build_series(sign), Real(0)};
+    SeriesAndEnd built{build_series(sign), Real(0), {}};
     if (sign > 0) {
       built.entry_end = built.series->entry_end(Real(1), Real(1) / 8);
+      const auto point = built.series->at(Real(1), built.entry_end);
+      built.at_end = {point.delta, point.rate, point.work};
     }
     if (cache.size() < kept) {
       cache.emplace_back(key, built);
@@ -694,7 +698,7 @@ template <SupportedReal Real>
 Result<Real> TaylorContact<Real>::run() {
   // Entry: the series up to its reach, and not past v = ⅛ (the peak is the steps').
   Real t = std::min(entry_.entry_end, horizon_);
-  Scaled y = entry_state(t);
+  Scaled y = t == entry_.entry_end ? entry_.at_end : entry_state(t);
   sample_through(t, [&](const Real& s) { return entry_state(s); });
   // The normal force's peak within the entry stretch (a heavily damped contact's comes early):
   // its rate is > 0 just after the onset unless the onset itself is the peak (β = 0).
@@ -703,7 +707,8 @@ Result<Real> TaylorContact<Real>::run() {
     Real rising = t;
     for (int halving = 0;
          halving < 64 &&
-         !(collision_.event_value(EventKind::force_peak, physical(entry_motion(rising))) > 0);
+         !(collision_.event_value(EventKind::force_peak,
+                                  physical(rising == t ? y : entry_motion(rising))) > 0);
          ++halving) {
       rising /= 2;
     }

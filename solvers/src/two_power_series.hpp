@@ -505,7 +505,9 @@ public:
     int degree = far ? std::max(1, whole / 2) : whole;
     const T switch_below = cbrt(std::numeric_limits<T>::epsilon());
     for (int iteration = 0; iteration < 40; ++iteration) {
-      if (!within_reach(u, s)) {
+      // The truncated iterations only choose where the whole ones start: the reach is theirs
+      // to judge.
+      if (degree == whole && !within_reach(u, s)) {
         return Newton::out_of_reach;
       }
       const auto [x1, x2] = variables(u, s);
