@@ -271,7 +271,12 @@ private:
     auto rate = [&](const Real& s) {
       return collision_.event_value(EventKind::force_peak, physical(motion(s)));
     };
-    const Real rate_from = rate(from), rate_to = rate(to);
+    // The rate at a step's start is the last step's at its end (`rate_at_end_`): the same point,
+    // and the bracket of one step then starts where the last one's ended.
+    const Real rate_from =
+        rate_at_end_ && rate_at_end_->first == from ? rate_at_end_->second : rate(from);
+    const Real rate_to = rate(to);
+    rate_at_end_.emplace(to, rate_to);
     if (!(rate_from > 0 && rate_to <= 0)) {
       return;
     }
@@ -377,9 +382,10 @@ private:
   }
 
   BasicCollision<Real> collision_;
-  int order_, exact_orders_, double_orders_; // the tiers (orders_in)
-  Real p_, a_, kappa_, gamma_;               // a_ is β
-  bool general_;                             // a stated β with damping (undamped_or_seed)
+  std::optional<std::pair<Real, Real>> rate_at_end_; // find_force_peak's last (time, rate)
+  int order_, exact_orders_, double_orders_;         // the tiers (orders_in)
+  Real p_, a_, kappa_, gamma_;                       // a_ is β
+  bool general_;                                     // a stated β with damping (undamped_or_seed)
   SeriesAndEnd entry_;
   std::shared_ptr<const ContactSeries<Real>> exit_;
   Real safety_, time_unit_, horizon_;
@@ -704,11 +710,14 @@ Result<Real> TaylorContact<Real>::run() {
   // its rate is > 0 just after the onset unless the onset itself is the peak (β = 0).
   collision_.offer_onset_force();
   if (collision_.pending(EventKind::force_peak)) {
+    const Real rate_at_end = collision_.event_value(EventKind::force_peak, physical(y));
+    rate_at_end_.emplace(t, rate_at_end);
     Real rising = t;
     for (int halving = 0;
          halving < 64 &&
-         !(collision_.event_value(EventKind::force_peak,
-                                  physical(rising == t ? y : entry_motion(rising))) > 0);
+         !((rising == t ? rate_at_end
+                        : collision_.event_value(EventKind::force_peak,
+                                                 physical(entry_motion(rising)))) > 0);
          ++halving) {
       rising /= 2;
     }
