@@ -28,21 +28,10 @@ Real horner(std::span<const Real> c, const Real& x) {
   return sum;
 }
 
-// Σ c_i x^i and its derivative, by Horner's rule.
-template <class Real>
-void horner_with_derivative(std::span<const Real> c, const Real& x, Real& value, Real& slope) {
-  value = c.back();
-  slope = Real(0);
-  for (std::size_t i = c.size() - 1; i-- > 0;) {
-    slope = slope * x + value;
-    value = value * x + c[i];
-  }
-}
-
 // x^e for x ≥ 0, with the exponents whose power is exact or correctly rounded done so: √x for
 // e = ½ (the viscoelastic dashpot's, and the seed's δ^β at p = 2), x for e = 1, 1 for e = 0.
-// Correctly rounded where pow is within an ulp, and cheaper: a double pow is ~20 ns, a float128
-// one ten times a square root.
+// Correctly rounded where pow is within an ulp, and cheaper (a double pow is ~20 ns, a square
+// root a few).
 template <class Real>
 Real power_of(const Real& x, const Real& e) {
   using std::pow;
@@ -81,9 +70,9 @@ struct TwoLanes<double> {
   double sum() const { return lanes[0] + lanes[1]; }
 };
 
-// Two polynomials of one length and their derivatives at one x, by Horner's rule in one pass:
-// the same roundings as horner_with_derivative on each, in four independent chains instead of
-// two after two (Newton's iteration at the exit evaluates Y and Z together).
+// Two polynomials of one length and their derivatives at one x, by Horner's rule in one pass: four
+// independent chains instead of two after two (Newton's iteration at the exit evaluates Y and Z
+// together).
 template <class Real>
 void horner_pair_with_derivative(std::span<const Real> a, std::span<const Real> b, const Real& x,
                                  std::array<Real, 2>& value, std::array<Real, 2>& slope) {

@@ -114,9 +114,10 @@ public:
     const Real d = abs(delta);
     const Real d_a = dashpot_factor(d);
     if (a_ > 0) {
-      // One power where there were three (the event is evaluated a dozen times a collision by
-      // the taylor solver's root finder): δ^(p−β) is δ^β δ for the seed's β and δ itself for
-      // p − β = 1 (Hertz's spring with the viscoelastic dashpot), and δ^p = δ^(p−β) δ^β.
+      // Fewer powers (the event is evaluated a dozen times a collision by the taylor solver's
+      // root finder): δ^(p−β) is δ^β δ for the seed's β and δ itself for p − β = 1 (Hertz's
+      // spring with the viscoelastic dashpot), and δ^p = δ^(p−β) δ^β: one power where there
+      // were two (the seed's β) or three.
       const Real d_spring = seed_ ? d_a * d : (p_ - a_ == 1 ? d : pow(d, p_ - a_));
       const Real spring = seed_ ? spring_factor(d, d_a) : d_spring * d_a;
       const Real acceleration = -(k_ * spring + c_ * d_a * v) / m_;
