@@ -70,16 +70,17 @@ std::string source() {
     out << "// " << wanted[k].name << ":\n// p = " << wanted[k].p_text
         << ", β = " << wanted[k].beta_text << ", degree " << degree << ": Y's " << table->y.size()
         << " coefficients, then W̃'s " << table->w.size() << ".\n";
-    write_array(out, "y_" + std::to_string(k), table->y);
-    write_array(out, "w_" + std::to_string(k), table->w);
+    write_array(out, "stored_y_" + std::to_string(k), table->y);
+    write_array(out, "stored_w_" + std::to_string(k), table->w);
   }
   out << "// clang-format on\n\nconstexpr std::array<StoredTable, " << wanted.size()
-      << "> tables{{\n";
+      << "> stored_list{{\n";
   for (std::size_t k = 0; k < wanted.size(); ++k) {
     out << "    {{" << words(wanted[k].p) << "},\n     {" << words(wanted[k].beta) << "},\n     "
-        << degree << ",\n     y_" << k << ",\n     w_" << k << "},\n";
+        << degree << ",\n     stored_y_" << k << ",\n     stored_w_" << k << "},\n";
   }
-  out << "}};\n\n} // namespace\n\nconst std::span<const StoredTable> stored_tables = tables;\n\n"
+  out << "}};\n\n} // namespace\n\nconst std::span<const StoredTable> stored_tables = "
+         "stored_list;\n\n"
          "} // namespace pldamp::solvers::detail\n";
   return out.str();
 }

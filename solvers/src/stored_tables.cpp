@@ -10,7 +10,7 @@ namespace {
 // clang-format off
 // Hertz's spring with the viscoelastic dashpot (Kuwabara–Kono; LAMMPS granular `viscoelastic`):
 // p = 3/2, β = 1/2, degree 40: Y's 861 coefficients, then W̃'s 903.
-constexpr std::array<std::uint64_t, 1722> y_0{
+constexpr std::array<std::uint64_t, 1722> stored_y_0{
     0x0000000000000000u, 0x3fff000000000000u, 0xd41d41d41d41d41du, 0xbffbd41d41d41d41u,
     0x101767dce434a9b1u, 0x3ff7767dce434a9bu, 0x97fcb720086b0e7au, 0xbff2bb1882765769u,
     0xe2f8d826b82cb63bu, 0x3fedb33fab5f6411u, 0xb1203a1e15f5e580u, 0xbfe87ee42d6e95c5u,
@@ -443,7 +443,7 @@ constexpr std::array<std::uint64_t, 1722> y_0{
     0x86e97d14195f334bu, 0xbfa24326c9989104u, 0xd291abd7e70e25ccu, 0x3fa2685bd44b1b4au,
     0x6cf6840dd0abeba3u, 0x3f9fd59f76407e63u,
 };
-constexpr std::array<std::uint64_t, 1806> w_0{
+constexpr std::array<std::uint64_t, 1806> stored_w_0{
     0x0000000000000000u, 0x0000000000000000u, 0x0000000000000000u, 0x0000000000000000u,
     0x0000000000000000u, 0x0000000000000000u, 0x0000000000000000u, 0x0000000000000000u,
     0x0000000000000000u, 0x0000000000000000u, 0x0000000000000000u, 0x0000000000000000u,
@@ -899,16 +899,16 @@ constexpr std::array<std::uint64_t, 1806> w_0{
 };
 // clang-format on
 
-constexpr std::array<StoredTable, 1> tables{{
+constexpr std::array<StoredTable, 1> stored_list{{
     {{0x0000000000000000u, 0x3fff800000000000u},
      {0x0000000000000000u, 0x3ffe000000000000u},
      40,
-     y_0,
-     w_0},
+     stored_y_0,
+     stored_w_0},
 }};
 
 } // namespace
 
-const std::span<const StoredTable> stored_tables = tables;
+const std::span<const StoredTable> stored_tables = stored_list;
 
 } // namespace pldamp::solvers::detail
