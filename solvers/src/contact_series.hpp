@@ -90,22 +90,34 @@ Real power_coefficient(const std::vector<Real>& f, const std::vector<Real>& u, c
 template <class Real>
 Real power_coefficient(const std::vector<Real>& f, const std::vector<Real>& u,
                        const std::vector<Real>& weighted, const Real& a, std::size_t n) {
-  Real plain0 = Real(0), plain1 = Real(0), by_degree0 = Real(0), by_degree1 = Real(0);
+  TwoLanes<Real> plain, by_degree;
   std::size_t j = 0;
   for (; j + 2 <= n; j += 2) {
-    plain0 += f[n - j] * u[j];
-    by_degree0 += f[n - j] * weighted[j];
-    plain1 += f[n - j - 1] * u[j + 1];
-    by_degree1 += f[n - j - 1] * weighted[j + 1];
+    plain.add(f[n - j], f[n - j - 1], u[j], u[j + 1]);
+    by_degree.add(f[n - j], f[n - j - 1], weighted[j], weighted[j + 1]);
   }
   for (; j < n; ++j) {
-    plain0 += f[n - j] * u[j];
-    by_degree0 += f[n - j] * weighted[j];
+    plain.add(f[n - j], u[j]);
+    by_degree.add(f[n - j], weighted[j]);
   }
-  return (a * Real(n) * (plain0 + plain1) - (a + 1) * (by_degree0 + by_degree1)) / (Real(n) * f[0]);
+  return (a * Real(n) * plain.sum() - (a + 1) * by_degree.sum()) / (Real(n) * f[0]);
 }
 
 enum class NewtonStep { left_the_domain, moving, converged };
+
+// Newton's method at the exit starts from the straight line on the polynomials' first half
+// (locate(), TwoPowerView::newton): within the reach their terms fall from 1 to ε, so the half
+// left out is ~√ε and the truncated root lies that close to the whole one's. The whole polynomials
+// take over after a step below ∛ε in both u and s (quadratic convergence has then reached the
+// truncation) or after the sixth, and converge in two iterations.
+template <class Real>
+bool whole_from_now(const Real& u_before, const Real& u, const Real& s_before, const Real& s,
+                    int iteration) {
+  using std::abs;
+  using std::cbrt;
+  static const Real below = cbrt(std::numeric_limits<Real>::epsilon());
+  return (abs(u - u_before) <= below * u && abs(s - s_before) <= below * s) || iteration == 5;
+}
 
 // One Newton step of a series' locate() on (u, s) for the residuals (f1, f2) with the Jacobian
 // [[j11, j12], [j21, j22]] (columns ∂/∂u, ∂/∂s): converged when both moved by at most 4ε
@@ -306,7 +318,6 @@ public:
   // The series is used for x = u^a s^b ≤ reach() only.
   Real reach() const { return reach_; }
   Real x_of(const Real& u, const Real& s) const {
-    using std::pow;
     return power_of(u * s, a_) * s; // u^a s^(a+1), one power
   }
   // The s at which x reaches `x` for speed u.
@@ -316,13 +327,16 @@ public:
   }
 
   Point at(const Real& u, const Real& s) const override {
-    const Real x = x_of(u, s);
-    return {u * s * horner<Real>(y_, x), u * horner<Real>(z_, x),
-            dissipation_ * u * u * horner<Real>(w_, x)};
+    Point point = motion_at(u, s);
+    point.work = work_at(u, s);
+    return point;
   }
   Point motion_at(const Real& u, const Real& s) const override {
     const Real x = x_of(u, s);
     return {u * s * horner<Real>(y_, x), u * horner<Real>(z_, x), Real(0)};
+  }
+  Real work_at(const Real& u, const Real& s) const override {
+    return dissipation_ * u * u * horner<Real>(w_, x_of(u, s));
   }
   Real entry_end(const Real& u, const Real& fraction) const override {
     // The first x within the reach at which dδ/ds has fallen to `fraction` of u, if any.
@@ -342,14 +356,10 @@ public:
     if (!(delta > 0 && rate > 0)) {
       return std::nullopt;
     }
-    using std::abs;
-    using std::cbrt;
     Real u = rate, s = delta / rate;
-    // The first iterations on the polynomials' first half (TwoPowerView::newton, the same rule):
-    // their root is within √ε of the whole one's; from a step below ∛ε on, the whole ones.
+    // The first iterations on the polynomials' first half (whole_from_now).
     const std::size_t whole = y_.size();
     std::size_t terms = (whole + 1) / 2;
-    const Real switch_below = cbrt(std::numeric_limits<Real>::epsilon());
     for (int iteration = 0; iteration < 40; ++iteration) {
       const Real x = x_of(u, s);
       if (!(x <= reach_)) {
@@ -368,8 +378,7 @@ public:
         return std::nullopt;
       }
       if (terms < whole) {
-        if ((abs(u - u_before) <= switch_below * u && abs(s - s_before) <= switch_below * s) ||
-            iteration == 5) {
+        if (whole_from_now(u_before, u, s_before, s, iteration)) {
           terms = whole;
         }
         continue; // never converged on the truncated polynomials

@@ -406,11 +406,7 @@ private:
       }
       inverse.resize(n);
       for (std::size_t i = 0; i < n; ++i) {
-        if constexpr (std::is_same_v<T, double>) {
-          inverse[i] = static_cast<double>(inverse_in_real[i]);
-        } else {
-          inverse[i] = T::from(inverse_in_real[i]);
-        }
+        inverse[i] = narrowed<T>(inverse_in_real[i]);
       }
     }
     Series<T> view() { return {d, v, w, u, q, f, g, power}; }

@@ -312,8 +312,10 @@ public:
   }
 
   // Σ_i x1^i (Σ_j c_ij x2^j), Horner's rule in both (the values: its rounding is the smaller).
-  static T evaluate(const Triangle& t, const std::vector<T>& c, const T& x1, const T& x2) {
-    const int degree = t.degree();
+  // Up to total degree `degree` (the whole triangle by default).
+  static T evaluate(const Triangle& t, const std::vector<T>& c, const T& x1, const T& x2,
+                    int degree = -1) {
+    degree = degree < 0 ? t.degree() : std::min(degree, t.degree());
     T sum = T(0);
     for (int i = degree; i >= 0; --i) {
       const T* coefficients = &c[t.index(i, 0)]; // row i is contiguous
@@ -370,15 +372,7 @@ public:
         high += shell[split];
         high_size += size[split];
       }
-      T low = T(0);
-      for (int i = split - 1; i >= 0; --i) {
-        T row = T(0);
-        for (int j = split - 1 - i; j >= 0; --j) {
-          row = row * x2 + c[t.index(i, j)];
-        }
-        low = low * x1 + row;
-      }
-      return low + T(high);
+      return (split > 0 ? evaluate(t, c, x1, x2, split - 1) : T(0)) + T(high);
     }
   }
 
@@ -492,18 +486,13 @@ public:
   //     ∂F1/∂u = s (Y + β D1Y + (p−1) D2Y),   ∂F1/∂s = u Z,
   //     ∂F2/∂u = Z + β D1Z + (p−1) D2Z,       ∂F2/∂s = (u/s) ((β+1) D1Z + (p+1) D2Z).
   // Converged when both moved by at most 4ε relative, within the reach. From `far` (the straight
-  // line), the first iterations take the polynomials to half their degree (a quarter of the
-  // terms), whose root lies within their truncation (~√ε) of the whole one's, until a step is
-  // below ∛ε (or six have passed): then the whole polynomials converge in two iterations, one to ε
-  // and one to confirm (five whole iterations from the straight line were a fifth of a double
+  // line), the first iterations take the polynomials to half their degree, a quarter of the terms
+  // (whole_from_now: five whole iterations from the straight line were a fifth of a double
   // viscoelastic collision).
   Newton newton(const T& delta, const T& rate, T& u, T& s, bool far) const {
-    using std::abs;
-    using std::cbrt;
     const T beta = table_->beta, p = table_->p;
     const int whole = table_->shape.degree();
     int degree = far ? std::max(1, whole / 2) : whole;
-    const T switch_below = cbrt(std::numeric_limits<T>::epsilon());
     for (int iteration = 0; iteration < 40; ++iteration) {
       // The truncated iterations only choose where the whole ones start: the reach is theirs
       // to judge.
@@ -533,8 +522,7 @@ public:
       const T u_before = u, s_before = s;
       const NewtonStep step = newton_step(u, s, f1, f2, j11, j12, j21, j22);
       if (degree < whole && step != NewtonStep::left_the_domain) {
-        if ((abs(u - u_before) <= switch_below * u && abs(s - s_before) <= switch_below * s) ||
-            iteration == 5) {
+        if (whole_from_now(u_before, u, s_before, s, iteration)) {
           degree = whole;
         }
         continue; // never converged on the truncated polynomials
@@ -635,12 +623,9 @@ public:
                 static_cast<double>(kappa), static_cast<double>(tolerance / 8)) {}
 
   Point at(const Real& u, const Real& s) const override {
-    const auto [x1, x2] = exact_.variables(u, s);
-    const TwoPowerTable<Real>& t = *table_;
-    return {u * s * polynomial(t.shape, t.y, &TwoPowerTable<double>::y, x1, x2),
-            u * polynomial(t.shape, t.z, &TwoPowerTable<double>::z, x1, x2),
-            2 * Real(sign_) * u * u *
-                polynomial(t.work_shape, t.w, &TwoPowerTable<double>::w, x1, x2)};
+    Point point = motion_at(u, s);
+    point.work = work_at(u, s);
+    return point;
   }
 
   Point motion_at(const Real& u, const Real& s) const override {
