@@ -109,7 +109,7 @@ enum class NewtonStep { left_the_domain, moving, converged };
 // (locate(), TwoPowerView::newton): within the reach their terms fall from 1 to ε, so the half
 // left out is ~√ε and the truncated root lies that close to the whole one's. The whole polynomials
 // take over after a step below ∛ε in both u and s (quadratic convergence has then reached the
-// truncation) or after the sixth, and converge in two iterations.
+// truncation) or after the sixth, and converge in one (newton_step).
 template <class Real>
 bool whole_from_now(const Real& u_before, const Real& u, const Real& s_before, const Real& s,
                     int iteration) {
@@ -120,13 +120,21 @@ bool whole_from_now(const Real& u_before, const Real& u, const Real& s_before, c
 }
 
 // One Newton step of a series' locate() on (u, s) for the residuals (f1, f2) with the Jacobian
-// [[j11, j12], [j21, j22]] (columns ∂/∂u, ∂/∂s): converged when both moved by at most 4ε
-// relative; left_the_domain when u or s is no longer positive.
+// [[j11, j12], [j21, j22]] (columns ∂/∂u, ∂/∂s): converged when both moved by at most ε^(2/3)
+// relative, left_the_domain when u or s is no longer positive. A step η that small puts the new
+// point within ~(K/2) η² = (K/2) ε^(4/3) of the root (Kantorovich; K the residuals' relative
+// curvature over their slope, of order 1 within the reach): below ε for K up to 2 ε^(−1/3), 3e5
+// in double (MATH.md §8, "The contact point in t"). Waiting for a step of 4ε instead cost a
+// whole-series iteration that moved nothing but rounding.
 template <class Real>
 NewtonStep newton_step(Real& u, Real& s, const Real& f1, const Real& f2, const Real& j11,
                        const Real& j12, const Real& j21, const Real& j22) {
   using std::abs;
-  const Real eps = std::numeric_limits<Real>::epsilon();
+  using std::cbrt;
+  static const Real below = [] {
+    const Real third = cbrt(std::numeric_limits<Real>::epsilon());
+    return third * third;
+  }();
   const Real det = j11 * j22 - j12 * j21;
   const Real du = (f2 * j12 - f1 * j22) / det, ds = (f1 * j21 - f2 * j11) / det;
   u += du;
@@ -134,8 +142,7 @@ NewtonStep newton_step(Real& u, Real& s, const Real& f1, const Real& f2, const R
   if (!(u > 0 && s > 0)) {
     return NewtonStep::left_the_domain;
   }
-  return abs(du) <= 4 * eps * u && abs(ds) <= 4 * eps * s ? NewtonStep::converged
-                                                          : NewtonStep::moving;
+  return abs(du) <= below * u && abs(ds) <= below * s ? NewtonStep::converged : NewtonStep::moving;
 }
 
 // What the taylor solver asks of a series at a contact point (this one for the seed's damping
@@ -161,8 +168,10 @@ public:
   virtual Point motion_at(const Real& u, const Real& s) const { return at(u, s); }
   // Where the entry series stops for speed u: its reach, and not past the time at which dδ/ds has
   // fallen to `fraction` of u (for odd p the series converges everywhere and would otherwise run
-  // past the peak and round the whole contact).
-  virtual Real entry_end(const Real& u, const Real& fraction) const = 0;
+  // past the peak and round the whole contact). With `before_force_peak`, a series whose values
+  // are dear (two_power_series.hpp) also stops before the normal force's peak, so that the steps,
+  // not its values, locate that peak in every collision.
+  virtual Real entry_end(const Real& u, const Real& fraction, bool before_force_peak) const = 0;
   // Whether (u, s) lies within the reach (the terms left out below the tolerance).
   virtual bool within_reach(const Real& u, const Real& s) const = 0;
   // The speed u at δ = 0 and the distance s to it of a state (delta, rate = dδ/ds), if that
@@ -338,7 +347,9 @@ public:
   Real work_at(const Real& u, const Real& s) const override {
     return dissipation_ * u * u * horner<Real>(w_, x_of(u, s));
   }
-  Real entry_end(const Real& u, const Real& fraction) const override {
+  // Its values cost 2N terms, about what a step's polynomials do: a force peak within its
+  // stretch is found on it (before_force_peak does not apply).
+  Real entry_end(const Real& u, const Real& fraction, bool) const override {
     // The first x within the reach at which dδ/ds has fallen to `fraction` of u, if any.
     std::vector<Real> shifted = z_;
     shifted[0] -= fraction;

@@ -5,8 +5,9 @@
 //        pldamp-generate-stored-tables --check FILE.cpp (exit 1 unless FILE is what it would write)
 //
 // Which tables: the contacts DEM codes run whose damping exponent is not the seed's, in the
-// precision of their truth (float128), to the degree the taylor solver asks there (its order at
-// float128's ε, 40: a lower one is cut from it, a higher one built).
+// precision of their truth (float128), to the degree the taylor solver's entry series asks there
+// (taylor_degrees.hpp: 43; the exit's 40 is cut from it, a higher one built).
+#include "taylor_degrees.hpp"
 #include "two_power_series.hpp"
 
 #include <array>
@@ -16,6 +17,7 @@
 #include <fstream>
 #include <iostream>
 #include <iterator>
+#include <limits>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -31,7 +33,7 @@ struct Wanted {
   quad p, beta;
 };
 
-constexpr int degree = 40;
+const int degree = detail::entry_degree(static_cast<double>(std::numeric_limits<quad>::epsilon()));
 
 std::string words(const quad& x) {
   const auto bits = std::bit_cast<std::array<std::uint64_t, 2>>(x.backend().value());

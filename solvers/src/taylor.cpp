@@ -32,7 +32,10 @@
 // - entry: the series with u = 1 gives the state at t1 = x1^(1/b), x1 the series' reach (its
 //   truncation below ε), and before the loading has lost seven eighths of the impact speed
 //   (v ≥ ⅛), so that the peak is found by the steps. (Stopping at v = ½ left a step more than
-//   the reach needed at p = 1.5 and 2: a fifth of a double collision.)
+//   the reach needed at p = 1.5 and 2: a fifth of a double collision.) The two-variable series
+//   also stops before the normal force's peak where that is wanted (its values are dear: the
+//   steps find the peak on their polynomials) and is taken three degrees above the order
+//   (taylor_degrees.hpp: summed once per (p, β, γ), it reaches a step further).
 // - exit: after each step while unloading, the time-reversed series is tried: Newton finds the
 //   exit speed u and the time s to the exit from the step's (δ, v); it answers when x = u^a s^b
 //   lies within its reach. Then τ = t + s, e = u and the remaining work W(s) are exact to ε.
@@ -58,6 +61,7 @@
 #include "double_double.hpp"
 #include "methods.hpp"
 #include "polynomial.hpp"
+#include "taylor_degrees.hpp"
 #include "two_power_series.hpp"
 
 #include <boost/math/tools/toms748_solve.hpp>
@@ -82,7 +86,7 @@ public:
   using Scaled = StateOf<Real>; // (δ, v, W) in units δ_u, v0, KE0
 
   TaylorContact(const Problem<Real>& problem, const Options<Real>& options)
-      : collision_(problem, options), order_(order_for(options.rtol)),
+      : collision_(problem, options), order_(taylor_order(static_cast<double>(options.rtol))),
         exact_orders_(orders_in<DoubleDouble>(order_)), double_orders_(orders_in<double>(order_)),
         p_(problem.p), a_(undamped_or_seed(problem) ? (problem.p - 1) / 2 : problem.beta()),
         kappa_((problem.p + 1) / 2), gamma_(gamma_of(problem, collision_.ode().delta_scale())),
@@ -154,11 +158,6 @@ private:
   static bool undamped_or_seed(const Problem<Real>& problem) {
     return !problem.damping_exponent.has_value() || problem.alpha == 0;
   }
-  static int order_for(const Real& tolerance) {
-    using std::ceil;
-    using std::log;
-    return std::max(2, static_cast<int>(ceil(1 - log(static_cast<double>(tolerance)) / 2)));
-  }
   // γ of the scaled equation: α √κ δ_u^(β − (p−1)/2) (MATH.md §12.1; the seed's β: α √κ).
   static Real gamma_of(const Problem<Real>& problem, const Real& delta_u) {
     using std::pow;
@@ -174,7 +173,8 @@ private:
   std::shared_ptr<const ContactSeries<Real>> build_series(int sign) const {
     const Real tolerance = collision_.options().rtol;
     if (general_) {
-      return std::make_shared<TwoPowerSeries<Real>>(table_for(p_, a_, order_), sign, gamma_, kappa_,
+      const int degree = sign > 0 ? order_ + entry_degree_above_order : order_;
+      return std::make_shared<TwoPowerSeries<Real>>(table_for(p_, a_, degree), sign, gamma_, kappa_,
                                                     tolerance);
     }
     return std::make_shared<ContactPointSeries<Real>>(p_, Real(sign) * gamma_, 2 * gamma_,
@@ -195,13 +195,16 @@ private:
     struct Key {
       Real p, beta, gamma, tolerance;
       int sign;
-      bool general, work;
+      bool general, work, force_peak;
       bool operator==(const Key&) const = default;
     };
     static constexpr std::size_t kept = 16;
     thread_local std::vector<std::pair<Key, SeriesAndEnd>> cache;
     thread_local std::size_t next_evicted = 0;
-    const Key key{p_, a_, gamma_, collision_.options().rtol, sign, general_, with_work()};
+    // The entry's stretch ends before the normal force's peak where that is wanted (entry_end).
+    const bool force_peak = sign > 0 && collision_.pending(EventKind::force_peak);
+    const Key key{p_,   a_,       gamma_,      collision_.options().rtol,
+                  sign, general_, with_work(), force_peak};
     for (const auto& [cached_key, cached] : cache) {
       if (cached_key == key) {
         return cached;
@@ -209,7 +212,7 @@ private:
     }
     SeriesAndEnd built{build_series(sign), Real(0), {}};
     if (sign > 0) {
-      built.entry_end = built.series->entry_end(Real(1), Real(1) / 8);
+      built.entry_end = built.series->entry_end(Real(1), Real(1) / 8, force_peak);
       const auto point = built.series->at(Real(1), built.entry_end);
       built.at_end = {point.delta, point.rate, point.work};
     }

@@ -443,7 +443,7 @@ public:
     return evaluate(table_->shape, table_->z, x1, x2);
   }
 
-  T entry_end(const T& u, const T& fraction) const {
+  T entry_end(const T& u, const T& fraction, bool before_force_peak) const {
     using std::sqrt;
     // The reach: the largest s whose last two shells stay below the limit (they grow with s),
     // by bisection in log s; then cut back while the sums cancel (rounding ~16 D ε at most).
@@ -464,9 +464,20 @@ public:
       const T middle = sqrt(low * high);
       (within_reach(u, middle) ? low : high) = middle;
     }
+    // The last s before the guard trips, to the reach's precision: back by eighths until it
+    // holds, then bisected (the eighths alone left up to an eighth of the stretch unused: at
+    // p = 1.5, β = ½, α = 0.05 in float128, a step more).
     T s = low;
-    for (int shrink = 0; shrink < 200 && cancels(u, s); ++shrink) {
-      s *= T(7) / 8;
+    if (cancels(u, s)) {
+      T tripped = s;
+      for (int shrink = 0; shrink < 200 && cancels(u, s); ++shrink) {
+        tripped = s;
+        s *= T(7) / 8;
+      }
+      for (int i = 0; i < 30 && tripped > s * (1 + T(1) / 1000000); ++i) {
+        const T middle = sqrt(s * tripped);
+        (cancels(u, middle) ? tripped : s) = middle;
+      }
     }
     // Not past dδ/ds = fraction u: dδ/ds = u Z falls monotonically while loading.
     if (rate_over_u(u, s) < fraction) {
@@ -477,6 +488,23 @@ public:
       }
       s = before;
     }
+    // Not past the normal force's peak, if wanted: a split point, not the peak itself, so a rough
+    // bracket will do (twelve halvings) as long as the force still rises where the stretch ends.
+    // Where it falls from the onset on (β = 0) the halvings find no rise and the stretch stays.
+    if (before_force_peak && !(force_rate_sign(u, s) > 0)) {
+      T rising = s;
+      for (int i = 0; i < 64 && !(force_rate_sign(u, rising) > 0); ++i) {
+        rising /= 2;
+      }
+      if (force_rate_sign(u, rising) > 0) {
+        T falling = s;
+        for (int i = 0; i < 12; ++i) {
+          const T middle = (rising + falling) / 2;
+          (force_rate_sign(u, middle) > 0 ? rising : falling) = middle;
+        }
+        s = rising;
+      }
+    }
     return s;
   }
 
@@ -485,7 +513,7 @@ public:
   // ∂x1/∂u = β x1/u, ∂x1/∂s = (β+1) x1/s, ∂x2/∂u = (p−1) x2/u, ∂x2/∂s = (p+1) x2/s:
   //     ∂F1/∂u = s (Y + β D1Y + (p−1) D2Y),   ∂F1/∂s = u Z,
   //     ∂F2/∂u = Z + β D1Z + (p−1) D2Z,       ∂F2/∂s = (u/s) ((β+1) D1Z + (p+1) D2Z).
-  // Converged when both moved by at most 4ε relative, within the reach. From `far` (the straight
+  // Converged as newton_step says, within the reach. From `far` (the straight
   // line), the first iterations take the polynomials to half their degree, a quarter of the terms
   // (whole_from_now: five whole iterations from the straight line were a fifth of a double
   // viscoelastic collision).
@@ -581,23 +609,40 @@ public:
   }
 
 private:
+  // The sign of the normal force's rate at time s from the contact point (of (1): the force
+  // κ δ^p + σγ δ^β dδ/ds, d²δ/ds² from (1)), divided by δ^(β−1) > 0:
+  //     κ p δ^(p−β) v + σγ β v² − σγ δ (σγ δ^β v + κ δ^p),   δ = u s Y,  v = u Z.
+  T force_rate_sign(const T& u, const T& s) const {
+    using std::pow;
+    const auto [x1, x2] = variables(u, s);
+    const T p = table_->p, beta = table_->beta;
+    const T delta = u * s * evaluate(table_->shape, table_->y, x1, x2);
+    const T v = u * evaluate(table_->shape, table_->z, x1, x2);
+    const T spring = kappa_ * pow(delta, p);
+    return kappa_ * p * pow(delta, p - beta) * v + damping_ * beta * v * v -
+           damping_ * delta * (damping_ * pow(delta, beta) * v + spring);
+  }
+
   // The magnitude of the last two shells (i + j = D − 1, D) of Z, the largest of the series:
   // the terms left out are of their order when the shells decrease.
+  //     Σ_i |x1|^i (|z_i,D−1−i| |x2|^(D−1−i) + |z_i,D−i| |x2|^(D−i)),
+  // both shells in one pass by Horner's rule in |x1| (one dependent chain: shell after shell, two,
+  // was 4 % of a double viscoelastic collision, which asks at every step while unloading).
   T tail(const T& x1, const T& x2) const {
     using std::abs;
     const Triangle& t = table_->shape;
     const int degree = t.degree();
+    const std::vector<T>& z = table_->z;
     const T a1 = abs(x1), a2 = abs(x2);
-    T sum = T(0);
-    for (int total = std::max(0, degree - 1); total <= degree; ++total) {
-      // Σ_i |z_i,total−i| a1^i a2^(total−i), by Horner's rule in a1/a2's place: each shell is a
-      // homogeneous polynomial, summed from i = total down as a2 times the next.
-      T shell = T(0), power2 = T(1);
-      for (int i = total; i >= 0; --i) {
-        shell = shell * a1 + abs(table_->z[t.index(i, total - i)]) * power2;
-        power2 *= a2;
-      }
-      sum += shell;
+    if (degree == 0) {
+      return abs(z[0]);
+    }
+    T sum = abs(z[t.index(degree, 0)]), lower = T(1), upper = a2; // |x2|^(D−1−i), |x2|^(D−i)
+    for (int i = degree - 1; i >= 0; --i) {
+      sum = sum * a1 +
+            (abs(z[t.index(i, degree - 1 - i)]) * lower + abs(z[t.index(i, degree - i)]) * upper);
+      lower = upper;
+      upper *= a2;
     }
     return sum;
   }
@@ -647,16 +692,17 @@ public:
 
   // The search decides where the series hands over to the Taylor steps, not a value: in double
   // where Real is soft-float (a third of a first viscoelastic collision in float128 went to it).
-  Real entry_end(const Real& u, const Real& fraction) const override {
+  Real entry_end(const Real& u, const Real& fraction, bool before_force_peak) const override {
     if constexpr (searches_in_double<Real>) {
-      return Real(coarse_.entry_end(static_cast<double>(u), static_cast<double>(fraction)));
+      return Real(coarse_.entry_end(static_cast<double>(u), static_cast<double>(fraction),
+                                    before_force_peak));
     } else {
-      return exact_.entry_end(u, fraction);
+      return exact_.entry_end(u, fraction, before_force_peak);
     }
   }
 
   // Newton on (u, s) from the straight line u = rate, s = δ/rate; where Real is soft-float, its
-  // first steps in double, so that Real's take over within 1e-16 and converge in two or three
+  // first steps in double, so that Real's take over within 1e-16 and converge in one or two
   // (seven from the straight line: half a repeated viscoelastic collision in float128). The
   // answer is Real's Newton's either way: the double steps only choose where it starts.
   std::optional<Contact> locate(const Real& delta, const Real& rate) const override {

@@ -8,6 +8,7 @@
 // - Where no closed form exists: float128 against cpp_bin_float_50, both by taylor; the scaling
 //   law of MATH.md §12.1 (e depends on p, β and α_eff alone); and every double solver against
 //   the float128 reference at its own tolerance.
+#include "taylor_degrees.hpp"
 #include "two_power_series.hpp"
 
 #include "every_solver.hpp"
@@ -177,7 +178,7 @@ TEST(TwoPowerSeries, EnergyBalancesAndLocateInverts) {
         const detail::TwoPowerSeries<Real> series(table, sign, gamma, kappa, eps);
         for (const Real u : {Real(1), Real(0.001L)}) {
           // The exit is located well inside the reach (taylor tries it after each step).
-          const Real s = series.entry_end(u, Real(0.5L)) / (sign > 0 ? 1 : 2);
+          const Real s = series.entry_end(u, Real(0.5L), false) / (sign > 0 ? 1 : 2);
           ASSERT_GT(s, 0) << p << " " << beta;
           const auto point = series.at(u, s);
           const Real energy = point.rate * point.rate + std::pow(point.delta, p + 1);
@@ -194,6 +195,47 @@ TEST(TwoPowerSeries, EnergyBalancesAndLocateInverts) {
       }
     }
   }
+}
+
+// Asked to, the entry stretch ends before the normal force's peak, so that the steps find it:
+// where the force (κ δ^p + γ δ^β dδ/ds, scaled) peaks inside the stretch, the end lies within
+// 1/4096 of the stretch before the peak (its rate, taken here by the chain rule from the series'
+// values, > 0 at the end and ≤ 0 just past it); where it peaks later, or falls from the onset on
+// (β = 0), the stretch is the one not asked to stop.
+TEST(TwoPowerSeries, EntryStopsBeforeTheNormalForcePeakWhenAsked) {
+  using Real = double;
+  const Real eps = std::numeric_limits<Real>::epsilon();
+  int stopped = 0, kept = 0;
+  for (const auto& [p, beta] : {std::pair{1.0, 0.25}, std::pair{1.5, 0.5}, std::pair{2.0, 0.25},
+                                std::pair{2.0, 1.0}, std::pair{1.5, 0.0}}) {
+    const Real kappa = (p + 1) / 2;
+    const auto table = detail::table_for(p, beta, 23);
+    for (const Real gamma : {0.3, 1.0, 3.0}) {
+      const detail::TwoPowerSeries<Real> series(table, +1, gamma, kappa, eps);
+      const auto force_rate = [&](const Real& s) {
+        const auto point = series.at(1, s);
+        const Real delta = point.delta, v = point.rate;
+        const Real acceleration = -(gamma * std::pow(delta, beta) * v + kappa * std::pow(delta, p));
+        return kappa * p * std::pow(delta, p - 1) * v +
+               gamma * (beta * std::pow(delta, beta - 1) * v * v +
+                        std::pow(delta, beta) * acceleration);
+      };
+      const Real free = series.entry_end(1, Real(1) / 8, false);
+      const Real end = series.entry_end(1, Real(1) / 8, true);
+      ASSERT_GT(end, 0);
+      if (force_rate(free) > 0 || beta == 0) {
+        EXPECT_EQ(end, free) << p << " " << beta << " " << gamma;
+        ++kept;
+      } else {
+        EXPECT_LT(end, free);
+        EXPECT_GT(force_rate(end), 0) << p << " " << beta << " " << gamma;
+        EXPECT_LE(force_rate(end + free / 4096), 0) << p << " " << beta << " " << gamma;
+        ++stopped;
+      }
+    }
+  }
+  EXPECT_GE(stopped, 3);
+  EXPECT_GE(kept, 3);
 }
 
 // A lower degree is cut from a wider table already built (table_for): the very coefficients a
@@ -252,10 +294,14 @@ TEST(TwoPowerSeries, StoredTablesAreTheBuiltOnesBitForBit) {
     ASSERT_NE(taken->coarse, nullptr);
     EXPECT_EQ(taken->coarse->y, std::vector<double>(built->y.begin(), built->y.end()));
   }
-  // The viscoelastic contact is stored, at the degree of float128's truth.
+  // The viscoelastic contact is stored, at the degree of float128's entry series (order 40 + 3:
+  // taylor_degrees.hpp); the exit's, at the order, is cut from it.
   const auto viscoelastic = detail::two_power_detail::from_stored(quad(3) / 2, quad(1) / 2);
   ASSERT_NE(viscoelastic, nullptr);
-  EXPECT_EQ(viscoelastic->shape.degree(), 40);
+  const double quad_epsilon = static_cast<double>(std::numeric_limits<quad>::epsilon());
+  EXPECT_EQ(detail::taylor_order(quad_epsilon), 40);
+  EXPECT_EQ(detail::entry_degree(quad_epsilon), 43);
+  EXPECT_EQ(viscoelastic->shape.degree(), detail::entry_degree(quad_epsilon));
   EXPECT_EQ(detail::two_power_detail::from_stored(quad(3) / 2, quad(1) / 3), nullptr);
 }
 
@@ -270,7 +316,7 @@ TEST(TwoPowerSeries, HighShellsInDoubleOnlyWhereTheirBoundAllows) {
   auto expect_close = [&](const detail::TwoPowerTable<quad>& t, const quad& allowed) {
     const detail::TwoPowerView<quad> view(&t, gamma, kappa, eps / 8);
     const detail::TwoPowerSeries<quad> series(table, 1, gamma, kappa, eps);
-    const quad end = series.entry_end(quad(1), quad(1) / 2);
+    const quad end = series.entry_end(quad(1), quad(1) / 2, false);
     for (const quad& fraction :
          {quad(1) / 1000, quad(1) / 10, quad(1) / 2, quad(9) / 10, quad(1)}) {
       const auto [x1, x2] = view.variables(quad(1), end * fraction);
