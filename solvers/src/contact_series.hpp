@@ -124,7 +124,7 @@ bool whole_from_now(const Real& u_before, const Real& u, const Real& s_before, c
 // relative, left_the_domain when u or s is no longer positive. A step η that small puts the new
 // point within ~(K/2) η² = (K/2) ε^(4/3) of the root (Kantorovich; K the residuals' relative
 // curvature over their slope, of order 1 within the reach): below ε for K up to 2 ε^(−1/3), 3e5
-// in double (MATH.md §8, "The contact point in t"). Waiting for a step of 4ε instead cost a
+// in double (MATH.md §9, "The contact point in t"). Waiting for a step of 4ε instead cost a
 // whole-series iteration that moved nothing but rounding.
 template <class Real>
 NewtonStep newton_step(Real& u, Real& s, const Real& f1, const Real& f2, const Real& j11,

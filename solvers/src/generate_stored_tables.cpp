@@ -33,7 +33,8 @@ struct Wanted {
   quad p, beta;
 };
 
-const int degree = detail::entry_degree(static_cast<double>(std::numeric_limits<quad>::epsilon()));
+const int degree = detail::entry_degree(
+    detail::taylor_order(static_cast<double>(std::numeric_limits<quad>::epsilon())));
 
 std::string words(const quad& x) {
   const auto bits = std::bit_cast<std::array<std::uint64_t, 2>>(x.backend().value());

@@ -173,7 +173,7 @@ private:
   std::shared_ptr<const ContactSeries<Real>> build_series(int sign) const {
     const Real tolerance = collision_.options().rtol;
     if (general_) {
-      const int degree = sign > 0 ? order_ + entry_degree_above_order : order_;
+      const int degree = sign > 0 ? entry_degree(order_) : order_;
       return std::make_shared<TwoPowerSeries<Real>>(table_for(p_, a_, degree), sign, gamma_, kappa_,
                                                     tolerance);
     }

@@ -18,10 +18,8 @@ inline int taylor_order(double tolerance) {
 // so no collision searches it): its degree costs a collision nothing, and its reach in x grows as
 // ε^(1/D). The exit's is evaluated in every collision (Newton, the guard, the work), where a
 // wider one cost more than the step it saved.
-inline constexpr int entry_degree_above_order = 3;
-
-inline int entry_degree(double tolerance) {
-  return taylor_order(tolerance) + entry_degree_above_order;
+inline constexpr int entry_degree(int order) {
+  return order + 3;
 }
 
 } // namespace pldamp::solvers::detail

@@ -513,10 +513,10 @@ public:
   // ∂x1/∂u = β x1/u, ∂x1/∂s = (β+1) x1/s, ∂x2/∂u = (p−1) x2/u, ∂x2/∂s = (p+1) x2/s:
   //     ∂F1/∂u = s (Y + β D1Y + (p−1) D2Y),   ∂F1/∂s = u Z,
   //     ∂F2/∂u = Z + β D1Z + (p−1) D2Z,       ∂F2/∂s = (u/s) ((β+1) D1Z + (p+1) D2Z).
-  // Converged as newton_step says, within the reach. From `far` (the straight
-  // line), the first iterations take the polynomials to half their degree, a quarter of the terms
-  // (whole_from_now: five whole iterations from the straight line were a fifth of a double
-  // viscoelastic collision).
+  // Converged as newton_step says, within the reach. From `far` (the straight line), the first
+  // iterations take the polynomials to half their degree, a quarter of the terms (whole_from_now:
+  // five whole iterations from the straight line were a fifth of a double viscoelastic
+  // collision).
   Newton newton(const T& delta, const T& rate, T& u, T& s, bool far) const {
     const T beta = table_->beta, p = table_->p;
     const int whole = table_->shape.degree();

@@ -298,10 +298,10 @@ TEST(TwoPowerSeries, StoredTablesAreTheBuiltOnesBitForBit) {
   // taylor_degrees.hpp); the exit's, at the order, is cut from it.
   const auto viscoelastic = detail::two_power_detail::from_stored(quad(3) / 2, quad(1) / 2);
   ASSERT_NE(viscoelastic, nullptr);
-  const double quad_epsilon = static_cast<double>(std::numeric_limits<quad>::epsilon());
-  EXPECT_EQ(detail::taylor_order(quad_epsilon), 40);
-  EXPECT_EQ(detail::entry_degree(quad_epsilon), 43);
-  EXPECT_EQ(viscoelastic->shape.degree(), detail::entry_degree(quad_epsilon));
+  const int order = detail::taylor_order(static_cast<double>(std::numeric_limits<quad>::epsilon()));
+  EXPECT_EQ(order, 40);
+  EXPECT_EQ(detail::entry_degree(order), 43);
+  EXPECT_EQ(viscoelastic->shape.degree(), detail::entry_degree(order));
   EXPECT_EQ(detail::two_power_detail::from_stored(quad(3) / 2, quad(1) / 3), nullptr);
 }
 
