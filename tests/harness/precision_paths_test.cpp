@@ -14,6 +14,8 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include <algorithm>
+#include <cmath>
 #include <string>
 #include <tuple>
 #include <vector>
@@ -198,6 +200,17 @@ TEST(PrecisionPaths, ObservablesWithADampingExponentAnswersFromTheReferenceSolve
     }
     EXPECT_NEAR(got["tau_ratio"].get<double>(),
                 got["tau"].get<double>() / got["tau0"].get<double>(), 1e-15);
+    // The peak forces too: the total normal force's from the solve, the spring's k δ_max^p.
+    for (const char* key : {"normal_force_max", "t_normal_force_max"}) {
+      EXPECT_NEAR(got[key].get<double>(), want[key].get<double>(),
+                  4e-16 * std::abs(want[key].get<double>()))
+          << key << " at v0 = " << v0;
+      EXPECT_LT(got["error_estimate"][key].get<double>(), 1e-30) << key;
+    }
+    EXPECT_NEAR(got["spring_force_max"].get<double>(),
+                std::stod(k) * std::pow(want["delta_max"].get<double>(), 1.5),
+                4e-16 * got["spring_force_max"].get<double>());
+    EXPECT_LT(got["spring_force_max"].get<double>(), got["normal_force_max"].get<double>());
     restitutions.push_back(got["e"].get<double>());
   }
   EXPECT_NEAR(restitutions[1], 0.714, 5e-4);
@@ -211,6 +224,15 @@ TEST(PrecisionPaths, ObservablesWithADampingExponentAnswersFromTheReferenceSolve
   EXPECT_NEAR(x["e_cap"].get<double>(), 0.5, 1e-15);
   EXPECT_LT(x["e"].get<double>(), 0.5);
   EXPECT_LT(x["t_cut"].get<double>(), x["tau"].get<double>());
+
+  // An overdamped contact the solve sees no exit of within its horizon: no e = 0, τ = ∞ (with δ^½
+  // it creeps back later: at α_eff 250 τ = 1.06e4, at 300 beyond the horizon), but one line.
+  const CliRun creeping = run({"observables", "--p", "1.5", "--damping-exponent", "0.5",
+                               "--alpha-eff", "300", "--v0", "1", "--precision", "quad"});
+  EXPECT_EQ(creeping.code, 2);
+  EXPECT_EQ(creeping.out, "");
+  EXPECT_NE(creeping.err.find("saw no exit within its horizon"), std::string::npos) << creeping.err;
+  EXPECT_EQ(std::count(creeping.err.begin(), creeping.err.end(), '\n'), 1) << creeping.err;
 
   // The seed's own exponent, stated, has closed forms.
   const CliRun stated = run({"observables", "--p", "1.5", "--damping-exponent", "0.25", "--alpha",

@@ -49,12 +49,28 @@ Answer observables_by_reference_solve(const ContactArgs& args) {
     // The truth's values at the contact's scales, by key, and their error estimates.
     std::map<std::string, Exact> values;
     Answer estimates = Answer::object();
+    std::map<std::string, double> relative_errors;
     for (const solvers::End end : ends) {
       const solvers::Result<Exact>& truth = reference_solve(p, b, contact.group, end);
       if (solvers::failing(truth.outcome)) {
-        throw InputError(fmt::format("the reference solve ended {}: {} (got --alpha-eff {})",
-                                     solvers::outcome_name(truth.outcome), truth.invariant,
-                                     to_string_full(contact.group)));
+        throw InputError(fmt::format(
+            "the reference solve ended {} ({}) (got alpha_eff {})",
+            solvers::outcome_name(truth.outcome),
+            truth.invariant.empty()
+                ? fmt::format("its budget ran out after {} steps, before the contact ended",
+                              truth.steps)
+                : truth.invariant,
+            to_string_full(contact.group)));
+      }
+      // A damping exponent of its own has no closed form for an overdamped contact: the overlap
+      // creeps and can come back to 0 after the horizon at a speed the solve never saw (with
+      // δ^½ it does, at α_eff 1000 after ~5e4 δ_u/v0), so "no exit" is no e = 0, τ = ∞.
+      if (truth.outcome == solvers::Outcome::no_exit) {
+        throw InputError(fmt::format(
+            "the reference solve saw no exit within its horizon ({} delta_u/v0): an overdamped "
+            "contact with this damping exponent may still return later, at a speed below what it "
+            "resolves, so no e or tau is given (got alpha_eff {})",
+            to_string_full(truth.horizon / unit_overlap(p)), to_string_full(contact.group)));
       }
       const std::vector<const Observable*> observables = observables_of(solvers::want_all);
       const std::vector<std::optional<double>> errors =
@@ -70,6 +86,7 @@ Answer observables_by_reference_solve(const ContactArgs& args) {
         }
         if (errors[i]) {
           estimates[key] = exact_number(*errors[i]);
+          relative_errors[key] = *errors[i];
         }
       }
     }
@@ -87,9 +104,17 @@ Answer observables_by_reference_solve(const ContactArgs& args) {
       values["log_tau"] = log(values["tau"]);
       values["tau_ratio"] = values["tau"] / values["tau0"];
     }
+    // The spring's force at the peak overlap, k δ_max^p; its relative error p times δ_max's.
+    if (values.contains("delta_max")) {
+      values["spring_force_max"] = Exact(problem.k) * pow(values["delta_max"], p);
+      if (const auto found = relative_errors.find("delta_max"); found != relative_errors.end()) {
+        estimates["spring_force_max"] = exact_number(static_cast<double>(p) * found->second);
+      }
+    }
     for (const char* key :
-         {"e", "log_e", "delta_max", "t_peak", "tau", "log_tau", "tau0", "tau_ratio", "energy_load",
-          "energy_unload", "dt_crit", "dt_tangent", "e_cap", "t_cut"}) {
+         {"e", "log_e", "delta_max", "spring_force_max", "normal_force_max", "t_normal_force_max",
+          "t_peak", "tau", "log_tau", "tau0", "tau_ratio", "energy_load", "energy_unload",
+          "dt_crit", "dt_tangent", "e_cap", "t_cut"}) {
       if (const auto found = values.find(key); found != values.end()) {
         o[key] = exact_number(static_cast<Real>(found->second));
       }
