@@ -231,6 +231,36 @@ name = "taylor"
   }
 }
 
+// An overdamped point beyond the seed whose reference solve sees no exit within its horizon has
+// no truth, with the reason: the overlap may creep back later (viscoelastic Hertz at α_eff 300
+// does, beyond 10⁴ δ_u/v0), so e = 0, τ = ∞ would judge every solver wrongly. α_eff 100, which
+// returns at 3.6e3, keeps its truth.
+TEST(Plan, BeyondTheSeedANoExitIsNoTruth) {
+  const Plan plan = make_plan(load_scene(write_file("creep.toml", R"(want = ["e", "tau"]
+[grid]
+p = 1.5
+damping_exponent = 0.5
+alpha_eff = [100.0, 300.0]
+v0 = [1.0]
+[[solver]]
+name = "taylor"
+)")));
+  ASSERT_EQ(plan.points.size(), 2u);
+  const Point& returning = plan.points[0];
+  const Point& creeping = plan.points[1];
+  EXPECT_TRUE(returning.no_truth.empty()) << returning.no_truth;
+  EXPECT_NE(creeping.no_truth.find("saw no exit within its horizon"), std::string::npos)
+      << creeping.no_truth;
+  const SolverConfig& taylor = plan.configs.front();
+  for (const Cell& cell : plan.cells) {
+    const bool creeps = cell.point == 1;
+    for (std::size_t o = 0; o < plan.observables.size(); ++o) {
+      EXPECT_EQ(reference_at(plan, cell, o, taylor).has_value(), !creeps)
+          << plan.observables[o]->key;
+    }
+  }
+}
+
 // [grid] alpha is the equation's α, as the command line's --alpha: at every p its α_eff is
 // α/√(2(p + 1)), and the truth of each cell is what `pldamp observables --alpha` answers there.
 // The points are computed on threads, each alone: the plan is the same for any --jobs, truths

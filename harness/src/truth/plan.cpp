@@ -150,6 +150,13 @@ Point solved_point(const Plan& plan, const std::set<std::string>& precisions, do
     if (solvers::failing(truth.outcome)) {
       point.no_truth = fmt::format("the reference solve ended {}: {}",
                                    solvers::outcome_name(truth.outcome), truth.invariant);
+    } else if (truth.outcome == solvers::Outcome::no_exit) {
+      // With a damping exponent of its own an overdamped overlap can creep back to 0 after the
+      // horizon (observables.cpp): its no_exit is no e = 0, τ = ∞ to judge a solver by.
+      point.no_truth = fmt::format("the reference solve saw no exit within its horizon ({} "
+                                   "delta_u/v0); the contact may still return later",
+                                   to_string_full(truth.horizon / unit_overlap(Exact(p))));
+      std::fill(values.begin(), values.end(), std::nullopt);
     }
     for (const std::string& precision : precisions) {
       point.reference[{precision, config_end}] = values;
