@@ -383,10 +383,13 @@ public:
   // x1 ∂/∂x1 and x2 ∂/∂x2 at once, up to total degree `degree` (the whole triangle by default).
   // Each row is a dot product with the powers of x2 and with j x2^j, in two lanes (TwoLanes):
   // by Horner's rule every term waited for the last, and Newton's iterations were a fifth of a
-  // double viscoelastic collision.
+  // double viscoelastic collision. WithSizes: also Σ |c x1^i x2^j| of each into `sizes` (for the
+  // cancellation guard; x2 = κ (us)^(p−1) s² > 0, so its powers are their own sizes).
+  template <bool WithSizes = false>
   static std::array<Euler, 2> euler_pair_of(const Triangle& t, const std::vector<T>& a,
                                             const std::vector<T>& b, const T& x1, const T& x2,
-                                            int degree = -1) {
+                                            int degree = -1, std::array<T, 2>* sizes = nullptr) {
+    using std::abs;
     degree = degree < 0 ? t.degree() : std::min(degree, t.degree());
     thread_local std::vector<T> powers, weighted; // x2^j and j x2^j
     fill_powers(powers, x2, degree);
@@ -395,11 +398,12 @@ public:
       weighted[j] = T(static_cast<int>(j)) * powers[j];
     }
     std::array<Euler, 2> sum{Euler{T(0), T(0), T(0)}, Euler{T(0), T(0), T(0)}};
+    std::array<T, 2> size_sum{T(0), T(0)};
     T power1 = T(1);
     for (int i = 0; i <= degree; ++i, power1 *= x1) {
       const T *row_a = &a[t.index(i, 0)], *row_b = &b[t.index(i, 0)]; // rows are contiguous
       // The four dot products in one pass over the row (each coefficient loaded once).
-      TwoLanes<T> value_a, value_b, d2_a, d2_b;
+      TwoLanes<T> value_a, value_b, d2_a, d2_b, size_a, size_b;
       const std::size_t last = static_cast<std::size_t>(degree - i);
       std::size_t j = 0;
       for (; j + 1 <= last; j += 2) {
@@ -407,12 +411,20 @@ public:
         value_b.add(row_b[j], row_b[j + 1], powers[j], powers[j + 1]);
         d2_a.add(row_a[j], row_a[j + 1], weighted[j], weighted[j + 1]);
         d2_b.add(row_b[j], row_b[j + 1], weighted[j], weighted[j + 1]);
+        if constexpr (WithSizes) {
+          size_a.add(abs(row_a[j]), abs(row_a[j + 1]), powers[j], powers[j + 1]);
+          size_b.add(abs(row_b[j]), abs(row_b[j + 1]), powers[j], powers[j + 1]);
+        }
       }
       if (j == last) {
         value_a.add(row_a[j], powers[j]);
         value_b.add(row_b[j], powers[j]);
         d2_a.add(row_a[j], weighted[j]);
         d2_b.add(row_b[j], weighted[j]);
+        if constexpr (WithSizes) {
+          size_a.add(abs(row_a[j]), powers[j]);
+          size_b.add(abs(row_b[j]), powers[j]);
+        }
       }
       const T rows[2][2]{{value_a.sum(), d2_a.sum()}, {value_b.sum(), d2_b.sum()}};
       for (int k = 0; k < 2; ++k) {
@@ -421,6 +433,13 @@ public:
         sum[k].d1 += T(i) * scaled;
         sum[k].d2 += power1 * rows[k][1];
       }
+      if constexpr (WithSizes) {
+        size_sum[0] += abs(power1) * size_a.sum();
+        size_sum[1] += abs(power1) * size_b.sum();
+      }
+    }
+    if constexpr (WithSizes) {
+      *sizes = size_sum;
     }
     return sum;
   }
@@ -517,7 +536,12 @@ public:
   // iterations take the polynomials to half their degree, a quarter of the terms (whole_from_now:
   // five whole iterations from the straight line were a fifth of a double viscoelastic
   // collision).
-  Newton newton(const T& delta, const T& rate, T& u, T& s, bool far) const {
+  // Where T is not soft-float, the whole iterations also take the sizes of Y's and Z's terms, and
+  // `motion_cancels` (if given) says at convergence whether either sum cancels more than 16-fold
+  // (cancels()' guard for Y and Z, at the last iteration's point: a step of at most ε^(2/3) from
+  // the answer, which cannot move a 16-fold threshold); it stays empty otherwise.
+  Newton newton(const T& delta, const T& rate, T& u, T& s, bool far,
+                std::optional<bool>* motion_cancels = nullptr) const {
     const T beta = table_->beta, p = table_->p;
     const int whole = table_->shape.degree();
     int degree = far ? std::max(1, whole / 2) : whole;
@@ -529,6 +553,7 @@ public:
       }
       const auto [x1, x2] = variables(u, s);
       Euler y, z;
+      std::array<T, 2> sizes{T(0), T(0)};
       if constexpr (searches_in_double<T>) {
         // The residuals need T's digits; the Jacobian only steers (its rounding to double moves
         // each step by 1e−16 of what is left), so it comes from the double copy.
@@ -539,7 +564,10 @@ public:
         y = {value(table_->shape, table_->y, coarse.y, x1, x2), T(steer_y.d1), T(steer_y.d2)};
         z = {value(table_->shape, table_->z, coarse.z, x1, x2), T(steer_z.d1), T(steer_z.d2)};
       } else {
-        const auto both = euler_pair_of(table_->shape, table_->y, table_->z, x1, x2, degree);
+        const auto both =
+            degree == whole
+                ? euler_pair_of<true>(table_->shape, table_->y, table_->z, x1, x2, degree, &sizes)
+                : euler_pair_of(table_->shape, table_->y, table_->z, x1, x2, degree);
         y = both[0];
         z = both[1];
       }
@@ -559,6 +587,10 @@ public:
       case NewtonStep::left_the_domain:
         return Newton::failed;
       case NewtonStep::converged:
+        if (motion_cancels && !searches_in_double<T>) {
+          *motion_cancels =
+              exceeds_16_fold(sizes[0], y.value) || exceeds_16_fold(sizes[1], z.value);
+        }
         return within_reach(u, s) ? Newton::converged : Newton::out_of_reach;
       case NewtonStep::moving:
         break;
@@ -569,7 +601,8 @@ public:
 
   // Where the solution is entire (p = 1 and β = 0) the terms can grow far beyond their sum: the
   // reach is cut back until no sum exceeds its value more than 16-fold (contact_series.hpp).
-  bool cancels(const T& u, const T& s) const {
+  // `work_only`: Y and Z judged already (newton's motion_cancels).
+  bool cancels(const T& u, const T& s, bool work_only = false) const {
     using std::abs;
     const auto [x1, x2] = variables(u, s);
     const T a1 = abs(x1);
@@ -580,6 +613,9 @@ public:
     for (const auto& [shape, c] :
          {std::pair{&table_->shape, &table_->y}, std::pair{&table_->shape, &table_->z},
           std::pair{&table_->work_shape, &table_->w}}) {
+      if (work_only && c != &table_->w) {
+        continue;
+      }
       // Σ c x1^i x2^j and Σ |c x1^i x2^j|, each row a dot product in two lanes (a threshold:
       // their rounding does not matter; by Horner's rule this was 8 % of a double viscoelastic
       // collision).
@@ -601,11 +637,16 @@ public:
         sum += power1 * row_sum.sum();
         magnitude += size1 * row_magnitude.sum();
       }
-      if (magnitude > 16 * abs(sum) && magnitude > 0) {
+      if (exceeds_16_fold(magnitude, sum)) {
         return true;
       }
     }
     return false;
+  }
+  // The guard's rule: the terms' sizes add up to more than 16 times their sum.
+  static bool exceeds_16_fold(const T& magnitude, const T& sum) {
+    using std::abs;
+    return magnitude > 16 * abs(sum) && magnitude > 0;
   }
 
 private:
@@ -718,9 +759,10 @@ public:
         s = Real(coarse_s);
       }
     }
-    if (exact_.newton(delta, rate, u, s, !searches_in_double<Real>) !=
+    std::optional<bool> motion_cancels; // Y's and Z's guard, judged by Newton where it can be
+    if (exact_.newton(delta, rate, u, s, !searches_in_double<Real>, &motion_cancels) !=
             TwoPowerView<Real>::Newton::converged ||
-        cancels(u, s)) {
+        motion_cancels.value_or(false) || cancels(u, s, motion_cancels.has_value())) {
       return std::nullopt;
     }
     return Contact{u, s};
@@ -741,11 +783,11 @@ private:
 
   // A guard on how far the series is used (more than 16-fold cancellation), not a value: double
   // decides it as well where Real is soft-float.
-  bool cancels(const Real& u, const Real& s) const {
+  bool cancels(const Real& u, const Real& s, bool work_only) const {
     if constexpr (searches_in_double<Real>) {
-      return coarse_.cancels(static_cast<double>(u), static_cast<double>(s));
+      return coarse_.cancels(static_cast<double>(u), static_cast<double>(s), work_only);
     } else {
-      return exact_.cancels(u, s);
+      return exact_.cancels(u, s, work_only);
     }
   }
 

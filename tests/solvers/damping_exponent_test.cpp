@@ -238,6 +238,45 @@ TEST(TwoPowerSeries, EntryStopsBeforeTheNormalForcePeakWhenAsked) {
   EXPECT_GE(kept, 3);
 }
 
+// The exit's cancellation guard for Y and Z rides on Newton's last whole iteration: at every
+// contact point it converges to, its verdict and the work's guard together are cancels()' whole
+// verdict. Swept from the contact point back towards the overlap's peak, with the reach opened
+// wide (a tail limit of 1e3) so that Newton also converges where the guard trips: the work's sum
+// at strong damping, and Y's or Z's further out (four points here).
+TEST(TwoPowerSeries, NewtonJudgesTheGuardAsCancelsDoes) {
+  using Real = double;
+  const Real eps = std::numeric_limits<Real>::epsilon();
+  int tripped = 0, held = 0, by_motion = 0;
+  for (const auto& [p, beta, gamma] :
+       {std::tuple{1.0, 0.05, 4.0}, std::tuple{1.5, 0.5, 0.3}, std::tuple{2.0, 1.0, 2.0},
+        std::tuple{2.0, 1.0, 3.0}, std::tuple{3.0, 1.0, 2.0}, std::tuple{1.5, 1.0, 2.0}}) {
+    const Real kappa = (p + 1) / 2;
+    const auto table = detail::table_for(p, beta, 20);
+    const detail::TwoPowerSeries<Real> series(table, -1, gamma, kappa, eps);
+    const detail::TwoPowerView<Real> view(table.get(), -gamma, kappa, Real(1e3));
+    for (Real s = 0.01; s < 8; s *= 1.05) {
+      const auto point = series.motion_at(1, s);
+      if (!(point.delta > 0 && point.rate > 0)) {
+        break;
+      }
+      Real u = point.rate, t = point.delta / point.rate;
+      std::optional<bool> motion_cancels;
+      const auto outcome = view.newton(point.delta, point.rate, u, t, true, &motion_cancels);
+      if (outcome != detail::TwoPowerView<Real>::Newton::converged) {
+        continue;
+      }
+      ASSERT_TRUE(motion_cancels.has_value());
+      const bool whole = view.cancels(u, t);
+      EXPECT_EQ(*motion_cancels || view.cancels(u, t, true), whole) << p << " " << beta << " " << s;
+      (whole ? tripped : held) += 1;
+      by_motion += *motion_cancels ? 1 : 0;
+    }
+  }
+  EXPECT_GE(by_motion, 2);
+  EXPECT_GE(tripped, by_motion);
+  EXPECT_GE(held, 10);
+}
+
 // A lower degree is cut from a wider table already built (table_for): the very coefficients a
 // build to that degree makes, bit for bit, and cut from the least wider one of the same (p, β).
 template <class Real>
