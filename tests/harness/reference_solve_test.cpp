@@ -125,5 +125,20 @@ TEST(TruthErrorEstimate, BoundsTheErrorAgainstFiftyDigits) {
 }
 #endif
 
+// A reference solve without an answer says why in the messages that refuse it (observables, a
+// scene's point): a budget that ran out names its steps (its invariant is empty), an unstable
+// one the invariant it broke.
+TEST(ReferenceFailure, SaysWhyTheSolveGaveNoAnswer) {
+  solvers::Result<Exact> budget;
+  budget.outcome = solvers::Outcome::step_limit;
+  budget.steps = 1000000;
+  EXPECT_EQ(reference_failure(budget),
+            "ended step_limit (its budget ran out after 1000000 steps, before the contact ended)");
+  solvers::Result<Exact> unstable;
+  unstable.outcome = solvers::Outcome::unstable;
+  unstable.invariant = "energy gained: e = 2.7";
+  EXPECT_EQ(reference_failure(unstable), "ended unstable (energy gained: e = 2.7)");
+}
+
 } // namespace
 } // namespace pldamp::harness

@@ -53,14 +53,8 @@ Answer observables_by_reference_solve(const ContactArgs& args) {
     for (const solvers::End end : ends) {
       const solvers::Result<Exact>& truth = reference_solve(p, b, contact.group, end);
       if (solvers::failing(truth.outcome)) {
-        throw InputError(fmt::format(
-            "the reference solve ended {} ({}) (got alpha_eff {})",
-            solvers::outcome_name(truth.outcome),
-            truth.invariant.empty()
-                ? fmt::format("its budget ran out after {} steps, before the contact ended",
-                              truth.steps)
-                : truth.invariant,
-            to_string_full(contact.group)));
+        throw InputError(fmt::format("the reference solve {} (got alpha_eff {})",
+                                     reference_failure(truth), to_string_full(contact.group)));
       }
       // A damping exponent of its own has no closed form for an overdamped contact: the overlap
       // creeps and can come back to 0 after the horizon at a speed the solve never saw (with

@@ -148,8 +148,7 @@ Point solved_point(const Plan& plan, const std::set<std::string>& precisions, do
                                                        : observable->measured(truth));
     }
     if (solvers::failing(truth.outcome)) {
-      point.no_truth = fmt::format("the reference solve ended {}: {}",
-                                   solvers::outcome_name(truth.outcome), truth.invariant);
+      point.no_truth = "the reference solve " + reference_failure(truth);
     } else if (truth.outcome == solvers::Outcome::no_exit) {
       // With a damping exponent of its own an overdamped overlap can creep back to 0 after the
       // horizon (observables.cpp): its no_exit is no e = 0, τ = ∞ to judge a solver by.

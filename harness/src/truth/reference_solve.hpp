@@ -17,9 +17,12 @@
 
 #include "pldamp/solvers/problem.hpp"
 
+#include <fmt/format.h>
+
 #include <array>
 #include <concepts>
 #include <optional>
+#include <string>
 #include <type_traits>
 #include <vector>
 
@@ -64,6 +67,18 @@ const solvers::Result<T>& reference_solve(const T& p, const T& beta, const T& gr
 // impact speed of 1e30 took 140 s to end at the default million steps).
 solvers::Result<Exact> reference_solve_within(const Exact& p, const Exact& beta, const Exact& group,
                                               solvers::End end, long max_steps);
+
+// How a reference solve that gave no answer ended, for a message: "ended step_limit (its budget
+// ran out after N steps, before the contact ended)", or the invariant an unstable one broke.
+template <class T>
+std::string reference_failure(const solvers::Result<T>& truth) {
+  return fmt::format("ended {} ({})", solvers::outcome_name(truth.outcome),
+                     truth.invariant.empty()
+                         ? fmt::format("its budget ran out after {} steps, before the contact "
+                                       "ended",
+                                       truth.steps)
+                         : truth.invariant);
+}
 
 // The group whose restitution (at `end`) is `e`; none when no group gives it (e.g. e below what a
 // dashpot that never lets go allows). In Exact by TOMS 748 on reference_solve, from a bracket
