@@ -31,6 +31,7 @@
 #include "stored_tables.hpp"
 
 #include "pldamp/core/real_types.hpp"
+#include "pldamp/solvers/contact_ode.hpp"
 
 #include <algorithm>
 #include <array>
@@ -510,16 +511,25 @@ public:
     // Not past the normal force's peak, if wanted: a split point, not the peak itself, so a rough
     // bracket will do (twelve halvings) as long as the force still rises where the stretch ends.
     // Where it falls from the onset on (β = 0) the halvings find no rise and the stretch stays.
-    if (before_force_peak && !(force_rate_sign(u, s) > 0)) {
+    // The rate's sign is the event function's: that of (1) as a ContactOde (m = 1, k = κ, c = σγ)
+    // on the series' δ = u s Y and dδ/ds = u Z.
+    const auto ode =
+        solvers::ContactOde<T>::from_coefficients(table_->p, T(1), kappa_, damping_, table_->beta);
+    const auto rising_at = [&](const T& at) {
+      const auto [x1, x2] = variables(u, at);
+      return ode.force_rate_sign(u * at * evaluate(table_->shape, table_->y, x1, x2),
+                                 u * evaluate(table_->shape, table_->z, x1, x2)) > 0;
+    };
+    if (before_force_peak && !rising_at(s)) {
       T rising = s;
-      for (int i = 0; i < 64 && !(force_rate_sign(u, rising) > 0); ++i) {
+      for (int i = 0; i < 64 && !rising_at(rising); ++i) {
         rising /= 2;
       }
-      if (force_rate_sign(u, rising) > 0) {
+      if (rising_at(rising)) {
         T falling = s;
         for (int i = 0; i < 12; ++i) {
           const T middle = (rising + falling) / 2;
-          (force_rate_sign(u, middle) > 0 ? rising : falling) = middle;
+          (rising_at(middle) ? rising : falling) = middle;
         }
         s = rising;
       }
@@ -650,20 +660,6 @@ public:
   }
 
 private:
-  // The sign of the normal force's rate at time s from the contact point (of (1): the force
-  // κ δ^p + σγ δ^β dδ/ds, d²δ/ds² from (1)), divided by δ^(β−1) > 0:
-  //     κ p δ^(p−β) v + σγ β v² − σγ δ (σγ δ^β v + κ δ^p),   δ = u s Y,  v = u Z.
-  T force_rate_sign(const T& u, const T& s) const {
-    using std::pow;
-    const auto [x1, x2] = variables(u, s);
-    const T p = table_->p, beta = table_->beta;
-    const T delta = u * s * evaluate(table_->shape, table_->y, x1, x2);
-    const T v = u * evaluate(table_->shape, table_->z, x1, x2);
-    const T spring = kappa_ * pow(delta, p);
-    return kappa_ * p * pow(delta, p - beta) * v + damping_ * beta * v * v -
-           damping_ * delta * (damping_ * pow(delta, beta) * v + spring);
-  }
-
   // The magnitude of the last two shells (i + j = D − 1, D) of Z, the largest of the series:
   // the terms left out are of their order when the shells decrease.
   //     Σ_i |x1|^i (|z_i,D−1−i| |x2|^(D−1−i) + |z_i,D−i| |x2|^(D−i)),

@@ -28,14 +28,17 @@ template <SupportedReal Real>
 class ContactOde {
 public:
   explicit ContactOde(const Problem<Real>& problem)
-      : p_(problem.p), m_(problem.m), k_(problem.k), v0_(problem.v0),
-        c_(problem.alpha * sqrt_of(problem.m * problem.k)), a_(problem.beta()),
-        seed_(a_ == (problem.p - 1) / 2) {
+      : ContactOde(problem.p, problem.m, problem.k, problem.v0,
+                   problem.alpha * sqrt_of(problem.m * problem.k), problem.beta()) {
     problem.validate();
-    using std::exp;
-    using std::log;
-    // δ_u = ((p+1) m v0² / (2k))^(1/(p+1)) through logs: m, k, v0 may be 1e-9 ... 1e12.
-    delta_scale_ = exp((log((p_ + 1) / 2) + log(m_) - log(k_) + 2 * log(v0_)) / (p_ + 1));
+  }
+
+  // m δ'' + c δ^β δ' + k δ^p = 0 from its coefficients, v0 = 1, nothing validated: for evaluating
+  // its functions on the state of an equation already scaled (the taylor solver's contact series,
+  // whose scaled equation is this one with m = 1, k = κ, c = γ: two_power_series.hpp).
+  static ContactOde from_coefficients(const Real& p, const Real& m, const Real& k, const Real& c,
+                                      const Real& beta) {
+    return ContactOde(p, m, k, Real(1), c, beta);
   }
 
   Real p() const { return p_; }
@@ -203,6 +206,15 @@ public:
   }
 
 private:
+  ContactOde(const Real& p, const Real& m, const Real& k, const Real& v0, const Real& c,
+             const Real& beta)
+      : p_(p), m_(m), k_(k), v0_(v0), c_(c), a_(beta), seed_(a_ == (p - 1) / 2) {
+    using std::exp;
+    using std::log;
+    // δ_u = ((p+1) m v0² / (2k))^(1/(p+1)) through logs: m, k, v0 may be 1e-9 ... 1e12.
+    delta_scale_ = exp((log((p_ + 1) / 2) + log(m_) - log(k_) + 2 * log(v0_)) / (p_ + 1));
+  }
+
   static Real sqrt_of(const Real& x) {
     using std::sqrt;
     return sqrt(x);
